@@ -1,0 +1,30 @@
+#pragma once
+/// @file atomic_file.h
+/// @brief Outputs are written to a temporary file beside the target and renamed over it
+/// only when complete, so a failed run never leaves a half-written file or clobbers a good one.
+
+#include <filesystem>
+
+namespace vdbmesh {
+
+/// A temporary path next to @a target; commit() renames it onto the target, and the
+/// destructor deletes it when commit() was not reached (an exception, a failed check).
+class AtomicFile {
+public:
+    explicit AtomicFile(std::filesystem::path target);
+    ~AtomicFile();
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+
+    /// Where to write. Throws Error when the target's folder does not exist.
+    const std::filesystem::path& temp_path() const { return temp_; }
+    /// Renames the temporary file onto the target. Throws Error on failure.
+    void commit();
+
+private:
+    std::filesystem::path target_;
+    std::filesystem::path temp_;
+    bool committed_ = false;
+};
+
+}  // namespace vdbmesh

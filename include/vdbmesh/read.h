@@ -1,0 +1,106 @@
+#pragma once
+/// @file read.h
+/// @brief Reading scans: one interface for every format, a header first, then the
+/// samples slab by slab, so memory never holds the dense volume.
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace vdbmesh {
+
+enum class SampleType { u8, i8, u16, i16, u32, i32, f32, f64 };
+enum class ByteOrder { little, big };
+
+/// Bytes per sample of @a type.
+std::size_t sample_size(SampleType type);
+/// "u8", "i16", "f32" ...
+std::string to_string(SampleType type);
+/// "little" or "big".
+std::string to_string(ByteOrder order);
+/// Parses "u8|i8|u16|i16|u32|i32|f32|f64"; throws UsageError otherwise.
+SampleType parse_sample_type(const std::string& name);
+
+/// 3x4 affine matrix, row major: world = m * (i, j, k, 1), with (i, j, k) a voxel index.
+using Affine = std::array<std::array<double, 4>, 3>;
+
+/// The affine of an axis-aligned grid with the given spacing and origin.
+Affine axis_aligned_affine(const std::array<double, 3>& spacing, const std::array<double, 3>& origin = {0, 0, 0});
+
+/// What a scan's header says. Sample values are raw * value_scale + value_offset.
+struct VolumeHeader {
+    std::string format;                  ///< "nifti", "analyze", "openqvis", "metaimage", "nrrd", "raw", "dicom", "vdb"
+    std::filesystem::path path;          ///< the file (or DICOM folder) given by the user
+    std::array<std::int64_t, 3> dims{};  ///< samples along x (fastest), y, z
+    SampleType type = SampleType::u8;
+    ByteOrder byte_order = ByteOrder::little;
+    std::array<double, 3> spacing{1, 1, 1};  ///< world units per voxel along i, j, k (always positive)
+    Affine index_to_world = axis_aligned_affine({1, 1, 1});
+    double value_scale = 1.0;
+    double value_offset = 0.0;
+    std::string units;                   ///< "mm", "um", ... or empty when the file does not say
+    std::vector<std::string> warnings;   ///< things a user should know (e.g. "no byte order key, assumed little")
+
+    std::int64_t voxel_count() const { return dims[0] * dims[1] * dims[2]; }
+    std::int64_t slice_voxels() const { return dims[0] * dims[1]; }
+};
+
+/// One piece of the sample stream: bytes from @a offset of @a path (after gunzip when it is
+/// gzip-compressed; plain files are read as they are). Segments are read in order.
+struct DataSegment {
+    std::filesystem::path path;
+    std::uint64_t offset = 0;  ///< bytes to skip (in the decompressed stream)
+    std::uint64_t bytes = 0;   ///< bytes of samples this segment holds
+};
+
+/// A parsed header plus where its samples are.
+struct VolumeSource {
+    VolumeHeader header;
+    std::vector<DataSegment> segments;
+};
+
+/// Options for headerless raw files (and overrides for every format).
+struct ReadOptions {
+    std::optional<std::array<std::int64_t, 3>> raw_dims;   ///< --raw-dims X,Y,Z: read the file as headerless raw
+    SampleType raw_type = SampleType::u8;                  ///< --raw-type
+    ByteOrder raw_byte_order = ByteOrder::little;           ///< --raw-endian
+    std::array<double, 3> raw_spacing{1, 1, 1};             ///< --spacing
+    std::uint64_t raw_header_bytes = 0;                     ///< --header-bytes
+};
+
+/// Streams the samples of a volume, slab by slab, as floats with the value scale applied.
+class VolumeReader {
+public:
+    explicit VolumeReader(VolumeSource source);
+    ~VolumeReader();
+    VolumeReader(const VolumeReader&) = delete;
+    VolumeReader& operator=(const VolumeReader&) = delete;
+
+    const VolumeHeader& header() const { return source_.header; }
+
+    /// Reads the next @a slices z-slices into @a out, which holds slice_voxels() * slices
+    /// floats (x fastest). Throws FormatError on truncated data or a NaN/infinite sample.
+    void read_slices(std::int64_t slices, float* out);
+    /// Index of the next slice read_slices() returns.
+    std::int64_t next_slice() const { return next_slice_; }
+
+private:
+    class ByteStream;
+    VolumeSource source_;
+    std::unique_ptr<ByteStream> stream_;
+    std::int64_t next_slice_ = 0;
+    std::vector<unsigned char> buffer_;
+};
+
+/// Recognises the format of @a path (by extension, then by content) and parses its header.
+/// A folder is read as a DICOM series. Throws FormatError on bad input.
+VolumeSource open_volume_source(const std::filesystem::path& path, const ReadOptions& options = {});
+
+/// open_volume_source() wrapped in a reader.
+std::unique_ptr<VolumeReader> open_volume(const std::filesystem::path& path, const ReadOptions& options = {});
+
+}  // namespace vdbmesh

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages vdbmesh needs, only those that are missing.
+set -euo pipefail
+packages=(
+  cmake g++ ninja-build ccache pkg-config
+  libopenvdb-dev libopenvdb-tools libtbb-dev libblosc-dev
+  libboost-dev libboost-iostreams-dev   # OpenVDB's CMake module fails without them
+  libeigen3-dev zlib1g-dev libgdcm-dev libcli11-dev nlohmann-json3-dev libgtest-dev
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+echo "Installing: ${missing[*]}" >&2
+sudo_cmd=()
+[ "$(id -u)" -ne 0 ] && sudo_cmd=(sudo)
+"${sudo_cmd[@]}" apt-get update -qq
+DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2

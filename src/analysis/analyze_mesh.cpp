@@ -1,0 +1,2 @@
+// Placeholder until mesh analysis lands.
+namespace vdbmesh::detail { int analysis_placeholder = 0; }

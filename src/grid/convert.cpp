@@ -1,0 +1,2 @@
+// Placeholder until conversion lands.
+namespace vdbmesh::detail { int grid_placeholder = 0; }

@@ -1,0 +1,2 @@
+// Placeholder until the mesher lands.
+namespace vdbmesh::detail { int mesh_placeholder = 0; }

@@ -1,0 +1,38 @@
+#include "cli.h"
+
+#include <algorithm>
+#include <iostream>
+
+#include "commands.h"
+#include "vdbmesh/error.h"
+
+namespace vdbmesh::cli {
+
+int run(const std::vector<std::string>& args) {
+    CLI::App app{"vdbmesh: tomography and point clouds to clean triangle meshes, through sparse OpenVDB grids",
+                 "vdbmesh"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "vdbmesh 0.1.0");
+    CommandResult result;
+    for (const CommandEntry& entry : kCommands) entry.add(*app.add_subcommand(entry.name, entry.summary), result);
+
+    // CLI11 wants the arguments reversed when given as a vector.
+    std::vector<std::string> reversed(args.rbegin(), args.rend());
+    try {
+        app.parse(reversed);
+    } catch (const CLI::Success& done) {  // --help, --version
+        return app.exit(done);
+    } catch (const CLI::ParseError& e) {
+        app.exit(e);
+        return kUsageError;
+    } catch (const UsageError& e) {
+        std::cerr << "vdbmesh: " << e.what() << "\n";
+        return kUsageError;
+    } catch (const std::exception& e) {
+        std::cerr << "vdbmesh: error: " << e.what() << "\n";
+        return kRuntimeError;
+    }
+    return result.status;
+}
+
+}  // namespace vdbmesh::cli

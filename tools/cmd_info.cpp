@@ -1,0 +1,9 @@
+// Placeholder until `vdbmesh info` lands.
+#include "commands.h"
+#include "vdbmesh/error.h"
+
+namespace vdbmesh::cli {
+void add_info_command(CLI::App& command, CommandResult&) {
+    command.callback([] { throw Error("not implemented yet"); });
+}
+}  // namespace vdbmesh::cli

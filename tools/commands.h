@@ -1,0 +1,33 @@
+#pragma once
+// The registry of subcommands: one line each, from which `vdbmesh --help` is generated.
+// Each subcommand lives in tools/cmd_<name>.cpp and exposes add_<name>_command().
+
+#include <CLI/CLI.hpp>
+
+namespace vdbmesh::cli {
+
+/// Where a subcommand's callback stores its exit status.
+struct CommandResult {
+    int status = 0;
+};
+
+using AddCommand = void (*)(CLI::App& command, CommandResult& result);
+
+struct CommandEntry {
+    const char* name;
+    const char* summary;
+    AddCommand add;
+};
+
+void add_info_command(CLI::App& command, CommandResult& result);
+void add_convert_command(CLI::App& command, CommandResult& result);
+void add_phantom_command(CLI::App& command, CommandResult& result);
+
+/// All subcommands, in the order --help lists them.
+inline constexpr CommandEntry kCommands[] = {
+    {"info", "Describe a scan or .vdb file and suggest an isovalue", add_info_command},
+    {"convert", "Stream a scan into a sparse OpenVDB grid (.vdb)", add_convert_command},
+    {"phantom", "Write a synthetic test volume (sphere, cube, torus ...) in any format we read", add_phantom_command},
+};
+
+}  // namespace vdbmesh::cli

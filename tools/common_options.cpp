@@ -1,0 +1,93 @@
+#include "common_options.h"
+
+#include <tbb/global_control.h>
+#include <unistd.h>
+
+#include <charconv>
+#include <cmath>
+#include <iostream>
+
+#include "vdbmesh/error.h"
+
+namespace vdbmesh::cli {
+
+void add_common_options(CLI::App& command, CommonOptions& options) {
+    command.add_option("--threads", options.threads, "Worker threads (0: all cores); output is the same for any count")
+        ->check(CLI::NonNegativeNumber);
+    command.add_flag("-q,--quiet", options.quiet, "No progress output");
+}
+
+ThreadLimit::ThreadLimit(const CommonOptions& options) {
+    if (options.threads > 0)
+        control_ = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                         static_cast<std::size_t>(options.threads));
+}
+ThreadLimit::~ThreadLimit() = default;
+
+std::vector<double> parse_number_list(const std::string& flag, const std::string& text) {
+    std::vector<double> values;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        const std::string piece = text.substr(start, comma - start);
+        double value = 0;
+        const auto [end, ec] = std::from_chars(piece.data(), piece.data() + piece.size(), value);
+        if (piece.empty() || ec != std::errc() || end != piece.data() + piece.size() || !std::isfinite(value))
+            throw UsageError(flag + ": expected comma-separated numbers, got \"" + text + "\"");
+        values.push_back(value);
+        start = comma + 1;
+    }
+    return values;
+}
+
+ReadOptions ReadFlags::to_read_options() const {
+    ReadOptions options;
+    if (!raw_dims.empty()) {
+        const auto dims = parse_number_list("--raw-dims", raw_dims);
+        if (dims.size() != 3) throw UsageError("--raw-dims: expected X,Y,Z, got \"" + raw_dims + "\"");
+        std::array<std::int64_t, 3> whole{};
+        for (int i = 0; i < 3; ++i) {
+            if (dims[i] < 1 || dims[i] != std::floor(dims[i]) || dims[i] > 9.0e15)
+                throw UsageError("--raw-dims: expected positive whole numbers, got \"" + raw_dims + "\"");
+            whole[i] = static_cast<std::int64_t>(dims[i]);
+        }
+        options.raw_dims = whole;
+    }
+    options.raw_type = parse_sample_type(raw_type);
+    if (raw_endian != "little" && raw_endian != "big")
+        throw UsageError("--raw-endian: expected little or big, got \"" + raw_endian + "\"");
+    options.raw_byte_order = raw_endian == "little" ? ByteOrder::little : ByteOrder::big;
+    if (!spacing.empty()) {
+        const auto s = parse_number_list("--spacing", spacing);
+        if (s.size() != 3 || s[0] <= 0 || s[1] <= 0 || s[2] <= 0)
+            throw UsageError("--spacing: expected three positive numbers SX,SY,SZ, got \"" + spacing + "\"");
+        options.raw_spacing = {s[0], s[1], s[2]};
+    }
+    options.raw_header_bytes = header_bytes;
+    return options;
+}
+
+void add_read_flags(CLI::App& command, ReadFlags& flags) {
+    auto* group = command.add_option_group("Headerless raw input");
+    group->add_option("--raw-dims", flags.raw_dims, "Read INPUT as headerless raw with these dims X,Y,Z");
+    group->add_option("--raw-type", flags.raw_type, "Sample type: u8|i8|u16|i16|u32|i32|f32|f64")->capture_default_str();
+    group->add_option("--raw-endian", flags.raw_endian, "Byte order: little|big")->capture_default_str();
+    group->add_option("--spacing", flags.spacing, "Voxel spacing SX,SY,SZ (world units)");
+    group->add_option("--header-bytes", flags.header_bytes, "Bytes to skip before the samples");
+}
+
+Progress::Progress(std::string label, bool quiet) : label_(std::move(label)), enabled_(!quiet && ::isatty(2)) {}
+
+Progress::~Progress() {
+    if (enabled_ && last_percent_ >= 0) std::cerr << "\r" << std::string(label_.size() + 8, ' ') << "\r" << std::flush;
+}
+
+void Progress::operator()(double fraction) {
+    if (!enabled_) return;
+    const int percent = static_cast<int>(std::lround(std::clamp(fraction, 0.0, 1.0) * 100));
+    if (percent == last_percent_) return;
+    last_percent_ = percent;
+    std::cerr << "\r" << label_ << " " << percent << "%" << std::flush;
+}
+
+}  // namespace vdbmesh::cli

@@ -1,0 +1,56 @@
+#pragma once
+// Flags shared by several subcommands, and the progress line on stderr.
+
+#include <tbb/global_control.h>
+
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+
+#include "vdbmesh/read.h"
+
+namespace vdbmesh::cli {
+
+/// --threads and --quiet.
+struct CommonOptions {
+    int threads = 0;  ///< 0: all cores
+    bool quiet = false;
+};
+void add_common_options(CLI::App& command, CommonOptions& options);
+
+/// Limits TBB to options.threads while alive (no limit when 0).
+class ThreadLimit {
+public:
+    explicit ThreadLimit(const CommonOptions& options);
+    ~ThreadLimit();
+
+private:
+    std::unique_ptr<tbb::global_control> control_;
+};
+
+/// --raw-dims, --raw-type, --raw-endian, --spacing, --header-bytes, as strings until parsed.
+struct ReadFlags {
+    std::string raw_dims, raw_type = "u8", raw_endian = "little", spacing;
+    std::uint64_t header_bytes = 0;
+    /// Converts to ReadOptions; throws UsageError on malformed values.
+    ReadOptions to_read_options() const;
+};
+void add_read_flags(CLI::App& command, ReadFlags& flags);
+
+/// A one-line percentage on stderr, shown only on a terminal and without --quiet.
+class Progress {
+public:
+    Progress(std::string label, bool quiet);
+    ~Progress();
+    void operator()(double fraction);
+
+private:
+    std::string label_;
+    bool enabled_;
+    int last_percent_ = -1;
+};
+
+/// Parses "a,b,c" into numbers; throws UsageError naming @a flag.
+std::vector<double> parse_number_list(const std::string& flag, const std::string& text);
+
+}  // namespace vdbmesh::cli
