@@ -49,12 +49,22 @@ struct VolumeHeader {
     std::int64_t slice_voxels() const { return dims[0] * dims[1]; }
 };
 
-/// One piece of the sample stream: bytes from @a offset of @a path (after gunzip when it is
-/// gzip-compressed; plain files are read as they are). Segments are read in order.
+/// How a segment's bytes are stored.
+enum class Compression {
+    detect,  ///< gzip (one or more members) when the stream starts with the gzip magic, else plain
+    zlib,    ///< zlib-wrapped deflate (MetaImage CompressedData)
+};
+
+/// One piece of the sample stream. Segments are read in order, each from its file:
+/// skip file_offset bytes of the file, decompress from there, skip offset bytes of the
+/// decompressed stream, then take @a bytes bytes (or everything up to the end).
 struct DataSegment {
+    static constexpr std::uint64_t kToEnd = ~std::uint64_t{0};
     std::filesystem::path path;
-    std::uint64_t offset = 0;  ///< bytes to skip (in the decompressed stream)
-    std::uint64_t bytes = 0;   ///< bytes of samples this segment holds
+    std::uint64_t file_offset = 0;  ///< bytes of the file before the (possibly compressed) stream
+    std::uint64_t offset = 0;       ///< bytes to skip in the decompressed stream (a .nii.gz header)
+    std::uint64_t bytes = kToEnd;   ///< sample bytes of this segment, or kToEnd: the rest of the stream
+    Compression compression = Compression::detect;
 };
 
 /// A parsed header plus where its samples are.
@@ -70,6 +80,7 @@ struct ReadOptions {
     ByteOrder raw_byte_order = ByteOrder::little;           ///< --raw-endian
     std::array<double, 3> raw_spacing{1, 1, 1};             ///< --spacing
     std::uint64_t raw_header_bytes = 0;                     ///< --header-bytes
+    std::vector<std::filesystem::path> raw_more_files;      ///< further parts, read after the first (a split scan)
 };
 
 /// Streams the samples of a volume, slab by slab, as floats with the value scale applied.
