@@ -29,6 +29,11 @@ inline constexpr const char* kMetaIsovalue = "vdbmesh_isovalue";
 inline constexpr const char* kMetaUnits = "vdbmesh_units";
 inline constexpr const char* kMetaValueMin = "vdbmesh_value_min";
 inline constexpr const char* kMetaValueMax = "vdbmesh_value_max";
+/// Index-space bounding box of the scanned samples (Vec3i min and max, inclusive). Outside
+/// it lies no data: meshers treat it as outside the object (closing the surface there) or,
+/// with --open-boundary, emit no triangles in cells that reach outside it.
+inline constexpr const char* kMetaScanMin = "vdbmesh_scan_min";
+inline constexpr const char* kMetaScanMax = "vdbmesh_scan_max";
 
 /// Streams @a reader into a sparse float grid, a few slices at a time (TBB-parallel).
 /// Active voxels: the corners of every cell whose samples straddle the isovalue (a value
