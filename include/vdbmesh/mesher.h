@@ -1,0 +1,43 @@
+#pragma once
+/// @file mesher.h
+/// @brief Meshing a sparse grid: Dual Marching Cubes on the VDB tree, Marching Cubes, or
+/// OpenVDB's volumeToMesh, all returning the same indexed, welded, oriented Mesh.
+
+#include <openvdb/openvdb.h>
+
+#include <functional>
+
+#include "vdbmesh/mesh.h"
+
+namespace vdbmesh {
+
+enum class MeshMethod {
+    dmc,      ///< Dual Marching Cubes on the leaf octrees (Schaefer and Warren 2004), adaptive by --error
+    mc,       ///< Marching Cubes on the samples, vertices welded by grid edge
+    openvdb,  ///< openvdb::tools::volumeToMesh, quads split along the shorter diagonal
+};
+
+/// Which side of the isovalue is the object.
+enum class Inside {
+    above,  ///< values above the isovalue (dense material in CT)
+    below,  ///< values below it (level sets, --inside below)
+};
+
+struct MeshOptions {
+    MeshMethod method = MeshMethod::dmc;
+    double iso = 0.0;           ///< isovalue, in the grid's value units
+    double error = 0.0;         ///< DMC: QEF error tolerance in voxels (0: no merging, equals MC)
+    double adaptivity = 0.0;    ///< openvdb: volumeToMesh adaptivity in [0, 1]
+    Inside inside = Inside::above;
+    bool open_boundary = false; ///< leave the surface open where it meets the scan's box
+    std::function<void(double)> progress;  ///< fraction done (0..1), may be empty
+};
+
+/// Meshes @a grid at options.iso. The result is in world coordinates (the grid's
+/// transform), triangles counter-clockwise seen from outside the object. Unless
+/// open_boundary, the surface is closed where the object meets the edge of the scanned
+/// box (kMetaScanMin/Max metadata; outside it counts as outside the object). The same
+/// grid and options give the same mesh, whatever the thread count.
+Mesh mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options);
+
+}  // namespace vdbmesh
