@@ -58,6 +58,8 @@ enum class Compression {
 /// One piece of the sample stream. Segments are read in order, each from its file:
 /// skip file_offset bytes of the file, decompress from there, skip offset bytes of the
 /// decompressed stream, then take @a bytes bytes (or everything up to the end).
+/// Each stream must end with its samples (else FormatError "trailing data"), and together
+/// the segments must hold exactly dims x sample size bytes (else "truncated" or "trailing data").
 struct DataSegment {
     static constexpr std::uint64_t kToEnd = ~std::uint64_t{0};
     std::filesystem::path path;
@@ -65,6 +67,7 @@ struct DataSegment {
     std::uint64_t offset = 0;       ///< bytes to skip in the decompressed stream (a .nii.gz header)
     std::uint64_t bytes = kToEnd;   ///< sample bytes of this segment, or kToEnd: the rest of the stream
     Compression compression = Compression::detect;
+    bool allow_trailing = false;    ///< true: the stream may go on after @a bytes (later volumes of a 4-D image)
 };
 
 /// A parsed header plus where its samples are.
