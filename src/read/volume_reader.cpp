@@ -1,73 +1,252 @@
-// Streams the samples of a VolumeSource: its segments are read in order through zlib
-// (which reads plain files as they are and concatenated gzip members as one stream),
-// and decoded to float with the header's byte order and value scale.
+// Streams the samples of a VolumeSource slab by slab and decodes them to float.
+//
+// Each DataSegment (read.h) is opened with open() and lseek() to its file_offset, then read
+// through zlib: gzdopen() + gzread() for Compression::detect (plain bytes pass through as
+// they are, and concatenated gzip members read as one stream, RFC 1952 section 2.2), or
+// inflate() for Compression::zlib (a zlib-wrapped deflate stream, RFC 1950, as in MetaImage
+// CompressedData). The segment's offset is then skipped in the decompressed stream.
+//
+// The stream length is checked exactly: running out of bytes is "truncated"; bytes left in a
+// segment after its samples, or anywhere after the last slice, are "trailing data" (unless the
+// segment allows them: a 4-D image of which only the first volume is read).
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstring>
 
-#include "parse_util.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/read.h"
 
 namespace vdbmesh {
 
+namespace {
+
+constexpr std::size_t kBufferBytes = std::size_t{1} << 18;
+/// zlib counts in unsigned int: never ask for more per call.
+constexpr std::size_t kMaxChunk = std::size_t{1} << 30;
+
+/// The decompressed bytes of one segment, from its file_offset on.
+class SegmentInput {
+public:
+    virtual ~SegmentInput() = default;
+    /// Reads up to @a size bytes into @a out; returns 0 at the end of the stream.
+    /// Throws FormatError on corrupt or cut-off compressed data.
+    virtual std::size_t read(unsigned char* out, std::size_t size) = 0;
+};
+
+/// Plain or gzip bytes through gzread (transparent for data without the gzip magic).
+class GzipInput final : public SegmentInput {
+public:
+    GzipInput(std::filesystem::path path, int fd) : path_(std::move(path)), file_(gzdopen(fd, "rb")) {
+        if (!file_) {
+            ::close(fd);
+            throw Error(path_.string() + ": cannot start reading (out of memory)");
+        }
+        gzbuffer(file_, kBufferBytes);
+    }
+    ~GzipInput() override { gzclose(file_); }
+
+    std::size_t read(unsigned char* out, std::size_t size) override {
+        const int got = gzread(file_, out, static_cast<unsigned>(std::min(size, kMaxChunk)));
+        if (got >= 0) return static_cast<std::size_t>(got);
+        int status = Z_OK;
+        const char* message = gzerror(file_, &status);
+        if (status == Z_BUF_ERROR)
+            throw FormatError(path_.string(), "gzip stream", "a complete gzip stream", "one cut short (truncated)");
+        throw FormatError(path_.string(), "gzip stream", "valid compressed data", message ? message : "corrupt data");
+    }
+
+private:
+    std::filesystem::path path_;
+    gzFile file_;
+};
+
+/// A zlib-wrapped deflate stream, inflated by hand; nothing may follow it in the file.
+class ZlibInput final : public SegmentInput {
+public:
+    ZlibInput(std::filesystem::path path, int fd) : path_(std::move(path)), fd_(fd), in_(kBufferBytes) {
+        if (inflateInit(&stream_) != Z_OK) {
+            ::close(fd_);
+            throw Error(path_.string() + ": cannot start inflating (out of memory)");
+        }
+    }
+    ~ZlibInput() override {
+        inflateEnd(&stream_);
+        ::close(fd_);
+    }
+
+    std::size_t read(unsigned char* out, std::size_t size) override {
+        if (ended_) {
+            check_nothing_after();
+            return 0;
+        }
+        const auto want = static_cast<unsigned>(std::min(size, kMaxChunk));
+        stream_.next_out = out;
+        stream_.avail_out = want;
+        while (stream_.avail_out == want && !ended_) {
+            if (stream_.avail_in == 0) refill();
+            const int status = inflate(&stream_, Z_NO_FLUSH);
+            if (status == Z_STREAM_END) ended_ = true;
+            else if (status != Z_OK && status != Z_BUF_ERROR)
+                throw FormatError(path_.string(), "zlib stream", "valid compressed data",
+                                  stream_.msg ? stream_.msg : "corrupt data");
+        }
+        return want - stream_.avail_out;
+    }
+
+private:
+    void refill() {
+        const ssize_t got = ::read(fd_, in_.data(), in_.size());
+        if (got < 0) throw Error(path_.string() + ": read failed: " + std::strerror(errno));
+        if (got == 0)
+            throw FormatError(path_.string(), "zlib stream", "a complete zlib stream", "one cut short (truncated)");
+        stream_.next_in = in_.data();
+        stream_.avail_in = static_cast<unsigned>(got);
+    }
+
+    void check_nothing_after() {
+        std::uint64_t extra = stream_.avail_in;
+        stream_.avail_in = 0;
+        for (ssize_t got; (got = ::read(fd_, in_.data(), in_.size())) > 0;) extra += static_cast<std::uint64_t>(got);
+        if (extra > 0)
+            throw FormatError(path_.string(), "trailing data", "the file to end with the zlib stream",
+                              std::to_string(extra) + " more bytes");
+    }
+
+    std::filesystem::path path_;
+    int fd_;
+    std::vector<unsigned char> in_;
+    z_stream stream_{};
+    bool ended_ = false;
+};
+
+/// Opens @a segment's file at its file_offset with the reader its compression needs.
+std::unique_ptr<SegmentInput> open_input(const DataSegment& segment) {
+    const std::string name = segment.path.string();
+    const int fd = ::open(segment.path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw FormatError(name, "data file", "a readable file", std::strerror(errno));
+    struct stat info {};
+    if (::fstat(fd, &info) != 0 || segment.file_offset > static_cast<std::uint64_t>(info.st_size) ||
+        segment.file_offset > static_cast<std::uint64_t>(LLONG_MAX) ||
+        ::lseek(fd, static_cast<off_t>(segment.file_offset), SEEK_SET) < 0) {
+        ::close(fd);
+        throw FormatError(name, "data file offset", "at most the file size (" + std::to_string(info.st_size) + " bytes)",
+                          std::to_string(segment.file_offset));
+    }
+    if (segment.compression == Compression::zlib) return std::make_unique<ZlibInput>(segment.path, fd);
+    return std::make_unique<GzipInput>(segment.path, fd);
+}
+
+/// Reads and discards the rest of @a input; returns how many bytes there were.
+std::uint64_t count_rest(SegmentInput& input, std::uint64_t limit = ~std::uint64_t{0}) {
+    std::vector<unsigned char> scratch(kBufferBytes);
+    std::uint64_t total = 0;
+    while (total < limit) {
+        const std::size_t got = input.read(scratch.data(), static_cast<std::size_t>(
+                                                               std::min<std::uint64_t>(scratch.size(), limit - total)));
+        if (got == 0) break;
+        total += got;
+    }
+    return total;
+}
+
+}  // namespace
+
+/// The samples of all segments as one byte stream of known total length.
 class VolumeReader::ByteStream {
 public:
-    explicit ByteStream(std::vector<DataSegment> segments) : segments_(std::move(segments)) {}
-    ~ByteStream() { close(); }
+    ByteStream(std::vector<DataSegment> segments, std::uint64_t total_bytes)
+        : segments_(std::move(segments)), total_bytes_(total_bytes) {}
 
-    /// Fills @a out with exactly @a size bytes or throws FormatError (truncated data).
+    /// Fills @a out with exactly @a size bytes, or throws FormatError (truncated data).
     void read(unsigned char* out, std::size_t size) {
         while (size > 0) {
-            if (!file_ || left_in_segment_ == 0) open_next();
-            const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>({size, left_in_segment_, 1u << 30}));
-            const int got = gzread(file_, out, static_cast<unsigned>(want));
-            if (got <= 0) throw_truncated();
+            if (!input_) open_next();
+            const DataSegment& segment = segments_[index_ - 1];
+            const std::uint64_t left = segment.bytes == DataSegment::kToEnd ? size : segment.bytes - read_in_segment_;
+            if (left == 0) {
+                close_segment();
+                continue;
+            }
+            const std::size_t got = input_->read(out, static_cast<std::size_t>(std::min<std::uint64_t>(size, left)));
+            if (got == 0) {
+                if (segment.bytes != DataSegment::kToEnd) throw_truncated_segment(segment);
+                input_.reset();  // a kToEnd segment ends where its stream does
+                continue;
+            }
             out += got;
-            size -= static_cast<std::size_t>(got);
-            left_in_segment_ -= static_cast<std::uint64_t>(got);
+            size -= got;
+            read_in_segment_ += got;
+            read_total_ += got;
+        }
+    }
+
+    /// After the last sample: throws FormatError "trailing data" when any stream holds more.
+    void finish() {
+        if (input_) close_segment();
+        while (index_ < segments_.size()) {
+            open_next();
+            close_segment();
         }
     }
 
 private:
     void open_next() {
-        close();
-        if (index_ >= segments_.size())
-            throw Error("internal: read past the last data segment");
+        if (index_ >= segments_.size()) throw_truncated_total();
         const DataSegment& segment = segments_[index_++];
-        detail::check_segment_size(segment);
-        file_ = gzopen(segment.path.c_str(), "rb");
-        if (!file_) throw FormatError(segment.path.string(), "cannot open the data file");
-        gzbuffer(file_, 1 << 18);
-        if (segment.offset > 0 && gzseek(file_, static_cast<z_off_t>(segment.offset), SEEK_SET) !=
-                                      static_cast<z_off_t>(segment.offset))
-            throw FormatError(segment.path.string(), "data offset", "at least " + std::to_string(segment.offset) + " bytes",
-                              "a shorter file");
-        left_in_segment_ = segment.bytes;
-        read_in_segment_start_ = segment.bytes;
+        input_ = open_input(segment);
+        read_in_segment_ = 0;
+        const std::uint64_t skipped = count_rest(*input_, segment.offset);
+        if (skipped < segment.offset)
+            throw FormatError(segment.path.string(), "data offset",
+                              "at least " + std::to_string(segment.offset) + " bytes before the samples",
+                              "a stream of only " + std::to_string(skipped) + " bytes (truncated)");
     }
 
-    [[noreturn]] void throw_truncated() {
+    /// Closes the open segment, checking that nothing follows its samples.
+    void close_segment() {
         const DataSegment& segment = segments_[index_ - 1];
-        const std::uint64_t got = read_in_segment_start_ - left_in_segment_;
+        if (!segment.allow_trailing) {
+            const std::uint64_t extra = count_rest(*input_);
+            if (extra > 0) throw_trailing(segment, extra);
+        }
+        input_.reset();
+    }
+
+    [[noreturn]] void throw_truncated_segment(const DataSegment& segment) const {
         throw FormatError(segment.path.string(), "sample data",
                           std::to_string(segment.bytes) + " bytes after offset " + std::to_string(segment.offset),
-                          "only " + std::to_string(got) + " (truncated or corrupt)");
+                          "only " + std::to_string(read_in_segment_) + " bytes (truncated)");
     }
 
-    void close() {
-        if (file_) gzclose(file_);
-        file_ = nullptr;
+    [[noreturn]] void throw_truncated_total() const {
+        const std::string file = segments_.empty() ? std::string("(no data file)") : segments_.back().path.string();
+        throw FormatError(file, "sample data", std::to_string(total_bytes_) + " bytes in all",
+                          "only " + std::to_string(read_total_) + " bytes in " + std::to_string(segments_.size()) +
+                              " file(s) (truncated)");
+    }
+
+    [[noreturn]] void throw_trailing(const DataSegment& segment, std::uint64_t extra) const {
+        const std::string expected =
+            segment.bytes == DataSegment::kToEnd
+                ? std::to_string(total_bytes_) + " bytes of samples in all"
+                : std::to_string(segment.bytes) + " bytes of samples after offset " + std::to_string(segment.offset);
+        throw FormatError(segment.path.string(), "trailing data", expected, std::to_string(extra) + " more bytes");
     }
 
     std::vector<DataSegment> segments_;
-    std::size_t index_ = 0;
-    gzFile file_ = nullptr;
-    std::uint64_t left_in_segment_ = 0;
-    std::uint64_t read_in_segment_start_ = 0;
+    std::uint64_t total_bytes_;
+    std::size_t index_ = 0;  ///< segments opened so far; the open one is index_ - 1
+    std::unique_ptr<SegmentInput> input_;
+    std::uint64_t read_in_segment_ = 0;
+    std::uint64_t read_total_ = 0;
 };
 
 namespace {
@@ -105,34 +284,39 @@ bool host_is_little() {
     return first == 1;
 }
 
+/// Throws FormatError at the first NaN or infinity: a float sample, or an integer one that
+/// the value scale pushed out of float range.
+void check_finite(const VolumeHeader& h, const float* values, std::size_t count, std::int64_t first_slice) {
+    const float* bad = std::find_if(values, values + count, [](float v) { return !std::isfinite(v); });
+    if (bad == values + count) return;
+    const std::int64_t index = bad - values;
+    const std::int64_t x = index % h.dims[0], y = (index / h.dims[0]) % h.dims[1];
+    const std::int64_t z = first_slice + index / h.slice_voxels();
+    throw FormatError(h.path.string(),
+                      "sample (" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) + ")",
+                      "a finite number", std::isnan(*bad) ? "NaN" : "infinity");
+}
+
 }  // namespace
 
 VolumeReader::VolumeReader(VolumeSource source)
-    : source_(std::move(source)), stream_(std::make_unique<ByteStream>(source_.segments)) {}
+    : source_(std::move(source)),
+      stream_(std::make_unique<ByteStream>(
+          source_.segments, static_cast<std::uint64_t>(source_.header.voxel_count()) * sample_size(source_.header.type))) {}
 
 VolumeReader::~VolumeReader() = default;
 
 void VolumeReader::read_slices(std::int64_t slices, float* out) {
     const VolumeHeader& h = source_.header;
-    if (slices < 0 || next_slice_ + slices > h.dims[2])
-        throw Error("internal: read_slices past the last slice");
+    if (slices < 0 || next_slice_ + slices > h.dims[2]) throw Error("internal: read_slices past the last slice");
     const std::size_t count = static_cast<std::size_t>(h.slice_voxels() * slices);
     buffer_.resize(count * sample_size(h.type));
     stream_->read(buffer_.data(), buffer_.size());
     const bool swap = (h.byte_order == ByteOrder::little) != host_is_little();
     decode(buffer_.data(), count, h.type, swap, h.value_scale, h.value_offset, out);
-    if (h.type == SampleType::f32 || h.type == SampleType::f64) {
-        const auto bad = std::find_if(out, out + count, [](float v) { return !std::isfinite(v); });
-        if (bad != out + count) {
-            const std::int64_t index = bad - out;
-            const std::int64_t x = index % h.dims[0], y = (index / h.dims[0]) % h.dims[1];
-            const std::int64_t z = next_slice_ + index / h.slice_voxels();
-            throw FormatError(h.path.string(), "sample (" + std::to_string(x) + ", " + std::to_string(y) + ", " +
-                                                   std::to_string(z) + ")",
-                              "a finite number", std::isnan(*bad) ? "NaN" : "infinity");
-        }
-    }
+    check_finite(h, out, count, next_slice_);
     next_slice_ += slices;
+    if (next_slice_ == h.dims[2]) stream_->finish();
 }
 
 std::unique_ptr<VolumeReader> open_volume(const std::filesystem::path& path, const ReadOptions& options) {
