@@ -3,17 +3,19 @@
 // by Marching Cubes (marching_cubes.cpp) and Dual Marching Cubes (dmc_*.cpp) so that DMC at
 // error 0 reproduces MC bit for bit.
 //
-// - A sample's signed value is s = f - iso (Inside::above) or iso - f (Inside::below);
-//   the sample is inside iff s > 0 (a value equal to the isovalue counts as outside).
-// - Samples outside the scanned box (kMetaScanMin/Max) get s = kOutsideScan (-infinity):
-//   outside the object. An edge from a finite value to kOutsideScan is crossed at its
-//   midpoint, so the surface closes half a voxel beyond the last sample (the voxel's face).
-// - Otherwise the crossing parameter is t = s0 / (s0 - s1), clamped to
+// - A sample is inside iff its value is strictly above the isovalue (Inside::above) or strictly
+//   below it (Inside::below): a value equal to the isovalue counts as outside.
+// - Samples outside the scanned box (kMetaScanMin/Max) are outside the object; DMC gives them
+//   the value outside_scan_value() (an infinity on the outside side). An edge with such an
+//   end is crossed at its midpoint, so the surface closes half a voxel beyond the last sample
+//   (on the voxel's face).
+// - Otherwise the crossing parameter is t = (iso - f0) / (f1 - f0), clamped to
 //   [kCrossingMargin, 1 - kCrossingMargin]: with isovalues equal to sample values (integer
 //   iso on integer CT) no mesh vertex lands on a sample, so no two vertices coincide and
 //   no triangle has zero area.
-// - The point is interpolated from the lexicographically smaller end (z, then y, then x),
-//   in double, so both meshers get the same bits whichever way they walk the edge.
+// - The point is interpolated from the lexicographically smaller end (z, then y, then x) as
+//   p0 + t (p1 - p0), in double, so both meshers get the same bits whichever way they walk
+//   the edge (for a grid edge from voxel p along an axis: p + t on that axis).
 
 #include <algorithm>
 #include <array>
@@ -24,21 +26,22 @@
 namespace vdbmesh::detail {
 
 inline constexpr double kCrossingMargin = 1e-3;
-inline constexpr double kOutsideScan = -std::numeric_limits<double>::infinity();
 
-/// Signed value of sample @a value: positive inside the object.
-inline double signed_value(float value, double iso, bool inside_above) {
-    return inside_above ? double(value) - iso : iso - double(value);
+/// Whether a (finite or infinite) value is inside the object.
+inline bool is_inside_value(double value, double iso, bool inside_above) {
+    return inside_above ? value > iso : value < iso;
 }
 
-inline bool is_inside(double signed_value) { return signed_value > 0.0; }
+/// The value standing for samples outside the scanned box: outside the object.
+inline double outside_scan_value(bool inside_above) {
+    return inside_above ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+}
 
-/// Where along the edge from s0 (t = 0) to s1 (t = 1) the surface crosses; s0 and s1 lie on
-/// different sides.
-inline double crossing_parameter(double s0, double s1) {
-    if (std::isinf(s0) || std::isinf(s1)) return 0.5;
-    const double t = s0 / (s0 - s1);
-    return std::min(std::max(t, kCrossingMargin), 1.0 - kCrossingMargin);
+/// Where along the edge from value f0 (t = 0) to f1 (t = 1) the isosurface crosses; f0 and f1
+/// lie on different sides of @a iso.
+inline double crossing_parameter(double f0, double f1, double iso) {
+    if (std::isinf(f0) || std::isinf(f1)) return 0.5;
+    return std::clamp((iso - f0) / (f1 - f0), kCrossingMargin, 1.0 - kCrossingMargin);
 }
 
 using Point3d = std::array<double, 3>;
@@ -49,13 +52,13 @@ inline bool lexicographically_less(const Point3d& a, const Point3d& b) {
     return a[0] < b[0];
 }
 
-/// The surface point on the segment p0-p1 (index space) with signed values s0 and s1.
-inline Point3d edge_crossing(Point3d p0, double s0, Point3d p1, double s1) {
+/// The surface point on the segment p0-p1 (index space) whose ends hold values f0 and f1.
+inline Point3d edge_crossing(Point3d p0, double f0, Point3d p1, double f1, double iso) {
     if (lexicographically_less(p1, p0)) {
         std::swap(p0, p1);
-        std::swap(s0, s1);
+        std::swap(f0, f1);
     }
-    const double t = crossing_parameter(s0, s1);
+    const double t = crossing_parameter(f0, f1, iso);
     return {p0[0] + t * (p1[0] - p0[0]), p0[1] + t * (p1[1] - p0[1]), p0[2] + t * (p1[2] - p0[2])};
 }
 
