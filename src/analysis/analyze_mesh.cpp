@@ -1,2 +1,146 @@
-// Placeholder until mesh analysis lands.
-namespace vdbmesh::detail { int analysis_placeholder = 0; }
+// analyze_mesh(): the validator behind `vdbmesh check` (DESIGN.md section 6). It gathers the
+// topology (topology.cpp), degenerate faces (classify_faces.cpp), exact self-intersections
+// (find_self_intersections.cpp), integrals (integrals.cpp), per-component orientation and
+// the angle quality of the regular triangles.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "analysis/block_reduce.h"
+#include "analysis/classify_faces.h"
+#include "analysis/topology.h"
+#include "vdbmesh/analysis.h"
+
+namespace vdbmesh {
+namespace {
+
+constexpr double kSmallAngleDeg = 10.0;
+constexpr double kPi = 3.14159265358979323846;
+
+struct AngleStats {
+    double min_angle = std::numeric_limits<double>::infinity();
+    std::size_t small = 0, total = 0;
+};
+
+/// The three angles of triangle abc in degrees (via atan2, accurate for tiny angles).
+std::array<double, 3> triangle_angles(const std::array<float, 3>& a, const std::array<float, 3>& b,
+                                      const std::array<float, 3>& c) {
+    const std::array<const std::array<float, 3>*, 3> p{&a, &b, &c};
+    std::array<double, 3> angles{};
+    for (int k = 0; k < 3; ++k) {
+        const auto& o = *p[k];
+        const auto& u = *p[(k + 1) % 3];
+        const auto& w = *p[(k + 2) % 3];
+        const double e1[3] = {double(u[0]) - o[0], double(u[1]) - o[1], double(u[2]) - o[2]};
+        const double e2[3] = {double(w[0]) - o[0], double(w[1]) - o[1], double(w[2]) - o[2]};
+        const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+                     cz = e1[0] * e2[1] - e1[1] * e2[0];
+        const double sine = std::sqrt(cx * cx + cy * cy + cz * cz);
+        const double cosine = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
+        angles[k] = std::atan2(sine, cosine) * 180.0 / kPi;
+    }
+    return angles;
+}
+
+AngleStats angle_stats(const Mesh& mesh, const std::vector<std::uint32_t>& regular) {
+    return detail::block_reduce(
+        regular.size(), 16384, AngleStats{},
+        [&](std::size_t begin, std::size_t end) {
+            AngleStats local;
+            for (std::size_t i = begin; i < end; ++i) {
+                const auto& t = mesh.triangles[regular[i]];
+                for (const double angle : triangle_angles(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]])) {
+                    local.min_angle = std::min(local.min_angle, angle);
+                    local.small += angle < kSmallAngleDeg;
+                    ++local.total;
+                }
+            }
+            return local;
+        },
+        [](AngleStats& total, const AngleStats& block) {
+            total.min_angle = std::min(total.min_angle, block.min_angle);
+            total.small += block.small;
+            total.total += block.total;
+        });
+}
+
+/// Number of components whose signed volume is negative. Each component's tetrahedra join
+/// its triangles to its first vertex, which keeps far-away components well conditioned.
+std::size_t count_negative_components(const Mesh& mesh, const detail::Topology& topology) {
+    std::vector<double> volume(topology.components, 0.0);
+    std::vector<std::array<double, 3>> reference;
+    reference.reserve(topology.components);
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+        const auto& t = mesh.triangles[i];
+        const std::uint32_t component = topology.component_of_triangle[i];
+        if (component == reference.size()) {  // numbered in order of first appearance
+            const auto& v = mesh.vertices[t[0]];
+            reference.push_back({v[0], v[1], v[2]});
+        }
+        const auto& r = reference[component];
+        const auto corner = [&](int k) {
+            const auto& v = mesh.vertices[t[k]];
+            return std::array<double, 3>{v[0] - r[0], v[1] - r[1], v[2] - r[2]};
+        };
+        const auto a = corner(0), b = corner(1), c = corner(2);
+        volume[component] += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) +
+                             a[2] * (b[0] * c[1] - b[1] * c[0]);
+    }
+    return std::size_t(std::count_if(volume.begin(), volume.end(), [](double v) { return v < 0; }));
+}
+
+}  // namespace
+
+bool MeshReport::is_clean() const {
+    return triangles > 0 && closed && nonmanifold_edges == 0 && nonmanifold_vertices == 0 &&
+           misoriented_edges == 0 && outward && self_intersecting_pairs == 0 && degenerate_faces == 0;
+}
+
+MeshReport analyze_mesh(const Mesh& mesh) {
+    detail::check_indices(mesh);
+    MeshReport report;
+    report.triangles = mesh.triangles.size();
+    report.vertices = mesh.vertices.size();
+
+    const detail::Topology topology = detail::analyze_topology(mesh);
+    report.unreferenced_vertices = report.vertices - topology.referenced_vertices;
+    report.edges = topology.edges;
+    report.boundary_edges = topology.boundary_edges;
+    report.boundary_loops = topology.boundary_loops;
+    report.nonmanifold_edges = topology.nonmanifold_edges;
+    report.nonmanifold_vertices = topology.nonmanifold_vertices;
+    report.misoriented_edges = topology.misoriented_edges;
+    report.components = topology.components;
+    report.euler_characteristic =
+        (long long)topology.referenced_vertices - (long long)topology.edges + (long long)report.triangles;
+    if (topology.nonmanifold_edges == 0 && topology.nonmanifold_vertices == 0) {
+        report.genus = (2 * (long long)topology.components - report.euler_characteristic -
+                        (long long)topology.boundary_loops) / 2;
+    }
+    report.closed = report.triangles > 0 && topology.boundary_edges == 0;
+
+    const std::vector<detail::FaceClass> classes = detail::classify_faces(mesh);
+    for (const detail::FaceClass c : classes) {
+        report.repeated_vertex_faces += c == detail::FaceClass::kRepeatedVertex;
+        report.zero_area_faces += c == detail::FaceClass::kZeroArea;
+    }
+    report.degenerate_faces = report.repeated_vertex_faces + report.zero_area_faces;
+    report.self_intersecting_pairs = find_self_intersections(mesh).size();
+
+    const MeshIntegrals integrals = mesh_integrals(mesh);
+    report.area = integrals.area;
+    report.volume = integrals.volume;
+    report.centroid = integrals.centroid;
+    report.inertia = integrals.inertia;
+    report.outward = integrals.volume > 0;
+    report.negative_components = count_negative_components(mesh, topology);
+
+    const AngleStats angles = angle_stats(mesh, detail::regular_faces(classes));
+    if (angles.total > 0) {
+        report.min_angle_deg = angles.min_angle;
+        report.small_angle_share = double(angles.small) / double(angles.total);
+    }
+    return report;
+}
+
+}  // namespace vdbmesh

@@ -1,0 +1,114 @@
+#pragma once
+/// @file analysis.h
+/// @brief Validating and measuring triangle meshes: topology, degeneracies, exact
+/// self-intersections, integrals (area, volume, centroid, inertia) and distances (OpenVDB-free).
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "vdbmesh/mesh.h"
+
+namespace vdbmesh {
+
+/// What analyze_mesh() finds. Nothing is repaired; every count is of the mesh as given.
+struct MeshReport {
+    // Sizes.
+    std::size_t triangles = 0;
+    std::size_t vertices = 0;               ///< mesh.vertices.size()
+    std::size_t unreferenced_vertices = 0;  ///< vertices used by no triangle
+    std::size_t edges = 0;                  ///< distinct undirected edges (self-loops excluded)
+
+    // Topology (edges of repeated-vertex faces are counted like any other, self-loops skipped).
+    std::size_t boundary_edges = 0;       ///< edges used by one triangle
+    std::size_t boundary_loops = 0;       ///< connected components of the boundary edges
+    std::size_t nonmanifold_edges = 0;    ///< edges used by more than two triangles
+    std::size_t nonmanifold_vertices = 0; ///< vertices whose triangles form more than one fan
+    std::size_t misoriented_edges = 0;    ///< edges used twice in the same direction
+    std::size_t components = 0;           ///< connected through shared vertices
+    long long euler_characteristic = 0;   ///< V - E + F over referenced vertices
+    /// Sum of the components' genera, from V - E + F = 2C - 2g - B (B boundary loops);
+    /// -1 when the mesh is not manifold (the formula does not apply).
+    long long genus = -1;
+    bool closed = false;    ///< no boundary edges (and at least one triangle)
+
+    // Degeneracies.
+    std::size_t repeated_vertex_faces = 0;  ///< a vertex index used twice in one triangle
+    std::size_t zero_area_faces = 0;        ///< distinct indices but exactly collinear corners
+    std::size_t degenerate_faces = 0;       ///< the sum of both
+
+    /// Pairs of non-degenerate triangles that share a point they are not required to share
+    /// (see find_self_intersections()).
+    std::size_t self_intersecting_pairs = 0;
+
+    // Integrals (unit density; meaningful for closed meshes).
+    double area = 0;
+    double volume = 0;                       ///< signed: positive when the normals point out
+    std::array<double, 3> centroid{};        ///< of the solid (of the surface when volume is 0)
+    std::array<std::array<double, 3>, 3> inertia{};  ///< about the centroid, unit density
+    /// Total signed volume > 0. Components with negative volume are counted separately:
+    /// a cavity inside another component is legitimately negative.
+    bool outward = false;
+    std::size_t negative_components = 0;
+
+    // Quality of non-degenerate triangles.
+    double min_angle_deg = 0;
+    double small_angle_share = 0;  ///< share of angles under 10 degrees
+
+    /// Closed, manifold (edges and vertices), consistently oriented, outward, no
+    /// self-intersections, no degenerate faces, at least one triangle.
+    bool is_clean() const;
+};
+
+/// Measures and validates @a mesh (parallel with TBB; deterministic).
+MeshReport analyze_mesh(const Mesh& mesh);
+
+/// @brief All pairs (i < j, sorted) of non-degenerate triangles that intersect beyond what
+/// they must share, decided with exact orientation predicates. Sharing is by position:
+/// corners with bit-identical coordinates are the same point even under different indices.
+/// - no shared corner: any common point (touching counts, as in CGAL's PMP);
+/// - one shared corner: a common point other than that corner (a fold or a crossing);
+/// - a shared edge: coplanar and on the same side of the edge (overlapping);
+/// - all three corners shared (a duplicated face): always.
+/// Degenerate triangles (repeated or collinear corners) are skipped: analyze_mesh() counts them.
+/// O(n log n) with a bounding-volume hierarchy.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> find_self_intersections(const Mesh& mesh);
+
+/// Area, signed volume, centroid and inertia about the centroid (unit density) of the solid
+/// bounded by @a mesh, by the divergence theorem on its triangles (exact for a closed mesh).
+struct MeshIntegrals {
+    double area = 0;
+    double volume = 0;
+    std::array<double, 3> centroid{};
+    std::array<std::array<double, 3>, 3> inertia{};
+};
+MeshIntegrals mesh_integrals(const Mesh& mesh);
+
+/// Distances between two surfaces, from points sampled uniformly by area on each.
+struct DistanceReport {
+    double hausdorff = 0;    ///< max of both one-sided maxima
+    double max_a_to_b = 0;
+    double max_b_to_a = 0;
+    double mean_a_to_b = 0;
+    double mean_b_to_a = 0;
+    double mean = 0;         ///< (mean_a_to_b + mean_b_to_a) / 2
+    double rms = 0;          ///< over all samples of both directions
+};
+
+/// @brief Two-sided distance between meshes: @a samples_per_mesh points drawn uniformly by
+/// area on each (fixed seed: deterministic), each measured exactly to the closest point of
+/// the other mesh through a bounding-volume hierarchy.
+/// @throw Error when a mesh has no triangle of positive area.
+DistanceReport mesh_distance(const Mesh& a, const Mesh& b, std::size_t samples_per_mesh);
+
+/// @brief Distance between @a mesh and an analytic surface {signed_distance = 0}:
+/// mesh -> surface from @a samples points on the mesh, |signed_distance(p)| each (the function
+/// is called concurrently and must be thread-safe); surface -> mesh from the caller's
+/// @a surface_points measured exactly to the mesh. With no surface points the b-to-a fields are 0.
+DistanceReport mesh_distance(const Mesh& mesh, const std::function<double(double, double, double)>& signed_distance,
+                             std::size_t samples, const std::vector<std::array<double, 3>>& surface_points = {});
+
+}  // namespace vdbmesh

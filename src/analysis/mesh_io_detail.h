@@ -1,0 +1,102 @@
+#pragma once
+// Private: the per-format readers and writers behind read_mesh() / write_mesh(), and the
+// byte and text helpers they share.
+
+#include <array>
+#include <charconv>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "vdbmesh/mesh.h"
+
+#if !defined(__BYTE_ORDER__) || __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "the mesh readers and writers assume a little-endian host"
+#endif
+
+namespace vdbmesh::detail {
+
+using Bytes = std::vector<unsigned char>;
+
+void write_stl(const Mesh& mesh, std::ostream& out, bool ascii);
+void write_ply(const Mesh& mesh, std::ostream& out, bool ascii, bool normals);
+void write_obj(const Mesh& mesh, std::ostream& out, bool normals);
+
+Mesh read_stl(const std::filesystem::path& file, const Bytes& bytes);
+Mesh read_ply(const std::filesystem::path& file, const Bytes& bytes);
+Mesh read_obj(const std::filesystem::path& file, const Bytes& bytes);
+
+/// Unit normal of each vertex: the area-weighted average of its triangles' normals (0 when none).
+std::vector<std::array<float, 3>> vertex_normals(const Mesh& mesh);
+/// Unit normal of a triangle (0 when degenerate).
+std::array<float, 3> facet_normal(const Mesh& mesh, const std::array<std::uint32_t, 3>& triangle);
+
+/// Collects output in memory and hands it to the stream in large blocks.
+class OutputBuffer {
+public:
+    explicit OutputBuffer(std::ostream& out) : out_(out) { text_.reserve(kFlushSize + 256); }
+    ~OutputBuffer() { flush(); }
+    void flush() {
+        out_.write(text_.data(), std::streamsize(text_.size()));
+        text_.clear();
+    }
+    void text(std::string_view s) { text_.append(s), maybe_flush(); }
+    /// The shortest decimal form that reads back as the same float.
+    void number(float value) {
+        char digits[32];
+        const auto end = std::to_chars(digits, digits + sizeof digits, value).ptr;
+        text_.append(digits, end), maybe_flush();
+    }
+    void number(std::uint64_t value) {
+        char digits[32];
+        const auto end = std::to_chars(digits, digits + sizeof digits, value).ptr;
+        text_.append(digits, end), maybe_flush();
+    }
+    /// The value's bytes in little-endian order.
+    template <class T>
+    void binary(T value) {
+        char raw[sizeof(T)];
+        std::memcpy(raw, &value, sizeof(T));
+        text_.append(raw, sizeof(T)), maybe_flush();
+    }
+
+private:
+    static constexpr std::size_t kFlushSize = 1 << 20;
+    void maybe_flush() {
+        if (text_.size() >= kFlushSize) flush();
+    }
+    std::ostream& out_;
+    std::string text_;
+};
+
+/// Walks a text buffer token by token, counting lines for error messages.
+class TextCursor {
+public:
+    TextCursor(const Bytes& bytes, std::size_t offset = 0, std::size_t line = 1)
+        : data_(reinterpret_cast<const char*>(bytes.data())), pos_(offset), size_(bytes.size()), line_(line) {}
+    /// The next whitespace-separated token on any line; empty at the end of the buffer.
+    std::string_view token();
+    /// The rest of the current line (without the newline), moving to the next line;
+    /// returns false at the end of the buffer.
+    bool line(std::string_view& text);
+    std::size_t line_number() const { return line_; }
+    std::size_t offset() const { return pos_; }
+    bool at_end();  ///< only whitespace remains
+
+private:
+    const char* data_;
+    std::size_t pos_, size_, line_;
+};
+
+/// Parses a finite float written in full (a leading '+' allowed); false otherwise.
+bool parse_float(std::string_view text, float& value);
+/// Parses a finite double written in full; false otherwise.
+bool parse_double_value(std::string_view text, double& value);
+/// Parses a whole signed integer; false otherwise.
+bool parse_integer(std::string_view text, std::int64_t& value);
+
+}  // namespace vdbmesh::detail
