@@ -1,0 +1,33 @@
+#pragma once
+// Private: Marching Cubes on the dual cells of the leaf octrees, vertices welded by dual edge.
+
+#include <openvdb/openvdb.h>
+
+#include <functional>
+#include <vector>
+
+#include "mesh/dmc_grid.h"
+#include "mesh/dmc_octree.h"
+#include "vdbmesh/mesh.h"
+
+namespace vdbmesh::detail {
+
+/// Where a triangle came from: the dual cell at voxel corner p + 1/2.
+struct TriangleSource {
+    openvdb::Coord p;
+};
+
+struct DmcContour {
+    Mesh mesh;                            ///< world coordinates
+    std::vector<TriangleSource> sources;  ///< per triangle
+};
+
+/// Contours every dual cell of @a octrees with the shared Marching Cubes table. A mesh vertex
+/// sits on a dual edge (two face-adjacent octree cells) at the linear crossing between their
+/// vertices (edge_crossing.h); it is identified by the edge, so welding is exact. Triangles
+/// with a repeated vertex (degenerate dual cells) are dropped. Deterministic: leaves in tree
+/// order, cells in voxel order, counts then prefix sums then fills.
+DmcContour contour_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>& octrees,
+                              const std::function<void(double)>& progress);
+
+}  // namespace vdbmesh::detail
