@@ -1,0 +1,78 @@
+// OpenVDB's volumeToMesh (tools/VolumeToMesh.h: a dual contouring close to Nielson's dual
+// Marching Cubes, with adaptivity merging blocks whose normals agree), turned into our Mesh.
+//
+// - Inside: volumeToMesh counts float(value) < float(iso) as inside. Our rule counts a value
+//   equal to the isovalue as outside for both sides, so the isovalue handed over is moved to
+//   the float for which that holds (matters on integer scans with integer isovalues).
+// - Winding: volumeToMesh orients its polygons outward from the region below the isovalue for
+//   level sets, and outward from the region above it for every other grid class; we reverse
+//   them when that region is not the object (checked by signed volume in the tests).
+// - Quads are split along the shorter diagonal (the first one on a tie).
+// - Boundary: volumeToMesh knows nothing of the scan box: the grid's values are meshed as they
+//   are, so on a converted grid (background outside, below the isovalue) the surface is closed
+//   by the background beyond the box with inside=above, and open_boundary is not honoured.
+
+#include "mesh/openvdb_mesher.h"
+
+#include <openvdb/tools/VolumeToMesh.h>
+
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace vdbmesh::detail {
+
+namespace {
+
+/// The float s such that, for every float v, volumeToMesh's test v < s is our "outside" test
+/// (v <= iso) for Inside::above and our "inside" test (v < iso) for Inside::below.
+float volume_to_mesh_isovalue(double iso, Inside inside) {
+    constexpr float kInfinity = std::numeric_limits<float>::infinity();
+    float s = float(iso);
+    if (inside == Inside::above) {
+        // v <= iso  <=>  v < s: s is the float after the largest float not above iso.
+        if (double(s) > iso) s = std::nextafter(s, -kInfinity);
+        return std::nextafter(s, kInfinity);
+    }
+    // v < iso  <=>  v < s: s is the smallest float not below iso.
+    if (double(s) < iso) s = std::nextafter(s, kInfinity);
+    return s;
+}
+
+double squared_distance(const openvdb::Vec3s& a, const openvdb::Vec3s& b) { return double((a - b).lengthSqr()); }
+
+}  // namespace
+
+Mesh openvdb_volume_to_mesh(const openvdb::FloatGrid& grid, const MeshOptions& options) {
+    std::vector<openvdb::Vec3s> points;
+    std::vector<openvdb::Vec3I> triangles;
+    std::vector<openvdb::Vec4I> quads;
+    openvdb::tools::volumeToMesh(grid, points, triangles, quads, volume_to_mesh_isovalue(options.iso, options.inside),
+                                 options.adaptivity);
+    if (options.progress) options.progress(0.8);
+
+    const bool outward_from_below = grid.getGridClass() == openvdb::GRID_LEVEL_SET;
+    const bool reverse = outward_from_below != (options.inside == Inside::below);
+    Mesh mesh;
+    mesh.vertices.reserve(points.size());
+    for (const auto& p : points) mesh.vertices.push_back({p[0], p[1], p[2]});
+    mesh.triangles.reserve(triangles.size() + 2 * quads.size());
+    auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+        if (reverse) std::swap(b, c);
+        mesh.triangles.push_back({a, b, c});
+    };
+    for (const auto& t : triangles) add(t[0], t[1], t[2]);
+    for (const auto& q : quads) {
+        if (squared_distance(points[q[0]], points[q[2]]) <= squared_distance(points[q[1]], points[q[3]])) {
+            add(q[0], q[1], q[2]);
+            add(q[0], q[2], q[3]);
+        } else {
+            add(q[0], q[1], q[3]);
+            add(q[1], q[2], q[3]);
+        }
+    }
+    if (options.progress) options.progress(1.0);
+    return mesh;
+}
+
+}  // namespace vdbmesh::detail

@@ -1,0 +1,41 @@
+#pragma once
+// Private: which samples of a grid are inside the object, by the rule of edge_crossing.h: a
+// sample is inside when it lies in the scanned box (kMetaScanMin/Max metadata, when present)
+// and its value is strictly on the inside side of the isovalue.
+
+#include <openvdb/openvdb.h>
+
+#include <optional>
+
+#include "mesh/edge_crossing.h"
+#include "vdbmesh/mesher.h"
+
+namespace vdbmesh::detail {
+
+class SampleClassifier {
+public:
+    SampleClassifier(const openvdb::FloatGrid& grid, const MeshOptions& options);
+
+    /// The scanned box (index space, inclusive), if the grid records one.
+    const std::optional<openvdb::CoordBBox>& scan_box() const { return box_; }
+    bool in_box(const openvdb::Coord& ijk) const { return !box_ || box_->isInside(ijk); }
+    /// Whether a value (finite, or outside_scan_value()) is inside the object.
+    bool inside(double value) const { return is_inside_value(value, iso_, above_); }
+    /// The value meshers use for the sample at @a ijk holding @a value: itself inside the box,
+    /// outside_scan_value() beyond it.
+    double sample_value(const openvdb::Coord& ijk, float value) const {
+        return in_box(ijk) ? double(value) : outside_scan_value(above_);
+    }
+    /// With open_boundary: whether the cell whose minimum corner is @a ijk lies in the box.
+    bool cell_in_box(const openvdb::Coord& ijk) const {
+        return !box_ || (box_->isInside(ijk) && box_->isInside(ijk.offsetBy(1)));
+    }
+    double iso() const { return iso_; }
+
+private:
+    double iso_;
+    bool above_;
+    std::optional<openvdb::CoordBBox> box_;
+};
+
+}  // namespace vdbmesh::detail

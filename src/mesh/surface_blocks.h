@@ -1,0 +1,21 @@
+#pragma once
+// Private: the 8^3 blocks of cells a mesher must visit.
+
+#include <openvdb/openvdb.h>
+
+#include <vector>
+
+#include "mesh/sample_classifier.h"
+
+namespace vdbmesh::detail {
+
+/// Edge length of a block of cells, equal to the leaf node's, so blocks align with leaves.
+inline constexpr int kBlockDim = int(openvdb::FloatTree::LeafNodeType::DIM);
+
+/// The origins (multiples of kBlockDim, sorted, unique) of the blocks holding the minimum
+/// corner of every cell whose 8 samples are not all inside or all outside according to
+/// @a classifier: the blocks next to each leaf node, the shells of tiles classified unlike
+/// the background, and the shell of the scan box where it meets inside samples.
+std::vector<openvdb::Coord> surface_blocks(const openvdb::FloatGrid& grid, const SampleClassifier& classifier);
+
+}  // namespace vdbmesh::detail
