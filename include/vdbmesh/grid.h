@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "vdbmesh/read.h"
 
@@ -34,14 +35,22 @@ inline constexpr const char* kMetaValueMax = "vdbmesh_value_max";
 /// with --open-boundary, emit no triangles in cells that reach outside it.
 inline constexpr const char* kMetaScanMin = "vdbmesh_scan_min";
 inline constexpr const char* kMetaScanMax = "vdbmesh_scan_max";
+/// With ConvertOptions::iso_range, the range (Vec2d) instead of kMetaIsovalue.
+inline constexpr const char* kMetaIsoRange = "vdbmesh_iso_range";
 
 /// Streams @a reader into a sparse float grid, a few slices at a time (TBB-parallel).
 /// Active voxels: the corners of every cell whose samples straddle the isovalue (a value
 /// above iso and one at or below it; or any value of iso_range), dilated by @a band voxels.
-/// Inactive voxels and tiles hold values on the correct side of the isovalue; the
-/// background is outside (below the isovalue). Voxel (i, j, k) holds sample (i, j, k);
-/// the transform maps it to the world as the header's index_to_world does.
-/// Memory: the sparse result plus a few slices. Throws FormatError on bad data.
+/// Samples outside the scan count as outside, so the band closes where the object touches
+/// the scan's border (active voxels reach band + 1 voxels beyond it, holding the background).
+/// Inactive voxels in leaves keep their sample; inactive tiles hold the minimum sample of
+/// their 8^3 block (on the block's side of every isovalue); everything else is background:
+/// min(data minimum, lowest isovalue) minus 1% of the value range, so strictly below every
+/// isovalue and every sample. Voxel (i, j, k) holds sample (i, j, k); the transform maps it to
+/// the world as the header's index_to_world does. Grid "density", class unknown (not a level
+/// set), with the kMeta* metadata above. Same grid for any thread count.
+/// Memory: the sparse result plus band + 5 slices. Throws FormatError on bad data, UsageError
+/// on bad options (band outside 1..32, iso_range reversed, an isovalue outside the float range).
 openvdb::FloatGrid::Ptr convert_to_grid(VolumeReader& reader, const ConvertOptions& options);
 
 /// Writes @a grid to @a path atomically (temporary file, then rename).
@@ -52,5 +61,23 @@ openvdb::FloatGrid::Ptr read_vdb(const std::filesystem::path& path);
 
 /// The isovalue stored on a converted grid, if any.
 std::optional<double> stored_isovalue(const openvdb::FloatGrid& grid);
+
+/// What `vdbmesh info` reports about one grid of a .vdb file.
+struct GridInfo {
+    std::string name, grid_class, value_type;  ///< e.g. "density", "unknown", "float"
+    openvdb::Index64 active_voxels = 0;         ///< voxels plus voxels of active tiles
+    openvdb::Index64 leaf_nodes = 0;
+    openvdb::Index64 memory_bytes = 0;          ///< in memory, as Tree::memUsage() counts it
+    openvdb::CoordBBox index_bbox;              ///< of the active values, inclusive; empty when none
+    openvdb::BBoxd world_bbox;                  ///< index_bbox's corners through the transform
+    openvdb::Vec3d voxel_size{1, 1, 1};
+    std::optional<std::pair<double, double>> value_range;  ///< min, max of active values (float grids)
+    std::vector<std::pair<std::string, std::string>> metadata;  ///< name, value as text
+};
+
+/// Describes one grid.
+GridInfo describe_grid(const openvdb::GridBase& grid);
+/// Describes every grid of a .vdb file; throws FormatError when it cannot be read.
+std::vector<GridInfo> describe_vdb_file(const std::filesystem::path& path);
 
 }  // namespace vdbmesh

@@ -1,0 +1,64 @@
+// .vdb files in and out through OpenVDB's io::File (the format is OpenVDB's own, see
+// openvdb/io/Archive.h). Writes go through AtomicFile; every OpenVDB exception becomes a
+// FormatError or Error naming the file.
+
+#include "vdb_file.h"
+
+#include <string>
+
+#include "vdbmesh/atomic_file.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/grid.h"
+
+namespace vdbmesh {
+
+namespace detail {
+
+openvdb::GridPtrVecPtr read_vdb_grids(const std::filesystem::path& path) {
+    openvdb::initialize();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw FormatError(path.string(), "file", "an existing .vdb file", "nothing readable at that path");
+    try {
+        openvdb::io::File file(path.string());
+        file.open(/*delayLoad=*/false);
+        openvdb::GridPtrVecPtr grids = file.getGrids();
+        file.close();
+        return grids;
+    } catch (const std::exception& e) {  // OpenVDB throws its own exceptions, std::bad_alloc on absurd sizes ...
+        throw FormatError(path.string(), std::string("not a readable .vdb file (") + e.what() + ")");
+    }
+}
+
+}  // namespace detail
+
+void write_vdb(const openvdb::FloatGrid& grid, const std::filesystem::path& path) {
+    openvdb::initialize();
+    AtomicFile out(path);
+    try {
+        openvdb::io::File file(out.temp_path().string());
+        file.write(openvdb::GridCPtrVec{grid.copyGrid()});  // a shallow copy sharing the tree
+        file.close();
+    } catch (const openvdb::Exception& e) {
+        throw Error(path.string() + ": cannot write the .vdb file (" + e.what() + ")");
+    }
+    out.commit();
+}
+
+openvdb::FloatGrid::Ptr read_vdb(const std::filesystem::path& path) {
+    const openvdb::GridPtrVecPtr grids = detail::read_vdb_grids(path);
+    std::string found;
+    for (const openvdb::GridBase::Ptr& grid : *grids) {
+        if (auto floats = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)) return floats;
+        found += (found.empty() ? "" : ", ") + grid->getName() + " (" + grid->valueType() + ")";
+    }
+    throw FormatError(path.string(), "grids", "a float grid", found.empty() ? "no grids" : found);
+}
+
+std::optional<double> stored_isovalue(const openvdb::FloatGrid& grid) {
+    if (auto value = grid.getMetadata<openvdb::DoubleMetadata>(kMetaIsovalue)) return value->value();
+    if (auto value = grid.getMetadata<openvdb::FloatMetadata>(kMetaIsovalue)) return value->value();
+    return std::nullopt;
+}
+
+}  // namespace vdbmesh
