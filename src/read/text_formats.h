@@ -2,8 +2,9 @@
 // Private: the bytes-level entry points of the text-header formats. Each takes the header
 // text (as read from the start of @a path; binary data after the header is fine) and the
 // header's path (for messages and for resolving relative data files). They never read a
-// file: they only ask whether data files exist and how long they are, so a fuzzer can drive
-// them with any text. Every problem is a FormatError naming the field.
+// file: they only ask whether data files exist and how long they are (for the size checks
+// and "data at the end of the file"); NRRD's "line skip" goes through a callback. So a
+// fuzzer can drive them with any text. Every problem is a FormatError naming the field.
 
 #include <cstdint>
 #include <filesystem>

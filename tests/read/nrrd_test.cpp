@@ -135,6 +135,13 @@ TEST(NrrdTest, PatternWithNegativeStepAndFileDimension) {
     EXPECT_EQ(read_all_samples(source), (std::vector<float>{73, 74, 75, 76, 69, 70, 71, 72, 65, 66, 67, 68}));
 }
 
+TEST(NrrdTest, ByteSkipMinusOneTakesTheEndOfARawFile) {
+    const VolumeSource source = parse("NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 1\nencoding: raw\n"
+                                      "byte skip: -1\ndata file: text_u16.raw\n");
+    EXPECT_EQ(source.segments[0].file_offset, 12u);  // the last 4 of 16 bytes: "a6a7"
+    EXPECT_EQ(read_all_samples(source), (std::vector<float>{0x61, 0x36, 0x61, 0x37}));
+}
+
 TEST(NrrdTest, EveryScalarTypeName) {
     const std::pair<const char*, SampleType> kNames[] = {
         {"uchar", SampleType::u8},           {"unsigned char", SampleType::u8},
