@@ -4,9 +4,10 @@
 // - Inside: volumeToMesh counts float(value) < float(iso) as inside. Our rule counts a value
 //   equal to the isovalue as outside for both sides, so the isovalue handed over is moved to
 //   the float for which that holds (matters on integer scans with integer isovalues).
-// - Winding: volumeToMesh orients its polygons outward from the region below the isovalue for
-//   level sets, and outward from the region above it for every other grid class; we reverse
-//   them when that region is not the object (checked by signed volume in the tests).
+// - Winding: as measured by signed volume (tests/mesh/mesh_grid_test.cpp), volumeToMesh's
+//   polygons, read counter-clockwise, face away from the region above the isovalue for level
+//   sets and away from the region below it for every other grid class; we reverse them when
+//   that region is not the object.
 // - Quads are split along the shorter diagonal (the first one on a tie).
 // - Boundary: volumeToMesh knows nothing of the scan box: the grid's values are meshed as they
 //   are, so on a converted grid (background outside, below the isovalue) the surface is closed
@@ -51,7 +52,7 @@ Mesh openvdb_volume_to_mesh(const openvdb::FloatGrid& grid, const MeshOptions& o
                                  options.adaptivity);
     if (options.progress) options.progress(0.8);
 
-    const bool outward_from_below = grid.getGridClass() == openvdb::GRID_LEVEL_SET;
+    const bool outward_from_below = grid.getGridClass() != openvdb::GRID_LEVEL_SET;
     const bool reverse = outward_from_below != (options.inside == Inside::below);
     Mesh mesh;
     mesh.vertices.reserve(points.size());
