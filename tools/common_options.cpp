@@ -40,8 +40,11 @@ std::vector<double> parse_number_list(const std::string& flag, const std::string
     return values;
 }
 
-ReadOptions ReadFlags::to_read_options() const {
+ReadOptions ReadFlags::to_read_options(const std::vector<std::string>& more_inputs) const {
     ReadOptions options;
+    if (!more_inputs.empty() && raw_dims.empty())
+        throw UsageError("more than one input is only for a raw scan split over several files, which needs --raw-dims X,Y,Z");
+    options.raw_more_files.assign(more_inputs.begin(), more_inputs.end());
     if (!raw_dims.empty()) {
         const auto dims = parse_number_list("--raw-dims", raw_dims);
         if (dims.size() != 3) throw UsageError("--raw-dims: expected X,Y,Z, got \"" + raw_dims + "\"");

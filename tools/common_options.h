@@ -32,8 +32,10 @@ private:
 struct ReadFlags {
     std::string raw_dims, raw_type = "u8", raw_endian = "little", spacing;
     std::uint64_t header_bytes = 0;
-    /// Converts to ReadOptions; throws UsageError on malformed values.
-    ReadOptions to_read_options() const;
+    /// Converts to ReadOptions; throws UsageError on malformed values. @a more_inputs are the
+    /// positional inputs after the first: the further parts of a split raw scan, read in order
+    /// (ReadOptions::raw_more_files), allowed only with --raw-dims.
+    ReadOptions to_read_options(const std::vector<std::string>& more_inputs = {}) const;
 };
 void add_read_flags(CLI::App& command, ReadFlags& flags);
 

@@ -20,6 +20,7 @@
 #include <climits>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "vdbmesh/error.h"
 #include "vdbmesh/read.h"
@@ -251,6 +252,14 @@ private:
 
 namespace {
 
+/// Narrows to float; values beyond float range become infinities (a bare cast would be undefined).
+float to_float(double value) {
+    constexpr double kMax = std::numeric_limits<float>::max();
+    if (value > kMax) return std::numeric_limits<float>::infinity();
+    if (value < -kMax) return -std::numeric_limits<float>::infinity();
+    return static_cast<float>(value);
+}
+
 template <typename T>
 void decode_as(const unsigned char* bytes, std::size_t count, bool swap, double scale, double offset, float* out) {
     for (std::size_t i = 0; i < count; ++i) {
@@ -259,7 +268,7 @@ void decode_as(const unsigned char* bytes, std::size_t count, bool swap, double 
         if (swap) std::reverse(raw, raw + sizeof(T));
         T value;
         std::memcpy(&value, raw, sizeof(T));
-        out[i] = static_cast<float>(static_cast<double>(value) * scale + offset);
+        out[i] = to_float(static_cast<double>(value) * scale + offset);
     }
 }
 
