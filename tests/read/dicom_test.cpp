@@ -88,6 +88,7 @@ void expect_round_trip(const VolumeHeader& written, const detail::DicomWriteOpti
     EXPECT_EQ(read.format, "dicom");
     EXPECT_EQ(read.dims, written.dims);
     EXPECT_EQ(read.type, written.type);
+    EXPECT_EQ(read.byte_order, written.byte_order);
     EXPECT_EQ(read.units, "mm");
     EXPECT_DOUBLE_EQ(read.value_scale, written.value_scale);
     EXPECT_DOUBLE_EQ(read.value_offset, written.value_offset);
@@ -262,6 +263,20 @@ TEST(DicomSeriesTest, AnisotropicPixelSpacingOrder) {
     const VolumeSource source = open_volume_source(scratch / "s");
     EXPECT_DOUBLE_EQ(source.header.spacing[0], 0.25);
     EXPECT_DOUBLE_EQ(source.header.spacing[1], 0.75);
+}
+
+TEST(DicomSeriesTest, LeftHandedAffineReadsInNormalOrder) {
+    ScratchDir scratch;
+    VolumeHeader header = axis_aligned_header({4, 3, 5});
+    header.index_to_world[2][2] = -2;  // slices written towards -z, against the normal x cross y
+    write_series(scratch / "s", header);
+    auto reader = open_volume(scratch / "s");
+    // Same world points, k reversed: the reader starts at the lowest slice (z = 30 - 4 * 2).
+    EXPECT_NEAR(reader->header().index_to_world[2][2], 2, 1e-12);
+    EXPECT_NEAR(reader->header().index_to_world[2][3], 22, 1e-12);
+    const std::vector<float> values = read_all(*reader);
+    EXPECT_EQ(values[0], std::round(phantom_value(0, 0, 4)));
+    EXPECT_EQ(values[4 * 3 * 4], std::round(phantom_value(0, 0, 0)));
 }
 
 // ---- folders that are not one clean series ----
