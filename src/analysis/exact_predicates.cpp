@@ -7,16 +7,13 @@
 // (x86-64 SSE) and no contraction into fused multiply-adds (ISO C++ mode).
 #include "analysis/exact_predicates.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace vdbmesh::detail {
 namespace {
 
-// Expansion lengths: a difference has 2 components, a product of two differences 8, a 2x2
-// minor 16, a minor times a difference 64, the 3x3 determinant 192.
-constexpr int kMaxComponents = 192;
-
-// Bounds on the relative error of the plain floating-point determinants, with margin over
+// Relative error bounds of the plain floating-point determinants, with margin over
 // Shewchuk's (3 + 16 eps) eps and (7 + 56 eps) eps.
 constexpr double kOrient2dBound = 4e-16;
 constexpr double kOrient3dBound = 1e-15;
@@ -45,80 +42,134 @@ inline void two_product(double a, double b, double& x, double& y) {
     y = a_low * b_low - (((x - a_high * b_high) - a_low * b_high) - a_high * b_low);
 }
 
-/// An expansion in a fixed buffer: components nonoverlapping, increasing magnitude, no zeros.
+/// An expansion of at most N components: nonoverlapping, increasing magnitude, no zeros.
+/// The capacity is a template argument so that each intermediate has its exact worst-case
+/// size (a difference 2, a product of differences 8, a 2x2 minor 16, ... the 3x3 determinant 192).
+template <int N>
 struct Expansion {
-    double c[kMaxComponents];
+    double c[N];
     int n = 0;
+    void push(double value) {
+        if (value != 0) c[n++] = value;
+    }
 };
 
-Expansion difference(double a, double b) {
-    Expansion e;
+Expansion<2> difference(double a, double b) {
+    Expansion<2> e;
     double x, y;
     two_sum(a, -b, x, y);
-    if (y != 0) e.c[e.n++] = y;
-    if (x != 0) e.c[e.n++] = x;
+    e.push(y);
+    e.push(x);
     return e;
 }
 
 /// e * b (Shewchuk's Scale-Expansion with zero elimination).
-Expansion scale(const Expansion& e, double b) {
-    Expansion h;
+template <int N>
+Expansion<2 * N> scale(const Expansion<N>& e, double b) {
+    Expansion<2 * N> h;
     if (e.n == 0 || b == 0) return h;
     double q, t;
     two_product(e.c[0], b, q, t);
-    if (t != 0) h.c[h.n++] = t;
+    h.push(t);
     for (int i = 1; i < e.n; ++i) {
         double p_high, p_low, sum, err;
         two_product(e.c[i], b, p_high, p_low);
         two_sum(q, p_low, sum, err);
-        if (err != 0) h.c[h.n++] = err;
+        h.push(err);
         two_sum(p_high, sum, q, err);
-        if (err != 0) h.c[h.n++] = err;
+        h.push(err);
     }
-    if (q != 0) h.c[h.n++] = q;
+    h.push(q);
     return h;
 }
 
 /// e + f (Shewchuk's Fast-Expansion-Sum: merge by magnitude, then accumulate with TwoSum).
-Expansion sum(const Expansion& e, const Expansion& f) {
-    double merged[kMaxComponents];
+template <int N, int M>
+Expansion<N + M> sum(const Expansion<N>& e, const Expansion<M>& f) {
+    double merged[N + M];
     int i = 0, j = 0, m = 0;
     while (i < e.n && j < f.n) merged[m++] = std::fabs(e.c[i]) < std::fabs(f.c[j]) ? e.c[i++] : f.c[j++];
     while (i < e.n) merged[m++] = e.c[i++];
     while (j < f.n) merged[m++] = f.c[j++];
-    Expansion h;
+    Expansion<N + M> h;
     if (m == 0) return h;
     double q = merged[0];
     for (int k = 1; k < m; ++k) {
         double next, err;
         two_sum(q, merged[k], next, err);
-        if (err != 0) h.c[h.n++] = err;
+        h.push(err);
         q = next;
     }
-    if (q != 0) h.c[h.n++] = q;
+    h.push(q);
     return h;
 }
 
-Expansion negate(Expansion e) {
+template <int N>
+Expansion<N> negate(Expansion<N> e) {
     for (int i = 0; i < e.n; ++i) e.c[i] = -e.c[i];
     return e;
 }
 
-Expansion product(const Expansion& e, const Expansion& f) {
-    Expansion h;
-    for (int i = 0; i < f.n; ++i) h = sum(h, scale(e, f.c[i]));
-    return h;
+/// e * f for a difference f (two components at most).
+template <int N>
+Expansion<4 * N> product(const Expansion<N>& e, const Expansion<2>& f) {
+    if (f.n == 0) return {};
+    if (f.n == 1) {
+        Expansion<4 * N> h;
+        const Expansion<2 * N> single = scale(e, f.c[0]);
+        std::copy(single.c, single.c + single.n, h.c);
+        h.n = single.n;
+        return h;
+    }
+    return sum(scale(e, f.c[0]), scale(e, f.c[1]));
 }
 
-int sign_of(const Expansion& e) { return e.n == 0 ? 0 : (e.c[e.n - 1] > 0 ? 1 : -1); }
+/// Error-free steps of a plain evaluation: each returns false when its result was rounded.
+/// Meshes on grids (integer or few-bit coordinates) are evaluated exactly in double this way,
+/// which settles their many exactly coplanar cases without expansions.
+bool exact_add(double a, double b, double& x) {
+    double tail;
+    two_sum(a, b, x, tail);
+    return tail == 0;
+}
+bool exact_multiply(double a, double b, double& x) {
+    double tail;
+    two_product(a, b, x, tail);
+    return tail == 0;
+}
+/// a * b - c * d without rounding, or false.
+bool exact_cross(double a, double b, double c, double d, double& x) {
+    double ab, cd;
+    return exact_multiply(a, b, ab) && exact_multiply(c, d, cd) && exact_add(ab, -cd, x);
+}
+
+template <int N>
+int sign_of(const Expansion<N>& e) {
+    return e.n == 0 ? 0 : (e.c[e.n - 1] > 0 ? 1 : -1);
+}
 
 int sign_of(double value) { return (value > 0) - (value < 0); }
 
 /// Exact (b - a) x (c - a) in 2D: (bx - ax)(cy - ay) - (by - ay)(cx - ax).
-Expansion exact_cross2(double ax, double ay, double bx, double by, double cx, double cy) {
-    const Expansion left = product(difference(bx, ax), difference(cy, ay));
-    const Expansion right = product(difference(by, ay), difference(cx, ax));
-    return sum(left, negate(right));
+Expansion<16> exact_cross2(double ax, double ay, double bx, double by, double cx, double cy) {
+    return sum(product(difference(bx, ax), difference(cy, ay)), negate(product(difference(by, ay), difference(cx, ax))));
+}
+
+/// The sign of orient3d when the plain double evaluation has no rounding at all.
+bool orient3d_if_exact_in_double(const Point3& a, const Point3& b, const Point3& c, const Point3& d, int& sign) {
+    double u[3], v[3], w[3];
+    for (int k = 0; k < 3; ++k) {
+        if (!exact_add(b[k], -a[k], u[k]) || !exact_add(c[k], -a[k], v[k]) || !exact_add(d[k], -a[k], w[k])) return false;
+    }
+    double m1, m2, m3, t1, t2, t3, s12, det;
+    if (!exact_cross(u[1], v[2], u[2], v[1], m1) || !exact_cross(u[2], v[0], u[0], v[2], m2) ||
+        !exact_cross(u[0], v[1], u[1], v[0], m3)) {
+        return false;
+    }
+    if (!exact_multiply(w[0], m1, t1) || !exact_multiply(w[1], m2, t2) || !exact_multiply(w[2], m3, t3)) return false;
+    if (!exact_add(t1, t2, s12) || !exact_add(s12, t3, det)) return false;
+    sign = sign_of(det);
+    return true;
 }
 
 }  // namespace
@@ -129,6 +180,11 @@ int orient2d(const Point2& a, const Point2& b, const Point2& c) {
     const double det = left - right;
     const double bound = kOrient2dBound * (std::fabs(left) + std::fabs(right));
     if (std::fabs(det) > bound) return sign_of(det);
+    double ux, uy, vx, vy, exact;
+    if (exact_add(b[0], -a[0], ux) && exact_add(b[1], -a[1], uy) && exact_add(c[0], -a[0], vx) &&
+        exact_add(c[1], -a[1], vy) && exact_cross(ux, vy, uy, vx, exact)) {
+        return sign_of(exact);
+    }
     return sign_of(exact_cross2(a[0], a[1], b[0], b[1], c[0], c[1]));
 }
 
@@ -143,16 +199,13 @@ int orient3d(const Point3& a, const Point3& b, const Point3& c, const Point3& d)
                              std::fabs(wy) * (std::fabs(uz * vx) + std::fabs(ux * vz)) +
                              std::fabs(wz) * (std::fabs(ux * vy) + std::fabs(uy * vx));
     if (std::fabs(det) > kOrient3dBound * permanent) return sign_of(det);
+    if (int sign = 0; orient3d_if_exact_in_double(a, b, c, d, sign)) return sign;
 
-    const Expansion eux = difference(b[0], a[0]), euy = difference(b[1], a[1]), euz = difference(b[2], a[2]);
-    const Expansion evx = difference(c[0], a[0]), evy = difference(c[1], a[1]), evz = difference(c[2], a[2]);
-    const Expansion em1 = sum(product(euy, evz), negate(product(euz, evy)));
-    const Expansion em2 = sum(product(euz, evx), negate(product(eux, evz)));
-    const Expansion em3 = sum(product(eux, evy), negate(product(euy, evx)));
-    Expansion total = product(em1, difference(d[0], a[0]));
-    total = sum(total, product(em2, difference(d[1], a[1])));
-    total = sum(total, product(em3, difference(d[2], a[2])));
-    return sign_of(total);
+    const Expansion<16> m1_exact = exact_cross2(a[1], a[2], b[1], b[2], c[1], c[2]);
+    const Expansion<16> m2_exact = exact_cross2(a[2], a[0], b[2], b[0], c[2], c[0]);
+    const Expansion<16> m3_exact = exact_cross2(a[0], a[1], b[0], b[1], c[0], c[1]);
+    const Expansion<128> partial = sum(product(m1_exact, difference(d[0], a[0])), product(m2_exact, difference(d[1], a[1])));
+    return sign_of(sum(partial, product(m3_exact, difference(d[2], a[2]))));
 }
 
 bool collinear(const Point3& a, const Point3& b, const Point3& c) {

@@ -112,29 +112,41 @@ TriangleBvh::TriangleBvh(const Mesh& mesh, std::vector<std::uint32_t> triangles)
     });
     tbb::parallel_sort(keyed.begin(), keyed.end());  // ties broken by position: deterministic
 
-    std::vector<Box> sorted_boxes(n);
+    boxes_.resize(n);
     std::vector<std::uint32_t> sorted_order(n);
+    std::vector<std::uint64_t> codes(n);
     tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-        sorted_boxes[i] = boxes[keyed[i].second];
+        boxes_[i] = boxes[keyed[i].second];
         sorted_order[i] = order_[keyed[i].second];
+        codes[i] = keyed[i].first;
     });
     order_ = std::move(sorted_order);
     nodes_.reserve(2 * (n / kLeafSize + 1));
-    build(0, std::uint32_t(n), sorted_boxes);
+    build(0, std::uint32_t(n), codes);
 }
 
-std::uint32_t TriangleBvh::build(std::uint32_t begin, std::uint32_t end, const std::vector<Box>& boxes) {
+std::uint32_t TriangleBvh::build(std::uint32_t begin, std::uint32_t end, const std::vector<std::uint64_t>& codes) {
     const std::uint32_t index = std::uint32_t(nodes_.size());
     nodes_.emplace_back();
     if (end - begin <= kLeafSize) {
-        Box box = boxes[begin];
-        for (std::uint32_t i = begin + 1; i < end; ++i) box = merge(box, boxes[i]);
+        Box box = boxes_[begin];
+        for (std::uint32_t i = begin + 1; i < end; ++i) box = merge(box, boxes_[i]);
         nodes_[index] = {box, begin, end - begin};
         return index;
     }
-    const std::uint32_t middle = begin + (end - begin) / 2;
-    const std::uint32_t left = build(begin, middle, boxes);
-    const std::uint32_t right = build(middle, end, boxes);
+    // Split after the last code that agrees with the first one on the highest bit where the
+    // range's first and last codes differ; halve a range of equal codes.
+    std::uint32_t middle = begin + (end - begin) / 2;
+    const std::uint64_t first = codes[begin], last = codes[end - 1];
+    if (first != last) {
+        const int bit = 63 - __builtin_clzll(first ^ last);
+        const std::uint64_t mask = ~0ULL << bit;  // the bits at and above the differing one
+        middle = std::uint32_t(std::partition_point(codes.begin() + begin, codes.begin() + end,
+                                                    [&](std::uint64_t c) { return (c & mask) == (first & mask); }) -
+                               codes.begin());
+    }
+    const std::uint32_t left = build(begin, middle, codes);
+    const std::uint32_t right = build(middle, end, codes);
     nodes_[index] = {merge(nodes_[left].box, nodes_[right].box), right, 0};
     return index;
 }
@@ -149,8 +161,8 @@ ClosestPoint TriangleBvh::closest_point(const Point3& p) const {
         const Node& node = nodes_[stack[--top]];
         if (box_distance_squared(p, node.box) >= best.distance_squared) continue;
         if (node.count > 0) {
-            for (std::uint32_t k = 0; k < node.count; ++k) {
-                const std::uint32_t triangle = order_[node.first + k];
+            for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+                const std::uint32_t triangle = order_[k];
                 const auto& t = mesh_->triangles[triangle];
                 const Point3 q = closest_point_on_triangle(p, to_point(mesh_->vertices[t[0]]),
                                                            to_point(mesh_->vertices[t[1]]),

@@ -37,9 +37,10 @@ struct ClosestPoint {
 /// Detection, 2005, section 5.1.5).
 Point3 closest_point_on_triangle(const Point3& p, const Point3& a, const Point3& b, const Point3& c);
 
-/// A binary tree over the triangles sorted along a Morton (Z-order) curve of their centroids,
-/// each node splitting its range in halves (a linear BVH: T. Karras, "Maximizing parallelism
-/// in the construction of BVHs, octrees, and k-d trees", HPG 2012, without the radix tree).
+/// A binary tree over the triangles sorted along a Morton (Z-order) curve of their box centres,
+/// each node splitting its range where the highest differing Morton bit changes (a linear BVH:
+/// T. Karras, "Maximizing parallelism in the construction of BVHs, octrees, and k-d trees",
+/// HPG 2012, built top-down), or in halves among equal codes.
 class TriangleBvh {
 public:
     /// Over the listed triangles of @a mesh (which must outlive the tree).
@@ -61,12 +62,14 @@ private:
         std::uint32_t count = 0;  ///< leaf: number of triangles; inner: 0 (left child follows)
     };
     static constexpr int kLeafSize = 4;
-    static constexpr int kMaxDepth = 64;
+    // 63 levels of Morton bits, then halving at most 2^32 equal codes.
+    static constexpr int kMaxDepth = 100;
 
-    std::uint32_t build(std::uint32_t begin, std::uint32_t end, const std::vector<Box>& boxes);
+    std::uint32_t build(std::uint32_t begin, std::uint32_t end, const std::vector<std::uint64_t>& codes);
 
     const Mesh* mesh_;
-    std::vector<std::uint32_t> order_;
+    std::vector<std::uint32_t> order_;  ///< triangles in Morton order
+    std::vector<Box> boxes_;            ///< their boxes, in the same order
     std::vector<Node> nodes_;
 };
 
@@ -81,7 +84,9 @@ void TriangleBvh::visit_overlaps(const Box& query, Visit&& visit) const {
         const Node& node = nodes_[index];
         if (!boxes_overlap(node.box, query)) continue;
         if (node.count > 0) {
-            for (std::uint32_t k = 0; k < node.count; ++k) visit(order_[node.first + k]);
+            for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+                if (boxes_overlap(boxes_[k], query)) visit(order_[k]);
+            }
         } else {
             stack[top++] = node.first;
             stack[top++] = index + 1;
