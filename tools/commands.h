@@ -22,6 +22,7 @@ struct CommandEntry {
 void add_info_command(CLI::App& command, CommandResult& result);
 void add_convert_command(CLI::App& command, CommandResult& result);
 void add_phantom_command(CLI::App& command, CommandResult& result);
+void add_mesh_command(CLI::App& command, CommandResult& result);
 void add_check_command(CLI::App& command, CommandResult& result);
 
 /// All subcommands, in the order --help lists them.
@@ -29,6 +30,7 @@ inline constexpr CommandEntry kCommands[] = {
     {"info", "Describe a scan or .vdb file and suggest an isovalue", add_info_command},
     {"convert", "Stream a scan into a sparse OpenVDB grid (.vdb)", add_convert_command},
     {"phantom", "Write a synthetic test volume (sphere, cube, torus ...) in any format we read", add_phantom_command},
+    {"mesh", "Mesh a .vdb grid or a scan at an isovalue into STL, PLY or OBJ (DMC, MC or volumeToMesh)", add_mesh_command},
     {"check", "Validate a mesh (closed, manifold, oriented, self-intersections) and measure it", add_check_command},
 };
 

@@ -9,6 +9,7 @@
 
 #include "mesh/marching_cubes.h"
 #include "mesh_checks.h"
+#include "vdbmesh/analysis.h"
 #include "vdbmesh/grid.h"
 
 namespace vdbmesh::test {
@@ -26,11 +27,14 @@ MeshOptions mc_options(double iso, Inside inside = Inside::above) {
 
 void expect_closed_manifold(const Mesh& mesh) {
     ASSERT_FALSE(mesh.triangles.empty());
-    const EdgeCounts edges = count_edges(mesh);
-    EXPECT_EQ(edges.boundary, 0u);
-    EXPECT_EQ(edges.nonmanifold, 0u);
-    EXPECT_EQ(edges.misoriented, 0u);
-    EXPECT_EQ(degenerate_triangles(mesh), 0u);
+    const MeshReport report = analyze_mesh(mesh);
+    EXPECT_TRUE(report.closed);
+    EXPECT_EQ(report.nonmanifold_edges, 0u);
+    EXPECT_EQ(report.nonmanifold_vertices, 0u);
+    EXPECT_EQ(report.misoriented_edges, 0u);
+    EXPECT_EQ(report.unreferenced_vertices, 0u);
+    EXPECT_EQ(report.degenerate_faces, 0u);
+    EXPECT_EQ(report.self_intersecting_pairs, 0u);
     EXPECT_EQ(coincident_vertices(mesh), 0u);
 }
 
@@ -63,7 +67,7 @@ TEST(MarchingCubesTest, BallIsClosedOutwardAndHasTheRightVolume) {
     const double exact_volume = 4.0 / 3.0 * kPi * radius * radius * radius;
     const double exact_area = 4 * kPi * radius * radius;
     EXPECT_NEAR(signed_volume(mesh), exact_volume, 0.1 * exact_area);
-    EXPECT_NEAR(surface_area(mesh), exact_area, 0.05 * exact_area);
+    EXPECT_NEAR(analyze_mesh(mesh).area, exact_area, 0.05 * exact_area);
 }
 
 TEST(MarchingCubesTest, InsideBelowMeshesTheSameObjectOutward) {
@@ -181,21 +185,14 @@ TEST(MarchingCubesTest, OpenBoundaryLeavesTheCutOpen) {
     MeshOptions options = mc_options(0.0);
     options.open_boundary = true;
     const Mesh mesh = detail::marching_cubes(*grid, options);
-    const EdgeCounts edges = count_edges(mesh);
-    // The three cut faces leave one boundary loop along x = 5, y = 5 or z = 5.
-    EXPECT_GT(edges.boundary, 3u * 15);
-    EXPECT_EQ(edges.nonmanifold, 0u);
-    EXPECT_EQ(edges.misoriented, 0u);
-    EXPECT_EQ(degenerate_triangles(mesh), 0u);
-    std::size_t unreferenced = mesh.vertices.size();
-    std::vector<bool> used(mesh.vertices.size(), false);
-    for (const auto& t : mesh.triangles) {
-        for (auto v : t) {
-            if (!used[v]) --unreferenced;
-            used[v] = true;
-        }
-    }
-    EXPECT_EQ(unreferenced, 0u);
+    const MeshReport report = analyze_mesh(mesh);
+    // The three cut faces leave one boundary loop, on the planes x, y or z = 5.
+    EXPECT_EQ(report.boundary_loops, 1u);
+    EXPECT_GT(report.boundary_edges, 3u * 15);
+    EXPECT_EQ(report.nonmanifold_edges, 0u);
+    EXPECT_EQ(report.misoriented_edges, 0u);
+    EXPECT_EQ(report.degenerate_faces, 0u);
+    EXPECT_EQ(report.unreferenced_vertices, 0u);
     for (const auto& v : mesh.vertices) {
         for (float c : v) EXPECT_LE(c, 5.0f);
     }

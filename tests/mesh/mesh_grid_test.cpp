@@ -8,6 +8,7 @@
 
 #include "mesh/marching_cubes.h"
 #include "mesh_checks.h"
+#include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/mesher.h"
 
@@ -26,10 +27,10 @@ MeshOptions options_for(MeshMethod method, double iso, Inside inside = Inside::a
 
 void expect_closed(const Mesh& mesh) {
     ASSERT_FALSE(mesh.triangles.empty());
-    const EdgeCounts edges = count_edges(mesh);
-    EXPECT_EQ(edges.boundary, 0u);
-    EXPECT_EQ(edges.nonmanifold, 0u);
-    EXPECT_EQ(edges.misoriented, 0u);
+    const MeshReport report = analyze_mesh(mesh);
+    EXPECT_TRUE(report.closed);
+    EXPECT_EQ(report.nonmanifold_edges, 0u);
+    EXPECT_EQ(report.misoriented_edges, 0u);
 }
 
 TEST(MeshGridTest, RejectsBadOptions) {
@@ -62,7 +63,7 @@ TEST(MeshGridTest, OpenvdbMethodIsClosedAndOutwardOnADensityBall) {
     auto grid = make_ball(radius, {0.3, 0.2, 0.1});  // grid class unknown: a density
     const Mesh mesh = mesh_grid(*grid, options_for(MeshMethod::openvdb, 0.0));
     expect_closed(mesh);
-    EXPECT_EQ(degenerate_triangles(mesh), 0u);
+    EXPECT_EQ(analyze_mesh(mesh).degenerate_faces, 0u);
     // Vertices at the mean of a cell's edge crossings sit inside the sphere by up to about
     // h^2 / R; as for Marching Cubes, allow area x 0.1 voxels of volume.
     const double exact_volume = 4.0 / 3.0 * kPi * radius * radius * radius;

@@ -1,0 +1,116 @@
+// `vdbmesh mesh` run in-process: .vdb and raw scan inputs, the isovalue rules, and no output
+// file whenever the command fails.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <vector>
+
+#include "cli.h"
+#include "mesh/marching_cubes.h"
+#include "mesh_checks.h"
+#include "test_data.h"
+#include "vdbmesh/analysis.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/mesh_io.h"
+
+namespace vdbmesh::test {
+namespace {
+
+/// A ball density written as a .vdb, with the isovalue 0 stored when @a store_iso.
+std::filesystem::path write_ball_vdb(const ScratchDir& scratch, bool store_iso) {
+    auto grid = make_ball(6, {0.5, 0.25, 0.1});
+    if (store_iso) grid->insertMeta(kMetaIsovalue, openvdb::DoubleMetadata(0.0));
+    const std::filesystem::path path = scratch / (store_iso ? "ball.vdb" : "ball_no_iso.vdb");
+    write_vdb(*grid, path);
+    return path;
+}
+
+/// A 20^3 u8 raw scan: 200 inside a ball of radius 6, 0 elsewhere.
+std::filesystem::path write_ball_raw(const ScratchDir& scratch) {
+    std::vector<unsigned char> samples;
+    for (int z = 0; z < 20; ++z) {
+        for (int y = 0; y < 20; ++y) {
+            for (int x = 0; x < 20; ++x) {
+                const double r = std::sqrt((x - 9.5) * (x - 9.5) + (y - 9.5) * (y - 9.5) + (z - 9.5) * (z - 9.5));
+                samples.push_back(r < 6 ? 200 : 0);
+            }
+        }
+    }
+    const std::filesystem::path path = scratch / "ball.raw";
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(samples.data()), std::streamsize(samples.size()));
+    return path;
+}
+
+TEST(CmdMeshTest, MeshesAVdbAtItsStoredIsovalue) {
+    ScratchDir scratch;
+    const auto input = write_ball_vdb(scratch, true);
+    const auto output = scratch / "ball.ply";
+    ASSERT_EQ(cli::run({"mesh", input.string(), "--method", "mc", "-o", output.string(), "--quiet"}), cli::kSuccess);
+    const Mesh written = read_mesh(output);
+    MeshOptions options;
+    options.method = MeshMethod::mc;
+    const Mesh expected = detail::marching_cubes(*read_vdb(input), options);
+    EXPECT_EQ(written.vertices, expected.vertices);  // binary PLY keeps the floats
+    EXPECT_EQ(written.triangles, expected.triangles);
+}
+
+TEST(CmdMeshTest, EveryMethodWritesAClosedOutwardMesh) {
+    ScratchDir scratch;
+    const auto input = write_ball_vdb(scratch, true);
+    for (const char* method : {"dmc", "mc", "openvdb"}) {
+        const auto output = scratch / (std::string(method) + ".stl");
+        ASSERT_EQ(cli::run({"mesh", input.string(), "--method", method, "-o", output.string(), "-q", "--threads", "2"}),
+                  cli::kSuccess) << method;
+        const MeshReport report = analyze_mesh(read_mesh(output));
+        EXPECT_TRUE(report.closed) << method;
+        EXPECT_TRUE(report.outward) << method;
+        EXPECT_EQ(report.nonmanifold_edges, 0u) << method;
+    }
+}
+
+TEST(CmdMeshTest, MeshesARawScanConvertedOnTheFly) {
+    ScratchDir scratch;
+    const auto input = write_ball_raw(scratch);
+    const auto output = scratch / "ball.obj";
+    ASSERT_EQ(cli::run({"mesh", input.string(), "--raw-dims", "20,20,20", "--iso", "100", "-o", output.string(), "-q"}),
+              cli::kSuccess);
+    const MeshReport report = analyze_mesh(read_mesh(output));
+    EXPECT_TRUE(report.closed);
+    EXPECT_TRUE(report.outward);
+    // Samples 200 and 0 around 100: the surface passes half way between the last inside and
+    // the first outside samples, within a voxel of the radius-6 sphere.
+    EXPECT_GT(report.volume, 4.0 / 3.0 * 3.14159 * 5 * 5 * 5);
+    EXPECT_LT(report.volume, 4.0 / 3.0 * 3.14159 * 7 * 7 * 7);
+}
+
+TEST(CmdMeshTest, FailuresLeaveNoOutput) {
+    ScratchDir scratch;
+    const auto vdb_without_iso = write_ball_vdb(scratch, false);
+    const auto raw = write_ball_raw(scratch);
+    const auto output = scratch / "out.stl";
+    // A .vdb without a stored isovalue, and a scan, need --iso.
+    EXPECT_EQ(cli::run({"mesh", vdb_without_iso.string(), "-o", output.string(), "-q"}), cli::kUsageError);
+    EXPECT_EQ(cli::run({"mesh", raw.string(), "--raw-dims", "20,20,20", "-o", output.string(), "-q"}), cli::kUsageError);
+    // Unknown output format, method, side; adaptivity out of range.
+    EXPECT_EQ(cli::run({"mesh", vdb_without_iso.string(), "--iso", "0", "-o", (scratch / "out.xyz").string(), "-q"}),
+              cli::kUsageError);
+    EXPECT_EQ(cli::run({"mesh", vdb_without_iso.string(), "--iso", "0", "--method", "fast", "-o", output.string()}),
+              cli::kUsageError);
+    EXPECT_EQ(cli::run({"mesh", vdb_without_iso.string(), "--iso", "0", "--inside", "left", "-o", output.string()}),
+              cli::kUsageError);
+    EXPECT_EQ(cli::run({"mesh", vdb_without_iso.string(), "--iso", "0", "--adaptivity", "2", "-o", output.string()}),
+              cli::kUsageError);
+    // A missing input is a runtime error.
+    EXPECT_EQ(cli::run({"mesh", (scratch / "missing.vdb").string(), "--iso", "0", "-o", output.string(), "-q"}),
+              cli::kRuntimeError);
+    // Nothing but the two inputs: no output, no temporary file left behind.
+    const auto entries = std::distance(std::filesystem::directory_iterator(scratch.path()), std::filesystem::directory_iterator());
+    EXPECT_EQ(entries, 2);
+}
+
+}  // namespace
+}  // namespace vdbmesh::test

@@ -1,0 +1,120 @@
+// `vdbmesh mesh`: a .vdb grid or a scan (converted on the fly) to a triangle mesh file.
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <chrono>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "commands.h"
+#include "common_options.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/mesh_io.h"
+#include "vdbmesh/mesher.h"
+#include "vdbmesh/read.h"
+
+namespace vdbmesh::cli {
+
+namespace {
+
+struct MeshCommandOptions {
+    std::vector<std::string> inputs;  ///< the input, then the further parts of a split raw scan
+    std::string output;
+    std::optional<double> iso;
+    MeshOptions mesh;
+    bool ascii = false;
+    bool normals = false;
+    ReadFlags read;
+    CommonOptions common;
+};
+
+std::string lowercase_extension(const std::string& path) {
+    std::string extension = std::filesystem::path(path).extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return extension;
+}
+
+/// The grid to mesh, with options.mesh.iso set: a .vdb as stored, a scan converted (band 1).
+openvdb::FloatGrid::Ptr load_grid(MeshCommandOptions& options, Progress& progress) {
+    const std::string& input = options.inputs.front();
+    if (lowercase_extension(input) == ".vdb") {
+        if (options.inputs.size() > 1) throw UsageError("a .vdb input takes no further input files");
+        openvdb::FloatGrid::Ptr grid = read_vdb(input);
+        const std::optional<double> iso = options.iso ? options.iso : stored_isovalue(*grid);
+        if (!iso) throw UsageError("--iso: required, " + input + " stores no isovalue");
+        options.mesh.iso = *iso;
+        return grid;
+    }
+    if (!options.iso) throw UsageError("--iso: required to mesh a scan");
+    options.mesh.iso = *options.iso;
+    const std::vector<std::string> more_inputs(options.inputs.begin() + 1, options.inputs.end());
+    std::unique_ptr<VolumeReader> reader = open_volume(input, options.read.to_read_options(more_inputs));
+    ConvertOptions convert;
+    convert.iso = *options.iso;
+    convert.band = 1;
+    convert.progress = [&](double fraction) { progress(0.5 * fraction); };
+    return convert_to_grid(*reader, convert);
+}
+
+void run_mesh(MeshCommandOptions& options) {
+    const std::string extension = lowercase_extension(options.output);
+    if (extension != ".stl" && extension != ".ply" && extension != ".obj") {
+        throw UsageError("-o: expected a .stl, .ply or .obj file, got \"" + options.output + "\"");
+    }
+    const ThreadLimit limit(options.common);
+    const auto start = std::chrono::steady_clock::now();
+    Progress progress("meshing", options.common.quiet);
+    const openvdb::FloatGrid::Ptr grid = load_grid(options, progress);
+    options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
+    const Mesh mesh = mesh_grid(*grid, options.mesh);
+    write_mesh(mesh, options.output, MeshWriteOptions{options.ascii, options.normals});
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!options.common.quiet) {
+        std::cerr << "vdbmesh mesh: " << mesh.triangles.size() << " triangles, " << mesh.vertices.size()
+                  << " vertices, " << seconds << " s -> " << options.output << "\n";
+    }
+}
+
+}  // namespace
+
+void add_mesh_command(CLI::App& command, CommandResult& result) {
+    auto options = std::make_shared<MeshCommandOptions>();
+    command.add_option("INPUT", options->inputs, "A .vdb grid or a scan (extra files: the parts of a split raw scan)")
+        ->required();
+    command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj")->required();
+    command.add_option("--iso", options->iso, "Isovalue (default for a .vdb: the one stored by convert)");
+    const std::map<std::string, MeshMethod> methods = {
+        {"dmc", MeshMethod::dmc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}};
+    command.add_option("--method", options->mesh.method, "Mesher: dmc (Dual Marching Cubes), mc, openvdb (volumeToMesh)")
+        ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case))
+        ->default_str("dmc");
+    command.add_option("--error", options->mesh.error, "DMC: tolerated QEF error in voxels (0: no simplification)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    const std::map<std::string, Inside> sides = {{"above", Inside::above}, {"below", Inside::below}};
+    command.add_option("--inside", options->mesh.inside, "Which side of the isovalue is the object: above|below")
+        ->transform(CLI::CheckedTransformer(sides, CLI::ignore_case))
+        ->default_str("above");
+    command.add_flag("--open-boundary", options->mesh.open_boundary,
+                     "Leave the surface open where it meets the edge of the scan");
+    command.add_flag("--ascii", options->ascii, "ASCII STL or PLY instead of binary");
+    command.add_flag("--normals", options->normals, "Per-vertex normals (PLY, OBJ)");
+    add_read_flags(command, options->read);
+    add_common_options(command, options->common);
+    command.callback([options, &result] {
+        run_mesh(*options);
+        result.status = 0;
+    });
+}
+
+}  // namespace vdbmesh::cli
