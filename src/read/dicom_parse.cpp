@@ -1,24 +1,19 @@
 // Parses the tags of one DICOM file that a volume needs (DICOM PS3.5: data set encoding,
 // section 7; PS3.10: file format, section 7.1; PS3.3 C.7.6.2-3: image plane and pixel modules).
 //
-// GDCM (libgdcm) walks the data set: preamble or not, meta header or not, implicit or
-// explicit VR, undefined-length sequences. It stops at Pixel Data without reading it
-// (ReadUpToTag with Pixel Data also skipped), leaving the stream at the first byte of the
-// pixel values; the element header just before that point is checked here so that the
-// offset never rests on GDCM's behaviour alone. Values are decoded here with bounds checks.
+// dicom_data_set.cpp walks the elements (preamble or not, meta header or not, implicit or
+// explicit VR, sequences) up to Pixel Data with bounds checks; the values it keeps are
+// decoded here, with bounds checks too.
 
 #include "dicom_parse.h"
 
-#include <gdcmDataSet.h>
-#include <gdcmReader.h>
 #include <gdcmTrace.h>
 
-#include <cstring>
 #include <mutex>
-#include <set>
 #include <sstream>
 #include <vector>
 
+#include "dicom_data_set.h"
 #include "parse_util.h"
 #include "vdbmesh/error.h"
 
@@ -26,58 +21,46 @@ namespace vdbmesh::detail {
 
 namespace {
 
-const gdcm::Tag kPixelData(0x7fe0, 0x0010);
-
 /// A tag and its name for error messages: "Rows (0028,0010)".
 struct Field {
-    gdcm::Tag tag;
+    DicomTag tag;
     const char* name;
 };
-const Field kSopClass{{0x0008, 0x0016}, "SOPClassUID (0008,0016)"};
-const Field kSeriesUid{{0x0020, 0x000e}, "SeriesInstanceUID (0020,000E)"};
-const Field kRows{{0x0028, 0x0010}, "Rows (0028,0010)"};
-const Field kColumns{{0x0028, 0x0011}, "Columns (0028,0011)"};
-const Field kBitsAllocated{{0x0028, 0x0100}, "BitsAllocated (0028,0100)"};
-const Field kPixelRepresentation{{0x0028, 0x0103}, "PixelRepresentation (0028,0103)"};
-const Field kSamplesPerPixel{{0x0028, 0x0002}, "SamplesPerPixel (0028,0002)"};
-const Field kFrames{{0x0028, 0x0008}, "NumberOfFrames (0028,0008)"};
-const Field kPosition{{0x0020, 0x0032}, "ImagePositionPatient (0020,0032)"};
-const Field kOrientation{{0x0020, 0x0037}, "ImageOrientationPatient (0020,0037)"};
-const Field kPixelSpacing{{0x0028, 0x0030}, "PixelSpacing (0028,0030)"};
-const Field kSliceThickness{{0x0018, 0x0050}, "SliceThickness (0018,0050)"};
-const Field kSlope{{0x0028, 0x1053}, "RescaleSlope (0028,1053)"};
-const Field kIntercept{{0x0028, 0x1052}, "RescaleIntercept (0028,1052)"};
+const Field kSopClass{dicom_tag(0x0008, 0x0016), "SOPClassUID (0008,0016)"};
+const Field kSeriesUid{dicom_tag(0x0020, 0x000e), "SeriesInstanceUID (0020,000E)"};
+const Field kRows{dicom_tag(0x0028, 0x0010), "Rows (0028,0010)"};
+const Field kColumns{dicom_tag(0x0028, 0x0011), "Columns (0028,0011)"};
+const Field kBitsAllocated{dicom_tag(0x0028, 0x0100), "BitsAllocated (0028,0100)"};
+const Field kPixelRepresentation{dicom_tag(0x0028, 0x0103), "PixelRepresentation (0028,0103)"};
+const Field kSamplesPerPixel{dicom_tag(0x0028, 0x0002), "SamplesPerPixel (0028,0002)"};
+const Field kFrames{dicom_tag(0x0028, 0x0008), "NumberOfFrames (0028,0008)"};
+const Field kPosition{dicom_tag(0x0020, 0x0032), "ImagePositionPatient (0020,0032)"};
+const Field kOrientation{dicom_tag(0x0020, 0x0037), "ImageOrientationPatient (0020,0037)"};
+const Field kPixelSpacing{dicom_tag(0x0028, 0x0030), "PixelSpacing (0028,0030)"};
+const Field kSliceThickness{dicom_tag(0x0018, 0x0050), "SliceThickness (0018,0050)"};
+const Field kSlope{dicom_tag(0x0028, 0x1053), "RescaleSlope (0028,1053)"};
+const Field kIntercept{dicom_tag(0x0028, 0x1052), "RescaleIntercept (0028,1052)"};
+const Field kAllFields[] = {kSopClass, kSeriesUid, kRows, kColumns, kBitsAllocated, kPixelRepresentation,
+                            kSamplesPerPixel, kFrames, kPosition, kOrientation, kPixelSpacing,
+                            kSliceThickness, kSlope, kIntercept};
 
-enum class Sniff { not_dicom, part10, bare };
-
-/// "DICM" at byte 128 (PS3.10 7.1): a Part 10 file; or a bare data set whose first tag is in
-/// group 0002 (meta header without preamble) or 0008 (identifying group), little- or big-endian.
-Sniff sniff(std::istream& in) {
-    unsigned char head[132] = {};
-    in.seekg(0);
-    in.read(reinterpret_cast<char*>(head), sizeof head);
-    const std::streamsize got = in.gcount();
-    in.clear();
-    in.seekg(0);
-    if (got == static_cast<std::streamsize>(sizeof head) && std::memcmp(head + 128, "DICM", 4) == 0) return Sniff::part10;
-    if (got < 8) return Sniff::not_dicom;
-    const unsigned group_le = head[0] | (head[1] << 8);
-    const unsigned group_be = (head[0] << 8) | head[1];
-    return group_le == 0x0002 || group_le == 0x0008 || group_be == 0x0008 ? Sniff::bare : Sniff::not_dicom;
+std::set<DicomTag> wanted_tags() {
+    std::set<DicomTag> tags;
+    for (const Field& field : kAllFields) tags.insert(field.tag);
+    return tags;
 }
 
-/// Reads the values of one file's data set. GDCM keeps binary values (US) in host order
-/// whatever the transfer syntax, and text values (IS, DS, UI) as written.
+/// Reads the top-level values of one file's data set: binary values (US) in the data set's
+/// byte order, text values (IS, DS, UI) as written.
 class TagValues {
 public:
-    TagValues(const gdcm::DataSet& data_set, const std::filesystem::path& file) : data_set_(data_set), file_(file) {}
+    TagValues(const DicomHeader& header, const std::filesystem::path& file) : header_(header), file_(file) {}
 
-    /// The raw bytes, or nothing when the element is absent, empty or a sequence.
+    /// The raw bytes, or nothing when the element is absent or empty.
     std::optional<std::string> bytes(const Field& field) const {
-        if (!data_set_.FindDataElement(field.tag)) return std::nullopt;
-        const gdcm::ByteValue* value = data_set_.GetDataElement(field.tag).GetByteValue();
-        if (!value || value->GetLength() == 0 || !value->GetPointer()) return std::nullopt;
-        return std::string(value->GetPointer(), value->GetLength());
+        const auto found = header_.values.find(field.tag);
+        if (found == header_.values.end() || found->second.empty()) return std::nullopt;
+        return found->second;
     }
 
     /// Text without the space or NUL padding.
@@ -95,9 +78,8 @@ public:
         std::optional<std::string> raw = bytes(field);
         if (!raw) return std::nullopt;
         if (raw->size() != 2) throw FormatError(file_.string(), field.name, "a 2-byte US value", std::to_string(raw->size()) + " bytes");
-        std::uint16_t value;
-        std::memcpy(&value, raw->data(), 2);
-        return value;
+        const auto byte = [&](int i) { return static_cast<unsigned char>((*raw)[i]); };
+        return header_.byte_order == ByteOrder::little ? byte(0) | (byte(1) << 8) : (byte(0) << 8) | byte(1);
     }
 
     int required_us(const Field& field) const {
@@ -126,50 +108,17 @@ public:
     }
 
 private:
-    const gdcm::DataSet& data_set_;
+    const DicomHeader& header_;
     const std::filesystem::path& file_;
 };
 
 /// Refuses the transfer syntaxes whose pixel data is not plain samples at a file offset.
-ByteOrder check_transfer_syntax(const gdcm::TransferSyntax& syntax, const std::filesystem::path& file) {
-    switch (syntax) {
-        case gdcm::TransferSyntax::ImplicitVRLittleEndian:
-        case gdcm::TransferSyntax::ExplicitVRLittleEndian: return ByteOrder::little;
-        case gdcm::TransferSyntax::ExplicitVRBigEndian: return ByteOrder::big;
-        default: break;
-    }
-    const char* uid = syntax.GetString();
+ByteOrder check_transfer_syntax(const std::string& uid, const std::filesystem::path& file) {
+    if (uid == "1.2.840.10008.1.2" || uid == "1.2.840.10008.1.2.1") return ByteOrder::little;
+    if (uid == "1.2.840.10008.1.2.2") return ByteOrder::big;
     throw FormatError(file.string(), "TransferSyntaxUID (0002,0010)",
                       "uncompressed: 1.2.840.10008.1.2, 1.2.840.10008.1.2.1 or 1.2.840.10008.1.2.2",
-                      std::string(uid ? uid : "an unknown syntax") + " (compressed or private syntaxes are not supported)");
-}
-
-/// Checks that the element header ending at @a value_offset is Pixel Data's and returns its
-/// value length (the last 4 bytes of the header in every uncompressed syntax).
-std::uint64_t pixel_data_length(std::istream& in, std::uint64_t value_offset, bool explicit_vr, ByteOrder order,
-                                const std::filesystem::path& file) {
-    const std::uint64_t header = explicit_vr ? 12 : 8;
-    unsigned char bytes[12] = {};
-    bool read = value_offset >= header;
-    if (read) {
-        in.clear();
-        in.seekg(static_cast<std::streamoff>(value_offset - header));
-        in.read(reinterpret_cast<char*>(bytes), static_cast<std::streamsize>(header));
-        read = in.gcount() == static_cast<std::streamsize>(header);
-    }
-    const auto u16 = [&](int at) {
-        return order == ByteOrder::little ? unsigned(bytes[at] | (bytes[at + 1] << 8)) : unsigned((bytes[at] << 8) | bytes[at + 1]);
-    };
-    if (!read || u16(0) != 0x7fe0 || u16(2) != 0x0010)
-        throw FormatError(file.string(), "Pixel Data (7FE0,0010)", "an element header before byte " + std::to_string(value_offset),
-                          "other bytes");
-    const int at = static_cast<int>(header) - 4;
-    const std::uint32_t length = order == ByteOrder::little
-                                     ? std::uint32_t(u16(at)) | (std::uint32_t(u16(at + 2)) << 16)
-                                     : (std::uint32_t(u16(at)) << 16) | std::uint32_t(u16(at + 2));
-    if (length == 0xffffffffu)
-        throw FormatError(file.string(), "Pixel Data (7FE0,0010)", "a defined length (uncompressed)", "undefined length (encapsulated)");
-    return length;
+                      "\"" + uid.substr(0, 64) + "\" (compressed or private syntaxes are not supported)");
 }
 
 std::uint64_t stream_size(std::istream& in) {
@@ -241,37 +190,33 @@ void silence_gdcm_messages() {
 }
 
 std::optional<DicomSlice> parse_dicom_slice(std::istream& in, const std::filesystem::path& file) {
-    const Sniff kind = sniff(in);
-    if (kind == Sniff::not_dicom) return std::nullopt;
-    silence_gdcm_messages();
-    gdcm::Reader reader;
-    reader.SetStream(in);
-    const bool parsed = reader.ReadUpToTag(kPixelData, std::set<gdcm::Tag>{kPixelData});
-    const std::uint64_t stop = reader.GetStreamCurrentPosition();  // the Pixel Data value, when found
-    const gdcm::DataSet& data_set = reader.GetFile().GetDataSet();
-    const bool image = data_set.FindDataElement(kRows.tag);
-    if (!parsed) {
+    const std::optional<DicomHeader> header = read_dicom_header(in, wanted_tags());
+    if (!header) return std::nullopt;
+    const bool image = header->values.count(kRows.tag) > 0;
+    if (!header->broken.empty()) {
         // A file that merely starts like a bare data set is skipped; one that shows itself
         // as DICOM (magic, SOP class, image rows) is broken, not foreign.
-        if (kind == Sniff::bare && !image && !data_set.FindDataElement(kSopClass.tag)) return std::nullopt;
+        if (!header->part10 && !image && !header->values.count(kSopClass.tag)) return std::nullopt;
         throw FormatError(file.string(), "data set", "DICOM elements up to Pixel Data (7FE0,0010)",
-                          "bytes GDCM cannot parse (truncated or corrupt)");
+                          header->broken + " (truncated or corrupt)");
     }
     if (!image) return std::nullopt;  // DICOM but not an image (a DICOMDIR, a report)
-    const TagValues tags(data_set, file);
+    const TagValues tags(*header, file);
 
     DicomSlice slice;
-    const gdcm::TransferSyntax& syntax = reader.GetFile().GetHeader().GetDataSetTransferSyntax();
-    slice.byte_order = check_transfer_syntax(syntax, file);
-    slice.transfer_syntax = syntax.GetString() ? syntax.GetString() : "";
+    slice.byte_order = check_transfer_syntax(header->transfer_syntax, file);
+    slice.transfer_syntax = header->transfer_syntax;
     read_values(tags, slice, file);
     check_values(slice, file);
 
-    slice.pixel_offset = stop;
-    const std::uint64_t end = stream_size(in);
-    if (slice.pixel_offset > end)
+    if (!header->pixel_offset)
         throw FormatError(file.string(), "Pixel Data (7FE0,0010)", "present", "none before the end of the file");
-    slice.pixel_length = pixel_data_length(in, slice.pixel_offset, syntax.IsExplicit(), slice.byte_order, file);
+    slice.pixel_offset = *header->pixel_offset;
+    slice.pixel_length = header->pixel_length;
+    if (slice.pixel_length == kDicomUndefinedLength)
+        throw FormatError(file.string(), "Pixel Data (7FE0,0010)", "a defined length (uncompressed)",
+                          "undefined length (encapsulated)");
+    const std::uint64_t end = stream_size(in);
     const std::uint64_t needed = slice.frame_bytes() * static_cast<std::uint64_t>(slice.frames);
     if (slice.pixel_length < needed)
         throw FormatError(file.string(), "Pixel Data (7FE0,0010) length", "at least " + std::to_string(needed) + " bytes",

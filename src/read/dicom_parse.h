@@ -42,19 +42,20 @@ struct DicomSlice {
 
 /// Parses one file up to its Pixel Data element. Returns nothing for a file that is not a
 /// DICOM image, so that a README beside the slices is skipped: no "DICM" at byte 128 and no
-/// data set starting with group 0002 or 0008; or such a start that GDCM cannot parse and
-/// that shows no SOPClassUID or Rows; or a DICOM file without Rows (a DICOMDIR, a report).
-/// Throws FormatError naming @a file when it is a DICOM image that cannot be read as
+/// data set starting with group 0002 or 0008; or such a start whose elements cannot be
+/// walked and that shows no SOPClassUID or Rows; or a DICOM file without Rows (a DICOMDIR, a
+/// report). Throws FormatError naming @a file when it is a DICOM image that cannot be read as
 /// uncompressed single-frame samples (compressed, truncated, corrupt, multi-frame, colour).
-/// Tag parsing is GDCM's (preamble or not, meta header or not, implicit/explicit VR,
-/// sequences); the values are decoded here with bounds checks.
+/// The elements are walked by read_dicom_header() (dicom_data_set.h: preamble or not, meta
+/// header or not, implicit/explicit VR, sequences), not by GDCM, whose Debian build aborts
+/// on corrupt files; the values are decoded here with bounds checks.
 std::optional<DicomSlice> parse_dicom_slice(std::istream& in, const std::filesystem::path& file);
 
 /// The same on a buffer (for the fuzzer).
 std::optional<DicomSlice> parse_dicom_slice(const unsigned char* data, std::size_t size,
                                             const std::filesystem::path& file);
 
-/// Turns off GDCM's messages on stderr (the library never prints). Idempotent.
+/// Turns off GDCM's messages on stderr (the library never prints; the DICOM writer uses GDCM). Idempotent.
 void silence_gdcm_messages();
 
 }  // namespace vdbmesh::detail

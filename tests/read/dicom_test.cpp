@@ -392,6 +392,80 @@ TEST(DicomSeriesTest, CompressedTransferSyntaxIsRefused) {
     EXPECT_NE(message.find("1.2.840.10008.1.2.5"), std::string::npos) << message;
 }
 
+// ---- corrupt input (found by tests/fuzz/fuzz_dicom.cpp) ----
+
+TEST(DicomSeriesTest, NoCutOfAPart10FileIsAccepted) {
+    // GDCM's reader, as Debian builds it (assertions on), aborted the process on most of these.
+    ScratchDir scratch;
+    VolumeHeader header = axis_aligned_header({4, 3, 2});
+    for (const ByteOrder order : {ByteOrder::little, ByteOrder::big}) {
+        header.byte_order = order;
+        const fs::path folder = scratch / (order == ByteOrder::little ? "le" : "be");
+        write_series(folder, header);
+        const std::vector<unsigned char> bytes = file_bytes(folder / "slice_0000.dcm");
+        std::size_t refused = 0;
+        for (std::size_t size = 0; size < bytes.size(); ++size) {
+            try {
+                // Cut between two elements before Rows, the file reads as DICOM that is not an image.
+                EXPECT_FALSE(detail::parse_dicom_slice(bytes.data(), size, "cut.dcm").has_value()) << size;
+            } catch (const FormatError&) {
+                ++refused;
+            }
+        }
+        EXPECT_GT(refused, bytes.size() / 2);  // every cut inside an element, and every cut after Rows
+        EXPECT_TRUE(detail::parse_dicom_slice(bytes.data(), bytes.size(), "whole.dcm").has_value());
+    }
+}
+
+/// Appends an implicit VR little-endian element (tag, 32-bit length, value).
+void add_element(std::string& data, std::uint16_t group, std::uint16_t element, const std::string& value,
+                 std::uint32_t length) {
+    for (const std::uint32_t number : {std::uint32_t(group) | (std::uint32_t(element) << 16), length})
+        for (int byte = 0; byte < 4; ++byte) data += static_cast<char>((number >> (8 * byte)) & 0xff);
+    data += value;
+}
+void add_element(std::string& data, std::uint16_t group, std::uint16_t element, const std::string& value) {
+    add_element(data, group, element, value, static_cast<std::uint32_t>(value.size()));
+}
+const std::string kCtImageStorage("1.2.840.10008.5.1.4.1.1.2\0", 26);
+std::string us_value(std::uint16_t value) { return {static_cast<char>(value & 0xff), static_cast<char>(value >> 8)}; }
+
+TEST(DicomSeriesTest, NestedElementsAreSkipped) {
+    // A bare implicit VR data set with a sequence of undefined length whose item (of undefined
+    // length too) holds a Rows of its own: only the top-level Rows counts.
+    std::string data;
+    add_element(data, 0x0008, 0x0016, kCtImageStorage);
+    add_element(data, 0x0008, 0x1140, "", 0xffffffffu);  // ReferencedImageSequence
+    add_element(data, 0xfffe, 0xe000, "", 0xffffffffu);  // item
+    add_element(data, 0x0028, 0x0010, us_value(99));
+    add_element(data, 0xfffe, 0xe00d, "");  // item delimiter
+    add_element(data, 0xfffe, 0xe0dd, "");  // sequence delimiter
+    add_element(data, 0x0028, 0x0010, us_value(2));
+    add_element(data, 0x0028, 0x0011, us_value(3));
+    add_element(data, 0x0028, 0x0100, us_value(8));
+    add_element(data, 0x7fe0, 0x0010, "ABCDEF");
+    const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
+    const auto slice = detail::parse_dicom_slice(bytes, data.size(), "nested.dcm");
+    ASSERT_TRUE(slice.has_value());
+    EXPECT_EQ(slice->transfer_syntax, "1.2.840.10008.1.2");
+    EXPECT_EQ(slice->rows, 2);
+    EXPECT_EQ(slice->columns, 3);
+    EXPECT_EQ(slice->pixel_offset, data.size() - 6);
+    EXPECT_EQ(slice->pixel_length, 6u);
+}
+
+TEST(DicomSeriesTest, DeepNestingIsAFormatError) {
+    std::string data;
+    add_element(data, 0x0008, 0x0016, kCtImageStorage);
+    for (int level = 0; level < 10000; ++level) {  // would overflow the stack if followed
+        add_element(data, 0x0008, 0x1140, "", 0xffffffffu);
+        add_element(data, 0xfffe, 0xe000, "", 0xffffffffu);
+    }
+    const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
+    const std::string message = format_error_of([&] { detail::parse_dicom_slice(bytes, data.size(), "deep.dcm"); });
+    EXPECT_NE(message.find("nested more than"), std::string::npos) << message;
+}
+
 // ---- the writer's own guarantees ----
 
 TEST(DicomWriterTest, FailedRunLeavesNothing) {
