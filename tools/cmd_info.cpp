@@ -1,9 +1,174 @@
-// Placeholder until `vdbmesh info` lands.
+// `vdbmesh info FILE [MORE_PARTS...] [--json]`: describes a scan (header, value statistics from
+// one streaming pass, Otsu's threshold as the suggested isovalue; include/vdbmesh/volume_stats.h)
+// or a .vdb file (grids, counts, memory, bounding boxes, metadata; describe_vdb_file).
+// --json prints exactly one JSON object on stdout.
+
+#include <algorithm>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli.h"
 #include "commands.h"
+#include "common_options.h"
 #include "vdbmesh/error.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/read.h"
+#include "vdbmesh/volume_stats.h"
 
 namespace vdbmesh::cli {
-void add_info_command(CLI::App& command, CommandResult&) {
-    command.callback([] { throw Error("not implemented yet"); });
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+struct InfoOptions {
+    std::vector<std::string> inputs;
+    bool json = false;
+    ReadFlags read;
+    CommonOptions common;
+};
+
+std::string join(const std::vector<double>& values, const char* separator) {
+    std::ostringstream out;
+    for (std::size_t i = 0; i < values.size(); ++i) out << (i ? separator : "") << values[i];
+    return out.str();
 }
+
+Json scan_json(const VolumeHeader& h, const VolumeStats& s) {
+    Json j;
+    j["file"] = h.path.string();
+    j["format"] = h.format;
+    j["dims"] = h.dims;
+    j["type"] = to_string(h.type);
+    j["byte_order"] = to_string(h.byte_order);
+    j["spacing"] = h.spacing;
+    j["units"] = h.units;
+    j["index_to_world"] = h.index_to_world;
+    j["value_scale"] = h.value_scale;
+    j["value_offset"] = h.value_offset;
+    j["samples"] = s.count;
+    j["min"] = s.min;
+    j["max"] = s.max;
+    j["mean"] = s.mean;
+    for (std::size_t p = 0; p < kStatsPercentiles.size(); ++p)
+        j["percentiles"]["p" + std::to_string(static_cast<int>(kStatsPercentiles[p]))] = s.percentiles[p];
+    j["histogram_bin_width"] = s.bin_width;
+    j["suggested_iso"] = s.suggested_iso;
+    j["suggested_iso_reason"] = s.suggested_reason;
+    j["warnings"] = h.warnings;
+    return j;
+}
+
+void print_scan(const VolumeHeader& h, const VolumeStats& s, std::ostream& out) {
+    out << "file            " << h.path.string() << "\n"
+        << "format          " << h.format << "\n"
+        << "dims            " << h.dims[0] << " x " << h.dims[1] << " x " << h.dims[2] << " (" << s.count
+        << " samples)\n"
+        << "type            " << to_string(h.type) << ", " << to_string(h.byte_order) << "-endian\n"
+        << "spacing         " << join({h.spacing.begin(), h.spacing.end()}, " x ")
+        << (h.units.empty() ? " (units not given)" : " " + h.units) << "\n";
+    for (int r = 0; r < 3; ++r)
+        out << (r == 0 ? "index to world  " : "                ") << "[" << join({h.index_to_world[r].begin(), h.index_to_world[r].end()}, " ")
+            << "]\n";
+    out << "value scale     value = raw * " << h.value_scale << " + " << h.value_offset << "\n"
+        << "value range     " << s.min << " .. " << s.max << " (mean " << s.mean << ")\n"
+        << "percentiles    ";
+    for (std::size_t p = 0; p < kStatsPercentiles.size(); ++p) out << " " << kStatsPercentiles[p] << "%: " << s.percentiles[p];
+    out << "\nsuggested iso   " << s.suggested_iso << " (" << s.suggested_reason << ")\n";
+    for (const std::string& warning : h.warnings) out << "warning         " << warning << "\n";
+}
+
+Json grid_json(const GridInfo& g) {
+    Json j;
+    j["name"] = g.name;
+    j["class"] = g.grid_class;
+    j["value_type"] = g.value_type;
+    j["active_voxels"] = g.active_voxels;
+    j["leaf_nodes"] = g.leaf_nodes;
+    j["memory_bytes"] = g.memory_bytes;
+    if (!g.index_bbox.empty()) {
+        j["index_bbox"] = {{g.index_bbox.min().x(), g.index_bbox.min().y(), g.index_bbox.min().z()},
+                           {g.index_bbox.max().x(), g.index_bbox.max().y(), g.index_bbox.max().z()}};
+        j["world_bbox"] = {{g.world_bbox.min().x(), g.world_bbox.min().y(), g.world_bbox.min().z()},
+                           {g.world_bbox.max().x(), g.world_bbox.max().y(), g.world_bbox.max().z()}};
+    }
+    j["voxel_size"] = {g.voxel_size.x(), g.voxel_size.y(), g.voxel_size.z()};
+    for (const auto& [name, value] : g.metadata) j["metadata"][name] = value;
+    return j;
+}
+
+/// The summary fields every `info --json` has, taken from the grid read_vdb() would pick.
+Json vdb_json(const std::string& file, const std::vector<GridInfo>& grids) {
+    const auto primary = std::find_if(grids.begin(), grids.end(), [](const GridInfo& g) { return g.value_type == "float"; });
+    const GridInfo* g = primary != grids.end() ? &*primary : grids.empty() ? nullptr : &grids.front();
+    Json j;
+    j["file"] = file;
+    j["format"] = "vdb";
+    j["grid"] = g ? Json(g->name) : Json();
+    const openvdb::Coord dims = g && !g->index_bbox.empty() ? g->index_bbox.dim() : openvdb::Coord(0);
+    j["dims"] = {dims.x(), dims.y(), dims.z()};
+    j["type"] = g ? Json(g->value_type) : Json();
+    j["spacing"] = g ? Json{g->voxel_size.x(), g->voxel_size.y(), g->voxel_size.z()} : Json();
+    j["min"] = g && g->value_range ? Json(g->value_range->first) : Json();
+    j["max"] = g && g->value_range ? Json(g->value_range->second) : Json();
+    j["suggested_iso"] = g && g->isovalue ? Json(*g->isovalue) : Json();
+    j["suggested_iso_reason"] = !g || !g->isovalue ? "no isovalue stored in the file"
+                                : g->grid_class == "level set" ? "level set: the surface is the zero crossing"
+                                                               : "the isovalue stored when the grid was converted";
+    j["active_voxels"] = g ? g->active_voxels : 0;
+    j["grids"] = Json::array();
+    for (const GridInfo& info : grids) j["grids"].push_back(grid_json(info));
+    return j;
+}
+
+void print_vdb(const Json& j, std::ostream& out) {
+    out << "file            " << j["file"].get<std::string>() << "\nformat          vdb, " << j["grids"].size()
+        << " grid(s)\nsuggested iso   " << j["suggested_iso"].dump() << " (" << j["suggested_iso_reason"].get<std::string>()
+        << ")\n";
+    for (const Json& g : j["grids"]) {
+        out << "\ngrid \"" << g["name"].get<std::string>() << "\"\n";
+        for (const auto& [key, value] : g.items())
+            if (key != "name" && key != "metadata") out << "  " << std::left << std::setw(16) << key << value.dump() << "\n";
+        if (g.contains("metadata"))
+            for (const auto& [key, value] : g["metadata"].items())
+                out << "  " << std::left << std::setw(16) << key << value.get<std::string>() << "\n";
+    }
+}
+
+bool is_vdb(const InfoOptions& o) {
+    return o.read.raw_dims.empty() && std::filesystem::path(o.inputs.front()).extension() == ".vdb";
+}
+
+int run_info(const InfoOptions& o) {
+    const ThreadLimit limit(o.common);
+    if (is_vdb(o)) {
+        if (o.inputs.size() > 1) throw UsageError("info: a .vdb file takes no further parts");
+        const Json j = vdb_json(o.inputs.front(), describe_vdb_file(o.inputs.front()));
+        if (o.json) std::cout << j.dump() << "\n";
+        else print_vdb(j, std::cout);
+        return kSuccess;
+    }
+    auto reader = open_volume(o.inputs.front(), o.read.to_read_options({o.inputs.begin() + 1, o.inputs.end()}));
+    Progress progress("reading", o.common.quiet);
+    const VolumeStats stats = compute_volume_stats(*reader, [&](double f) { progress(f); });
+    if (o.json) std::cout << scan_json(reader->header(), stats).dump() << "\n";
+    else print_scan(reader->header(), stats, std::cout);
+    return kSuccess;
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& command, CommandResult& result) {
+    auto options = std::make_shared<InfoOptions>();
+    InfoOptions& o = *options;
+    command.add_option("file", o.inputs, "Scan or .vdb file; further files are the next parts of a split raw scan")
+        ->required();
+    command.add_flag("--json", o.json, "Print one JSON object instead of text");
+    add_read_flags(command, o.read);
+    add_common_options(command, o.common);
+    command.callback([options, &result] { result.status = run_info(*options); });
+}
+
 }  // namespace vdbmesh::cli

@@ -30,7 +30,9 @@ struct VolumeStats {
     /// p% of the samples at or below it, reported as the bin centre clamped to [min, max]).
     std::array<double, kStatsPercentiles.size()> percentiles{};
     double bin_width = 0;         ///< histogram resolution: percentiles and the threshold are exact to it
-    double suggested_iso = 0;     ///< Otsu's threshold: a bin edge, between two sample values
+    /// Otsu's threshold (a bin edge, between two sample values), computed without a padding
+    /// spike: >= 1% of the samples at one end of the range, >= 10% of the range from the rest.
+    double suggested_iso = 0;
     std::string suggested_reason; ///< one line saying why
 };
 
@@ -56,6 +58,9 @@ private:
     void cover(double lo, double hi);
     void add_to_bins(const float* values, std::size_t count);
     std::size_t bin_of(double value) const;
+    /// The bins Otsu splits: all non-empty ones but a padding spike at either end (counted in @a padding).
+    std::pair<std::size_t, std::size_t> otsu_span(std::int64_t& padding) const;
+    void set_otsu_threshold(VolumeStats& stats) const;
     double bin_centre(std::size_t bin) const { return lo_ + (static_cast<double>(bin) + 0.5) * width_; }
 
     double quantum_;

@@ -34,6 +34,8 @@ GridInfo describe_grid(const openvdb::GridBase& grid) {
     info.voxel_size = grid.voxelSize();
     info.value_range = active_range<openvdb::FloatGrid>(grid);
     if (!info.value_range) info.value_range = active_range<openvdb::DoubleGrid>(grid);
+    if (const auto* floats = dynamic_cast<const openvdb::FloatGrid*>(&grid)) info.isovalue = stored_isovalue(*floats);
+    if (!info.isovalue && grid.getGridClass() == openvdb::GRID_LEVEL_SET) info.isovalue = 0.0;
     for (auto it = grid.beginMeta(); it != grid.endMeta(); ++it) {
         // Name and class are reported above; OpenVDB stores them as metadata too.
         if (it->first == openvdb::GridBase::META_GRID_NAME || it->first == openvdb::GridBase::META_GRID_CLASS)

@@ -160,14 +160,50 @@ VolumeStats VolumeStatsAccumulator::finish() const {
         stats.percentiles[p] = std::clamp(bin_centre(b), min_, max_);
     }
 
-    // Otsu: scan the split after bin b; ties (runs of empty bins) resolve to the middle of the gap.
-    const double total = static_cast<double>(count_);
-    double total_sum = 0;
-    for (std::size_t b = 0; b < kBins; ++b) total_sum += static_cast<double>(bins_[b]) * bin_centre(b);
+    set_otsu_threshold(stats);
+    return stats;
+}
+
+std::pair<std::size_t, std::size_t> VolumeStatsAccumulator::otsu_span(std::int64_t& padding) const {
+    // Scanners fill what lies outside their field of view with one constant far from the data
+    // (the bunny CT: -2000 against 0..4095). Otsu would split that spike from everything else,
+    // so a spike of at least 1% of the samples at either end of the range, separated from the
+    // other values by a gap of at least 10% of the range, is left out.
+    constexpr double kSpikeShare = 0.01, kGapShare = 0.1;
+    std::size_t first = 0, last = kBins - 1;
+    while (bins_[first] == 0) ++first;
+    while (bins_[last] == 0) --last;
+    const auto gap_bins = static_cast<std::size_t>(std::ceil(kGapShare * (max_ - min_) / width_));
+    const auto spike = static_cast<std::uint64_t>(std::ceil(kSpikeShare * static_cast<double>(count_)));
+    padding = 0;
+    std::size_t next = first + 1;
+    while (next < last && bins_[next] == 0) ++next;
+    if (bins_[first] >= spike && next - first >= gap_bins && next < last) {
+        padding += static_cast<std::int64_t>(bins_[first]);
+        first = next;
+    }
+    std::size_t previous = last - 1;
+    while (previous > first && bins_[previous] == 0) --previous;
+    if (bins_[last] >= spike && last - previous >= gap_bins && previous > first) {
+        padding += static_cast<std::int64_t>(bins_[last]);
+        last = previous;
+    }
+    return {first, last};
+}
+
+void VolumeStatsAccumulator::set_otsu_threshold(VolumeStats& stats) const {
+    std::int64_t padding = 0;
+    const auto [first, last] = otsu_span(padding);
+    double total = 0, total_sum = 0;
+    for (std::size_t b = first; b <= last; ++b) {
+        total += static_cast<double>(bins_[b]);
+        total_sum += static_cast<double>(bins_[b]) * bin_centre(b);
+    }
+    // Scan the split after bin b; ties (runs of empty bins) resolve to the middle of the gap.
     double n0 = 0, sum0 = 0, best = -1;
-    std::size_t best_first = 0, best_last = 0;
+    std::size_t best_first = first, best_last = first;
     double best_n0 = 0, best_sum0 = 0;
-    for (std::size_t b = 0; b + 1 < kBins; ++b) {
+    for (std::size_t b = first; b < last; ++b) {
         n0 += static_cast<double>(bins_[b]);
         sum0 += static_cast<double>(bins_[b]) * bin_centre(b);
         const double n1 = total - n0;
@@ -190,7 +226,9 @@ VolumeStats VolumeStatsAccumulator::finish() const {
                              format_percent(best_n0 / total) + " of samples, mean " + format_number(best_sum0 / best_n0) +
                              "; above: " + format_percent(n1 / total) + ", mean " +
                              format_number((total_sum - best_sum0) / n1) + ")";
-    return stats;
+    if (padding > 0)
+        stats.suggested_reason += ", leaving out " + format_percent(static_cast<double>(padding) / count_) +
+                                  " of samples holding a padding value far from the rest";
 }
 
 VolumeStats compute_volume_stats(VolumeReader& reader, const std::function<void(double)>& progress) {

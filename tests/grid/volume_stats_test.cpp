@@ -92,6 +92,21 @@ TEST(VolumeStatsTest, OtsuTakesTheMiddleOfAnEmptyGap) {
     EXPECT_EQ(stats_of(values, 1.0, 97, kU16).suggested_iso, 127.5);
 }
 
+TEST(VolumeStatsTest, OtsuLeavesOutAPaddingSpike) {
+    // 25% padding at -2000 (outside a CT's field of view), then air near 0 and material near 1500:
+    // plain Otsu would split padding from the rest.
+    std::mt19937 random(5);
+    std::normal_distribution<float> air(20, 10), material(1500, 100);
+    std::vector<float> values(2500, -2000.0f);
+    for (int i = 0; i < 5000; ++i) values.push_back(std::round(air(random)));
+    for (int i = 0; i < 2500; ++i) values.push_back(std::round(material(random)));
+    const VolumeStats stats = stats_of(values, 1.0, 97, std::make_pair(-32768.0, 32767.0));
+    EXPECT_GT(stats.suggested_iso, 200);
+    EXPECT_LT(stats.suggested_iso, 1200);
+    EXPECT_NE(stats.suggested_reason.find("padding"), std::string::npos) << stats.suggested_reason;
+    EXPECT_EQ(stats.percentiles[0], -2000);  // percentiles keep every sample
+}
+
 TEST(VolumeStatsTest, ConstantVolumeHasNoSurface) {
     const VolumeStats stats = stats_of(std::vector<float>(500, 42.0f), 1.0, 97, kU16);
     EXPECT_EQ(stats.min, 42);
