@@ -11,18 +11,11 @@
 #include "cli.h"
 #include "commands.h"
 #include "common_options.h"
+#include "report_json.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/mesh_io.h"
 
 namespace vdbmesh::cli {
-namespace {
-
-struct CheckOptions {
-    std::string mesh, reference;
-    std::size_t samples = 100000;
-    bool json = false;
-    CommonOptions common;
-};
 
 nlohmann::ordered_json report_json(const MeshReport& r) {
     nlohmann::ordered_json j;
@@ -54,6 +47,15 @@ nlohmann::ordered_json report_json(const MeshReport& r) {
     j["small_angle_share"] = r.small_angle_share;
     return j;
 }
+
+namespace {
+
+struct CheckOptions {
+    std::string mesh, reference;
+    std::size_t samples = 100000;
+    bool json = false;
+    CommonOptions common;
+};
 
 void add_distance(nlohmann::ordered_json& j, const DistanceReport& d, std::size_t samples) {
     j["distance_samples"] = samples;

@@ -24,6 +24,7 @@ void add_convert_command(CLI::App& command, CommandResult& result);
 void add_phantom_command(CLI::App& command, CommandResult& result);
 void add_mesh_command(CLI::App& command, CommandResult& result);
 void add_check_command(CLI::App& command, CommandResult& result);
+void add_compare_command(CLI::App& command, CommandResult& result);
 
 /// All subcommands, in the order --help lists them.
 inline constexpr CommandEntry kCommands[] = {
@@ -32,6 +33,7 @@ inline constexpr CommandEntry kCommands[] = {
     {"phantom", "Write a synthetic test volume (sphere, cube, torus ...) in any format we read", add_phantom_command},
     {"mesh", "Mesh a .vdb grid or a scan at an isovalue into STL, PLY or OBJ (DMC, MC or volumeToMesh)", add_mesh_command},
     {"check", "Validate a mesh (closed, manifold, oriented, self-intersections) and measure it", add_check_command},
+    {"compare", "Mesh one grid with DMC, MC and volumeToMesh; time them, validate them, measure them against the true surface", add_compare_command},
 };
 
 }  // namespace vdbmesh::cli

@@ -104,6 +104,11 @@ struct DistanceReport {
 /// @throw Error when a mesh has no triangle of positive area.
 DistanceReport mesh_distance(const Mesh& a, const Mesh& b, std::size_t samples_per_mesh);
 
+/// @a count points drawn uniformly by area on @a mesh with the sampler of mesh_distance()
+/// (fixed seed: deterministic), e.g. to measure a reference surface against many meshes.
+/// @throw Error when the mesh has no triangle of positive area.
+std::vector<std::array<double, 3>> sample_surface(const Mesh& mesh, std::size_t count);
+
 /// @brief Distance between @a mesh and an analytic surface {signed_distance = 0}:
 /// mesh -> surface from @a samples points on the mesh, |signed_distance(p)| each (the function
 /// is called concurrently and must be thread-safe); surface -> mesh from the caller's

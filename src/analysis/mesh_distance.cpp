@@ -140,6 +140,14 @@ DistanceReport mesh_distance(const Mesh& a, const Mesh& b, std::size_t samples_p
     return combine(ab, ba);
 }
 
+std::vector<std::array<double, 3>> sample_surface(const Mesh& mesh, std::size_t count) {
+    detail::check_indices(mesh);
+    const AreaSampler sampler(mesh);
+    std::vector<std::array<double, 3>> points(count);
+    for (std::size_t k = 0; k < count; ++k) points[k] = sampler.sample(2, k);
+    return points;
+}
+
 DistanceReport mesh_distance(const Mesh& mesh, const std::function<double(double, double, double)>& signed_distance,
                              std::size_t samples, const std::vector<std::array<double, 3>>& surface_points) {
     detail::check_indices(mesh);

@@ -1,0 +1,125 @@
+#pragma once
+/// @file compare.h
+/// @brief Measuring meshers against the true isosurface of a grid (`vdbmesh compare`,
+/// bench/): distance and normal deviation of a mesh to the surface the samples define, and
+/// the same grid meshed by DMC, Marching Cubes and volumeToMesh side by side.
+///
+/// The true surface is, for a scan, the isovalue surface of the grid's trilinear interpolant
+/// (the surface every sample-based mesher approximates) and, for a phantom, the analytic
+/// surface given by its exact signed distance. Everything is measured in index space, so
+/// distances are in VOXELS (index units, whatever the spacing).
+
+#include <openvdb/openvdb.h>
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "vdbmesh/analysis.h"
+#include "vdbmesh/mesh.h"
+#include "vdbmesh/mesher.h"
+
+namespace vdbmesh {
+
+/// A signed distance in index space (voxels; negative inside), called concurrently.
+using SignedDistance = std::function<double(double, double, double)>;
+
+/// How meshes are measured.
+struct AccuracyOptions {
+    /// Points drawn uniformly by area on the mesh (mesh -> surface) and on the reference
+    /// surface (surface -> mesh). The maxima are estimates of the one-sided Hausdorff distances.
+    std::size_t samples = 100000;
+    /// Analytic surface (phantoms). Empty: the trilinear isosurface of the grid.
+    SignedDistance exact_signed_distance;
+};
+
+/// Angle between each triangle's normal and the true surface normal at its centroid, in degrees.
+struct NormalDeviation {
+    double mean_deg = 0;  ///< area-weighted mean
+    double p95_deg = 0;   ///< area-weighted 95th percentile
+};
+
+/// How far a mesh is from the true surface, in voxels. distance: a = the mesh, b = the surface.
+struct Accuracy {
+    DistanceReport distance;
+    NormalDeviation normals;
+    /// Mesh samples for which no point of the trilinear isosurface was found within
+    /// kIsosurfaceSearchVoxels (they count as that far away).
+    std::size_t unresolved_samples = 0;
+};
+
+/// How far from a mesh point the trilinear isosurface is searched for.
+inline constexpr double kIsosurfaceSearchVoxels = 4.0;
+
+/// Distance (voxels) from @a index_point to the nearest point of {trilinear(grid) = iso} that
+/// a projection finds: Newton steps along the normalised gradient of the interpolant, then
+/// alternate re-projections from the foot of the point on the tangent plane (converging to
+/// the nearest point where the surface is smooth); a ray search along +-gradient with
+/// bisection when Newton does not converge. Empty when no surface point was found.
+std::optional<double> distance_to_trilinear_isosurface(const openvdb::FloatGrid& grid, double iso,
+                                                       const openvdb::Vec3d& index_point);
+
+/// @a mesh (world coordinates, as mesh_grid() returns) moved to @a grid's index space.
+Mesh to_index_space(const Mesh& mesh, const openvdb::FloatGrid& grid);
+
+/// A fine reference surface in index space: Marching Cubes on the grid resampled trilinearly
+/// at half the voxel size (MC vertices lie on the interpolant's isosurface along the fine
+/// edges, so this is the trilinear isosurface to within the fine cells' curvature).
+Mesh supersampled_isosurface(const openvdb::FloatGrid& grid, double iso, Inside inside);
+
+/// The true surface of a grid at an isovalue, built once (the reference surface is the
+/// costly part), against which any number of meshes are measured.
+class TrueSurface {
+public:
+    TrueSurface(const openvdb::FloatGrid& grid, double iso, Inside inside, AccuracyOptions options = {});
+    /// Measures @a mesh, in world coordinates as mesh_grid() returns it.
+    Accuracy measure(const Mesh& mesh) const;
+    std::size_t reference_triangles() const { return reference_triangles_; }
+
+private:
+    const openvdb::FloatGrid& grid_;
+    double iso_;
+    Inside inside_;
+    AccuracyOptions options_;
+    std::vector<std::array<double, 3>> reference_points_;  ///< index space, on the true surface
+    std::size_t reference_triangles_ = 0;
+};
+
+/// What compare_meshers() does.
+struct CompareOptions {
+    double iso = 0;
+    Inside inside = Inside::above;
+    std::vector<double> errors{0, 0.1, 0.25, 0.5};         ///< DMC, one mesh each
+    std::vector<double> adaptivities{0, 0.1, 0.25, 1};     ///< volumeToMesh, one mesh each
+    bool marching_cubes = true;                            ///< one MC mesh
+    AccuracyOptions accuracy;
+    /// Called before each mesh with its index and the number of meshes.
+    std::function<void(std::size_t index, std::size_t count)> progress;
+};
+
+/// One mesher's result.
+struct MeshComparison {
+    MeshMethod method = MeshMethod::dmc;
+    std::optional<double> error;       ///< DMC
+    std::optional<double> adaptivity;  ///< volumeToMesh
+    double seconds = 0;                ///< mesh_grid() wall time
+    MeshReport report;                 ///< analyze_mesh()
+    Accuracy accuracy;
+};
+
+/// Every mesher's result, in the order run.
+struct Comparison {
+    std::vector<MeshComparison> meshes;
+    std::size_t reference_triangles = 0;  ///< of the supersampled reference surface
+};
+
+/// Meshes @a grid with every setting (DMC at each error, MC, volumeToMesh at each
+/// adaptivity, in that order), one at a time in this process, timing mesh_grid() alone, and
+/// measures each result. Meshes are dropped once measured.
+Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions& options);
+
+/// "dmc", "mc" or "openvdb".
+const char* method_name(MeshMethod method);
+
+}  // namespace vdbmesh

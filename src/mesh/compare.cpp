@@ -1,0 +1,168 @@
+// Meshers side by side against the true surface (`vdbmesh compare`, bench/): the two-sided
+// distance of each mesh to the true isosurface (mesh samples projected onto it, reference
+// samples measured exactly to the mesh), the deviation of its triangle normals from the true
+// normal, its validity (analyze_mesh) and the time mesh_grid() took.
+
+#include "vdbmesh/compare.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+#include "mesh/trilinear_field.h"
+
+namespace vdbmesh {
+namespace {
+
+using openvdb::Vec3d;
+
+constexpr double kGradientStep = 1e-4;  ///< central differences of an exact signed distance (voxels)
+constexpr double kPi = 3.14159265358979323846;
+
+Vec3d numeric_gradient(const SignedDistance& f, const Vec3d& p) {
+    const double h = kGradientStep;
+    return Vec3d(f(p[0] + h, p[1], p[2]) - f(p[0] - h, p[1], p[2]), f(p[0], p[1] + h, p[2]) - f(p[0], p[1] - h, p[2]),
+                 f(p[0], p[1], p[2] + h) - f(p[0], p[1], p[2] - h)) /
+           (2 * h);
+}
+
+/// Points of the reference surface moved onto the analytic one: for an exact signed
+/// distance d, p - d(p) grad d(p) is the closest surface point (two steps absorb the
+/// finite-difference error).
+void project_onto_exact(std::vector<std::array<double, 3>>& points, const SignedDistance& f) {
+    tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
+        Vec3d p(points[i][0], points[i][1], points[i][2]);
+        for (int step = 0; step < 2; ++step) {
+            const Vec3d g = numeric_gradient(f, p);
+            if (!(g.length() > 0)) break;
+            p -= g.unit() * f(p[0], p[1], p[2]);
+        }
+        points[i] = {p[0], p[1], p[2]};
+    });
+}
+
+/// Area-weighted mean and 95th percentile of the angle between each triangle's normal and
+/// @a true_normal at its centroid (a zero vector: the triangle is skipped).
+template <class TrueNormal>
+NormalDeviation normal_deviation(const Mesh& mesh, TrueNormal true_normal) {
+    std::vector<std::pair<double, double>> angle_area(mesh.triangles.size(), {0.0, 0.0});
+    tbb::parallel_for(std::size_t(0), mesh.triangles.size(), [&](std::size_t i) {
+        const auto& t = mesh.triangles[i];
+        const auto corner = [&](int k) {
+            const auto& v = mesh.vertices[t[k]];
+            return Vec3d(v[0], v[1], v[2]);
+        };
+        const Vec3d a = corner(0), b = corner(1), c = corner(2);
+        const Vec3d cross = (b - a).cross(c - a);
+        const double twice_area = cross.length();
+        const Vec3d truth = true_normal((a + b + c) / 3.0);
+        if (!(twice_area > 0) || !(truth.length() > 0)) return;
+        const double cosine = std::clamp(cross.dot(truth) / (twice_area * truth.length()), -1.0, 1.0);
+        angle_area[i] = {std::acos(cosine) * 180.0 / kPi, 0.5 * twice_area};
+    });
+    tbb::parallel_sort(angle_area.begin(), angle_area.end());
+    double total = 0, weighted = 0;
+    for (const auto& [angle, area] : angle_area) {
+        total += area;
+        weighted += angle * area;
+    }
+    NormalDeviation result;
+    if (!(total > 0)) return result;
+    result.mean_deg = weighted / total;
+    double running = 0;
+    for (const auto& [angle, area] : angle_area) {
+        running += area;
+        if (area > 0 && running >= 0.95 * total) {
+            result.p95_deg = angle;
+            break;
+        }
+    }
+    return result;
+}
+
+}  // namespace
+
+const char* method_name(MeshMethod method) {
+    switch (method) {
+        case MeshMethod::dmc:
+            return "dmc";
+        case MeshMethod::mc:
+            return "mc";
+        case MeshMethod::openvdb:
+            return "openvdb";
+    }
+    return "unknown";
+}
+
+TrueSurface::TrueSurface(const openvdb::FloatGrid& grid, double iso, Inside inside, AccuracyOptions options)
+    : grid_(grid), iso_(iso), inside_(inside), options_(std::move(options)) {
+    const Mesh reference = supersampled_isosurface(grid, iso, inside);
+    reference_triangles_ = reference.triangles.size();
+    if (reference.triangles.empty()) return;
+    reference_points_ = sample_surface(reference, options_.samples);
+    if (options_.exact_signed_distance) project_onto_exact(reference_points_, options_.exact_signed_distance);
+}
+
+Accuracy TrueSurface::measure(const Mesh& world_mesh) const {
+    Accuracy result;
+    const Mesh mesh = to_index_space(world_mesh, grid_);
+    if (mesh.triangles.empty()) return result;
+    const SignedDistance& exact = options_.exact_signed_distance;
+    tbb::enumerable_thread_specific<detail::TrilinearField> fields([&] { return detail::TrilinearField(grid_); });
+    std::atomic<std::size_t> unresolved{0};
+    const SignedDistance to_surface = exact ? exact : SignedDistance([&](double x, double y, double z) {
+        const auto d = detail::distance_to_isosurface(fields.local(), iso_, Vec3d(x, y, z));
+        if (d) return *d;
+        ++unresolved;
+        return kIsosurfaceSearchVoxels;
+    });
+    result.distance = mesh_distance(mesh, to_surface, options_.samples, reference_points_);
+    result.unresolved_samples = unresolved;
+    const double outward = inside_ == Inside::above ? -1.0 : 1.0;  // the interpolant grows inwards when above
+    result.normals = normal_deviation(mesh, [&](const Vec3d& p) {
+        if (exact) return numeric_gradient(exact, p);
+        return fields.local()(p).gradient * outward;
+    });
+    return result;
+}
+
+Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions& options) {
+    std::vector<MeshComparison> runs;
+    const auto add_run = [&](MeshMethod method, std::optional<double> error, std::optional<double> adaptivity) {
+        MeshComparison run;
+        run.method = method;
+        run.error = error;
+        run.adaptivity = adaptivity;
+        runs.push_back(run);
+    };
+    for (double error : options.errors) add_run(MeshMethod::dmc, error, std::nullopt);
+    if (options.marching_cubes) add_run(MeshMethod::mc, std::nullopt, std::nullopt);
+    for (double adaptivity : options.adaptivities) add_run(MeshMethod::openvdb, std::nullopt, adaptivity);
+
+    const TrueSurface truth(grid, options.iso, options.inside, options.accuracy);
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+        if (options.progress) options.progress(i, runs.size());
+        MeshComparison& run = runs[i];
+        MeshOptions mesh_options;
+        mesh_options.method = run.method;
+        mesh_options.iso = options.iso;
+        mesh_options.inside = options.inside;
+        mesh_options.error = run.error.value_or(0.0);
+        mesh_options.adaptivity = run.adaptivity.value_or(0.0);
+        const auto start = std::chrono::steady_clock::now();
+        const Mesh mesh = mesh_grid(grid, mesh_options);
+        run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        run.report = analyze_mesh(mesh);
+        run.accuracy = truth.measure(mesh);
+    }
+    if (options.progress) options.progress(runs.size(), runs.size());
+    return {std::move(runs), truth.reference_triangles()};
+}
+
+}  // namespace vdbmesh

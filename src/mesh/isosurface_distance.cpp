@@ -1,0 +1,116 @@
+// Distance from a point to the isosurface {f = iso} of a grid's trilinear interpolant f, the
+// surface that sample-based meshers approximate (Marching Cubes puts its vertices on it along
+// the grid edges; Lorensen and Cline 1987). The nearest point q of a smooth surface satisfies
+// p - q parallel to grad f(q); it is found by the classic closest-point iteration on implicit
+// surfaces (Hartmann, "On the curvature of curves and surfaces defined by normalforms", CAGD
+// 1999, section 4): project onto the surface by Newton steps along the gradient, move to the
+// foot of p on the tangent plane there, project again, until the distance stops decreasing.
+// Every iterate lies on the surface, so the result is never below the true distance by more
+// than the Newton tolerance. Where Newton fails (a vanishing gradient, a step leaving the
+// search radius) a ray search along +-gradient brackets a sign change and bisects it.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "mesh/trilinear_field.h"
+#include "vdbmesh/compare.h"
+
+namespace vdbmesh {
+namespace detail {
+namespace {
+
+using openvdb::Vec3d;
+
+constexpr int kNewtonSteps = 16;
+constexpr double kTolerance = 1e-7;     ///< |f - iso| / |grad f|: first-order distance left, voxels
+constexpr double kMaxStep = 0.5;        ///< Newton step clamp (voxels): stay near the cell structure
+constexpr int kRefinements = 8;
+constexpr double kRayStep = 1.0 / 16;   ///< ray search step (voxels): finer than any cell
+constexpr int kBisections = 40;
+
+/// Newton steps from @a start onto the surface; empty when they do not converge near @a origin.
+std::optional<Vec3d> project(const TrilinearField& field, double iso, const Vec3d& start, const Vec3d& origin) {
+    Vec3d q = start;
+    for (int step = 0; step < kNewtonSteps; ++step) {
+        const FieldSample s = field(q);
+        const double g2 = s.gradient.lengthSqr();
+        if (!(g2 > 1e-30)) return std::nullopt;
+        const double residual = s.value - iso;
+        if (std::fabs(residual) <= kTolerance * std::sqrt(g2)) return q;
+        Vec3d move = s.gradient * (residual / g2);
+        const double length = move.length();
+        if (length > kMaxStep) move *= kMaxStep / length;
+        q -= move;
+        if ((q - origin).length() > kIsosurfaceSearchVoxels) return std::nullopt;
+    }
+    return std::nullopt;
+}
+
+/// The first sign change of f - iso along p + t u, t in (0, search], bisected; its t.
+std::optional<double> ray_crossing(const TrilinearField& field, double iso, const Vec3d& p, const Vec3d& u) {
+    const bool start_above = field(p).value > iso;
+    double previous = 0;
+    for (double t = kRayStep; t <= kIsosurfaceSearchVoxels + 1e-12; t += kRayStep) {
+        if ((field(p + u * t).value > iso) != start_above) {
+            double lo = previous, hi = t;
+            for (int i = 0; i < kBisections; ++i) {
+                const double mid = 0.5 * (lo + hi);
+                ((field(p + u * mid).value > iso) == start_above ? lo : hi) = mid;
+            }
+            return 0.5 * (lo + hi);
+        }
+        previous = t;
+    }
+    return std::nullopt;
+}
+
+/// A first surface point near p: Newton from p, or the nearest ray crossing along +-gradient
+/// (the axes when the gradient vanishes).
+std::optional<Vec3d> first_surface_point(const TrilinearField& field, double iso, const Vec3d& p) {
+    if (auto q = project(field, iso, p, p)) return q;
+    std::vector<Vec3d> directions;
+    const Vec3d g = field(p).gradient;
+    if (g.length() > 1e-15) {
+        directions = {g.unit(), -g.unit()};
+    } else {
+        directions = {Vec3d(1, 0, 0), Vec3d(-1, 0, 0), Vec3d(0, 1, 0), Vec3d(0, -1, 0), Vec3d(0, 0, 1), Vec3d(0, 0, -1)};
+    }
+    std::optional<Vec3d> best;
+    for (const Vec3d& u : directions) {
+        const auto t = ray_crossing(field, iso, p, u);
+        if (t && (!best || *t < (*best - p).length())) best = p + u * *t;
+    }
+    return best;
+}
+
+}  // namespace
+
+std::optional<double> distance_to_isosurface(const TrilinearField& field, double iso, const Vec3d& p) {
+    std::optional<Vec3d> q = first_surface_point(field, iso, p);
+    if (!q) return std::nullopt;
+    double best = (*q - p).length();
+    for (int i = 0; i < kRefinements && best > 0; ++i) {
+        const Vec3d g = field(*q).gradient;
+        if (!(g.length() > 1e-15)) break;
+        const Vec3d n = g.unit();
+        const Vec3d foot = p - n * (p - *q).dot(n);
+        const auto next = project(field, iso, foot, p);
+        if (!next) break;
+        const double d = (*next - p).length();
+        if (!(d < best - 1e-12)) break;
+        best = d;
+        q = next;
+    }
+    return best;
+}
+
+}  // namespace detail
+
+std::optional<double> distance_to_trilinear_isosurface(const openvdb::FloatGrid& grid, double iso,
+                                                       const openvdb::Vec3d& index_point) {
+    const detail::TrilinearField field(grid);
+    return detail::distance_to_isosurface(field, iso, index_point);
+}
+
+}  // namespace vdbmesh

@@ -1,0 +1,296 @@
+// `vdbmesh compare IN [--iso V] [--error LIST] [--adaptivity LIST] [--json FILE] [--plot FILE.svg]`
+// `vdbmesh compare --phantom SHAPE [--size N] [--blur W] ...`
+// Converts once, then meshes the same grid in this process with DMC at each --error, Marching
+// Cubes, and volumeToMesh at each --adaptivity, and measures each mesh (compare_meshers(),
+// include/vdbmesh/compare.h): time, `vdbmesh check`'s figures, two-sided distance to the true
+// isosurface in voxels and normal deviation. The true surface of a scan or .vdb is the
+// trilinear isosurface of its grid; of a phantom (written to a temporary float NIfTI, then
+// converted like any scan), the exact analytic surface.
+
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+
+#include "cli.h"
+#include "commands.h"
+#include "common_options.h"
+#include "report_json.h"
+#include "svg_plot.h"
+#include "vdbmesh/atomic_file.h"
+#include "vdbmesh/compare.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/phantom.h"
+#include "vdbmesh/write_volume.h"
+
+namespace vdbmesh::cli {
+namespace {
+
+struct CompareCommandOptions {
+    std::vector<std::string> inputs;
+    std::optional<double> iso;
+    std::string phantom;
+    std::int64_t size = 64;
+    double blur = 5;
+    std::string errors = "0,0.1,0.25,0.5", adaptivities = "0,0.1,0.25,1";
+    Inside inside = Inside::above;
+    std::size_t samples = 100000;
+    std::string json, plot;
+    ReadFlags read;
+    CommonOptions common;
+};
+
+/// The grid to compare on, and what the report says about where it came from.
+struct LoadedGrid {
+    openvdb::FloatGrid::Ptr grid;
+    double iso = 0;
+    std::optional<double> convert_seconds;  ///< none for a .vdb input
+    std::optional<PhantomSpec> phantom;
+};
+
+/// A fresh folder under the system temp dir, removed on destruction.
+class TempFolder {
+public:
+    TempFolder() {
+        static int counter = 0;
+        path_ = std::filesystem::temp_directory_path() /
+                ("vdbmesh-compare-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+        std::filesystem::create_directories(path_);
+    }
+    ~TempFolder() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path_, ignored);
+    }
+    const std::filesystem::path& path() const { return path_; }
+
+private:
+    std::filesystem::path path_;
+};
+
+openvdb::FloatGrid::Ptr convert_timed(VolumeReader& reader, double iso, LoadedGrid& loaded, bool quiet) {
+    ConvertOptions convert;
+    convert.iso = iso;
+    Progress progress("converting", quiet);
+    convert.progress = [&](double f) { progress(f); };
+    const auto start = std::chrono::steady_clock::now();
+    openvdb::FloatGrid::Ptr grid = convert_to_grid(reader, convert);
+    loaded.convert_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return grid;
+}
+
+/// The phantom written as float samples (density 0..1, surface at 0.5), then converted.
+LoadedGrid load_phantom(const CompareCommandOptions& o) {
+    if (!o.inputs.empty()) throw UsageError("--phantom: takes no input file");
+    LoadedGrid loaded;
+    PhantomSpec spec = phantom_preset(o.phantom, {o.size, o.size, o.size});
+    spec.blur = o.blur;
+    validate_phantom(spec);
+    loaded.phantom = spec;
+    loaded.iso = o.iso.value_or(0.5);
+    const TempFolder folder;
+    VolumeHeader header;
+    header.dims = spec.dims;
+    header.type = SampleType::f32;
+    header.index_to_world = axis_aligned_affine({1, 1, 1});
+    const std::filesystem::path file = folder.path() / "phantom.nii";
+    write_volume(file, header, [&](std::int64_t z, float* slice) { fill_phantom_slice(spec, z, slice); });
+    auto reader = open_volume(file);
+    loaded.grid = convert_timed(*reader, loaded.iso, loaded, o.common.quiet);
+    return loaded;
+}
+
+LoadedGrid load_input(const CompareCommandOptions& o) {
+    if (!o.phantom.empty()) return load_phantom(o);
+    if (o.inputs.empty()) throw UsageError("compare: needs an input file or --phantom SHAPE");
+    LoadedGrid loaded;
+    const std::filesystem::path input = o.inputs.front();
+    if (input.extension() == ".vdb") {
+        if (o.inputs.size() > 1) throw UsageError("a .vdb input takes no further input files");
+        loaded.grid = read_vdb(input);
+        const std::optional<double> iso = o.iso ? o.iso : stored_isovalue(*loaded.grid);
+        if (!iso) throw UsageError("--iso: required, " + input.string() + " stores no isovalue");
+        loaded.iso = *iso;
+        return loaded;
+    }
+    if (!o.iso) throw UsageError("--iso: required to compare on a scan");
+    loaded.iso = *o.iso;
+    auto reader = open_volume(input, o.read.to_read_options({o.inputs.begin() + 1, o.inputs.end()}));
+    loaded.grid = convert_timed(*reader, loaded.iso, loaded, o.common.quiet);
+    return loaded;
+}
+
+nlohmann::ordered_json grid_json(const CompareCommandOptions& o, const LoadedGrid& loaded, std::size_t reference) {
+    nlohmann::ordered_json j;
+    j["input"] = loaded.phantom ? "phantom:" + o.phantom : o.inputs.front();
+    j["isovalue"] = loaded.iso;
+    j["inside"] = o.inside == Inside::above ? "above" : "below";
+    j["truth"] = loaded.phantom ? "exact phantom surface" : "trilinear isosurface";
+    if (loaded.phantom) {
+        j["phantom_size"] = o.size;
+        j["phantom_blur"] = o.blur;
+    }
+    j["convert_seconds"] = loaded.convert_seconds ? nlohmann::ordered_json(*loaded.convert_seconds) : nullptr;
+    j["active_voxels"] = loaded.grid->activeVoxelCount();
+    j["leaf_nodes"] = loaded.grid->tree().leafCount();
+    const openvdb::Vec3d voxel = loaded.grid->voxelSize();
+    j["voxel_size"] = {voxel[0], voxel[1], voxel[2]};
+    j["samples"] = o.samples;
+    j["reference_triangles"] = reference;
+    return j;
+}
+
+nlohmann::ordered_json mesh_json(const MeshComparison& m) {
+    nlohmann::ordered_json j;
+    j["method"] = method_name(m.method);
+    j["error"] = m.error ? nlohmann::ordered_json(*m.error) : nullptr;
+    j["adaptivity"] = m.adaptivity ? nlohmann::ordered_json(*m.adaptivity) : nullptr;
+    j["seconds"] = m.seconds;
+    const DistanceReport& d = m.accuracy.distance;
+    j["hausdorff_voxels"] = d.hausdorff;
+    j["mean_distance_voxels"] = d.mean;
+    j["rms_distance_voxels"] = d.rms;
+    j["max_to_surface_voxels"] = d.max_a_to_b;
+    j["max_from_surface_voxels"] = d.max_b_to_a;
+    j["mean_to_surface_voxels"] = d.mean_a_to_b;
+    j["mean_from_surface_voxels"] = d.mean_b_to_a;
+    j["unresolved_samples"] = m.accuracy.unresolved_samples;
+    j["normal_mean_deg"] = m.accuracy.normals.mean_deg;
+    j["normal_p95_deg"] = m.accuracy.normals.p95_deg;
+    j["manifold"] = m.report.nonmanifold_edges == 0 && m.report.nonmanifold_vertices == 0;
+    j.update(report_json(m.report));
+    return j;
+}
+
+std::string setting_text(const MeshComparison& m) {
+    std::ostringstream text;
+    if (m.error) text << "error " << *m.error;
+    if (m.adaptivity) text << "adapt " << *m.adaptivity;
+    return text.str();
+}
+
+void print_table(const nlohmann::ordered_json& report, const std::vector<MeshComparison>& meshes, std::ostream& out) {
+    const auto& g = report["grid"];
+    out << g["input"].get<std::string>() << ": iso " << g["isovalue"] << ", " << g["active_voxels"]
+        << " active voxels, truth: " << g["truth"].get<std::string>();
+    if (!g["convert_seconds"].is_null()) out << ", converted in " << g["convert_seconds"].get<double>() << " s";
+    out << "\n";
+    out << std::left << std::setw(9) << "method" << std::setw(12) << "setting" << std::right << std::setw(9) << "seconds"
+        << std::setw(11) << "triangles" << std::setw(11) << "vertices" << std::setw(11) << "hausdorff" << std::setw(9)
+        << "mean" << std::setw(9) << "n.mean" << std::setw(8) << "n.p95" << std::setw(8) << "selfX" << std::setw(8)
+        << "closed" << std::setw(10) << "manifold" << std::setw(7) << "clean" << "\n";
+    out << std::fixed;
+    for (const auto& m : meshes) {
+        const DistanceReport& d = m.accuracy.distance;
+        out << std::left << std::setw(9) << method_name(m.method) << std::setw(12) << setting_text(m) << std::right
+            << std::setprecision(3) << std::setw(9) << m.seconds << std::setw(11) << m.report.triangles << std::setw(11)
+            << m.report.vertices << std::setprecision(4) << std::setw(11) << d.hausdorff << std::setw(9) << d.mean
+            << std::setprecision(2) << std::setw(9) << m.accuracy.normals.mean_deg << std::setw(8)
+            << m.accuracy.normals.p95_deg << std::setw(8) << m.report.self_intersecting_pairs << std::setw(8)
+            << (m.report.closed ? "yes" : "no") << std::setw(10)
+            << (m.report.nonmanifold_edges == 0 && m.report.nonmanifold_vertices == 0 ? "yes" : "no") << std::setw(7)
+            << (m.report.is_clean() ? "yes" : "no") << "\n";
+    }
+    out << std::defaultfloat << "distances in voxels (two-sided, " << g["samples"]
+        << " samples each way); normal deviation in degrees\n";
+}
+
+Plot make_plot(const std::string& title, const std::vector<MeshComparison>& meshes) {
+    Plot plot;
+    plot.title = title;
+    plot.x_label = "triangles (log scale)";
+    plot.y_label = "two-sided Hausdorff distance (voxels)";
+    for (MeshMethod method : {MeshMethod::dmc, MeshMethod::mc, MeshMethod::openvdb}) {
+        PlotSeries series;
+        series.name = method == MeshMethod::openvdb ? "volumeToMesh" : method == MeshMethod::dmc ? "DMC" : "MC";
+        for (const auto& m : meshes) {
+            if (m.method != method) continue;
+            std::ostringstream label;
+            if (m.error) label << "e=" << *m.error;
+            if (m.adaptivity) label << "a=" << *m.adaptivity;
+            series.points.push_back({double(m.report.triangles), m.accuracy.distance.hausdorff, label.str()});
+        }
+        if (!series.points.empty()) plot.series.push_back(series);
+    }
+    return plot;
+}
+
+void write_text_file(const std::string& path, const std::string& text) {
+    AtomicFile file(path);
+    {
+        std::ofstream out(file.temp_path(), std::ios::binary);
+        out << text;
+        out.close();
+        if (!out) throw Error(path + ": cannot write");
+    }
+    file.commit();
+}
+
+int run_compare(const CompareCommandOptions& o) {
+    const ThreadLimit limit(o.common);
+    CompareOptions options;
+    options.errors = parse_number_list("--error", o.errors);
+    options.adaptivities = parse_number_list("--adaptivity", o.adaptivities);
+    options.inside = o.inside;
+    options.accuracy.samples = o.samples;
+    const LoadedGrid loaded = load_input(o);
+    options.iso = loaded.iso;
+    if (loaded.phantom) {
+        const PhantomSpec spec = *loaded.phantom;
+        options.accuracy.exact_signed_distance = [spec](double x, double y, double z) {
+            return phantom_signed_distance(spec, x, y, z);
+        };
+    }
+    Progress progress("comparing", o.common.quiet);
+    options.progress = [&](std::size_t i, std::size_t count) { progress(double(i) / double(count)); };
+    const Comparison comparison = compare_meshers(*loaded.grid, options);
+    const std::vector<MeshComparison>& meshes = comparison.meshes;
+
+    nlohmann::ordered_json report;
+    report["grid"] = grid_json(o, loaded, comparison.reference_triangles);
+    report["meshes"] = nlohmann::ordered_json::array();
+    for (const auto& m : meshes) report["meshes"].push_back(mesh_json(m));
+    if (!o.json.empty()) write_text_file(o.json, report.dump(2) + "\n");
+    if (!o.plot.empty()) write_text_file(o.plot, svg_plot(make_plot(report["grid"]["input"].get<std::string>(), meshes)));
+    print_table(report, meshes, std::cout);
+    return kSuccess;
+}
+
+}  // namespace
+
+void add_compare_command(CLI::App& command, CommandResult& result) {
+    auto options = std::make_shared<CompareCommandOptions>();
+    CompareCommandOptions& o = *options;
+    command.add_option("input", o.inputs, "A scan or .vdb grid (further files: the parts of a split raw scan)");
+    command.add_option("--iso", o.iso, "Isovalue (a .vdb: default the stored one; a phantom: 0.5)");
+    const auto names = phantom_preset_names();
+    command.add_option("--phantom", o.phantom, "Compare on a phantom instead, against its exact surface")
+        ->check(CLI::IsMember(names));
+    command.add_option("--size", o.size, "--phantom: edge of the cubic volume in voxels")->capture_default_str();
+    command.add_option("--blur", o.blur, "--phantom: half-width of the density ramp in voxels")->capture_default_str();
+    command.add_option("--error", o.errors, "DMC error tolerances (voxels), one mesh each")->capture_default_str();
+    command.add_option("--adaptivity", o.adaptivities, "volumeToMesh adaptivities in [0, 1], one mesh each")
+        ->capture_default_str();
+    const std::map<std::string, Inside> sides = {{"above", Inside::above}, {"below", Inside::below}};
+    command.add_option("--inside", o.inside, "Which side of the isovalue is the object: above|below")
+        ->transform(CLI::CheckedTransformer(sides, CLI::ignore_case))
+        ->default_str("above");
+    command.add_option("--samples", o.samples, "Points sampled on each mesh and on the true surface")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    command.add_option("--json", o.json, "Write the whole report as JSON to FILE");
+    command.add_option("--plot", o.plot, "Write triangles against Hausdorff distance as an SVG chart to FILE");
+    add_read_flags(command, o.read);
+    add_common_options(command, o.common);
+    command.callback([options, &result] { result.status = run_compare(*options); });
+}
+
+}  // namespace vdbmesh::cli
