@@ -51,6 +51,7 @@ struct VolumeHeader {
 
 /// How a segment's bytes are stored.
 enum class Compression {
+    none,    ///< plain bytes, whatever they start with (formats that say their data is uncompressed)
     detect,  ///< gzip (one or more members) when the stream starts with the gzip magic, else plain
     zlib,    ///< zlib-wrapped deflate (MetaImage CompressedData)
 };

@@ -242,6 +242,7 @@ VolumeSource read_dicom_series(const std::filesystem::path& folder) {
         segment.path = file.path;
         segment.offset = file.slice.pixel_offset;
         segment.bytes = file.slice.frame_bytes();
+        segment.compression = Compression::none;  // compressed transfer syntaxes are refused by the parser
         segment.allow_trailing = true;  // elements may follow Pixel Data (padding); the parser checked its length
         source.segments.push_back(std::move(segment));
     }

@@ -199,7 +199,7 @@ DataSegment data_segment(const std::filesystem::path& header, const Storage& sto
     DataSegment segment;
     segment.path = file;
     segment.bytes = bytes;
-    segment.compression = storage.compressed ? Compression::zlib : Compression::detect;
+    segment.compression = storage.compressed ? Compression::zlib : Compression::none;
     segment.file_offset = storage.header_size > 0 ? static_cast<std::uint64_t>(storage.header_size) : start;
     if (storage.header_size == -1) {
         const std::uint64_t stored = storage.compressed ? static_cast<std::uint64_t>(storage.compressed_size) : bytes;

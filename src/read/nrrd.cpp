@@ -304,6 +304,7 @@ DataSegment data_segment(const std::filesystem::path& header, const Storage& sto
         segment.offset = static_cast<std::uint64_t>(storage.byte_skip);
         return segment;
     }
+    segment.compression = Compression::none;
     segment.file_offset = storage.byte_skip == -1 ? tail_offset(header, "byte skip", file, bytes)
                                                   : start + static_cast<std::uint64_t>(storage.byte_skip);
     check_plain_data_size(header, segment);

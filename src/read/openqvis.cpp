@@ -77,6 +77,7 @@ VolumeSource parse_openqvis_header(std::string_view text, const std::filesystem:
     DataSegment segment;
     segment.path = data_path(path, name);
     segment.bytes = static_cast<std::uint64_t>(header.voxel_count()) * sample_size(header.type);
+    segment.compression = Compression::none;  // the format has no compression
     require_data_file(path, "ObjectFileName", segment.path);
     check_plain_data_size(path, segment);
     source.segments.push_back(segment);

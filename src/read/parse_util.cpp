@@ -124,12 +124,16 @@ bool is_gzip(const std::filesystem::path& path) {
 
 void check_segment_size(const DataSegment& segment) {
     const std::uint64_t size = file_size_or_throw(segment.path);
-    if (is_gzip(segment.path)) return;
-    if (size != segment.offset + segment.bytes)
-        throw FormatError(segment.path.string(), "file size",
-                          std::to_string(segment.offset + segment.bytes) + " bytes (" + std::to_string(segment.offset) +
-                              " header + " + std::to_string(segment.bytes) + " samples)",
-                          std::to_string(size) + " bytes");
+    const bool compressed = segment.compression == Compression::zlib ||
+                            (segment.compression == Compression::detect && (segment.file_offset > 0 || is_gzip(segment.path)));
+    if (compressed || segment.bytes == DataSegment::kToEnd) return;  // checked while streaming
+    const std::uint64_t header = segment.file_offset + segment.offset;
+    const std::uint64_t expected = header + segment.bytes;
+    if (size == expected || (segment.allow_trailing && size > expected)) return;
+    throw FormatError(segment.path.string(), "file size",
+                      std::to_string(expected) + " bytes (" + std::to_string(header) + " header + " +
+                          std::to_string(segment.bytes) + " samples)",
+                      std::to_string(size) + " bytes");
 }
 
 }  // namespace vdbmesh::detail

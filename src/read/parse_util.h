@@ -39,8 +39,9 @@ std::uint64_t file_size_or_throw(const std::filesystem::path& path);
 /// True when the file starts with the gzip magic bytes.
 bool is_gzip(const std::filesystem::path& path);
 
-/// For an uncompressed segment, checks that offset + bytes == file size (the field named
-/// in the message is "file size"); gzip segments are checked while streaming instead.
+/// For a segment whose length is known before decompression (plain data), checks that
+/// file_offset + offset + bytes == file size (larger with allow_trailing); the field named is
+/// "file size". Compressed segments are checked while streaming instead.
 void check_segment_size(const DataSegment& segment);
 
 }  // namespace vdbmesh::detail

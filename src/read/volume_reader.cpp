@@ -1,7 +1,7 @@
 // Streams the samples of a VolumeSource slab by slab and decodes them to float.
 //
 // Each DataSegment (read.h) is opened with open() and lseek() to its file_offset, then read
-// through zlib: gzdopen() + gzread() for Compression::detect (plain bytes pass through as
+// as plain bytes (Compression::none), or through zlib: gzdopen() + gzread() for Compression::detect (plain bytes pass through as
 // they are, and concatenated gzip members read as one stream, RFC 1952 section 2.2), or
 // inflate() for Compression::zlib (a zlib-wrapped deflate stream, RFC 1950, as in MetaImage
 // CompressedData). The segment's offset is then skipped in the decompressed stream.
@@ -67,6 +67,23 @@ public:
 private:
     std::filesystem::path path_;
     gzFile file_;
+};
+
+/// Plain bytes, read as they are (even when they happen to start with the gzip magic).
+class PlainInput final : public SegmentInput {
+public:
+    PlainInput(std::filesystem::path path, int fd) : path_(std::move(path)), fd_(fd) {}
+    ~PlainInput() override { ::close(fd_); }
+
+    std::size_t read(unsigned char* out, std::size_t size) override {
+        const ssize_t got = ::read(fd_, out, std::min(size, kMaxChunk));
+        if (got < 0) throw Error(path_.string() + ": read failed: " + std::strerror(errno));
+        return static_cast<std::size_t>(got);
+    }
+
+private:
+    std::filesystem::path path_;
+    int fd_;
 };
 
 /// A zlib-wrapped deflate stream, inflated by hand; nothing may follow it in the file.
@@ -142,6 +159,7 @@ std::unique_ptr<SegmentInput> open_input(const DataSegment& segment) {
                           std::to_string(segment.file_offset));
     }
     if (segment.compression == Compression::zlib) return std::make_unique<ZlibInput>(segment.path, fd);
+    if (segment.compression == Compression::none) return std::make_unique<PlainInput>(segment.path, fd);
     return std::make_unique<GzipInput>(segment.path, fd);
 }
 
