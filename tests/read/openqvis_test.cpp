@@ -97,6 +97,13 @@ TEST(OpenQVisTest, FloatSamples) {
     EXPECT_EQ(read_all_samples(std::move(source)), (std::vector<float>{1.5f, -2.25f}));
 }
 
+TEST(OpenQVisTest, PlainDataStartingWithTheGzipMagicIsReadAsItIs) {
+    test::ScratchDir scratch;
+    test::write_file(scratch / "g.raw", std::string("\x1f\x8b\x08\x00", 4));  // 31 139 8 0, not a gzip stream
+    test::write_file(scratch / "g.dat", "ObjectFileName: g.raw\nResolution: 4 1 1\nFormat: UCHAR\n");
+    EXPECT_EQ(read_all_samples(open_volume_source(scratch / "g.dat")), (std::vector<float>{31, 139, 8, 0}));
+}
+
 TEST(OpenQVisTest, BadHeadersNameTheField) {
     const auto parse = [](const std::string& text) {
         return [text] { detail::parse_openqvis_header(text, testdata("read/bad.dat")); };
