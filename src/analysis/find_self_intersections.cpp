@@ -108,12 +108,11 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> find_self_intersections(con
     const PairTester tester(mesh, canonical);
 
     tbb::enumerable_thread_specific<std::vector<Pair>> found;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, regular.size(), 1024), [&](const auto& range) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bvh.leaf_count(), 256), [&](const auto& range) {
         std::vector<Pair>& local = found.local();
-        for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            const std::uint32_t first = regular[i];
-            bvh.visit_overlaps(detail::triangle_box(mesh, first), [&](std::uint32_t second) {
-                if (second > first && tester.intersect(first, second)) local.emplace_back(first, second);
+        for (std::size_t leaf = range.begin(); leaf != range.end(); ++leaf) {
+            bvh.visit_overlapping_pairs(leaf, [&](std::uint32_t first, std::uint32_t second) {
+                if (tester.intersect(first, second)) local.emplace_back(std::min(first, second), std::max(first, second));
             });
         }
     });

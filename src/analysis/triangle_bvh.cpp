@@ -131,7 +131,8 @@ std::uint32_t TriangleBvh::build(std::uint32_t begin, std::uint32_t end, const s
     if (end - begin <= kLeafSize) {
         Box box = boxes_[begin];
         for (std::uint32_t i = begin + 1; i < end; ++i) box = merge(box, boxes_[i]);
-        nodes_[index] = {box, begin, end - begin};
+        nodes_[index] = {box, begin, end, 0};
+        leaves_.push_back(index);
         return index;
     }
     // Split after the last code that agrees with the first one on the highest bit where the
@@ -147,7 +148,7 @@ std::uint32_t TriangleBvh::build(std::uint32_t begin, std::uint32_t end, const s
     }
     const std::uint32_t left = build(begin, middle, codes);
     const std::uint32_t right = build(middle, end, codes);
-    nodes_[index] = {merge(nodes_[left].box, nodes_[right].box), right, 0};
+    nodes_[index] = {merge(nodes_[left].box, nodes_[right].box), begin, end, right};
     return index;
 }
 
@@ -160,8 +161,8 @@ ClosestPoint TriangleBvh::closest_point(const Point3& p) const {
     while (top > 0) {
         const Node& node = nodes_[stack[--top]];
         if (box_distance_squared(p, node.box) >= best.distance_squared) continue;
-        if (node.count > 0) {
-            for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+        if (node.right == 0) {
+            for (std::uint32_t k = node.begin; k < node.end; ++k) {
                 const std::uint32_t triangle = order_[k];
                 const auto& t = mesh_->triangles[triangle];
                 const Point3 q = closest_point_on_triangle(p, to_point(mesh_->vertices[t[0]]),
@@ -175,7 +176,7 @@ ClosestPoint TriangleBvh::closest_point(const Point3& p) const {
         }
         // Visit the nearer child first (pushed last) so that the far one is often pruned.
         const std::uint32_t index = std::uint32_t(&node - nodes_.data());
-        const std::uint32_t left = index + 1, right = node.first;
+        const std::uint32_t left = index + 1, right = node.right;
         const bool left_nearer =
             box_distance_squared(p, nodes_[left].box) <= box_distance_squared(p, nodes_[right].box);
         stack[top++] = left_nearer ? right : left;

@@ -2,6 +2,7 @@
 // Private: a bounding-volume hierarchy over a mesh's triangles, for overlap and
 // closest-point queries.
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -46,20 +47,23 @@ public:
     /// Over the listed triangles of @a mesh (which must outlive the tree).
     TriangleBvh(const Mesh& mesh, std::vector<std::uint32_t> triangles);
 
-    /// Calls visit(triangle) for every listed triangle whose box overlaps @a query (closed boxes).
-    template <class Visit>
-    void visit_overlaps(const Box& query, Visit&& visit) const;
-
     /// The closest point of the listed triangles to @a p; requires at least one triangle.
     ClosestPoint closest_point(const Point3& p) const;
 
     bool empty() const { return nodes_.empty(); }
+    /// Self-overlap, one leaf at a time (for parallel loops over leaf_count()): calls
+    /// visit(first, second) for every pair of listed triangles whose boxes overlap, where the
+    /// first lies in leaf @a leaf and comes before the second in tree order. Over all leaves
+    /// every overlapping pair is visited exactly once.
+    template <class Visit>
+    void visit_overlapping_pairs(std::size_t leaf, Visit&& visit) const;
+    std::size_t leaf_count() const { return leaves_.size(); }
 
 private:
     struct Node {
         Box box;
-        std::uint32_t first = 0;  ///< leaf: first index in order_; inner: index of the right child
-        std::uint32_t count = 0;  ///< leaf: number of triangles; inner: 0 (left child follows)
+        std::uint32_t begin = 0, end = 0;  ///< the positions in order_ below this node
+        std::uint32_t right = 0;           ///< inner: index of the right child (the left follows); leaf: 0
     };
     static constexpr int kLeafSize = 4;
     // 63 levels of Morton bits, then halving at most 2^32 equal codes.
@@ -68,28 +72,32 @@ private:
     std::uint32_t build(std::uint32_t begin, std::uint32_t end, const std::vector<std::uint64_t>& codes);
 
     const Mesh* mesh_;
+    std::vector<std::uint32_t> leaves_;  ///< node indices of the leaves, in position order
     std::vector<std::uint32_t> order_;  ///< triangles in Morton order
     std::vector<Box> boxes_;            ///< their boxes, in the same order
     std::vector<Node> nodes_;
 };
 
 template <class Visit>
-void TriangleBvh::visit_overlaps(const Box& query, Visit&& visit) const {
-    if (nodes_.empty()) return;
+void TriangleBvh::visit_overlapping_pairs(std::size_t leaf, Visit&& visit) const {
+    const Node& query = nodes_[leaves_[leaf]];
     std::uint32_t stack[kMaxDepth];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
         const std::uint32_t index = stack[--top];
         const Node& node = nodes_[index];
-        if (!boxes_overlap(node.box, query)) continue;
-        if (node.count > 0) {
-            for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
-                if (boxes_overlap(boxes_[k], query)) visit(order_[k]);
-            }
-        } else {
-            stack[top++] = node.first;
+        // Nodes wholly before the query leaf pair with it from their own leaves.
+        if (node.end <= query.begin || !boxes_overlap(node.box, query.box)) continue;
+        if (node.right != 0) {
+            stack[top++] = node.right;
             stack[top++] = index + 1;
+            continue;
+        }
+        for (std::uint32_t p = query.begin; p < query.end; ++p) {
+            for (std::uint32_t q = std::max(node.begin, p + 1); q < node.end; ++q) {
+                if (boxes_overlap(boxes_[p], boxes_[q])) visit(order_[p], order_[q]);
+            }
         }
     }
 }

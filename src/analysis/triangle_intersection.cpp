@@ -74,6 +74,24 @@ bool coplanar_triangles_meet(const Triangle3& t, const Triangle3& u) {
     return point_in_triangle_2d(t2[0], u2);
 }
 
+/// The closed ray from s through x lies in the wedge at s spanned counter-clockwise from a to b
+/// (an angle below 180 degrees).
+bool ray_in_wedge(const Point2& s, const Point2& a, const Point2& b, const Point2& x) {
+    return orient2d(s, a, x) >= 0 && orient2d(s, b, x) <= 0;
+}
+
+/// Coplanar triangles sharing the corner t[0] == u[0] share more than it iff their wedges at
+/// that corner do: two convex wedges overlap iff one holds a boundary ray of the other.
+bool coplanar_wedges_overlap(const Triangle3& t, const Triangle3& u) {
+    const int axis = projection_axis(t);
+    std::array<Point2, 3> t2 = project(t, axis), u2 = project(u, axis);
+    if (orient2d(t2[0], t2[1], t2[2]) < 0) std::swap(t2[1], t2[2]);
+    if (orient2d(u2[0], u2[1], u2[2]) < 0) std::swap(u2[1], u2[2]);
+    const Point2& s = t2[0];
+    return ray_in_wedge(s, t2[1], t2[2], u2[1]) || ray_in_wedge(s, t2[1], t2[2], u2[2]) ||
+           ray_in_wedge(s, u2[1], u2[2], t2[1]) || ray_in_wedge(s, u2[1], u2[2], t2[2]);
+}
+
 /// All three signs are >= 0 or all are <= 0.
 bool signs_agree(int s0, int s1, int s2) {
     return (s0 >= 0 && s1 >= 0 && s2 >= 0) || (s0 <= 0 && s1 <= 0 && s2 <= 0);
@@ -109,8 +127,16 @@ bool triangles_meet(const Triangle3& t, const Triangle3& u) {
 }
 
 bool triangles_meet_beyond_corner(const Triangle3& t, const Triangle3& u) {
-    // The intersection is convex and contains the shared corner; if it holds another point
-    // it reaches the edge of t or of u opposite that corner (which does not contain it).
+    // Non-coplanar: the intersection lies on the planes' common line through the corner, so if
+    // the far edge of either triangle is strictly on one side of the other's plane, the
+    // triangles meet only at the corner.
+    const int t1 = orient3d(u[0], u[1], u[2], t[1]), t2 = orient3d(u[0], u[1], u[2], t[2]);
+    if (t1 == 0 && t2 == 0) return coplanar_wedges_overlap(t, u);
+    if (t1 * t2 > 0) return false;
+    const int u1 = orient3d(t[0], t[1], t[2], u[1]), u2 = orient3d(t[0], t[1], t[2], u[2]);
+    if (u1 * u2 > 0) return false;
+    // Otherwise the intersection is convex and contains the shared corner; if it holds another
+    // point it reaches the edge of t or of u opposite that corner (which does not contain it).
     return segment_meets_triangle(t[1], t[2], u) || segment_meets_triangle(u[1], u[2], t);
 }
 
