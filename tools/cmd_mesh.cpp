@@ -23,10 +23,16 @@ namespace vdbmesh::cli {
 
 namespace {
 
+const std::map<std::string, MeshMethod> kMethods = {
+    {"dmc", MeshMethod::dmc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}};
+const std::map<std::string, Inside> kSides = {{"above", Inside::above}, {"below", Inside::below}};
+
 struct MeshCommandOptions {
     std::vector<std::string> inputs;  ///< the input, then the further parts of a split raw scan
     std::string output;
     std::optional<double> iso;
+    std::string method = "dmc";
+    std::string inside = "above";
     MeshOptions mesh;
     bool ascii = false;
     bool normals = false;
@@ -34,11 +40,13 @@ struct MeshCommandOptions {
     CommonOptions common;
 };
 
+std::string lowercase(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return text;
+}
+
 std::string lowercase_extension(const std::string& path) {
-    std::string extension = std::filesystem::path(path).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    return extension;
+    return lowercase(std::filesystem::path(path).extension().string());
 }
 
 /// The grid to mesh, with options.mesh.iso set: a .vdb as stored, a scan converted (band 1).
@@ -68,6 +76,9 @@ void run_mesh(MeshCommandOptions& options) {
     if (extension != ".stl" && extension != ".ply" && extension != ".obj") {
         throw UsageError("-o: expected a .stl, .ply or .obj file, got \"" + options.output + "\"");
     }
+    // Both words were checked (IsMember, any case).
+    options.mesh.method = kMethods.at(lowercase(options.method));
+    options.mesh.inside = kSides.at(lowercase(options.inside));
     const ThreadLimit limit(options.common);
     const auto start = std::chrono::steady_clock::now();
     Progress progress("meshing", options.common.quiet);
@@ -90,21 +101,18 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
         ->required();
     command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj")->required();
     command.add_option("--iso", options->iso, "Isovalue (default for a .vdb: the one stored by convert)");
-    const std::map<std::string, MeshMethod> methods = {
-        {"dmc", MeshMethod::dmc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}};
-    command.add_option("--method", options->mesh.method, "Mesher: dmc (Dual Marching Cubes), mc, openvdb (volumeToMesh)")
-        ->transform(CLI::CheckedTransformer(methods, CLI::ignore_case))
-        ->default_str("dmc");
+    command.add_option("--method", options->method, "Mesher: dmc (Dual Marching Cubes), mc, openvdb (volumeToMesh)")
+        ->check(CLI::IsMember(kMethods, CLI::ignore_case))
+        ->capture_default_str();
     command.add_option("--error", options->mesh.error, "DMC: tolerated QEF error in voxels (0: no simplification)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
-    const std::map<std::string, Inside> sides = {{"above", Inside::above}, {"below", Inside::below}};
-    command.add_option("--inside", options->mesh.inside, "Which side of the isovalue is the object: above|below")
-        ->transform(CLI::CheckedTransformer(sides, CLI::ignore_case))
-        ->default_str("above");
+    command.add_option("--inside", options->inside, "Which side of the isovalue is the object: above|below")
+        ->check(CLI::IsMember(kSides, CLI::ignore_case))
+        ->capture_default_str();
     command.add_flag("--open-boundary", options->mesh.open_boundary,
                      "Leave the surface open where it meets the edge of the scan");
     command.add_flag("--ascii", options->ascii, "ASCII STL or PLY instead of binary");

@@ -21,6 +21,9 @@ void check_options(const MeshOptions& options) {
     if (!(options.adaptivity >= 0 && options.adaptivity <= 1)) {
         throw UsageError("adaptivity: expected a number in [0, 1], got " + std::to_string(options.adaptivity));
     }
+    if (options.open_boundary && options.method == MeshMethod::openvdb) {
+        throw UsageError("open boundary: not available with the openvdb method (volumeToMesh meshes the grid's values as they are)");
+    }
 }
 
 }  // namespace

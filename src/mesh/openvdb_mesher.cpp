@@ -11,7 +11,8 @@
 // - Quads are split along the shorter diagonal (the first one on a tie).
 // - Boundary: volumeToMesh knows nothing of the scan box: the grid's values are meshed as they
 //   are, so on a converted grid (background outside, below the isovalue) the surface is closed
-//   by the background beyond the box with inside=above, and open_boundary is not honoured.
+//   by the background beyond the box with inside=above (at the crossing the background value
+//   gives, not half a voxel out). open_boundary is refused by mesh_grid().
 
 #include "mesh/openvdb_mesher.h"
 

@@ -10,7 +10,7 @@ namespace vdbmesh::detail {
 
 /// openvdb::tools::volumeToMesh at options.iso and options.adaptivity, quads split along their
 /// shorter diagonal, triangles wound counter-clockwise seen from outside the object. The grid's
-/// values are used as they are: no scan-box closing and no open_boundary (see the .cpp).
+/// values are used as they are: no scan-box closing, options.open_boundary ignored (see the .cpp).
 Mesh openvdb_volume_to_mesh(const openvdb::FloatGrid& grid, const MeshOptions& options);
 
 }  // namespace vdbmesh::detail

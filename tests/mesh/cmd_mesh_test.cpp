@@ -49,7 +49,7 @@ TEST(CmdMeshTest, MeshesAVdbAtItsStoredIsovalue) {
     ScratchDir scratch;
     const auto input = write_ball_vdb(scratch, true);
     const auto output = scratch / "ball.ply";
-    ASSERT_EQ(cli::run({"mesh", input.string(), "--method", "mc", "-o", output.string(), "--quiet"}), cli::kSuccess);
+    ASSERT_EQ(cli::run({"mesh", input.string(), "--method", "MC", "-o", output.string(), "--quiet"}), cli::kSuccess);
     const Mesh written = read_mesh(output);
     MeshOptions options;
     options.method = MeshMethod::mc;
@@ -95,7 +95,7 @@ TEST(CmdMeshTest, FailuresLeaveNoOutput) {
     // A .vdb without a stored isovalue, and a scan, need --iso.
     EXPECT_EQ(cli::run({"mesh", vdb_without_iso.string(), "-o", output.string(), "-q"}), cli::kUsageError);
     EXPECT_EQ(cli::run({"mesh", raw.string(), "--raw-dims", "20,20,20", "-o", output.string(), "-q"}), cli::kUsageError);
-    // Unknown output format, method, side; adaptivity out of range.
+    // Unknown output format, method, side; adaptivity out of range; open boundary with openvdb.
     EXPECT_EQ(cli::run({"mesh", vdb_without_iso.string(), "--iso", "0", "-o", (scratch / "out.xyz").string(), "-q"}),
               cli::kUsageError);
     EXPECT_EQ(cli::run({"mesh", vdb_without_iso.string(), "--iso", "0", "--method", "fast", "-o", output.string()}),
@@ -103,6 +103,9 @@ TEST(CmdMeshTest, FailuresLeaveNoOutput) {
     EXPECT_EQ(cli::run({"mesh", vdb_without_iso.string(), "--iso", "0", "--inside", "left", "-o", output.string()}),
               cli::kUsageError);
     EXPECT_EQ(cli::run({"mesh", vdb_without_iso.string(), "--iso", "0", "--adaptivity", "2", "-o", output.string()}),
+              cli::kUsageError);
+    EXPECT_EQ(cli::run({"mesh", vdb_without_iso.string(), "--iso", "0", "--method", "openvdb", "--open-boundary", "-o",
+                        output.string()}),
               cli::kUsageError);
     // A missing input is a runtime error.
     EXPECT_EQ(cli::run({"mesh", (scratch / "missing.vdb").string(), "--iso", "0", "-o", output.string(), "-q"}),

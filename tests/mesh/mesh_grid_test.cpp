@@ -43,6 +43,9 @@ TEST(MeshGridTest, RejectsBadOptions) {
     EXPECT_THROW(mesh_grid(*grid, options), UsageError);
     options = options_for(MeshMethod::mc, std::nan(""));
     EXPECT_THROW(mesh_grid(*grid, options), UsageError);
+    options = options_for(MeshMethod::openvdb, 0.0);
+    options.open_boundary = true;
+    EXPECT_THROW(mesh_grid(*grid, options), UsageError);
 }
 
 TEST(MeshGridTest, DispatchesEachMethod) {
