@@ -41,8 +41,14 @@ constexpr int kLeafDim = static_cast<int>(Leaf::DIM);
 constexpr int kMaxBand = 32;
 /// Stand-in for samples outside the scan until the background is known: below any isovalue.
 constexpr float kVirtual = std::numeric_limits<float>::lowest();
-/// In-plane distances saturate here (larger than any band).
-constexpr std::uint8_t kFar = 255;
+
+/// The largest float <= @a value: for a float f, f <= value iff f <= float_at_or_below(value),
+/// and f > value iff f > float_at_or_below(value), so the tests run on floats.
+float float_at_or_below(double value) {
+    float f = static_cast<float>(value);
+    if (static_cast<double>(f) > value) f = std::nextafter(f, std::numeric_limits<float>::lowest());
+    return f;
+}
 
 int floor_div(std::int64_t a, int b) { return static_cast<int>(a >= 0 ? a / b : -((-a + b - 1) / b)); }
 
@@ -102,20 +108,20 @@ public:
 
 private:
     std::int64_t frame_index(int x, int y) const { return (x + pad_) + width_ * static_cast<std::int64_t>(y + pad_); }
-    bool in_frame(int x, int y) const { return x >= -pad_ && x < dims_[0] + pad_ && y >= -pad_ && y < dims_[1] + pad_; }
     bool in_scan(int x, int y, int z) const {
         return x >= 0 && y >= 0 && z >= 0 && x < dims_[0] && y < dims_[1] && z < dims_[2];
     }
     bool block_in_scan(int x0, int y0, int z0) const {
         return in_scan(x0, y0, z0) && in_scan(x0 + kLeafDim - 1, y0 + kLeafDim - 1, z0 + kLeafDim - 1);
     }
-    bool straddles(float min, float max) const { return min < max && min <= iso_hi_ && max > iso_lo_; }
+    bool straddles(float min, float max) const { return min < max && min <= iso_hi_f_ && max > iso_lo_f_; }
 
     void advance_samples(int z0);
     void fill_sample_slice(std::int64_t z, float* out);
     void compute_cell_slice(std::int64_t z);
     void compute_distance_slice(std::int64_t z);
-    bool is_active(int x, int y, int z) const;
+    /// Which voxels (x0 .. x0 + 7, y, z) are active: an in-plane distance <= band - |dz| in slice z + dz.
+    void active_row(int x0, int y, int z, bool* active) const;
     BlockResult make_block(int x0, int y0, int z0) const;
     float background() const;
     void add_row(int z0, std::vector<BlockResult>& blocks);
@@ -126,6 +132,7 @@ private:
     const ConvertOptions& options_;
     int band_;
     double iso_lo_, iso_hi_;
+    float iso_lo_f_, iso_hi_f_;  ///< float_at_or_below() of the isovalues
     int dims_[3];
     int pad_;  ///< the frame holds voxels [-pad, dim + pad) in x and y: the band around the virtual ring
     std::int64_t width_, height_;
@@ -150,6 +157,8 @@ Converter::Converter(VolumeReader& reader, const ConvertOptions& options)
       band_(options.band),
       iso_lo_(options.iso_range ? options.iso_range->first : options.iso),
       iso_hi_(options.iso_range ? options.iso_range->second : options.iso),
+      iso_lo_f_(float_at_or_below(iso_lo_)),
+      iso_hi_f_(float_at_or_below(iso_hi_)),
       dims_{static_cast<int>(header_.dims[0]), static_cast<int>(header_.dims[1]), static_cast<int>(header_.dims[2])},
       pad_(band_ + 1),
       width_(dims_[0] + 2 * pad_),
@@ -160,7 +169,7 @@ Converter::Converter(VolumeReader& reader, const ConvertOptions& options)
       block_y_count_(floor_div(dims_[1] + band_, kLeafDim) - block_y_first_ + 1),
       samples_(kLeafDim + 2 * pad_, static_cast<std::size_t>(width_ * height_), kVirtual),
       cells_(kLeafDim + 2 * band_ + 1, static_cast<std::size_t>(width_ * height_), 0),
-      distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(width_ * height_), kFar),
+      distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(width_ * height_), 0),
       read_buffer_(static_cast<std::size_t>(header_.slice_voxels())) {
     if (reader.next_slice() != 0) throw Error("internal: convert_to_grid needs a reader at slice 0");
 }
@@ -213,49 +222,61 @@ void Converter::compute_distance_slice(std::int64_t z) {
     const std::uint8_t* below = cells_.slice(z - 1);
     const std::uint8_t* above = cells_.slice(z);
     std::uint8_t* d = distances_.slice(z);
+    // Distances only matter up to the band: they saturate at band + 1 (so d + 1 fits a byte).
+    const auto far = static_cast<std::uint8_t>(band_ + 1);
     // A voxel is a corner of the cells (x-1..x, y-1..y, z-1..z); mark it when one straddles.
-    for (std::int64_t row = 0; row < height_; ++row)
-        for (std::int64_t i = 0; i < width_; ++i) {
-            const std::int64_t f = row * width_ + i;
-            bool marked = below[f] | above[f];
-            if (i > 0) marked |= below[f - 1] | above[f - 1];
-            if (row > 0) marked |= below[f - width_] | above[f - width_];
-            if (i > 0 && row > 0) marked |= below[f - width_ - 1] | above[f - width_ - 1];
-            d[f] = marked ? 0 : kFar;
+    // The frame's first row and column lie beyond the virtual ring: no straddling cell there.
+    // City-block distance is separable: exact 1D distances along each row with a mark, then
+    // the same recurrence along the columns (two passes each way).
+    std::fill(d, d + width_, far);
+    for (std::int64_t row = 1; row < height_; ++row) {
+        std::uint8_t* r = d + row * width_;
+        const std::int64_t f0 = row * width_;
+        std::uint8_t any = 0;
+        r[0] = far;
+        for (std::int64_t f = f0 + 1; f < f0 + width_; ++f) {
+            const std::uint8_t marked = below[f] | above[f] | below[f - 1] | above[f - 1] | below[f - width_] |
+                                        above[f - width_] | below[f - width_ - 1] | above[f - width_ - 1];
+            d[f] = marked ? 0 : far;
+            any |= marked;
         }
-    // City-block distance transform: a forward and a backward raster pass are exact for L1.
-    auto relax = [](std::uint8_t& value, std::uint8_t neighbour) {
-        if (neighbour < kFar && neighbour + 1 < value) value = static_cast<std::uint8_t>(neighbour + 1);
-    };
-    for (std::int64_t row = 0; row < height_; ++row)
-        for (std::int64_t i = 0; i < width_; ++i) {
-            const std::int64_t f = row * width_ + i;
-            if (i > 0) relax(d[f], d[f - 1]);
-            if (row > 0) relax(d[f], d[f - width_]);
-        }
-    for (std::int64_t row = height_ - 1; row >= 0; --row)
-        for (std::int64_t i = width_ - 1; i >= 0; --i) {
-            const std::int64_t f = row * width_ + i;
-            if (i + 1 < width_) relax(d[f], d[f + 1]);
-            if (row + 1 < height_) relax(d[f], d[f + width_]);
-        }
+        if (!any) continue;
+        for (std::int64_t i = 1; i < width_; ++i) r[i] = std::min<std::uint8_t>(r[i], r[i - 1] + 1);
+        for (std::int64_t i = width_ - 1; i-- > 0;) r[i] = std::min<std::uint8_t>(r[i], r[i + 1] + 1);
+    }
+    for (std::int64_t row = 1; row < height_; ++row) {
+        std::uint8_t* r = d + row * width_;
+        for (std::int64_t i = 0; i < width_; ++i) r[i] = std::min<std::uint8_t>(r[i], r[i - width_] + 1);
+    }
+    for (std::int64_t row = height_ - 1; row-- > 0;) {
+        std::uint8_t* r = d + row * width_;
+        for (std::int64_t i = 0; i < width_; ++i) r[i] = std::min<std::uint8_t>(r[i], r[i + width_] + 1);
+    }
 }
 
-bool Converter::is_active(int x, int y, int z) const {
-    if (!in_frame(x, y)) return false;
-    const std::int64_t f = frame_index(x, y);
-    for (int dz = -band_; dz <= band_; ++dz)
-        if (distances_.slice(z + dz)[f] <= band_ - std::abs(dz)) return true;
-    return false;
+void Converter::active_row(int x0, int y, int z, bool* active) const {
+    std::fill(active, active + kLeafDim, false);
+    if (y < -pad_ || y >= dims_[1] + pad_) return;
+    const int begin = std::max(x0, -pad_) - x0, end = std::min(x0 + kLeafDim, dims_[0] + pad_) - x0;
+    if (begin >= end) return;
+    const std::int64_t f = frame_index(x0 + begin, y);
+    for (int dz = -band_; dz <= band_; ++dz) {
+        const std::uint8_t* d = distances_.slice(z + dz) + f;
+        const int limit = band_ - std::abs(dz);
+        for (int i = begin; i < end; ++i) active[i] |= d[i - begin] <= limit;
+    }
 }
 
 BlockResult Converter::make_block(int x0, int y0, int z0) const {
     BlockResult result;
     Leaf::NodeMaskType active;
+    bool row[kLeafDim];
     for (int z = z0; z < z0 + kLeafDim; ++z)
-        for (int y = y0; y < y0 + kLeafDim; ++y)
-            for (int x = x0; x < x0 + kLeafDim; ++x)
-                if (is_active(x, y, z)) active.setOn(Leaf::coordToOffset(openvdb::Coord(x, y, z)));
+        for (int y = y0; y < y0 + kLeafDim; ++y) {
+            active_row(x0, y, z, row);
+            for (int i = 0; i < kLeafDim; ++i)
+                if (row[i]) active.setOn(Leaf::coordToOffset(openvdb::Coord(x0 + i, y, z)));
+        }
 
     if (active.isOff()) {
         // No active voxel: every sample of the block is on one side of every isovalue. A block
@@ -269,7 +290,7 @@ BlockResult Converter::make_block(int x0, int y0, int z0) const {
                 lo = std::min(lo, *min_it);
                 hi = std::max(hi, *max_it);
             }
-        if (hi > iso_lo_) {  // inside for some isovalue: keep the block's minimum
+        if (hi > iso_lo_f_) {  // inside for some isovalue: keep the block's minimum
             result.tile = true;
             result.tile_value = lo;
         }
