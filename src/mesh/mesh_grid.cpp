@@ -1,7 +1,9 @@
-// mesh_grid(): checks the options and hands the grid to the chosen mesher.
+// mesh_grid(): checks the options, hands the grid to the chosen mesher, and keeps the
+// triangles counter-clockwise seen from outside in world space.
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "mesh/dmc.h"
 #include "mesh/marching_cubes.h"
@@ -26,10 +28,7 @@ void check_options(const MeshOptions& options) {
     }
 }
 
-}  // namespace
-
-Mesh mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options) {
-    check_options(options);
+Mesh run_mesher(const openvdb::FloatGrid& grid, const MeshOptions& options) {
     switch (options.method) {
         case MeshMethod::dmc:
             return detail::dual_marching_cubes(grid, options);
@@ -39,6 +38,24 @@ Mesh mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options) {
             return detail::openvdb_volume_to_mesh(grid, options);
     }
     throw UsageError("mesh method: unknown value " + std::to_string(int(options.method)));
+}
+
+/// Whether the index-to-world map mirrors space (x-flipped scans): its linear part has a
+/// negative determinant. The meshers orient triangles in index space, so the world then sees
+/// them wound the other way.
+bool mirrors(const openvdb::math::Transform& transform) {
+    return transform.baseMap()->getAffineMap()->getMat4().getMat3().det() < 0;
+}
+
+}  // namespace
+
+Mesh mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options) {
+    check_options(options);
+    Mesh mesh = run_mesher(grid, options);
+    if (mirrors(grid.transform())) {
+        for (auto& triangle : mesh.triangles) std::swap(triangle[1], triangle[2]);
+    }
+    return mesh;
 }
 
 }  // namespace vdbmesh

@@ -109,3 +109,26 @@ TEST(MeshGridTest, OpenvdbMethodCountsTheIsovalueAsOutside) {
 
 }  // namespace
 }  // namespace vdbmesh::test
+
+namespace vdbmesh::test {
+namespace {
+
+TEST(MeshGridTest, MirroringTransformKeepsNormalsOutward) {
+    // An x-flipped scan (negative determinant, as in some NIfTI files) must still give outward
+    // triangles in world space.
+    auto grid = make_ball(6, {0.2, 0.1, 0.4});
+    openvdb::math::Mat4d mirror = openvdb::math::Mat4d::identity();
+    mirror(0, 0) = -0.5;
+    mirror(1, 1) = 0.5;
+    mirror(2, 2) = 2.0;
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(mirror));
+    for (MeshMethod method : {MeshMethod::dmc, MeshMethod::mc, MeshMethod::openvdb}) {
+        const Mesh mesh = mesh_grid(*grid, options_for(method, 0.0));
+        const MeshReport report = analyze_mesh(mesh);
+        EXPECT_TRUE(report.closed) << int(method);
+        EXPECT_TRUE(report.outward) << int(method);
+    }
+}
+
+}  // namespace
+}  // namespace vdbmesh::test
