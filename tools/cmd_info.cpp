@@ -123,6 +123,9 @@ Json vdb_json(const std::string& file, const std::vector<GridInfo>& grids) {
     return j;
 }
 
+/// A JSON value as text: strings without their quotes.
+std::string plain(const Json& value) { return value.is_string() ? value.get<std::string>() : value.dump(); }
+
 void print_vdb(const Json& j, std::ostream& out) {
     out << "file            " << j["file"].get<std::string>() << "\nformat          vdb, " << j["grids"].size()
         << " grid(s)\nsuggested iso   " << j["suggested_iso"].dump() << " (" << j["suggested_iso_reason"].get<std::string>()
@@ -130,10 +133,10 @@ void print_vdb(const Json& j, std::ostream& out) {
     for (const Json& g : j["grids"]) {
         out << "\ngrid \"" << g["name"].get<std::string>() << "\"\n";
         for (const auto& [key, value] : g.items())
-            if (key != "name" && key != "metadata") out << "  " << std::left << std::setw(16) << key << value.dump() << "\n";
+            if (key != "name" && key != "metadata") out << "  " << std::left << std::setw(22) << key << plain(value) << "\n";
         if (g.contains("metadata"))
             for (const auto& [key, value] : g["metadata"].items())
-                out << "  " << std::left << std::setw(16) << key << value.get<std::string>() << "\n";
+                out << "  " << std::left << std::setw(22) << key << plain(value) << "\n";
     }
 }
 
