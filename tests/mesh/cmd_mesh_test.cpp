@@ -87,6 +87,19 @@ TEST(CmdMeshTest, MeshesARawScanConvertedOnTheFly) {
     EXPECT_LT(report.volume, 4.0 / 3.0 * 3.14159 * 7 * 7 * 7);
 }
 
+TEST(CmdMeshTest, MirroredScanGivesOutwardMeshes) {
+    // SPM12's template is stored x-flipped (negative determinant): the winding must be
+    // reversed in world space, or every normal points in.
+    VDBMESH_SHARED_DATA(input, "nifti_spm12_single_subj_t1/single_subj_T1.nii");
+    ScratchDir scratch;
+    for (const char* method : {"mc", "openvdb"}) {
+        const auto output = scratch / (std::string(method) + ".ply");
+        ASSERT_EQ(cli::run({"mesh", input.string(), "--iso", "0.2", "--method", method, "-o", output.string(), "-q"}),
+                  cli::kSuccess);
+        EXPECT_GT(mesh_integrals(read_mesh(output)).volume, 0) << method;
+    }
+}
+
 TEST(CmdMeshTest, FailuresLeaveNoOutput) {
     ScratchDir scratch;
     const auto vdb_without_iso = write_ball_vdb(scratch, false);
