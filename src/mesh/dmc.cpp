@@ -13,7 +13,7 @@ Mesh dual_marching_cubes(const openvdb::FloatGrid& grid, const MeshOptions& opti
     const DmcGrid dmc_grid = make_dmc_grid(grid, options);
     const std::vector<LeafOctree> octrees = build_leaf_octrees(dmc_grid, options.error);
     if (options.progress) options.progress(0.3);
-    DmcContour contour = contour_dual_cells(dmc_grid, octrees, [&](double f) {
+    DmcContour contour = contour_dual_cells(dmc_grid, octrees, false, [&](double f) {
         if (options.progress) options.progress(0.3 + 0.7 * f);
     });
     return std::move(contour.mesh);

@@ -34,7 +34,8 @@ constexpr int kSlots = 3 * kSlotsPerAxis;
 constexpr int kWords = (kSlots + 63) / 64;
 constexpr int kSlotBits = 12;                         // kSlots < 2^12
 
-using VertexRef = std::uint64_t;  // owner leaf << kSlotBits | slot
+/// A vertex as seen from one leaf: the owner's neighbour_slot << kSlotBits | slot in the owner.
+using VertexRef = std::uint32_t;
 
 int slot_of(int axis, const openvdb::Coord& local) {
     return axis * kSlotsPerAxis + ((local.x() + 1) * kSlotDim + (local.y() + 1)) * kSlotDim + (local.z() + 1);
@@ -56,9 +57,8 @@ public:
     explicit VertexMarks(std::size_t leaves) : words_(new std::atomic<std::uint64_t>[leaves * kWords]) {
         for (std::size_t i = 0; i < leaves * kWords; ++i) words_[i].store(0, std::memory_order_relaxed);
     }
-    void mark(VertexRef ref) {
-        const std::size_t slot = ref & ((1u << kSlotBits) - 1);
-        words_[(ref >> kSlotBits) * kWords + slot / 64].fetch_or(std::uint64_t(1) << (slot % 64), std::memory_order_relaxed);
+    void mark(std::size_t leaf, unsigned slot) {
+        words_[leaf * kWords + slot / 64].fetch_or(std::uint64_t(1) << (slot % 64), std::memory_order_relaxed);
     }
     std::uint64_t word(std::size_t leaf, int w) const { return words_[leaf * kWords + w].load(std::memory_order_relaxed); }
 
@@ -71,29 +71,35 @@ VertexRef edge_vertex(const DmcGrid& grid, std::size_t leaf, const DualCorner& a
     openvdb::Coord v;
     for (int k = 0; k < 3; ++k) v[k] = k == axis ? b.min[k] - 1 : std::max(a.min[k], b.min[k]);
     const openvdb::Coord origin = grid.leaves[leaf]->origin();
-    openvdb::Coord local = v - origin;
-    std::int32_t owner = grid.leaf_at(leaf, local.x(), local.y(), local.z());
-    if (owner < 0) {
+    const openvdb::Coord local = v - origin;
+    int owner = neighbour_slot(block_offset(local.x()), block_offset(local.y()), block_offset(local.z()));
+    if (grid.neighbours[leaf][std::size_t(owner)] < 0) {
         openvdb::Coord above = local;
         above[axis] += 1;
-        owner = grid.leaf_at(leaf, above.x(), above.y(), above.z());
+        owner = neighbour_slot(block_offset(above.x()), block_offset(above.y()), block_offset(above.z()));
     }
     // Both ends in tiles: a sign change between two tiles next to this leaf; it keeps the vertex.
-    if (owner < 0) owner = std::int32_t(leaf);
-    local = v - grid.leaves[std::size_t(owner)]->origin();
-    return (VertexRef(owner) << kSlotBits) | VertexRef(slot_of(axis, local));
+    if (grid.neighbours[leaf][std::size_t(owner)] < 0) owner = neighbour_slot(0, 0, 0);
+    const openvdb::Coord owner_origin(kLeafDim * (owner % 3 - 1), kLeafDim * (owner / 3 % 3 - 1), kLeafDim * (owner / 9 - 1));
+    return (VertexRef(owner) << kSlotBits) | VertexRef(slot_of(axis, local - owner_origin));
 }
+
+std::size_t owner_leaf(const DmcGrid& grid, std::size_t leaf, VertexRef ref) {
+    return std::size_t(grid.neighbours[leaf][ref >> kSlotBits]);
+}
+unsigned owner_slot(VertexRef ref) { return ref & ((1u << kSlotBits) - 1); }
 
 struct LeafTriangles {
     std::vector<std::array<VertexRef, 3>> triangles;
-    std::vector<TriangleSource> sources;
+    std::vector<TriangleSource> sources;  ///< only when asked for
 };
 
-void contour_leaf(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, std::size_t leaf,
+void contour_leaf(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, std::size_t leaf, bool with_sources,
                   SampleBlock& block, std::vector<DualCell>& cells, VertexMarks& marks, LeafTriangles& out) {
     cells.clear();
     load_sample_block(grid, leaf, block);
     collect_dual_cells(grid, octrees, leaf, block, cells);
+    out.triangles.reserve(2 * cells.size());
     for (const DualCell& cell : cells) {
         const McCase& mc = mc_case(cell.config);
         for (int t = 0; t < mc.triangle_count; ++t) {
@@ -105,9 +111,9 @@ void contour_leaf(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, s
                 triangle[std::size_t(k)] = edge_vertex(grid, leaf, cell.corners[std::size_t(c0)], cell.corners[std::size_t(c1)], axis);
             }
             if (triangle[0] == triangle[1] || triangle[1] == triangle[2] || triangle[0] == triangle[2]) continue;
-            for (VertexRef ref : triangle) marks.mark(ref);
+            for (VertexRef ref : triangle) marks.mark(owner_leaf(grid, leaf, ref), owner_slot(ref));
             out.triangles.push_back(triangle);
-            out.sources.push_back({cell.p});
+            if (with_sources) out.sources.push_back({cell.p});
         }
     }
 }
@@ -150,16 +156,15 @@ void place_vertices(const DmcGrid& grid, const std::vector<LeafOctree>& octrees,
     });
 }
 
-std::uint32_t vertex_index(const VertexMarks& marks, const std::vector<std::uint32_t>& offsets, VertexRef ref) {
-    const std::size_t leaf = ref >> kSlotBits;
-    const unsigned slot = unsigned(ref & ((1u << kSlotBits) - 1));
+std::uint32_t vertex_index(const VertexMarks& marks, const std::vector<std::uint32_t>& offsets, std::size_t leaf,
+                           unsigned slot) {
     const std::uint64_t below = marks.word(leaf, int(slot / 64)) & ((std::uint64_t(1) << (slot % 64)) - 1);
     return offsets[leaf * kWords + slot / 64] + std::uint32_t(std::bitset<64>(below).count());
 }
 
 }  // namespace
 
-DmcContour contour_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>& octrees,
+DmcContour contour_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, bool with_sources,
                               const std::function<void(double)>& progress) {
     const std::size_t leaves = grid.leaves.size();
     VertexMarks marks(leaves);
@@ -168,7 +173,7 @@ DmcContour contour_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>
         auto block = std::make_unique<SampleBlock>();
         std::vector<DualCell> cells;
         for (std::size_t leaf = range.begin(); leaf != range.end(); ++leaf) {
-            contour_leaf(grid, octrees, leaf, *block, cells, marks, per_leaf[leaf]);
+            contour_leaf(grid, octrees, leaf, with_sources, *block, cells, marks, per_leaf[leaf]);
         }
     });
     if (progress) progress(0.5);
@@ -184,15 +189,18 @@ DmcContour contour_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>
         first_triangle[leaf + 1] = first_triangle[leaf] + per_leaf[leaf].triangles.size();
     }
     result.mesh.triangles.resize(first_triangle.back());
-    result.sources.resize(first_triangle.back());
+    if (with_sources) result.sources.resize(first_triangle.back());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves), [&](const auto& range) {
         for (std::size_t leaf = range.begin(); leaf != range.end(); ++leaf) {
             const LeafTriangles& in = per_leaf[leaf];
             for (std::size_t t = 0; t < in.triangles.size(); ++t) {
                 auto& triangle = result.mesh.triangles[first_triangle[leaf] + t];
-                for (int k = 0; k < 3; ++k) triangle[std::size_t(k)] = vertex_index(marks, offsets, in.triangles[t][std::size_t(k)]);
-                result.sources[first_triangle[leaf] + t] = in.sources[t];
+                for (int k = 0; k < 3; ++k) {
+                    const VertexRef ref = in.triangles[t][std::size_t(k)];
+                    triangle[std::size_t(k)] = vertex_index(marks, offsets, owner_leaf(grid, leaf, ref), owner_slot(ref));
+                }
             }
+            if (with_sources) std::copy(in.sources.begin(), in.sources.end(), result.sources.begin() + first_triangle[leaf]);
         }
     });
     if (progress) progress(1.0);

@@ -19,15 +19,16 @@ struct TriangleSource {
 
 struct DmcContour {
     Mesh mesh;                            ///< world coordinates
-    std::vector<TriangleSource> sources;  ///< per triangle
+    std::vector<TriangleSource> sources;  ///< per triangle (when asked for)
 };
 
 /// Contours every dual cell of @a octrees with the shared Marching Cubes table. A mesh vertex
 /// sits on a dual edge (two face-adjacent octree cells) at the linear crossing between their
 /// vertices (edge_crossing.h); it is identified by the edge, so welding is exact. Triangles
 /// with a repeated vertex (degenerate dual cells) are dropped. Deterministic: leaves in tree
-/// order, cells in voxel order, counts then prefix sums then fills.
-DmcContour contour_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>& octrees,
+/// order, cells in voxel order, counts then prefix sums then fills. Sources are filled only
+/// when @a with_sources.
+DmcContour contour_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, bool with_sources,
                               const std::function<void(double)>& progress);
 
 }  // namespace vdbmesh::detail

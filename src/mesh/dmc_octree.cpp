@@ -1,16 +1,300 @@
-// Leaf octrees for Dual Marching Cubes.
+// The depth-3 octree of each leaf for Dual Marching Cubes (Schaefer and Warren 2004,
+// section 3: octree generation by bottom-up merging under a QEF tolerance; the 4D QEF of the
+// project source 000_*.txt, section 2.1.1).
+//
+// Values are scaled per leaf by the typical gradient magnitude at the isovalue (the median of
+// |grad f| at voxels next to a crossing edge), so that f / G reads as a signed distance in
+// voxels and the tolerance is in voxels. Every voxel gets the QEF of its tangent hyperplane
+// (gradient by central differences). Eight children merge into their parent when
+//  - each child is a cell (merged) or holds no surface (no sign change within one voxel of it),
+//  - the parent's samples and their one-voxel ring straddle the isovalue (surface-free cells
+//    stay voxels: their samples are exact, a vertex there would only blur the crossings),
+//  - the RMS residual of the parent's QEF is at most the tolerance,
+//  - the surface inside the parent (with its ring) is a single disc: inside and outside
+//    samples each form one 6-connected component, and so do they on the block's boundary
+//    shell (one crossing loop), which also keeps the signs at edge midpoints, face centres
+//    and the centre consistent with the corners,
+//  - no sample within one voxel lies outside the scanned box.
 
 #include "mesh/dmc_octree.h"
 
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <memory>
+
+#include "mesh/dmc_qef.h"
+
 namespace vdbmesh::detail {
 
+namespace {
+
+constexpr int kLevels = 4;  // cells of 1, 2, 4, 8 voxels
+
+/// Only samples within this many voxels (scaled value) of the isovalue enter the QEFs. Far
+/// from the surface the density saturates (a CT's material plateaus, a phantom's ramp ends):
+/// the graph's tangent planes there are flat and would pull vertices to the plateau's kink
+/// instead of the surface's edges and corners.
+constexpr double kQefBand = 3.0;
+
+int cells_per_axis(int level) { return kLeafDim >> level; }
+int cell_index(int level, int cx, int cy, int cz) {
+    const int n = cells_per_axis(level);
+    return (cx * n + cy) * n + cz;
+}
+
+/// A cube of samples of a SampleBlock: local minimum corner and edge length.
+struct SampleCube {
+    int x, y, z, n;
+};
+
+bool has_sign_change(const SampleBlock& block, const SampleCube& cube) {
+    const bool first = block.inside[std::size_t(SampleBlock::index(cube.x, cube.y, cube.z))];
+    for (int i = 0; i < cube.n; ++i) {
+        for (int j = 0; j < cube.n; ++j) {
+            for (int k = 0; k < cube.n; ++k) {
+                if (block.inside[std::size_t(SampleBlock::index(cube.x + i, cube.y + j, cube.z + k))] != first) return true;
+            }
+        }
+    }
+    return false;
+}
+
+bool has_outside_scan(const SampleBlock& block, const SampleCube& cube) {
+    for (int i = 0; i < cube.n; ++i) {
+        for (int j = 0; j < cube.n; ++j) {
+            for (int k = 0; k < cube.n; ++k) {
+                if (std::isinf(block.at(cube.x + i, cube.y + j, cube.z + k))) return true;
+            }
+        }
+    }
+    return false;
+}
+
+/// Number of 6-connected components of the samples of @a cube on side @a inside; with
+/// @a shell_only, only samples on the cube's boundary shell count (connected within it).
+int components(const SampleBlock& block, const SampleCube& cube, bool inside, bool shell_only) {
+    const int n = cube.n;
+    std::array<std::uint8_t, 1000> seen{};
+    std::array<std::uint16_t, 1000> stack;
+    auto on_shell = [n](int i, int j, int k) { return i == 0 || j == 0 || k == 0 || i == n - 1 || j == n - 1 || k == n - 1; };
+    auto wanted = [&](int i, int j, int k) {
+        return (!shell_only || on_shell(i, j, k)) &&
+               block.inside[std::size_t(SampleBlock::index(cube.x + i, cube.y + j, cube.z + k))] == inside;
+    };
+    int count = 0;
+    for (int start = 0; start < n * n * n; ++start) {
+        const int si = start / (n * n), sj = start / n % n, sk = start % n;
+        if (seen[std::size_t(start)] || !wanted(si, sj, sk)) continue;
+        ++count;
+        int top = 0;
+        stack[std::size_t(top++)] = std::uint16_t(start);
+        seen[std::size_t(start)] = 1;
+        while (top > 0) {
+            const int s = stack[std::size_t(--top)];
+            const int i = s / (n * n), j = s / n % n, k = s % n;
+            const int step[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+            for (const auto& d : step) {
+                const int a = i + d[0], b = j + d[1], c = k + d[2];
+                if (a < 0 || b < 0 || c < 0 || a >= n || b >= n || c >= n) continue;
+                const int t = (a * n + b) * n + c;
+                if (seen[std::size_t(t)] || !wanted(a, b, c)) continue;
+                seen[std::size_t(t)] = 1;
+                stack[std::size_t(top++)] = std::uint16_t(t);
+            }
+        }
+    }
+    return count;
+}
+
+bool single_sheet(const SampleBlock& block, const SampleCube& cube) {
+    return components(block, cube, true, false) == 1 && components(block, cube, false, false) == 1 &&
+           components(block, cube, true, true) == 1 && components(block, cube, false, true) == 1;
+}
+
+/// Median of |grad s| (s the signed value) at voxels of the leaf next to a crossing edge; 0
+/// when the leaf holds no crossing.
+double typical_gradient(const SampleBlock& block) {
+    std::vector<double> magnitudes;
+    for (int x = 0; x < kLeafDim; ++x) {
+        for (int y = 0; y < kLeafDim; ++y) {
+            for (int z = 0; z < kLeafDim; ++z) {
+                const bool in = block.inside[std::size_t(SampleBlock::index(x, y, z))];
+                if (block.inside[std::size_t(SampleBlock::index(x + 1, y, z))] == in &&
+                    block.inside[std::size_t(SampleBlock::index(x, y + 1, z))] == in &&
+                    block.inside[std::size_t(SampleBlock::index(x, y, z + 1))] == in &&
+                    block.inside[std::size_t(SampleBlock::index(x - 1, y, z))] == in &&
+                    block.inside[std::size_t(SampleBlock::index(x, y - 1, z))] == in &&
+                    block.inside[std::size_t(SampleBlock::index(x, y, z - 1))] == in) {
+                    continue;
+                }
+                const double gx = block.at(x + 1, y, z) - block.at(x - 1, y, z);
+                const double gy = block.at(x, y + 1, z) - block.at(x, y - 1, z);
+                const double gz = block.at(x, y, z + 1) - block.at(x, y, z - 1);
+                const double g = 0.5 * std::sqrt(gx * gx + gy * gy + gz * gz);
+                if (std::isfinite(g)) magnitudes.push_back(g);
+            }
+        }
+    }
+    if (magnitudes.empty()) return 0.0;
+    std::nth_element(magnitudes.begin(), magnitudes.begin() + std::ptrdiff_t(magnitudes.size() / 2), magnitudes.end());
+    return magnitudes[magnitudes.size() / 2];
+}
+
+/// Scratch space for one leaf's fit.
+struct LeafFit {
+    SampleBlock block;
+    std::array<std::vector<Qef4>, kLevels> qef;
+    std::array<std::vector<std::uint8_t>, kLevels> ok;      ///< cell is merged or holds no surface
+    std::array<std::vector<std::uint8_t>, kLevels> merged;
+    std::array<std::vector<CellVertex>, kLevels> vertex;
+    LeafFit() {
+        for (int l = 0; l < kLevels; ++l) {
+            const std::size_t cells = std::size_t(1) << (3 * (3 - l));
+            qef[std::size_t(l)].resize(cells);
+            ok[std::size_t(l)].resize(cells);
+            merged[std::size_t(l)].resize(cells);
+            vertex[std::size_t(l)].resize(cells);
+        }
+    }
+};
+
+/// Voxel QEFs of the leaf, values scaled by 1 / @a scale and made positive inside.
+void voxel_qefs(const DmcGrid& grid, double scale, LeafFit& fit) {
+    const SampleBlock& b = fit.block;
+    auto s = [&](int x, int y, int z) { return (grid.inside_above ? b.at(x, y, z) - grid.iso : grid.iso - b.at(x, y, z)) / scale; };
+    for (int x = 0; x < kLeafDim; ++x) {
+        for (int y = 0; y < kLeafDim; ++y) {
+            for (int z = 0; z < kLeafDim; ++z) {
+                Qef4& q = fit.qef[0][std::size_t(cell_index(0, x, y, z))];
+                q = Qef4();
+                const Point3d g = {0.5 * (s(x + 1, y, z) - s(x - 1, y, z)), 0.5 * (s(x, y + 1, z) - s(x, y - 1, z)),
+                                   0.5 * (s(x, y, z + 1) - s(x, y, z - 1))};
+                const double f = s(x, y, z);
+                if (std::abs(f) < kQefBand && std::isfinite(g[0]) && std::isfinite(g[1]) && std::isfinite(g[2])) {
+                    q.add_sample({double(x), double(y), double(z)}, f, g);
+                }
+            }
+        }
+    }
+}
+
+/// Tries to merge the level-@a level cell (cx, cy, cz) of the leaf.
+void try_merge(const DmcGrid& grid, double error, double scale, int level, int cx, int cy, int cz, LeafFit& fit) {
+    const int size = 1 << level;
+    const int index = cell_index(level, cx, cy, cz);
+    auto& ok = fit.ok[std::size_t(level)][std::size_t(index)];
+    auto& merged = fit.merged[std::size_t(level)][std::size_t(index)];
+    ok = 0;
+    merged = 0;
+    Qef4& qef = fit.qef[std::size_t(level)][std::size_t(index)];
+    qef = Qef4();
+    for (int c = 0; c < 8; ++c) {
+        const int child = cell_index(level - 1, 2 * cx + (c & 1), 2 * cy + ((c >> 1) & 1), 2 * cz + (c >> 2));
+        if (!fit.ok[std::size_t(level - 1)][std::size_t(child)]) return;
+        qef.add(fit.qef[std::size_t(level - 1)][std::size_t(child)]);
+    }
+    const SampleCube ring = {cx * size - 1, cy * size - 1, cz * size - 1, size + 2};
+    if (has_outside_scan(fit.block, ring)) return;
+    if (!has_sign_change(fit.block, ring)) {
+        ok = 1;  // no surface here: a parent may absorb it
+        return;
+    }
+    if (qef.count() == 0) return;
+    const Point3d lo = {cx * size - 0.5, cy * size - 0.5, cz * size - 0.5};
+    const Point3d hi = {lo[0] + size, lo[1] + size, lo[2] + size};
+    const Qef4::Solution solution = qef.solve(lo, hi);
+    if (std::sqrt(solution.error / qef.count()) > error) return;
+    if (!single_sheet(fit.block, ring)) return;
+    const openvdb::Coord origin = fit.block.origin;
+    const double value = grid.inside_above ? grid.iso + solution.value * scale : grid.iso - solution.value * scale;
+    fit.vertex[std::size_t(level)][std::size_t(index)] = {
+        {origin.x() + solution.position[0], origin.y() + solution.position[1], origin.z() + solution.position[2]}, value};
+    ok = 1;
+    merged = 1;
+}
+
+/// Writes the merged cells into @a octree: the largest merged cell wins.
+void record_cells(const LeafFit& fit, LeafOctree& octree) {
+    octree = LeafOctree();
+    std::array<std::uint8_t, 512> level{};
+    bool any = false;
+    for (int l = kLevels - 1; l >= 1; --l) {
+        const int n = cells_per_axis(l), size = 1 << l;
+        for (int cx = 0; cx < n; ++cx) {
+            for (int cy = 0; cy < n; ++cy) {
+                for (int cz = 0; cz < n; ++cz) {
+                    if (!fit.merged[std::size_t(l)][std::size_t(cell_index(l, cx, cy, cz))]) continue;
+                    const int min = leaf_offset(cx * size, cy * size, cz * size);
+                    if (level[std::size_t(min)] != 0) continue;  // inside a larger merged cell
+                    any = true;
+                    for (int i = 0; i < size; ++i) {
+                        for (int j = 0; j < size; ++j) {
+                            for (int k = 0; k < size; ++k) level[std::size_t(leaf_offset(cx * size + i, cy * size + j, cz * size + k))] = std::uint8_t(l);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    if (!any) return;
+    octree.level.assign(level.begin(), level.end());
+    for (int offset = 0; offset < 512; ++offset) {
+        const int l = level[std::size_t(offset)];
+        if (l == 0) continue;
+        const int x = offset >> 6, y = (offset >> 3) & 7, z = offset & 7;
+        const int mask = (1 << l) - 1;
+        if ((x & mask) || (y & mask) || (z & mask)) continue;  // not the cell's minimum voxel
+        octree.merged_min.push_back(std::uint16_t(offset));
+        octree.merged_vertex.push_back(fit.vertex[std::size_t(l)][std::size_t(cell_index(l, x >> l, y >> l, z >> l))]);
+    }
+}
+
+void build_leaf_octree(const DmcGrid& grid, std::size_t leaf, double error, LeafFit& fit, LeafOctree& octree) {
+    load_sample_block(grid, leaf, fit.block);
+    const double scale = typical_gradient(fit.block);
+    if (!(scale > 0.0)) return;
+    voxel_qefs(grid, scale, fit);
+    std::fill(fit.ok[0].begin(), fit.ok[0].end(), std::uint8_t(1));
+    for (int level = 1; level < kLevels; ++level) {
+        const int n = cells_per_axis(level);
+        for (int cx = 0; cx < n; ++cx) {
+            for (int cy = 0; cy < n; ++cy) {
+                for (int cz = 0; cz < n; ++cz) try_merge(grid, error, scale, level, cx, cy, cz, fit);
+            }
+        }
+    }
+    record_cells(fit, octree);
+}
+
+}  // namespace
+
 void LeafOctree::split_cell(int offset) {
-    (void)offset;
+    const int l = level_at(offset);
+    if (l == 0) return;
+    const int x = offset >> 6, y = (offset >> 3) & 7, z = offset & 7;
+    const int size = 1 << l, mask = ~(size - 1);
+    const int mx = x & mask, my = y & mask, mz = z & mask;
+    const auto it = std::lower_bound(merged_min.begin(), merged_min.end(), std::uint16_t(leaf_offset(mx, my, mz)));
+    merged_vertex.erase(merged_vertex.begin() + (it - merged_min.begin()));
+    merged_min.erase(it);
+    for (int i = 0; i < size; ++i) {
+        for (int j = 0; j < size; ++j) {
+            for (int k = 0; k < size; ++k) level[std::size_t(leaf_offset(mx + i, my + j, mz + k))] = 0;
+        }
+    }
 }
 
 std::vector<LeafOctree> build_leaf_octrees(const DmcGrid& grid, double error) {
-    (void)error;
-    return std::vector<LeafOctree>(grid.leaves.size());
+    std::vector<LeafOctree> octrees(grid.leaves.size());
+    if (!(error > 0.0)) return octrees;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.leaves.size()), [&](const auto& range) {
+        auto fit = std::make_unique<LeafFit>();
+        for (std::size_t leaf = range.begin(); leaf != range.end(); ++leaf) {
+            build_leaf_octree(grid, leaf, error, *fit, octrees[leaf]);
+        }
+    });
+    return octrees;
 }
 
 }  // namespace vdbmesh::detail
