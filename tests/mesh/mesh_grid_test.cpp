@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <openvdb/tools/LevelSetSphere.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 
@@ -107,11 +108,23 @@ TEST(MeshGridTest, OpenvdbMethodCountsTheIsovalueAsOutside) {
     EXPECT_GT(signed_volume(below), -12.0 * 12 * 12);
 }
 
-}  // namespace
-}  // namespace vdbmesh::test
-
-namespace vdbmesh::test {
-namespace {
+TEST(MeshGridTest, EveryMethodGivesTheSameBytesWithOneAndTwoThreads) {
+    auto grid = make_ball(20, {0.1, 0.7, 0.3});
+    for (MeshMethod method : {MeshMethod::dmc, MeshMethod::mc, MeshMethod::openvdb}) {
+        Mesh one, two;
+        {
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+            one = mesh_grid(*grid, options_for(method, 0.0));
+        }
+        {
+            tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+            two = mesh_grid(*grid, options_for(method, 0.0));
+        }
+        ASSERT_GT(one.triangles.size(), 10000u);
+        EXPECT_EQ(one.vertices, two.vertices) << int(method);
+        EXPECT_EQ(one.triangles, two.triangles) << int(method);
+    }
+}
 
 TEST(MeshGridTest, MirroringTransformKeepsNormalsOutward) {
     // An x-flipped scan (negative determinant, as in some NIfTI files) must still give outward
