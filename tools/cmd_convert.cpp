@@ -59,6 +59,8 @@ int run_convert(const ConvertCommandOptions& o) {
     options.band = o.band;
     set_isovalue(o, read, options);
     auto reader = open_volume(o.inputs.front(), read);
+    if (!o.common.quiet)
+        for (const std::string& warning : reader->header().warnings) std::cerr << "vdbmesh: warning: " << warning << "\n";
     Progress progress("converting", o.common.quiet);
     options.progress = [&](double f) { progress(f); };
     const openvdb::FloatGrid::Ptr grid = convert_to_grid(*reader, options);
