@@ -119,6 +119,19 @@ TEST(VdbFileTest, ReadsWhatVdbToolWrites) {
     EXPECT_GT(grid->activeVoxelCount(), 1000u);
 }
 
+TEST(VdbFileTest, VdbToolReadsWhatWeWrite) {
+    REQUIRE_TOOL("vdb_tool");
+    ScratchDir dir;
+    const auto grid = small_converted_grid(dir);
+    write_vdb(*grid, dir / "out.vdb");
+    const std::string command = "vdb_tool -read '" + (dir / "out.vdb").string() + "' -print > '" +
+                                (dir / "print.txt").string() + "' 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    std::ifstream in(dir / "print.txt");
+    const std::string printed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(printed.find("voxels = " + std::to_string(grid->activeVoxelCount())), std::string::npos) << printed;
+}
+
 TEST(VdbFileTest, VdbPrintReadsWhatWeWrite) {
     REQUIRE_TOOL("vdb_print");
     ScratchDir dir;
