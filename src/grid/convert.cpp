@@ -6,7 +6,7 @@
 //      for some iso of the requested range; samples outside the scan are "virtual", below
 //      every isovalue, so the surface closes where the object touches the scan's border);
 //   2. the corners of those cells are marked, and an in-plane city-block distance to the
-//      nearest mark is computed per slice (two raster passes, exact for the L1 metric);
+//      nearest mark is computed per slice (separable: row passes, then column passes);
 //   3. a voxel is active when a mark lies within L1 distance `band` in 3D, i.e. when some
 //      slice z + dz has an in-plane distance <= band - |dz| (a face-connected dilation,
 //      like OpenVDB's default NN_FACE, applied `band` times);
