@@ -61,15 +61,26 @@ void load_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClass
     }
 }
 
+bool uniform(const BlockSamples& samples) {
+    return std::all_of(samples.inside.begin(), samples.inside.end(), [&](bool in) { return in == samples.inside[0]; });
+}
+
 /// An edge owned by a block: ((x * 8 + y) * 8 + z) * 3 + axis for its minimum voxel (x, y, z)
 /// relative to the block's origin.
 std::uint16_t edge_code(int x, int y, int z, int axis) {
     return std::uint16_t(((x * kBlockDim + y) * kBlockDim + z) * 3 + axis);
 }
 
-/// A triangle corner: the owning block, as an offset (bit a set: next block along axis a),
-/// in the high bits, the edge_code() in the low 16.
+/// A triangle corner. An edge of the triangle's own block: kOwnVertex | the vertex's index in
+/// that block. Otherwise: the owning block as an offset d (bit a set: next block along axis a)
+/// in bits 16-18, the edge_code() in the low 16.
 using EdgeRef = std::uint32_t;
+constexpr EdgeRef kOwnVertex = 1u << 31;
+
+constexpr int kBlockEdges = kBlockDim * kBlockDim * kBlockDim * 3;
+/// Per task: the index in its block of each owned crossing edge, by edge_code() (only the
+/// entries of the current block's crossing edges are meaningful).
+using OwnVertexIndex = std::array<std::uint16_t, kBlockEdges>;
 
 struct BlockOutput {
     std::vector<std::uint16_t> edges;  ///< owned crossing edges, sorted
@@ -87,11 +98,13 @@ public:
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size()), [&](const auto& range) {
             auto accessor = grid_.getConstAccessor();
             BlockSamples samples;
+            OwnVertexIndex own_vertex;
             for (std::size_t b = range.begin(); b != range.end(); ++b) {
                 samples.origin = blocks_[b];
                 load_samples(accessor, classifier_, samples);
-                collect_vertices(samples, outputs[b]);
-                collect_triangles(samples, outputs[b]);
+                if (uniform(samples)) continue;  // most blocks next to a leaf hold no surface
+                collect_vertices(samples, own_vertex, outputs[b]);
+                collect_triangles(samples, own_vertex, outputs[b]);
             }
         });
         if (options_.progress) options_.progress(0.7);
@@ -115,7 +128,7 @@ private:
         return false;
     }
 
-    void collect_vertices(const BlockSamples& samples, BlockOutput& out) const {
+    void collect_vertices(const BlockSamples& samples, OwnVertexIndex& own_vertex, BlockOutput& out) const {
         const openvdb::math::Transform& transform = grid_.transform();
         for (int x = 0; x < kBlockDim; ++x) {
             for (int y = 0; y < kBlockDim; ++y) {
@@ -131,6 +144,7 @@ private:
                         p1[axis] += 1.0;
                         const Point3d p = edge_crossing(p0, samples.value[i0], p1, samples.value[i1], classifier_.iso());
                         const openvdb::Vec3d world = transform.indexToWorld(openvdb::Vec3d(p[0], p[1], p[2]));
+                        own_vertex[edge_code(x, y, z, axis)] = std::uint16_t(out.edges.size());
                         out.edges.push_back(edge_code(x, y, z, axis));
                         out.positions.push_back({float(world[0]), float(world[1]), float(world[2])});
                     }
@@ -139,7 +153,7 @@ private:
         }
     }
 
-    void collect_triangles(const BlockSamples& samples, BlockOutput& out) const {
+    void collect_triangles(const BlockSamples& samples, const OwnVertexIndex& own_vertex, BlockOutput& out) const {
         for (int x = 0; x < kBlockDim; ++x) {
             for (int y = 0; y < kBlockDim; ++y) {
                 for (int z = 0; z < kBlockDim; ++z) {
@@ -152,7 +166,7 @@ private:
                     if (options_.open_boundary && !classifier_.cell_in_box(samples.origin.offsetBy(x, y, z))) continue;
                     for (int t = 0; t < cell_case.triangle_count; ++t) {
                         std::array<EdgeRef, 3> refs;
-                        for (int k = 0; k < 3; ++k) refs[k] = edge_ref(x, y, z, cell_case.triangles[t][k]);
+                        for (int k = 0; k < 3; ++k) refs[k] = edge_ref(x, y, z, cell_case.triangles[t][k], own_vertex);
                         out.triangles.push_back(refs);
                     }
                 }
@@ -161,7 +175,7 @@ private:
     }
 
     /// The reference to cell edge @a edge of the cell at (x, y, z) in its block.
-    static EdgeRef edge_ref(int x, int y, int z, int edge) {
+    static EdgeRef edge_ref(int x, int y, int z, int edge, const OwnVertexIndex& own_vertex) {
         const unsigned c0 = kEdgeCorners[edge][0], c1 = kEdgeCorners[edge][1];
         const int axis = (c0 ^ c1) == 1 ? 0 : (c0 ^ c1) == 2 ? 1 : 2;
         std::array<int, 3> v = {x + int(c0 & 1), y + int((c0 >> 1) & 1), z + int(c0 >> 2)};
@@ -172,7 +186,8 @@ private:
                 block |= 1u << a;
             }
         }
-        return (block << 16) | edge_code(v[0], v[1], v[2], axis);
+        const std::uint16_t code = edge_code(v[0], v[1], v[2], axis);
+        return block == 0 ? kOwnVertex | own_vertex[code] : (block << 16) | code;
     }
 
     /// The index in blocks_ of the block at @a origin.
@@ -199,9 +214,11 @@ private:
                 const BlockOutput& out = outputs[b];
                 std::copy(out.positions.begin(), out.positions.end(), mesh.vertices.begin() + first_vertex[b]);
                 // The blocks a triangle of block b can refer to: b itself and the 7 after it.
+                // Edges of b are resolved already; the others are found by binary search.
                 std::array<std::size_t, 8> neighbour{};
                 std::array<bool, 8> resolved{};
                 auto vertex_index = [&](EdgeRef ref) {
+                    if (ref & kOwnVertex) return std::uint32_t(first_vertex[b] + (ref & 0xffffu));
                     const unsigned d = ref >> 16;
                     if (!resolved[d]) {
                         neighbour[d] = block_index(blocks_[b].offsetBy(kBlockDim * (d & 1), kBlockDim * ((d >> 1) & 1), kBlockDim * (d >> 2)));
