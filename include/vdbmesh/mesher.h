@@ -38,6 +38,9 @@ struct MeshOptions {
 /// open_boundary, the surface is closed where the object meets the edge of the scanned
 /// box (kMetaScanMin/Max metadata; outside it counts as outside the object). The same
 /// grid and options give the same mesh, whatever the thread count.
+/// MeshMethod::openvdb meshes the grid's values as they are (no scan-box closing).
+/// @throw UsageError for a non-finite iso, error < 0, adaptivity outside [0, 1], or
+/// open_boundary with MeshMethod::openvdb.
 Mesh mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options);
 
 }  // namespace vdbmesh
