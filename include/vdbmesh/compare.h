@@ -63,19 +63,17 @@ std::optional<double> distance_to_trilinear_isosurface(const openvdb::FloatGrid&
 /// @a mesh (world coordinates, as mesh_grid() returns) moved to @a grid's index space.
 Mesh to_index_space(const Mesh& mesh, const openvdb::FloatGrid& grid);
 
-/// A fine reference surface in index space: Marching Cubes on the grid resampled trilinearly
-/// at half the voxel size (MC vertices lie on the interpolant's isosurface along the fine
-/// edges, so this is the trilinear isosurface to within the fine cells' curvature).
-Mesh supersampled_isosurface(const openvdb::FloatGrid& grid, double iso, Inside inside);
-
-/// The true surface of a grid at an isovalue, built once (the reference surface is the
-/// costly part), against which any number of meshes are measured.
+/// The true surface of a grid at an isovalue, against which any number of meshes are
+/// measured. Built once: the reference samples for the surface -> mesh direction, drawn
+/// uniformly by area on the grid's Marching Cubes mesh and moved to the nearest point of the
+/// true surface (the trilinear isosurface, or the exact one), so they lie ON it. (A
+/// supersampled MC mesh would only approximate it, at 4x the triangles.)
 class TrueSurface {
 public:
     TrueSurface(const openvdb::FloatGrid& grid, double iso, Inside inside, AccuracyOptions options = {});
     /// Measures @a mesh, in world coordinates as mesh_grid() returns it.
     Accuracy measure(const Mesh& mesh) const;
-    std::size_t reference_triangles() const { return reference_triangles_; }
+    std::size_t reference_triangles() const { return reference_triangles_; }  ///< of the MC mesh sampled
 
 private:
     const openvdb::FloatGrid& grid_;
@@ -111,7 +109,7 @@ struct MeshComparison {
 /// Every mesher's result, in the order run.
 struct Comparison {
     std::vector<MeshComparison> meshes;
-    std::size_t reference_triangles = 0;  ///< of the supersampled reference surface
+    std::size_t reference_triangles = 0;  ///< of the MC mesh the reference samples come from
 };
 
 /// Meshes @a grid with every setting (DMC at each error, MC, volumeToMesh at each

@@ -47,6 +47,19 @@ void project_onto_exact(std::vector<std::array<double, 3>>& points, const Signed
     });
 }
 
+/// Points moved to the nearest point of the trilinear isosurface; the rare point with none
+/// within the search radius (on no surface the projection can reach) is dropped.
+void project_onto_isosurface(std::vector<std::array<double, 3>>& points, const openvdb::FloatGrid& grid, double iso) {
+    std::vector<std::optional<Vec3d>> moved(points.size());
+    tbb::enumerable_thread_specific<detail::TrilinearField> fields([&] { return detail::TrilinearField(grid); });
+    tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
+        moved[i] = detail::closest_isosurface_point(fields.local(), iso, Vec3d(points[i][0], points[i][1], points[i][2]));
+    });
+    points.clear();
+    for (const auto& p : moved)
+        if (p) points.push_back({(*p)[0], (*p)[1], (*p)[2]});
+}
+
 /// Area-weighted mean and 95th percentile of the angle between each triangle's normal and
 /// @a true_normal at its centroid (a zero vector: the triangle is skipped).
 template <class TrueNormal>
@@ -100,13 +113,31 @@ const char* method_name(MeshMethod method) {
     return "unknown";
 }
 
+Mesh to_index_space(const Mesh& mesh, const openvdb::FloatGrid& grid) {
+    Mesh moved = mesh;
+    const openvdb::math::Transform& transform = grid.transform();
+    tbb::parallel_for(std::size_t(0), moved.vertices.size(), [&](std::size_t i) {
+        auto& v = moved.vertices[i];
+        const Vec3d p = transform.worldToIndex(Vec3d(v[0], v[1], v[2]));
+        v = {float(p[0]), float(p[1]), float(p[2])};
+    });
+    return moved;
+}
+
 TrueSurface::TrueSurface(const openvdb::FloatGrid& grid, double iso, Inside inside, AccuracyOptions options)
     : grid_(grid), iso_(iso), inside_(inside), options_(std::move(options)) {
-    const Mesh reference = supersampled_isosurface(grid, iso, inside);
+    MeshOptions mc;
+    mc.method = MeshMethod::mc;
+    mc.iso = iso;
+    mc.inside = inside;
+    const Mesh reference = to_index_space(mesh_grid(grid, mc), grid);
     reference_triangles_ = reference.triangles.size();
     if (reference.triangles.empty()) return;
     reference_points_ = sample_surface(reference, options_.samples);
-    if (options_.exact_signed_distance) project_onto_exact(reference_points_, options_.exact_signed_distance);
+    if (options_.exact_signed_distance)
+        project_onto_exact(reference_points_, options_.exact_signed_distance);
+    else
+        project_onto_isosurface(reference_points_, grid, iso);
 }
 
 Accuracy TrueSurface::measure(const Mesh& world_mesh) const {

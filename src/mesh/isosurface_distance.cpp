@@ -5,13 +5,17 @@
 // surfaces (Hartmann, "On the curvature of curves and surfaces defined by normalforms", CAGD
 // 1999, section 4): project onto the surface by Newton steps along the gradient, move to the
 // foot of p on the tangent plane there, project again, until the distance stops decreasing.
-// Every iterate lies on the surface, so the result is never below the true distance by more
-// than the Newton tolerance. Where Newton fails (a vanishing gradient, a step leaving the
-// search radius) a ray search along +-gradient brackets a sign change and bisects it.
+// It starts from Newton's projection of p and from the first sign changes along +-gradient
+// (bracketed, then bisected), and keeps the nearest result: on noisy scans the surface folds
+// within a voxel and a single Newton path may land on a farther sheet. Every candidate lies
+// on the surface, so the result is an upper bound of the true distance (to the Newton
+// tolerance), and equal to it where the surface is smooth at the voxel scale.
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "mesh/trilinear_field.h"
 #include "vdbmesh/compare.h"
@@ -65,10 +69,11 @@ std::optional<double> ray_crossing(const TrilinearField& field, double iso, cons
     return std::nullopt;
 }
 
-/// A first surface point near p: Newton from p, or the nearest ray crossing along +-gradient
-/// (the axes when the gradient vanishes).
-std::optional<Vec3d> first_surface_point(const TrilinearField& field, double iso, const Vec3d& p) {
-    if (auto q = project(field, iso, p, p)) return q;
+/// Starting points on the surface near p: Newton from p, and the first ray crossings along
+/// +-gradient (the axes when the gradient vanishes).
+std::vector<Vec3d> surface_points_near(const TrilinearField& field, double iso, const Vec3d& p) {
+    std::vector<Vec3d> found;
+    if (auto q = project(field, iso, p, p)) found.push_back(*q);
     std::vector<Vec3d> directions;
     const Vec3d g = field(p).gradient;
     if (g.length() > 1e-15) {
@@ -76,33 +81,48 @@ std::optional<Vec3d> first_surface_point(const TrilinearField& field, double iso
     } else {
         directions = {Vec3d(1, 0, 0), Vec3d(-1, 0, 0), Vec3d(0, 1, 0), Vec3d(0, -1, 0), Vec3d(0, 0, 1), Vec3d(0, 0, -1)};
     }
-    std::optional<Vec3d> best;
-    for (const Vec3d& u : directions) {
-        const auto t = ray_crossing(field, iso, p, u);
-        if (t && (!best || *t < (*best - p).length())) best = p + u * *t;
-    }
-    return best;
+    for (const Vec3d& u : directions)
+        if (const auto t = ray_crossing(field, iso, p, u)) found.push_back(p + u * *t);
+    return found;
 }
 
-}  // namespace
-
-std::optional<double> distance_to_isosurface(const TrilinearField& field, double iso, const Vec3d& p) {
-    std::optional<Vec3d> q = first_surface_point(field, iso, p);
-    if (!q) return std::nullopt;
-    double best = (*q - p).length();
+/// From the surface point q, the closest-point iteration; the smallest distance to p seen.
+std::pair<double, Vec3d> refine(const TrilinearField& field, double iso, const Vec3d& p, Vec3d q) {
+    double best = (q - p).length();
     for (int i = 0; i < kRefinements && best > 0; ++i) {
-        const Vec3d g = field(*q).gradient;
+        const Vec3d g = field(q).gradient;
         if (!(g.length() > 1e-15)) break;
         const Vec3d n = g.unit();
-        const Vec3d foot = p - n * (p - *q).dot(n);
+        const Vec3d foot = p - n * (p - q).dot(n);
         const auto next = project(field, iso, foot, p);
         if (!next) break;
         const double d = (*next - p).length();
         if (!(d < best - 1e-12)) break;
         best = d;
-        q = next;
+        q = *next;
     }
-    return best;
+    return {best, q};
+}
+
+}  // namespace
+
+std::optional<Vec3d> closest_isosurface_point(const TrilinearField& field, double iso, const Vec3d& p) {
+    std::optional<Vec3d> closest;
+    double best = 0;
+    for (const Vec3d& start : surface_points_near(field, iso, p)) {
+        const auto [d, q] = refine(field, iso, p, start);
+        if (!closest || d < best) {
+            best = d;
+            closest = q;
+        }
+    }
+    return closest;
+}
+
+std::optional<double> distance_to_isosurface(const TrilinearField& field, double iso, const Vec3d& p) {
+    const auto q = closest_isosurface_point(field, iso, p);
+    if (!q) return std::nullopt;
+    return (*q - p).length();
 }
 
 }  // namespace detail

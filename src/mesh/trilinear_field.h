@@ -51,6 +51,10 @@ private:
     openvdb::FloatGrid::ConstAccessor accessor_;
 };
 
+/// The nearest point of {field = iso} to @a point that the closest-point iteration finds
+/// (isosurface_distance.cpp); empty when none within kIsosurfaceSearchVoxels.
+std::optional<openvdb::Vec3d> closest_isosurface_point(const TrilinearField& field, double iso,
+                                                       const openvdb::Vec3d& point);
 /// distance_to_trilinear_isosurface() (compare.h) with the caller's per-thread field.
 std::optional<double> distance_to_isosurface(const TrilinearField& field, double iso, const openvdb::Vec3d& point);
 

@@ -1,0 +1,52 @@
+// `vdbmesh compare`: the JSON report's keys and the SVG chart, on a small phantom.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli.h"
+#include "test_data.h"
+
+namespace vdbmesh::cli {
+namespace {
+
+TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
+    const test::ScratchDir dir;
+    const std::string json = (dir / "report.json").string(), svg = (dir / "curve.svg").string();
+    testing::internal::CaptureStdout();
+    ASSERT_EQ(run({"compare", "--phantom", "sphere", "--size", "32", "--error", "0,0.25", "--adaptivity", "0,1",
+                   "--samples", "2000", "--json", json, "--plot", svg, "--quiet", "--threads", "2"}),
+              kSuccess);
+    const std::string table = testing::internal::GetCapturedStdout();
+    EXPECT_NE(table.find("openvdb"), std::string::npos) << table;
+
+    std::ifstream in(json);
+    const nlohmann::json report = nlohmann::json::parse(in);
+    EXPECT_EQ(report["grid"]["truth"], "exact phantom surface");
+    EXPECT_GT(report["grid"]["active_voxels"].get<long>(), 0);
+    ASSERT_EQ(report["meshes"].size(), 5u);  // 2 DMC, MC, 2 volumeToMesh
+    for (const char* key : {"method", "error", "adaptivity", "seconds", "triangles", "vertices", "hausdorff_voxels",
+                            "mean_distance_voxels", "self_intersecting_pairs", "closed", "manifold", "normal_mean_deg",
+                            "normal_p95_deg", "boundary_edges", "genus", "area", "volume", "min_angle_deg"}) {
+        for (const auto& mesh : report["meshes"]) EXPECT_TRUE(mesh.contains(key)) << key;
+    }
+    EXPECT_EQ(report["meshes"][0]["method"], "dmc");
+    EXPECT_EQ(report["meshes"][0]["error"], 0.0);
+    EXPECT_TRUE(report["meshes"][0]["adaptivity"].is_null());
+    EXPECT_EQ(report["meshes"][2]["method"], "mc");
+    EXPECT_EQ(report["meshes"][4]["adaptivity"], 1.0);
+
+    std::ifstream plot(svg);
+    const std::string text((std::istreambuf_iterator<char>(plot)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("<svg"), std::string::npos);
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n') > 10, true);
+    EXPECT_NE(text.find("volumeToMesh"), std::string::npos);
+    EXPECT_NE(text.find("<polyline"), std::string::npos);
+}
+
+TEST(CompareCliTest, ScanWithoutIsoIsAUsageError) {
+    EXPECT_EQ(run({"compare", test::testdata("sphere_phantom.nii.gz").string(), "--quiet"}), kUsageError);
+}
+
+}  // namespace
+}  // namespace vdbmesh::cli
