@@ -1,22 +1,50 @@
 // Dual Marching Cubes on the VDB tree: the driver. Octrees per leaf (dmc_octree.cpp), dual
-// cells (dmc_dual_cells.cpp), Marching Cubes on them (dmc_contour.cpp).
+// cells (dmc_dual_cells.cpp), Marching Cubes on them (dmc_contour.cpp), then the self-check
+// (dmc_self_check.cpp): merged cells behind self-intersecting, non-manifold or inaccurate
+// triangles are split back into voxels and the surface remade, until none remain.
 
 #include "mesh/dmc.h"
+
+#include <algorithm>
 
 #include "mesh/dmc_contour.h"
 #include "mesh/dmc_grid.h"
 #include "mesh/dmc_octree.h"
+#include "mesh/dmc_self_check.h"
 
 namespace vdbmesh::detail {
 
+namespace {
+
+/// Each round splits at least one merged cell, and a leaf has at most 73; this bounds the
+/// rounds far above what the meshes tried need (2 to 4).
+constexpr int kMaxRefinementRounds = 32;
+
+bool any_merged(const std::vector<LeafOctree>& octrees) {
+    return std::any_of(octrees.begin(), octrees.end(), [](const LeafOctree& o) { return o.has_merges(); });
+}
+
+}  // namespace
+
 Mesh dual_marching_cubes(const openvdb::FloatGrid& grid, const MeshOptions& options) {
+    auto report = [&](double fraction) {
+        if (options.progress) options.progress(fraction);
+    };
     const DmcGrid dmc_grid = make_dmc_grid(grid, options);
-    const std::vector<LeafOctree> octrees = build_leaf_octrees(dmc_grid, options.error);
-    if (options.progress) options.progress(0.3);
-    DmcContour contour = contour_dual_cells(dmc_grid, octrees, false, [&](double f) {
-        if (options.progress) options.progress(0.3 + 0.7 * f);
-    });
-    return std::move(contour.mesh);
+    std::vector<LeafOctree> octrees = build_leaf_octrees(dmc_grid, options.error);
+    report(0.3);
+    if (!any_merged(octrees)) {
+        return contour_dual_cells(dmc_grid, octrees, false, [&](double f) { report(0.3 + 0.7 * f); }).mesh;
+    }
+    // Chords of merged cells may stray up to twice the QEF tolerance from the isosurface.
+    const double tolerance = 2.0 * options.error;
+    for (int round = 0;; ++round) {
+        DmcContour contour = contour_dual_cells(dmc_grid, octrees, true, {});
+        report(0.3 + 0.7 * std::min(1.0, (round + 1) / 4.0));
+        if (round + 1 >= kMaxRefinementRounds || !any_merged(octrees)) return std::move(contour.mesh);
+        const std::vector<std::uint32_t> refine = triangles_to_refine(dmc_grid, contour, tolerance);
+        if (refine.empty() || !split_cells_of(dmc_grid, contour, refine, octrees)) return std::move(contour.mesh);
+    }
 }
 
 }  // namespace vdbmesh::detail

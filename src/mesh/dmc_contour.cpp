@@ -16,6 +16,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 #include <bitset>
 #include <memory>
@@ -113,7 +114,11 @@ void contour_leaf(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, s
             if (triangle[0] == triangle[1] || triangle[1] == triangle[2] || triangle[0] == triangle[2]) continue;
             for (VertexRef ref : triangle) marks.mark(owner_leaf(grid, leaf, ref), owner_slot(ref));
             out.triangles.push_back(triangle);
-            if (with_sources) out.sources.push_back({cell.p});
+            if (with_sources) {
+                const bool merged = std::any_of(cell.corners.begin(), cell.corners.end(),
+                                                [](const DualCorner& corner) { return corner.size > 1; });
+                out.sources.push_back({cell.p, merged});
+            }
         }
     }
 }

@@ -15,6 +15,7 @@ namespace vdbmesh::detail {
 /// Where a triangle came from: the dual cell at voxel corner p + 1/2.
 struct TriangleSource {
     openvdb::Coord p;
+    bool merged;  ///< a corner of the dual cell is a merged octree cell (not a voxel)
 };
 
 struct DmcContour {

@@ -177,6 +177,26 @@ TEST(DmcTest, SameBytesWithOneOrTwoThreads) {
     EXPECT_EQ(one.triangles, two.triangles);
 }
 
+TEST(DmcTest, MergedMeshSameBytesWithOneOrTwoThreads) {
+    const auto grid = analytic_grid(48, ball({23.3, 24.1, 22.7}, 15.0, 2.0));
+    Mesh one, two;
+    tbb::task_arena(1).execute([&] { one = detail::dual_marching_cubes(*grid, dmc_options(0.25)); });
+    tbb::task_arena(2).execute([&] { two = detail::dual_marching_cubes(*grid, dmc_options(0.25)); });
+    EXPECT_LT(one.triangles.size(), detail::dual_marching_cubes(*grid, dmc_options()).triangles.size());
+    EXPECT_EQ(one.vertices, two.vertices);
+    EXPECT_EQ(one.triangles, two.triangles);
+}
+
+TEST(DmcTest, MergedMeshIsClosedAndOriented) {
+    const auto grid = analytic_grid(48, ball({23.3, 24.1, 22.7}, 15.0, 2.0));
+    const Mesh mesh = detail::dual_marching_cubes(*grid, dmc_options(0.5));
+    const EdgeReport report = edge_report(mesh);
+    EXPECT_EQ(report.boundary, 0u);
+    EXPECT_EQ(report.repeated, 0u);
+    EXPECT_EQ(report.degenerate, 0u);
+    EXPECT_GT(signed_volume(mesh), 0.0);
+}
+
 TEST(DmcTest, InsideBelowOnNegatedFieldGivesTheSameSurface) {
     const Density density = ball({15.5, 16.0, 15.0}, 9.0, 1.5);
     const auto grid = analytic_grid(32, density);

@@ -1,0 +1,28 @@
+#pragma once
+// Private: Dual Marching Cubes checks its own output. Merged octree cells can make degenerate
+// dual cells whose surface is not manifold, triangles that cross each other, or a surface that
+// strays from the isosurface (a chord across an edge the QEF did not place a vertex on). The
+// triangles concerned are found here and the merged cells behind them split back into voxels,
+// until the mesh is clean or only voxel cells (plain Marching Cubes) remain.
+
+#include <cstdint>
+#include <vector>
+
+#include "mesh/dmc_contour.h"
+#include "mesh/dmc_grid.h"
+#include "mesh/dmc_octree.h"
+
+namespace vdbmesh::detail {
+
+/// Triangles of @a contour made from merged cells that are in a self-intersecting pair, on a
+/// non-manifold edge or vertex, or whose corners or centroid lie farther than @a tolerance
+/// voxels from the isosurface (first-order distance |f - iso| / |grad f| of the trilinear field).
+/// Sorted, unique.
+std::vector<std::uint32_t> triangles_to_refine(const DmcGrid& grid, const DmcContour& contour, double tolerance);
+
+/// Splits into voxels the merged cells at the 8 corners of the dual cells that made
+/// @a triangles. Returns whether anything was split.
+bool split_cells_of(const DmcGrid& grid, const DmcContour& contour, const std::vector<std::uint32_t>& triangles,
+                    std::vector<LeafOctree>& octrees);
+
+}  // namespace vdbmesh::detail
