@@ -69,20 +69,32 @@ std::optional<double> ray_crossing(const TrilinearField& field, double iso, cons
     return std::nullopt;
 }
 
+/// The 26 directions to the neighbours of a voxel, normalised.
+std::vector<Vec3d> neighbour_directions() {
+    std::vector<Vec3d> directions;
+    for (int x = -1; x <= 1; ++x)
+        for (int y = -1; y <= 1; ++y)
+            for (int z = -1; z <= 1; ++z)
+                if (x || y || z) directions.push_back(Vec3d(x, y, z).unit());
+    return directions;
+}
+
 /// Starting points on the surface near p: Newton from p, and the first ray crossings along
-/// +-gradient (the axes when the gradient vanishes).
+/// +-gradient; when all of these fail (a thin sheet or blob beside p, a vanishing
+/// gradient), the first crossings along the 26 neighbour directions.
 std::vector<Vec3d> surface_points_near(const TrilinearField& field, double iso, const Vec3d& p) {
     std::vector<Vec3d> found;
     if (auto q = project(field, iso, p, p)) found.push_back(*q);
-    std::vector<Vec3d> directions;
+    const auto cast = [&](const std::vector<Vec3d>& directions) {
+        for (const Vec3d& u : directions)
+            if (const auto t = ray_crossing(field, iso, p, u)) found.push_back(p + u * *t);
+    };
     const Vec3d g = field(p).gradient;
-    if (g.length() > 1e-15) {
-        directions = {g.unit(), -g.unit()};
-    } else {
-        directions = {Vec3d(1, 0, 0), Vec3d(-1, 0, 0), Vec3d(0, 1, 0), Vec3d(0, -1, 0), Vec3d(0, 0, 1), Vec3d(0, 0, -1)};
+    if (g.length() > 1e-15) cast({g.unit(), -g.unit()});
+    if (found.empty()) {
+        static const std::vector<Vec3d> kNeighbours = neighbour_directions();
+        cast(kNeighbours);
     }
-    for (const Vec3d& u : directions)
-        if (const auto t = ray_crossing(field, iso, p, u)) found.push_back(p + u * *t);
     return found;
 }
 

@@ -8,10 +8,10 @@
 #include <filesystem>
 #include <string>
 
+#include "shared_data_dir.h"  // shared_data_dir()
+
 namespace vdbmesh::test {
 
-/// The shared data folder, or an empty path when it cannot be found.
-std::filesystem::path shared_data_dir();
 /// True when VDBMESH_REQUIRE_DATA=1: missing data is a failure, not a skip.
 bool data_required();
 /// A file of the repository's testdata/ folder.

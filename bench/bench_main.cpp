@@ -1,0 +1,314 @@
+// vdbmesh_bench: conversion and meshing speed on the real scans of the shared data folder and
+// on large phantoms, as ratios against OpenVDB measured in the same run (copyFromDense for
+// conversion, volumeToMesh for meshing), throughput, peak memory and 1/2-thread scaling.
+//
+// Every measurement runs in its own forked child process, so that ru_maxrss (a per-process
+// high-water mark) belongs to that measurement alone and nothing one stage allocated (or TBB's
+// thread pool) carries into the next. The parent never starts TBB or OpenVDB before forking.
+// In a child the stages run in a fixed order (conversion, then each mesher setting in the
+// order printed), and the memory printed for a mesher is the process peak after it: the
+// conversion's grid plus the largest mesh made so far.
+//
+// Usage: vdbmesh_bench [--scans bunny,cthead,engine,walnut] [--phantom-sizes 256,512]
+//                      [--errors 0,0.1,0.25,0.5] [--adaptivities 0,0.1,0.25,1] [--threads 1,2]
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Dense.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <tbb/global_control.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "shared_data_dir.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/mesher.h"
+#include "vdbmesh/phantom.h"
+#include "vdbmesh/read.h"
+#include "vdbmesh/write_volume.h"
+
+namespace vdbmesh::bench {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+/// Otsu's threshold that `vdbmesh info` suggests for the walnut (the others: issue 4's isovalues).
+constexpr double kWalnutIso = 4084.5;
+using Clock = std::chrono::steady_clock;
+
+struct Scan {
+    std::string name;
+    std::filesystem::path file;
+    ReadOptions read;
+    double iso = 0;
+};
+
+struct Setting {
+    MeshMethod method;
+    double value = 0;  ///< error (DMC) or adaptivity (volumeToMesh)
+    std::string label() const {
+        std::ostringstream text;
+        text << (method == MeshMethod::dmc ? "dmc e=" : method == MeshMethod::mc ? "mc" : "openvdb a=");
+        if (method != MeshMethod::mc) text << value;
+        return text.str();
+    }
+};
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+double peak_rss_mb() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return double(usage.ru_maxrss) / 1024.0;  // kilobytes on Linux
+}
+
+/// Runs @a job in a forked child and returns the JSON it produced ({"failed": message} when it died).
+Json run_forked(const std::function<Json()>& job) {
+    int fds[2];
+    if (pipe(fds) != 0) return Json{{"failed", "pipe"}};
+    const pid_t pid = fork();
+    if (pid == 0) {
+        close(fds[0]);
+        std::string text;
+        try {
+            openvdb::initialize();
+            text = job().dump();
+        } catch (const std::exception& e) {
+            text = Json{{"failed", e.what()}}.dump();
+        }
+        for (std::size_t done = 0; done < text.size();) {
+            const ssize_t n = write(fds[1], text.data() + done, text.size() - done);
+            if (n <= 0) break;
+            done += std::size_t(n);
+        }
+        _exit(0);
+    }
+    close(fds[1]);
+    std::string text;
+    char buffer[4096];
+    for (ssize_t n; (n = read(fds[0], buffer, sizeof buffer)) > 0;) text.append(buffer, std::size_t(n));
+    close(fds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (text.empty()) return Json{{"failed", "child exited with status " + std::to_string(status)}};
+    return Json::parse(text);
+}
+
+/// Child: convert with convert_to_grid, then mesh with every setting, on @a threads threads.
+Json convert_and_mesh(const Scan& scan, const std::vector<Setting>& settings, int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    Json result;
+    auto start = Clock::now();
+    auto reader = open_volume(scan.file, scan.read);
+    ConvertOptions convert;
+    convert.iso = scan.iso;
+    const openvdb::FloatGrid::Ptr grid = convert_to_grid(*reader, convert);
+    result["convert_seconds"] = seconds_since(start);
+    result["active_voxels"] = grid->activeVoxelCount();
+    result["convert_peak_mb"] = peak_rss_mb();
+    for (const Setting& s : settings) {
+        MeshOptions options;
+        options.method = s.method;
+        options.iso = scan.iso;
+        (s.method == MeshMethod::dmc ? options.error : options.adaptivity) = s.value;
+        start = Clock::now();
+        const Mesh mesh = mesh_grid(*grid, options);
+        result["meshes"].push_back(
+            {{"seconds", seconds_since(start)}, {"triangles", mesh.triangles.size()}, {"peak_mb", peak_rss_mb()}});
+    }
+    return result;
+}
+
+/// Child: the dense route, read every sample into openvdb::tools::Dense, then copyFromDense
+/// (voxels equal to the background, the scan's minimum, stay inactive).
+Json dense_route(const Scan& scan, int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    auto start = Clock::now();
+    auto reader = open_volume(scan.file, scan.read);
+    const auto& dims = reader->header().dims;
+    const openvdb::CoordBBox box(openvdb::Coord(0), openvdb::Coord(int(dims[0]) - 1, int(dims[1]) - 1, int(dims[2]) - 1));
+    openvdb::tools::Dense<float, openvdb::tools::LayoutXYZ> dense(box);  // x fastest, like our slices
+    reader->read_slices(dims[2], dense.data());
+    const double read_seconds = seconds_since(start);
+    float minimum = dense.data()[0];
+    for (std::size_t i = 0; i < dense.valueCount(); ++i) minimum = std::min(minimum, dense.data()[i]);
+    start = Clock::now();
+    auto grid = openvdb::FloatGrid::create(minimum);
+    openvdb::tools::copyFromDense(dense, *grid, 0.0f);
+    return {{"read_seconds", read_seconds},
+            {"copy_seconds", seconds_since(start)},
+            {"active_voxels", grid->activeVoxelCount()},
+            {"peak_mb", peak_rss_mb()}};
+}
+
+std::string fixed(double value, int digits) {
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(digits) << value;
+    return text.str();
+}
+
+/// The volumeToMesh setting a DMC setting is timed against: same position in the lists.
+std::size_t matching_openvdb(const std::vector<Setting>& settings, std::size_t dmc_index) {
+    std::size_t first_openvdb = 0;
+    while (first_openvdb < settings.size() && settings[first_openvdb].method != MeshMethod::openvdb) ++first_openvdb;
+    const std::size_t count = settings.size() - first_openvdb;
+    return first_openvdb + std::min(dmc_index, count - 1);
+}
+
+void report(const Scan& scan, const std::vector<Setting>& settings, const std::map<int, Json>& runs, const Json& dense) {
+    const int most = runs.rbegin()->first;
+    const Json& r = runs.at(most);
+    std::cout << "\n## " << scan.name << " (iso " << scan.iso << ")\n\n";
+    if (r.contains("failed")) {
+        std::cout << "failed: " << r["failed"].get<std::string>() << "\n";
+        return;
+    }
+    const double active_m = r["active_voxels"].get<double>() / 1e6;
+    const double convert_s = r["convert_seconds"].get<double>();
+    std::cout << "conversion, " << most << " threads: convert_to_grid " << fixed(convert_s, 2) << " s, "
+              << fixed(active_m, 2) << " M active voxels (" << fixed(active_m / convert_s, 2)
+              << " M/s), peak " << fixed(r["convert_peak_mb"].get<double>(), 0) << " MB\n";
+    if (!dense.contains("failed")) {
+        const double dense_s = dense["read_seconds"].get<double>() + dense["copy_seconds"].get<double>();
+        std::cout << "dense route: read " << fixed(dense["read_seconds"].get<double>(), 2) << " s + copyFromDense "
+                  << fixed(dense["copy_seconds"].get<double>(), 2) << " s, peak "
+                  << fixed(dense["peak_mb"].get<double>(), 0) << " MB; convert_to_grid / dense route = "
+                  << fixed(convert_s / dense_s, 2) << "\n";
+    }
+    std::cout << "\n| mesher | seconds | / volumeToMesh | M triangles/s | triangles | peak MB |";
+    for (const auto& [threads, run] : runs)
+        if (threads != most) std::cout << " " << threads << "-thread / " << most << "-thread |";
+    std::cout << "\n|---|---|---|---|---|---|";
+    for (std::size_t i = 1; i < runs.size(); ++i) std::cout << "---|";
+    std::cout << "\n";
+    std::size_t dmc_index = 0;
+    for (std::size_t i = 0; i < settings.size(); ++i) {
+        const Json& m = r["meshes"][i];
+        const double s = m["seconds"].get<double>(), triangles = m["triangles"].get<double>();
+        std::string ratio = "";
+        if (settings[i].method == MeshMethod::dmc) {
+            const std::size_t j = matching_openvdb(settings, dmc_index++);
+            ratio = fixed(s / r["meshes"][j]["seconds"].get<double>(), 2) + " (vs " + settings[j].label() + ")";
+        } else if (settings[i].method == MeshMethod::mc) {
+            ratio = fixed(s / r["meshes"][matching_openvdb(settings, 0)]["seconds"].get<double>(), 2);
+        }
+        std::cout << "| " << settings[i].label() << " | " << fixed(s, 3) << " | " << ratio << " | "
+                  << fixed(triangles / 1e6 / s, 2) << " | " << std::size_t(triangles) << " | "
+                  << fixed(m["peak_mb"].get<double>(), 0) << " |";
+        for (const auto& [threads, run] : runs)
+            if (threads != most && !run.contains("failed"))
+                std::cout << " " << fixed(run["meshes"][i]["seconds"].get<double>() / s, 2) << " |";
+        std::cout << "\n";
+    }
+    for (const auto& [threads, run] : runs)
+        if (threads != most && !run.contains("failed"))
+            std::cout << "\nconversion " << threads << "-thread / " << most << "-thread: "
+                      << fixed(run["convert_seconds"].get<double>() / convert_s, 2) << "\n";
+}
+
+std::vector<double> numbers(const std::string& text) {
+    std::vector<double> values;
+    std::stringstream in(text);
+    for (std::string piece; std::getline(in, piece, ',');) values.push_back(std::stod(piece));
+    return values;
+}
+
+std::vector<Scan> real_scans(const std::filesystem::path& data, const std::string& wanted) {
+    std::vector<Scan> all;
+    {
+        Scan s{"bunny", data / "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part1of2.raw.gz", {}, 1200.5};
+        s.read.raw_dims = std::array<std::int64_t, 3>{512, 512, 361};
+        s.read.raw_type = SampleType::u16;
+        s.read.raw_byte_order = ByteOrder::big;
+        s.read.raw_more_files = {data / "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part2of2.raw.gz"};
+        all.push_back(s);
+    }
+    {
+        Scan s{"cthead", data / "raw_stanford_cthead/CThead_256x256x113_int16be.raw.gz", {}, 600.5};
+        s.read.raw_dims = std::array<std::int64_t, 3>{256, 256, 113};
+        s.read.raw_type = SampleType::i16;
+        s.read.raw_byte_order = ByteOrder::big;
+        all.push_back(s);
+    }
+    all.push_back({"engine", data / "nifti_engine_ct/engine.nii.gz", {}, 100.5});
+    all.push_back({"walnut", data / "openqvis_walnut_ct/walnut.dat", {}, kWalnutIso});
+    std::vector<Scan> chosen;
+    for (const Scan& s : all)
+        if (("," + wanted + ",").find("," + s.name + ",") != std::string::npos) chosen.push_back(s);
+    return chosen;
+}
+
+/// A sphere phantom of @a size^3 written as u8 NIfTI (density x 255, scale 1/255: iso 0.5),
+/// in a child (the phantom filler runs TBB, which must not start in the forking parent).
+Scan write_phantom(const std::filesystem::path& folder, std::int64_t size) {
+    const std::filesystem::path file = folder / ("sphere" + std::to_string(size) + ".nii");
+    const Json written = run_forked([&] {
+        const PhantomSpec spec = phantom_preset("sphere", {size, size, size});
+        VolumeHeader header;
+        header.dims = spec.dims;
+        header.type = SampleType::u8;
+        header.value_scale = 1.0 / phantom_full_scale(SampleType::u8);
+        write_volume(file, header, [&](std::int64_t z, float* slice) { fill_phantom_slice(spec, z, slice); });
+        return Json{{"written", true}};
+    });
+    if (written.contains("failed")) throw std::runtime_error(written["failed"].get<std::string>());
+    return {"sphere phantom " + std::to_string(size) + "^3", file, {}, 0.5};
+}
+
+int run(int argc, char** argv) {
+    std::map<std::string, std::string> flags = {{"--scans", "bunny,cthead,engine,walnut"},
+                                                {"--phantom-sizes", "256,512"},
+                                                {"--errors", "0,0.1,0.25,0.5"},
+                                                {"--adaptivities", "0,0.1,0.25,1"},
+                                                {"--threads", "1,2"}};
+    for (int i = 1; i + 1 < argc; i += 2) {
+        if (!flags.count(argv[i])) {
+            std::cerr << "unknown flag " << argv[i] << " (see the top of bench/bench_main.cpp)\n";
+            return 2;
+        }
+        flags[argv[i]] = argv[i + 1];
+    }
+    std::vector<Setting> settings;
+    for (double e : numbers(flags["--errors"])) settings.push_back({MeshMethod::dmc, e});
+    settings.push_back({MeshMethod::mc, 0});
+    for (double a : numbers(flags["--adaptivities"])) settings.push_back({MeshMethod::openvdb, a});
+
+    const std::filesystem::path data = test::shared_data_dir();
+    std::vector<Scan> scans;
+    if (!data.empty()) scans = real_scans(data, flags["--scans"]);
+    else std::cerr << "shared data folder not found: real scans skipped\n";
+    const std::filesystem::path folder =
+        std::filesystem::temp_directory_path() / ("vdbmesh-bench-" + std::to_string(getpid()));
+    std::filesystem::create_directories(folder);
+    for (double size : numbers(flags["--phantom-sizes"]))
+        if (size > 0) scans.push_back(write_phantom(folder, std::int64_t(size)));
+
+    std::cout << "# vdbmesh_bench: " << std::thread::hardware_concurrency() << " hardware threads\n";
+    for (const Scan& scan : scans) {
+        std::cerr << "bench: " << scan.name << "\n";
+        std::map<int, Json> runs;
+        for (double threads : numbers(flags["--threads"]))
+            runs[int(threads)] = run_forked([&] { return convert_and_mesh(scan, settings, int(threads)); });
+        const Json dense = run_forked([&] { return dense_route(scan, runs.rbegin()->first); });
+        report(scan, settings, runs, dense);
+        std::cout << std::flush;
+    }
+    std::filesystem::remove_all(folder);
+    return 0;
+}
+
+}  // namespace
+}  // namespace vdbmesh::bench
+
+int main(int argc, char** argv) { return vdbmesh::bench::run(argc, argv); }
