@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Quick start: install, build, and mesh the bundled sample into sample.stl.
+# Quick start: install what is missing, build, then mesh the bundled sample (a sphere
+# phantom written by `vdbmesh phantom`) into sample.stl and check it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
 build/vdbmesh info testdata/sphere_phantom.nii.gz
-build/vdbmesh convert testdata/sphere_phantom.nii.gz --iso 0.5 -o sample.vdb
-echo "wrote sample.vdb"
+build/vdbmesh mesh testdata/sphere_phantom.nii.gz --iso 0.5 -o sample.stl
+build/vdbmesh check sample.stl
