@@ -312,7 +312,7 @@ Mesh read_ply(const std::filesystem::path& file, const Bytes& bytes) {
         } else if (element.name == "face") {
             if (!has_vertices) fail(file, "element face", "after element vertex", "before it");
             read_faces(file, element, reader, mesh);
-        } else {
+        } else if (!element.properties.empty()) {  // an element without properties takes no bytes, whatever its count
             for (std::uint64_t i = 0; i < element.count; ++i) {
                 for (const Property& property : element.properties) reader.skip(property);
             }

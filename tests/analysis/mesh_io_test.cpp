@@ -121,6 +121,19 @@ TEST(MeshIoTest, PlyVariantsOfOtherWriters) {
     EXPECT_EQ(triangle.triangles, (std::vector<std::array<std::uint32_t, 3>>{{0, 1, 2}}));
 }
 
+TEST(MeshIoTest, PlyElementWithoutPropertiesIsSkippedWhateverItsCount) {
+    // Found by tests/fuzz/fuzz_ply.cpp: such an element was walked one (empty) element at a
+    // time, so a count of 9e18 hung the reader; it takes no bytes, whatever its count.
+    const ScratchDir dir;
+    write_text(dir / "marker.ply",
+               "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+               "element marker 9000000000000000000\nelement face 1\nproperty list uchar int vertex_indices\n"
+               "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    const Mesh mesh = read_mesh(dir / "marker.ply");
+    EXPECT_EQ(mesh.vertices.size(), 3u);
+    EXPECT_EQ(mesh.triangles, (std::vector<std::array<std::uint32_t, 3>>{{0, 1, 2}}));
+}
+
 TEST(MeshIoTest, ObjCornerFormsAndNegativeIndices) {
     const ScratchDir dir;
     write_text(dir / "forms.obj",
