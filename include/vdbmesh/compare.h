@@ -55,10 +55,14 @@ inline constexpr double kIsosurfaceSearchVoxels = 4.0;
 /// Distance (voxels) from @a index_point to the nearest point of {trilinear(grid) = iso} that
 /// a projection finds: Newton steps along the normalised gradient of the interpolant, then
 /// alternate re-projections from the foot of the point on the tangent plane (converging to
-/// the nearest point where the surface is smooth); a ray search along +-gradient with
-/// bisection when Newton does not converge. Empty when no surface point was found.
+/// the nearest point where the surface is smooth); ray searches with bisection when Newton
+/// does not converge. On a converted grid (scan box metadata) the true solid is, as the
+/// meshers close it, {inside} cut by the scan box grown by half a voxel, with the samples
+/// extended constantly beyond the last one: its faces count as surface where the last layer
+/// of samples is inside. Empty when no surface point was found within kIsosurfaceSearchVoxels.
 std::optional<double> distance_to_trilinear_isosurface(const openvdb::FloatGrid& grid, double iso,
-                                                       const openvdb::Vec3d& index_point);
+                                                       const openvdb::Vec3d& index_point,
+                                                       Inside inside = Inside::above);
 
 /// @a mesh (world coordinates, as mesh_grid() returns) moved to @a grid's index space.
 Mesh to_index_space(const Mesh& mesh, const openvdb::FloatGrid& grid);
@@ -66,7 +70,8 @@ Mesh to_index_space(const Mesh& mesh, const openvdb::FloatGrid& grid);
 /// The true surface of a grid at an isovalue, against which any number of meshes are
 /// measured. Built once: the reference samples for the surface -> mesh direction, drawn
 /// uniformly by area on the grid's Marching Cubes mesh and moved to the nearest point of the
-/// true surface (the trilinear isosurface, or the exact one), so they lie ON it. (A
+/// true surface (the trilinear isosurface cut by the scan box as
+/// distance_to_trilinear_isosurface() says, or the exact one), so they lie ON it. (A
 /// supersampled MC mesh would only approximate it, at 4x the triangles.)
 class TrueSurface {
 public:

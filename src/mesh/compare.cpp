@@ -47,13 +47,30 @@ void project_onto_exact(std::vector<std::array<double, 3>>& points, const Signed
     });
 }
 
+/// The outward normal of the scan box's closing face through @a p (half a voxel out), or
+/// zero when p is on none.
+Vec3d closing_face_normal(const std::optional<openvdb::CoordBBox>& box, const Vec3d& p) {
+    constexpr double kOnFace = 1e-3;  // MC puts cap vertices exactly on the face (float rounding aside)
+    if (!box) return Vec3d(0);
+    for (int a = 0; a < 3; ++a) {
+        Vec3d n(0);
+        if (std::fabs(p[a] - (box->min()[a] - 0.5)) < kOnFace) n[a] = -1;
+        if (std::fabs(p[a] - (box->max()[a] + 0.5)) < kOnFace) n[a] = 1;
+        if (n[a] != 0) return n;
+    }
+    return Vec3d(0);
+}
+
 /// Points moved to the nearest point of the trilinear isosurface; the rare point with none
 /// within the search radius (on no surface the projection can reach) is dropped.
-void project_onto_isosurface(std::vector<std::array<double, 3>>& points, const openvdb::FloatGrid& grid, double iso) {
+void project_onto_isosurface(std::vector<std::array<double, 3>>& points, const openvdb::FloatGrid& grid, double iso,
+                             Inside inside) {
     std::vector<std::optional<Vec3d>> moved(points.size());
-    tbb::enumerable_thread_specific<detail::TrilinearField> fields([&] { return detail::TrilinearField(grid); });
+    const auto box = detail::scan_box(grid);
+    tbb::enumerable_thread_specific<detail::TrilinearField> fields([&] { return detail::TrilinearField(grid, box); });
     tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
-        moved[i] = detail::closest_isosurface_point(fields.local(), iso, Vec3d(points[i][0], points[i][1], points[i][2]));
+        moved[i] = detail::closest_boundary_point(fields.local(), iso, inside == Inside::above,
+                                                  Vec3d(points[i][0], points[i][1], points[i][2]));
     });
     points.clear();
     for (const auto& p : moved)
@@ -137,7 +154,7 @@ TrueSurface::TrueSurface(const openvdb::FloatGrid& grid, double iso, Inside insi
     if (options_.exact_signed_distance)
         project_onto_exact(reference_points_, options_.exact_signed_distance);
     else
-        project_onto_isosurface(reference_points_, grid, iso);
+        project_onto_isosurface(reference_points_, grid, iso, inside);
 }
 
 Accuracy TrueSurface::measure(const Mesh& world_mesh) const {
@@ -145,11 +162,13 @@ Accuracy TrueSurface::measure(const Mesh& world_mesh) const {
     const Mesh mesh = to_index_space(world_mesh, grid_);
     if (mesh.triangles.empty()) return result;
     const SignedDistance& exact = options_.exact_signed_distance;
-    tbb::enumerable_thread_specific<detail::TrilinearField> fields([&] { return detail::TrilinearField(grid_); });
+    const auto box = detail::scan_box(grid_);
+    tbb::enumerable_thread_specific<detail::TrilinearField> fields([&] { return detail::TrilinearField(grid_, box); });
     std::atomic<std::size_t> unresolved{0};
     const SignedDistance to_surface = exact ? exact : SignedDistance([&](double x, double y, double z) {
-        const auto d = detail::distance_to_isosurface(fields.local(), iso_, Vec3d(x, y, z));
-        if (d) return *d;
+        const Vec3d p(x, y, z);
+        const auto q = detail::closest_boundary_point(fields.local(), iso_, inside_ == Inside::above, p);
+        if (q) return (*q - p).length();
         ++unresolved;
         return kIsosurfaceSearchVoxels;
     });
@@ -158,6 +177,8 @@ Accuracy TrueSurface::measure(const Mesh& world_mesh) const {
     const double outward = inside_ == Inside::above ? -1.0 : 1.0;  // the interpolant grows inwards when above
     result.normals = normal_deviation(mesh, [&](const Vec3d& p) {
         if (exact) return numeric_gradient(exact, p);
+        const Vec3d face = closing_face_normal(box, p);
+        if (face != Vec3d(0)) return face;
         return fields.local()(p).gradient * outward;
     });
     return result;

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -131,18 +132,41 @@ std::optional<Vec3d> closest_isosurface_point(const TrilinearField& field, doubl
     return closest;
 }
 
-std::optional<double> distance_to_isosurface(const TrilinearField& field, double iso, const Vec3d& p) {
-    const auto q = closest_isosurface_point(field, iso, p);
-    if (!q) return std::nullopt;
-    return (*q - p).length();
+std::optional<Vec3d> closest_boundary_point(const TrilinearField& field, double iso, bool inside_above, const Vec3d& p) {
+    std::optional<Vec3d> closest = closest_isosurface_point(field, iso, p);
+    if (!field.scan_box()) return closest;
+    // The solid's box: the scan box grown by half a voxel, where the meshers close it.
+    const openvdb::CoordBBox& scan = *field.scan_box();
+    const Vec3d lo = scan.min().asVec3d() - Vec3d(0.5), hi = scan.max().asVec3d() + Vec3d(0.5);
+    const auto in_box = [&](const Vec3d& q) {
+        for (int a = 0; a < 3; ++a)
+            if (q[a] < lo[a] - 1e-9 || q[a] > hi[a] + 1e-9) return false;
+        return true;
+    };
+    if (closest && !in_box(*closest)) closest.reset();
+    double best = closest ? (*closest - p).length() : std::numeric_limits<double>::infinity();
+    for (int axis = 0; axis < 3; ++axis) {
+        for (const double face : {lo[axis], hi[axis]}) {
+            Vec3d r;
+            for (int a = 0; a < 3; ++a) r[a] = a == axis ? face : std::clamp(p[a], lo[a], hi[a]);
+            const double value = field(r).value;  // the last layer of samples, extended to the face
+            if ((inside_above ? value > iso : value < iso) && (r - p).length() < best) {
+                best = (r - p).length();
+                closest = r;
+            }
+        }
+    }
+    return closest;
 }
 
 }  // namespace detail
 
 std::optional<double> distance_to_trilinear_isosurface(const openvdb::FloatGrid& grid, double iso,
-                                                       const openvdb::Vec3d& index_point) {
-    const detail::TrilinearField field(grid);
-    return detail::distance_to_isosurface(field, iso, index_point);
+                                                       const openvdb::Vec3d& index_point, Inside inside) {
+    const detail::TrilinearField field(grid, detail::scan_box(grid));
+    const auto q = detail::closest_boundary_point(field, iso, inside == Inside::above, index_point);
+    if (!q) return std::nullopt;
+    return (*q - index_point).length();
 }
 
 }  // namespace vdbmesh

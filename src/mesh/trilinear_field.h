@@ -4,10 +4,21 @@
 
 #include <openvdb/openvdb.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
+#include "vdbmesh/grid.h"
+
 namespace vdbmesh::detail {
+
+/// The scanned box of a converted grid (kMetaScanMin/Max), if stored.
+inline std::optional<openvdb::CoordBBox> scan_box(const openvdb::FloatGrid& grid) {
+    const auto min = grid.getMetadata<openvdb::Vec3IMetadata>(kMetaScanMin);
+    const auto max = grid.getMetadata<openvdb::Vec3IMetadata>(kMetaScanMax);
+    if (!min || !max) return std::nullopt;
+    return openvdb::CoordBBox(openvdb::Coord(min->value()), openvdb::Coord(max->value()));
+}
 
 /// Value and gradient of the interpolant at a point (index space).
 struct FieldSample {
@@ -16,11 +27,36 @@ struct FieldSample {
 };
 
 /// Not thread-safe (it caches tree nodes in an accessor): one per thread.
+/// With a scan box, points are first clamped into it (the samples are extended constantly
+/// beyond the last one, and the gradient has no component across the box face there): the
+/// meshers close the surface at the box's faces half a voxel out (edge_crossing.h), and the
+/// true solid is then {field > iso} cut by that box (see closest_boundary_point()).
 class TrilinearField {
 public:
-    explicit TrilinearField(const openvdb::FloatGrid& grid) : accessor_(grid.getConstAccessor()) {}
+    explicit TrilinearField(const openvdb::FloatGrid& grid, std::optional<openvdb::CoordBBox> scan_box = std::nullopt)
+        : accessor_(grid.getConstAccessor()), scan_box_(scan_box) {}
 
-    FieldSample operator()(const openvdb::Vec3d& p) const {
+    const std::optional<openvdb::CoordBBox>& scan_box() const { return scan_box_; }
+
+    FieldSample operator()(openvdb::Vec3d p) const {
+        bool clamped[3] = {false, false, false};
+        if (scan_box_) {
+            for (int a = 0; a < 3; ++a) {
+                const double lo = scan_box_->min()[a], hi = scan_box_->max()[a];
+                if (p[a] < lo || p[a] > hi) {
+                    p[a] = std::clamp(p[a], lo, hi);
+                    clamped[a] = true;
+                }
+            }
+        }
+        FieldSample s = interpolate(p);
+        for (int a = 0; a < 3; ++a)
+            if (clamped[a]) s.gradient[a] = 0;
+        return s;
+    }
+
+private:
+    FieldSample interpolate(const openvdb::Vec3d& p) const {
         const openvdb::Coord base(int(std::floor(p[0])), int(std::floor(p[1])), int(std::floor(p[2])));
         const double tx = p[0] - base[0], ty = p[1] - base[1], tz = p[2] - base[2];
         double c[2][2][2];  // c[dx][dy][dz]
@@ -47,15 +83,19 @@ public:
         return s;
     }
 
-private:
     openvdb::FloatGrid::ConstAccessor accessor_;
+    std::optional<openvdb::CoordBBox> scan_box_;
 };
 
 /// The nearest point of {field = iso} to @a point that the closest-point iteration finds
 /// (isosurface_distance.cpp); empty when none within kIsosurfaceSearchVoxels.
 std::optional<openvdb::Vec3d> closest_isosurface_point(const TrilinearField& field, double iso,
                                                        const openvdb::Vec3d& point);
-/// distance_to_trilinear_isosurface() (compare.h) with the caller's per-thread field.
-std::optional<double> distance_to_isosurface(const TrilinearField& field, double iso, const openvdb::Vec3d& point);
+/// The nearest point found on the boundary of the true solid: {field > iso} (or < iso when
+/// !inside_above) cut by the scan box grown by half a voxel when the field has one (the
+/// meshers' closing faces); the isosurface's nearest point when it lies in that box, or the
+/// nearest point of a face whose samples are inside there. Empty when none was found.
+std::optional<openvdb::Vec3d> closest_boundary_point(const TrilinearField& field, double iso, bool inside_above,
+                                                     const openvdb::Vec3d& point);
 
 }  // namespace vdbmesh::detail
