@@ -64,18 +64,28 @@ void collect_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>& octr
                                grid.neighbours[leaf][neighbour_slot(0, -1, 0)] < 0 ||
                                grid.neighbours[leaf][neighbour_slot(0, 0, -1)] < 0;
     const int first = ring_possible ? -1 : 0;
+    // Side of the vertex of the cell holding each voxel of the block: without merges, the
+    // sample's side. Dual cells without a sign change are skipped before any other lookup.
+    std::array<bool, SampleBlock::kDim * SampleBlock::kDim * SampleBlock::kDim> cell_inside = block.inside;
+    if (merged) {
+        for (int x = -1; x <= kLeafDim; ++x) {
+            for (int y = -1; y <= kLeafDim; ++y) {
+                for (int z = -1; z <= kLeafDim; ++z) {
+                    cell_inside[std::size_t(SampleBlock::index(x, y, z))] =
+                        grid.inside(dual_corner(grid, octrees, leaf, block, x, y, z).value);
+                }
+            }
+        }
+    }
     for (int x = first; x < kLeafDim; ++x) {
         for (int y = first; y < kLeafDim; ++y) {
             for (int z = first; z < kLeafDim; ++z) {
                 DualCell cell;
                 cell.config = 0;
-                if (!merged) {
-                    // Every corner is a voxel: skip cells without a sign change before any lookup.
-                    for (int c = 0; c < 8; ++c) {
-                        cell.config |= unsigned(block.inside[SampleBlock::index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))]) << c;
-                    }
-                    if (cell.config == 0 || cell.config == 255) continue;
+                for (int c = 0; c < 8; ++c) {
+                    cell.config |= unsigned(cell_inside[std::size_t(SampleBlock::index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2)))]) << c;
                 }
+                if (cell.config == 0 || cell.config == 255) continue;
                 if ((x < 0 || y < 0 || z < 0) && !owns_dual_cell(grid, leaf, x, y, z)) continue;
                 cell.p = block.origin.offsetBy(x, y, z);
                 if (grid.open_boundary && grid.scan_box &&
@@ -83,16 +93,12 @@ void collect_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>& octr
                     continue;
                 }
                 bool emitted = !merged;
-                unsigned config = 0;
                 for (int c = 0; c < 8; ++c) {
                     DualCorner& corner = cell.corners[std::size_t(c)];
                     corner = dual_corner(grid, octrees, leaf, block, x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2));
                     emitted = emitted || is_corner_of(corner, cell.p);
-                    config |= unsigned(grid.inside(corner.value)) << c;
                 }
-                if (!emitted || config == 0 || config == 255) continue;
-                cell.config = config;
-                cells.push_back(cell);
+                if (emitted) cells.push_back(cell);
             }
         }
     }

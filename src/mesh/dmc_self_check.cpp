@@ -123,18 +123,13 @@ void mark_off_surface(const DmcGrid& grid, const DmcContour& contour, double tol
         auto accessor = grid.grid->getConstAccessor();
         for (std::size_t t = range.begin(); t != range.end(); ++t) {
             if (!contour.sources[t].merged) continue;
-            openvdb::Vec3d points[4];
+            // The centroid: the point of a chord farthest from the crossings it joins.
+            openvdb::Vec3d centroid(0.0);
             for (int k = 0; k < 3; ++k) {
                 const auto& v = mesh.vertices[mesh.triangles[t][std::size_t(k)]];
-                points[k] = transform.worldToIndex(openvdb::Vec3d(v[0], v[1], v[2]));
+                centroid += transform.worldToIndex(openvdb::Vec3d(v[0], v[1], v[2])) / 3.0;
             }
-            points[3] = (points[0] + points[1] + points[2]) / 3.0;
-            for (const auto& p : points) {
-                if (isosurface_distance(accessor, grid.iso, p) > tolerance) {
-                    bad[t] = 1;
-                    break;
-                }
-            }
+            if (isosurface_distance(accessor, grid.iso, centroid) > tolerance) bad[t] = 1;
         }
     });
 }

@@ -15,7 +15,7 @@
 namespace vdbmesh::detail {
 
 /// Triangles of @a contour made from merged cells that are in a self-intersecting pair, on a
-/// non-manifold edge or vertex, or whose corners or centroid lie farther than @a tolerance
+/// non-manifold edge or vertex, or whose centroid lies farther than @a tolerance
 /// voxels from the isosurface (first-order distance |f - iso| / |grad f| of the trilinear field).
 /// Sorted, unique.
 std::vector<std::uint32_t> triangles_to_refine(const DmcGrid& grid, const DmcContour& contour, double tolerance);
