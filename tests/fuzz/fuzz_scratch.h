@@ -10,7 +10,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -22,18 +21,29 @@ inline void write_file(const std::filesystem::path& path, const void* data, std:
     out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
 }
 
-inline const std::filesystem::path& scratch_dir() {
-    static const std::filesystem::path dir = [] {
-        const auto path = std::filesystem::temp_directory_path() / ("vdbmesh-fuzz-" + std::to_string(::getpid()));
-        std::filesystem::create_directories(path);
+/// The folder, made on first use and removed at exit.
+class ScratchFolder {
+public:
+    ScratchFolder() : path_(std::filesystem::temp_directory_path() / ("vdbmesh-fuzz-" + std::to_string(::getpid()))) {
+        std::filesystem::create_directories(path_);
         const std::string data(64, '\x01');
-        write_file(path / "data.raw", data.data(), 64);
+        write_file(path_ / "data.raw", data.data(), 64);
         for (int slice = 1; slice <= 4; ++slice)
-            write_file(path / ("slice" + std::to_string(slice) + ".raw"), data.data(), 16);
-        std::atexit([] { std::filesystem::remove_all(scratch_dir()); });
-        return path;
-    }();
-    return dir;
+            write_file(path_ / ("slice" + std::to_string(slice) + ".raw"), data.data(), 16);
+    }
+    ~ScratchFolder() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path_, ignored);
+    }
+    const std::filesystem::path& path() const { return path_; }
+
+private:
+    std::filesystem::path path_;
+};
+
+inline const std::filesystem::path& scratch_dir() {
+    static const ScratchFolder folder;
+    return folder.path();
 }
 
 /// Writes the input as @a name in the scratch folder and returns its path.
