@@ -47,18 +47,21 @@ void project_onto_exact(std::vector<std::array<double, 3>>& points, const Signed
     });
 }
 
-/// The outward normal of the scan box's closing face through @a p (half a voxel out), or
-/// zero when p is on none.
-Vec3d closing_face_normal(const std::optional<openvdb::CoordBBox>& box, const Vec3d& p) {
-    constexpr double kOnFace = 1e-3;  // MC puts cap vertices exactly on the face (float rounding aside)
+/// For a point beyond the last samples along an axis (in the half voxel where the meshers
+/// close the surface) whose extended samples are inside, the nearest true surface is the
+/// closing face: its outward normal. Zero otherwise.
+Vec3d closing_face_normal(const std::optional<openvdb::CoordBBox>& box, const detail::TrilinearField& field,
+                          double iso, Inside inside, const Vec3d& p) {
     if (!box) return Vec3d(0);
+    Vec3d n(0);
     for (int a = 0; a < 3; ++a) {
-        Vec3d n(0);
-        if (std::fabs(p[a] - (box->min()[a] - 0.5)) < kOnFace) n[a] = -1;
-        if (std::fabs(p[a] - (box->max()[a] + 0.5)) < kOnFace) n[a] = 1;
-        if (n[a] != 0) return n;
+        if (p[a] < box->min()[a]) n[a] = -1;
+        if (p[a] > box->max()[a]) n[a] = 1;
     }
-    return Vec3d(0);
+    if (n == Vec3d(0)) return n;
+    const double value = field(p).value;
+    if (!(inside == Inside::above ? value > iso : value < iso)) return Vec3d(0);
+    return n.unit();
 }
 
 /// Points moved to the nearest point of the trilinear isosurface; the rare point with none
@@ -177,7 +180,7 @@ Accuracy TrueSurface::measure(const Mesh& world_mesh) const {
     const double outward = inside_ == Inside::above ? -1.0 : 1.0;  // the interpolant grows inwards when above
     result.normals = normal_deviation(mesh, [&](const Vec3d& p) {
         if (exact) return numeric_gradient(exact, p);
-        const Vec3d face = closing_face_normal(box, p);
+        const Vec3d face = closing_face_normal(box, fields.local(), iso_, inside_, p);
         if (face != Vec3d(0)) return face;
         return fields.local()(p).gradient * outward;
     });

@@ -53,10 +53,11 @@ std::optional<Vec3d> project(const TrilinearField& field, double iso, const Vec3
 }
 
 /// The first sign change of f - iso along p + t u, t in (0, search], bisected; its t.
-std::optional<double> ray_crossing(const TrilinearField& field, double iso, const Vec3d& p, const Vec3d& u) {
+std::optional<double> ray_crossing(const TrilinearField& field, double iso, const Vec3d& p, const Vec3d& u,
+                                   double reach = kIsosurfaceSearchVoxels) {
     const bool start_above = field(p).value > iso;
     double previous = 0;
-    for (double t = kRayStep; t <= kIsosurfaceSearchVoxels + 1e-12; t += kRayStep) {
+    for (double t = kRayStep; t <= reach + kRayStep - 1e-12; t += kRayStep) {
         if ((field(p + u * t).value > iso) != start_above) {
             double lo = previous, hi = t;
             for (int i = 0; i < kBisections; ++i) {
@@ -81,21 +82,14 @@ std::vector<Vec3d> neighbour_directions() {
 }
 
 /// Starting points on the surface near p: Newton from p, and the first ray crossings along
-/// +-gradient; when all of these fail (a thin sheet or blob beside p, a vanishing
-/// gradient), the first crossings along the 26 neighbour directions.
+/// +-gradient (both can land on a farther sheet where the surface folds within a voxel).
 std::vector<Vec3d> surface_points_near(const TrilinearField& field, double iso, const Vec3d& p) {
     std::vector<Vec3d> found;
     if (auto q = project(field, iso, p, p)) found.push_back(*q);
-    const auto cast = [&](const std::vector<Vec3d>& directions) {
-        for (const Vec3d& u : directions)
-            if (const auto t = ray_crossing(field, iso, p, u)) found.push_back(p + u * *t);
-    };
     const Vec3d g = field(p).gradient;
-    if (g.length() > 1e-15) cast({g.unit(), -g.unit()});
-    if (found.empty()) {
-        static const std::vector<Vec3d> kNeighbours = neighbour_directions();
-        cast(kNeighbours);
-    }
+    if (g.length() > 1e-15)
+        for (const Vec3d& u : {g.unit(), -g.unit()})
+            if (const auto t = ray_crossing(field, iso, p, u)) found.push_back(p + u * *t);
     return found;
 }
 
@@ -121,14 +115,20 @@ std::pair<double, Vec3d> refine(const TrilinearField& field, double iso, const V
 
 std::optional<Vec3d> closest_isosurface_point(const TrilinearField& field, double iso, const Vec3d& p) {
     std::optional<Vec3d> closest;
-    double best = 0;
-    for (const Vec3d& start : surface_points_near(field, iso, p)) {
+    double best = kIsosurfaceSearchVoxels;
+    const auto consider = [&](const Vec3d& start) {
         const auto [d, q] = refine(field, iso, p, start);
         if (!closest || d < best) {
             best = d;
             closest = q;
         }
-    }
+    };
+    for (const Vec3d& start : surface_points_near(field, iso, p)) consider(start);
+    // Rays to the 26 neighbours, each only as far as the best distance so far (cheap when it
+    // is small): a nearer sheet beside p that Newton and the gradient rays missed.
+    static const std::vector<Vec3d> kNeighbours = neighbour_directions();
+    for (const Vec3d& u : kNeighbours)
+        if (const auto t = ray_crossing(field, iso, p, u, best)) consider(p + u * *t);
     return closest;
 }
 
