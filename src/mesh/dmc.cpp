@@ -38,12 +38,15 @@ Mesh dual_marching_cubes(const openvdb::FloatGrid& grid, const MeshOptions& opti
     }
     // Chords of merged cells may stray up to twice the QEF tolerance from the isosurface.
     const double tolerance = 2.0 * options.error;
+    // After the first full check only the surroundings of the cells split since are checked.
+    SplitVoxels split;
     for (int round = 0;; ++round) {
         DmcContour contour = contour_dual_cells(dmc_grid, octrees, true, {});
         report(0.3 + 0.7 * std::min(1.0, (round + 1) / 4.0));
         if (round + 1 >= kMaxRefinementRounds || !any_merged(octrees)) return std::move(contour.mesh);
-        const std::vector<std::uint32_t> refine = triangles_to_refine(dmc_grid, contour, tolerance);
-        if (refine.empty() || !split_cells_of(dmc_grid, contour, refine, octrees)) return std::move(contour.mesh);
+        const std::vector<std::uint32_t> refine =
+            triangles_to_refine(dmc_grid, contour, tolerance, round == 0 ? nullptr : &split);
+        if (refine.empty() || !split_cells_of(dmc_grid, contour, refine, octrees, split)) return std::move(contour.mesh);
     }
 }
 

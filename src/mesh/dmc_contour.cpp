@@ -189,7 +189,8 @@ DmcContour contour_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>
     place_vertices(grid, octrees, marks, offsets, result.mesh);
     if (progress) progress(0.75);
 
-    std::vector<std::size_t> first_triangle(leaves + 1, 0);
+    std::vector<std::size_t>& first_triangle = result.first_triangle;
+    first_triangle.assign(leaves + 1, 0);
     for (std::size_t leaf = 0; leaf < leaves; ++leaf) {
         first_triangle[leaf + 1] = first_triangle[leaf] + per_leaf[leaf].triangles.size();
     }

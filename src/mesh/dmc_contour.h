@@ -21,6 +21,7 @@ struct TriangleSource {
 struct DmcContour {
     Mesh mesh;                            ///< world coordinates
     std::vector<TriangleSource> sources;  ///< per triangle (when asked for)
+    std::vector<std::size_t> first_triangle;  ///< per leaf, its first triangle; one more: the count
 };
 
 /// Contours every dual cell of @a octrees with the shared Marching Cubes table. A mesh vertex

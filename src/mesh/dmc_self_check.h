@@ -5,6 +5,7 @@
 // triangles concerned are found here and the merged cells behind them split back into voxels,
 // until the mesh is clean or only voxel cells (plain Marching Cubes) remain.
 
+#include <bitset>
 #include <cstdint>
 #include <vector>
 
@@ -14,15 +15,26 @@
 
 namespace vdbmesh::detail {
 
+/// The voxels whose merged cells split_cells_of() split back into voxels, per leaf.
+struct SplitVoxels {
+    std::vector<std::bitset<512>> voxels;  ///< per leaf, by leaf_offset
+    std::vector<std::uint8_t> changed;     ///< per leaf: any bit set
+};
+
 /// Triangles of @a contour made from merged cells that are in a self-intersecting pair, on a
 /// non-manifold edge or vertex, or whose centroid lies farther than @a tolerance
 /// voxels from the isosurface (first-order distance |f - iso| / |grad f| of the trilinear field).
-/// Sorted, unique.
-std::vector<std::uint32_t> triangles_to_refine(const DmcGrid& grid, const DmcContour& contour, double tolerance);
+/// Sorted, unique. With @a since (the cells split since the last check, whose result was
+/// acted on), only the triangles of dual cells with a corner in a split cell are judged,
+/// against the triangles sharing a vertex or a box-overlap with them: every other triangle is
+/// unchanged since the last check, so the answer equals the full check's.
+std::vector<std::uint32_t> triangles_to_refine(const DmcGrid& grid, const DmcContour& contour, double tolerance,
+                                               const SplitVoxels* since);
 
 /// Splits into voxels the merged cells at the 8 corners of the dual cells that made
-/// @a triangles. Returns whether anything was split.
+/// @a triangles, and records the voxels split in @a split (reset first). Returns whether
+/// anything was split.
 bool split_cells_of(const DmcGrid& grid, const DmcContour& contour, const std::vector<std::uint32_t>& triangles,
-                    std::vector<LeafOctree>& octrees);
+                    std::vector<LeafOctree>& octrees, SplitVoxels& split);
 
 }  // namespace vdbmesh::detail
