@@ -10,12 +10,14 @@
 
 #include <gdcmDataSet.h>
 #include <gdcmFileMetaInformation.h>
+#include <gdcmTrace.h>
 #include <gdcmWriter.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <mutex>
 #include <numeric>
 #include <vector>
 
@@ -211,6 +213,16 @@ void write_file(const std::filesystem::path& path, gdcm::Writer& writer) {
     const bool written = writer.Write();
     out.close();
     if (!written || !out) throw Error(path.string() + ": cannot write the file (disk full?)");
+}
+
+/// Turns off GDCM's messages on stderr (the library never prints). Idempotent.
+void silence_gdcm_messages() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        gdcm::Trace::SetDebug(false);
+        gdcm::Trace::SetWarning(false);
+        gdcm::Trace::SetError(false);
+    });
 }
 
 }  // namespace

@@ -7,9 +7,7 @@
 
 #include "dicom_parse.h"
 
-#include <gdcmTrace.h>
 
-#include <mutex>
 #include <sstream>
 #include <vector>
 
@@ -178,15 +176,6 @@ SampleType DicomSlice::sample_type() const {
 std::uint64_t DicomSlice::frame_bytes() const {
     return static_cast<std::uint64_t>(rows) * static_cast<std::uint64_t>(columns) *
            static_cast<std::uint64_t>(samples_per_pixel) * static_cast<std::uint64_t>(bits_allocated / 8);
-}
-
-void silence_gdcm_messages() {
-    static std::once_flag once;
-    std::call_once(once, [] {
-        gdcm::Trace::SetDebug(false);
-        gdcm::Trace::SetWarning(false);
-        gdcm::Trace::SetError(false);
-    });
 }
 
 std::optional<DicomSlice> parse_dicom_slice(std::istream& in, const std::filesystem::path& file) {

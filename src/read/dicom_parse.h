@@ -55,7 +55,4 @@ std::optional<DicomSlice> parse_dicom_slice(std::istream& in, const std::filesys
 std::optional<DicomSlice> parse_dicom_slice(const unsigned char* data, std::size_t size,
                                             const std::filesystem::path& file);
 
-/// Turns off GDCM's messages on stderr (the library never prints; the DICOM writer uses GDCM). Idempotent.
-void silence_gdcm_messages();
-
 }  // namespace vdbmesh::detail
