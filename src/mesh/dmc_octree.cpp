@@ -24,6 +24,7 @@
 #include <memory>
 
 #include "mesh/dmc_qef.h"
+#include "mesh/dmc_tangent.h"
 
 namespace vdbmesh::detail {
 
@@ -168,12 +169,11 @@ void voxel_qefs(const DmcGrid& grid, double scale, LeafFit& fit) {
             for (int z = 0; z < kLeafDim; ++z) {
                 Qef4& q = fit.qef[0][std::size_t(cell_index(0, x, y, z))];
                 q = Qef4();
-                const Point3d g = {0.5 * (s(x + 1, y, z) - s(x - 1, y, z)), 0.5 * (s(x, y + 1, z) - s(x, y - 1, z)),
-                                   0.5 * (s(x, y, z + 1) - s(x, y, z - 1))};
                 const double f = s(x, y, z);
-                if (std::abs(f) < kQefBand && std::isfinite(g[0]) && std::isfinite(g[1]) && std::isfinite(g[2])) {
-                    q.add_sample({double(x), double(y), double(z)}, f, g);
-                }
+                if (!(std::abs(f) < kQefBand)) continue;
+                Neighbourhood around;
+                for (int n = 0; n < 27; ++n) around[std::size_t(n)] = s(x + n / 9 - 1, y + n / 3 % 3 - 1, z + n % 3 - 1);
+                if (const std::optional<Point3d> g = sample_tangent(around)) q.add_sample({double(x), double(y), double(z)}, f, *g);
             }
         }
     }

@@ -18,6 +18,39 @@ constexpr double kTruncation = 0.02;
 /// Index of (row, col), row <= col, in the upper triangle of a 5x5 matrix stored row by row.
 constexpr int upper(int row, int col) { return row * 5 - row * (row - 1) / 2 + (col - row); }
 
+/// Value (scaled units: voxels) the vertex is moved to, on the side of the samples' mean,
+/// along directions the planes leave free.
+constexpr double kSurfaceMargin = 0.05;
+/// Weight of the value against the position when choosing among equally good minimisers.
+constexpr double kValueWeight = 1e4;
+
+/// Moves the minimiser @a y along the free directions (eigenvectors @a v whose @a inverse is 0)
+/// to value +-kSurfaceMargin, as near the mass point as possible. Where the planes leave the
+/// value free, the graph of the field is a ridge of equally good minimisers: inside a convex
+/// corner or edge of a distance-like field the planes of the faces meet all along the medial
+/// axis, and the mass point picks a vertex deep inside whose value, interpolated linearly
+/// towards the neighbours, cuts the corner. The point of the ridge at the isovalue is the
+/// feature itself; the margin keeps the vertex strictly on its side, so the signs of the dual
+/// cells' corners stay those of the mass point.
+Eigen::Vector4d on_surface(const Eigen::Vector4d& y, const Eigen::Vector4d& mass, const Eigen::Matrix4d& v,
+                           const Eigen::Vector4d& inverse) {
+    Eigen::Matrix<double, 4, Eigen::Dynamic> free(4, 0);
+    for (int i = 0; i < 4; ++i) {
+        if (inverse(i) == 0.0) {
+            free.conservativeResize(Eigen::NoChange, free.cols() + 1);
+            free.col(free.cols() - 1) = v.col(i);
+        }
+    }
+    // One plane (a flat face) has no ridge: its vertex stays at the mass point, its value
+    // well away from the isovalue, so crossings towards it land next to feature vertices.
+    if (free.cols() == 0 || free.cols() >= 3 || mass(3) == 0.0) return y;
+    const Eigen::Vector4d target(mass(0), mass(1), mass(2), mass(3) > 0.0 ? kSurfaceMargin : -kSurfaceMargin);
+    const Eigen::Vector4d weight(1.0, 1.0, 1.0, kValueWeight);
+    const Eigen::MatrixXd normal = free.transpose() * weight.asDiagonal() * free;
+    const Eigen::VectorXd c = normal.ldlt().solve(free.transpose() * weight.asDiagonal() * (target - y));
+    return y + free * c;
+}
+
 }  // namespace
 
 void Qef4::add_sample(const Point3d& x, double f, const Point3d& g) {
@@ -68,7 +101,7 @@ Qef4::Solution Qef4::solve(const Point3d& lo, const Point3d& hi) const {
         if (largest > 0.0 && lambda(i) > kTruncation * largest) inverse(i) = 1.0 / lambda(i);
     }
     const Eigen::Matrix4d& v = eigen.eigenvectors();
-    const Eigen::Vector4d y = mass + v * inverse.asDiagonal() * v.transpose() * (atb - ata * mass);
+    const Eigen::Vector4d y = on_surface(mass + v * inverse.asDiagonal() * v.transpose() * (atb - ata * mass), mass, v, inverse);
 
     std::array<double, 4> best = {y(0), y(1), y(2), y(3)};
     bool clamped = false;

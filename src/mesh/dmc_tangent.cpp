@@ -1,0 +1,107 @@
+// Sample tangents for Dual Marching Cubes (see dmc_tangent.h): least-squares planes through
+// the sample over the full 3x3x3 neighbourhood or over one of its 26 halves {p : p . u >= 0},
+// u a neighbour direction, whichever fits; the normal matrices are fixed, so each fit is a
+// sum and a 3x3 product.
+
+#include "mesh/dmc_tangent.h"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <vector>
+
+namespace vdbmesh::detail {
+
+namespace {
+
+/// RMS residual (voxels) under which the full neighbourhood counts as planar: the plane of
+/// central differences, second-order accurate on smooth surfaces, is kept.
+constexpr double kSmooth = 0.02;
+/// RMS residual (voxels) above which not even the best half is planar: no tangent.
+constexpr double kPlanar = 0.05;
+
+struct Stencil {
+    std::vector<int> points;  ///< neighbourhood indices, the centre excluded
+    Eigen::Matrix3d inverse;  ///< of sum p p^T over the points
+};
+
+int index_of(int i, int j, int k) { return (i + 1) * 9 + (j + 1) * 3 + (k + 1); }
+
+/// Stencil 0: the full neighbourhood; 1..26: the halves p . u >= 0.
+std::vector<Stencil> make_stencils() {
+    std::vector<Eigen::Vector3i> directions = {Eigen::Vector3i::Zero()};
+    for (int i = -1; i <= 1; ++i) {
+        for (int j = -1; j <= 1; ++j) {
+            for (int k = -1; k <= 1; ++k) {
+                if (i != 0 || j != 0 || k != 0) directions.emplace_back(i, j, k);
+            }
+        }
+    }
+    std::vector<Stencil> stencils;
+    for (const Eigen::Vector3i& u : directions) {
+        Stencil s;
+        Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+        for (int i = -1; i <= 1; ++i) {
+            for (int j = -1; j <= 1; ++j) {
+                for (int k = -1; k <= 1; ++k) {
+                    const Eigen::Vector3i p(i, j, k);
+                    if (p.isZero() || p.dot(u) < 0) continue;
+                    s.points.push_back(index_of(i, j, k));
+                    normal += p.cast<double>() * p.cast<double>().transpose();
+                }
+            }
+        }
+        s.inverse = normal.inverse();
+        stencils.push_back(std::move(s));
+    }
+    return stencils;
+}
+
+const std::vector<Stencil>& stencils() {
+    static const std::vector<Stencil> all = make_stencils();
+    return all;
+}
+
+struct Fit {
+    Eigen::Vector3d gradient;
+    double rms;
+};
+
+Fit fit_plane(const Neighbourhood& f, const Stencil& s) {
+    const double centre = f[13];
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    double squares = 0.0;
+    for (int n : s.points) {
+        const double delta = f[std::size_t(n)] - centre;
+        b += delta * Eigen::Vector3d(n / 9 - 1, n / 3 % 3 - 1, n % 3 - 1);
+        squares += delta * delta;
+    }
+    const Eigen::Vector3d g = s.inverse * b;
+    const double residual = std::max(squares - g.dot(b), 0.0);
+    return {g, std::sqrt(residual / double(s.points.size() - 3))};
+}
+
+}  // namespace
+
+std::optional<Point3d> sample_tangent(const Neighbourhood& f) {
+    for (double v : f) {
+        if (!std::isfinite(v)) return std::nullopt;
+    }
+    const std::vector<Stencil>& all = stencils();
+    const Fit full = fit_plane(f, all[0]);
+    Fit chosen = full;
+    if (full.rms > kSmooth) {
+        Fit best = fit_plane(f, all[1]);
+        for (std::size_t s = 2; s < all.size(); ++s) {
+            const Fit half = fit_plane(f, all[s]);
+            if (half.rms < best.rms) best = half;
+        }
+        if (best.rms > kPlanar) return std::nullopt;
+        // Curvature alone leaves every half about as planar as the whole: keep the symmetric
+        // (second-order) fit then; a crease leaves one half far more planar.
+        if (full.rms > 2.0 * best.rms) chosen = best;
+    }
+    return Point3d{chosen.gradient(0), chosen.gradient(1), chosen.gradient(2)};
+}
+
+}  // namespace vdbmesh::detail

@@ -1,0 +1,27 @@
+#pragma once
+// Private: the gradient Dual Marching Cubes gives a sample's tangent hyperplane (dmc_qef.h),
+// fitted so that sharp features survive. Central differences at a sample next to a crease of
+// the field (the medial surface of an edge or corner, where the signed distance has a kink)
+// average the planes on both sides, and the tangent no longer passes through the feature.
+// Here the plane is fitted by least squares to the samples of the 3x3x3 neighbourhood, or,
+// when those are not planar, to the half of it (cut by a plane through the sample) that is
+// most planar: the half on the sample's own side of the crease (ENO-like stencil choice,
+// Harten et al. 1987, in 3D). Samples with no planar half (a cone apex, strong curvature)
+// have no reliable tangent and are left out.
+
+#include <array>
+#include <optional>
+
+#include "mesh/edge_crossing.h"
+
+namespace vdbmesh::detail {
+
+/// The 3x3x3 values around a sample, index (i + 1) * 9 + (j + 1) * 3 + (k + 1) for the offset
+/// (i, j, k) in {-1, 0, 1}^3, in units where the gradient is about 1 (voxels).
+using Neighbourhood = std::array<double, 27>;
+
+/// The gradient of the sample's tangent plane (through its value at offset 0), or nothing when
+/// no half of the neighbourhood is planar (or a value is not finite).
+std::optional<Point3d> sample_tangent(const Neighbourhood& f);
+
+}  // namespace vdbmesh::detail
