@@ -24,6 +24,7 @@
 #include <memory>
 
 #include "mesh/dmc_qef.h"
+#include "mesh/dmc_single_sheet.h"
 #include "mesh/dmc_tangent.h"
 
 namespace vdbmesh::detail {
@@ -70,47 +71,6 @@ bool has_outside_scan(const SampleBlock& block, const SampleCube& cube) {
         }
     }
     return false;
-}
-
-/// Number of 6-connected components of the samples of @a cube on side @a inside; with
-/// @a shell_only, only samples on the cube's boundary shell count (connected within it).
-int components(const SampleBlock& block, const SampleCube& cube, bool inside, bool shell_only) {
-    const int n = cube.n;
-    std::array<std::uint8_t, 1000> seen{};
-    std::array<std::uint16_t, 1000> stack;
-    auto on_shell = [n](int i, int j, int k) { return i == 0 || j == 0 || k == 0 || i == n - 1 || j == n - 1 || k == n - 1; };
-    auto wanted = [&](int i, int j, int k) {
-        return (!shell_only || on_shell(i, j, k)) &&
-               block.inside[std::size_t(SampleBlock::index(cube.x + i, cube.y + j, cube.z + k))] == inside;
-    };
-    int count = 0;
-    for (int start = 0; start < n * n * n; ++start) {
-        const int si = start / (n * n), sj = start / n % n, sk = start % n;
-        if (seen[std::size_t(start)] || !wanted(si, sj, sk)) continue;
-        ++count;
-        int top = 0;
-        stack[std::size_t(top++)] = std::uint16_t(start);
-        seen[std::size_t(start)] = 1;
-        while (top > 0) {
-            const int s = stack[std::size_t(--top)];
-            const int i = s / (n * n), j = s / n % n, k = s % n;
-            const int step[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-            for (const auto& d : step) {
-                const int a = i + d[0], b = j + d[1], c = k + d[2];
-                if (a < 0 || b < 0 || c < 0 || a >= n || b >= n || c >= n) continue;
-                const int t = (a * n + b) * n + c;
-                if (seen[std::size_t(t)] || !wanted(a, b, c)) continue;
-                seen[std::size_t(t)] = 1;
-                stack[std::size_t(top++)] = std::uint16_t(t);
-            }
-        }
-    }
-    return count;
-}
-
-bool single_sheet(const SampleBlock& block, const SampleCube& cube) {
-    return components(block, cube, true, false) == 1 && components(block, cube, false, false) == 1 &&
-           components(block, cube, true, true) == 1 && components(block, cube, false, true) == 1;
 }
 
 /// Median of |grad s| (s the signed value) at voxels of the leaf next to a crossing edge; 0
@@ -205,7 +165,7 @@ void try_merge(const DmcGrid& grid, double error, double scale, int level, int c
     const Point3d hi = {lo[0] + size, lo[1] + size, lo[2] + size};
     const Qef4::Solution solution = qef.solve(lo, hi);
     if (std::sqrt(solution.error / qef.count()) > error) return;
-    if (!single_sheet(fit.block, ring)) return;
+    if (!single_sheet(fit.block, ring.x, ring.y, ring.z, ring.n)) return;
     const openvdb::Coord origin = fit.block.origin;
     const double value = grid.inside_above ? grid.iso + solution.value * scale : grid.iso - solution.value * scale;
     fit.vertex[std::size_t(level)][std::size_t(index)] = {
