@@ -67,12 +67,16 @@ void collect_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>& octr
     // Side of the vertex of the cell holding each voxel of the block: without merges, the
     // sample's side. Dual cells without a sign change are skipped before any other lookup.
     std::array<bool, SampleBlock::kDim * SampleBlock::kDim * SampleBlock::kDim> cell_inside = block.inside;
+    // With merges, the cell of every voxel of the block, looked up once.
+    std::vector<DualCorner> corner_of;
     if (merged) {
+        corner_of.resize(cell_inside.size());
         for (int x = -1; x <= kLeafDim; ++x) {
             for (int y = -1; y <= kLeafDim; ++y) {
                 for (int z = -1; z <= kLeafDim; ++z) {
-                    cell_inside[std::size_t(SampleBlock::index(x, y, z))] =
-                        grid.inside(dual_corner(grid, octrees, leaf, block, x, y, z).value);
+                    const std::size_t i = std::size_t(SampleBlock::index(x, y, z));
+                    corner_of[i] = dual_corner(grid, octrees, leaf, block, x, y, z);
+                    cell_inside[i] = grid.inside(corner_of[i].value);
                 }
             }
         }
@@ -95,7 +99,9 @@ void collect_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>& octr
                 bool emitted = !merged;
                 for (int c = 0; c < 8; ++c) {
                     DualCorner& corner = cell.corners[std::size_t(c)];
-                    corner = dual_corner(grid, octrees, leaf, block, x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2));
+                    const int cx = x + (c & 1), cy = y + ((c >> 1) & 1), cz = z + (c >> 2);
+                    corner = merged ? corner_of[std::size_t(SampleBlock::index(cx, cy, cz))]
+                                    : dual_corner(grid, octrees, leaf, block, cx, cy, cz);
                     emitted = emitted || is_corner_of(corner, cell.p);
                 }
                 if (emitted) cells.push_back(cell);

@@ -6,10 +6,12 @@
 
 #include <openvdb/tools/Interpolation.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <tuple>
 #include <unordered_map>
 
 #include "vdbmesh/analysis.h"
@@ -33,7 +35,9 @@ void mark_nonmanifold_edges(const Mesh& mesh, std::vector<std::uint8_t>& bad) {
             uses.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), t, a < b});
         }
     }
-    std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) { return x.key < y.key || (x.key == y.key && x.triangle < y.triangle); });
+    tbb::parallel_sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) {
+        return std::tie(x.key, x.triangle, x.forward) < std::tie(y.key, y.triangle, y.forward);
+    });
     for (std::size_t i = 0; i < uses.size();) {
         std::size_t j = i;
         while (j < uses.size() && uses[j].key == uses[i].key) ++j;
@@ -271,11 +275,11 @@ void mark_broken(const Mesh& mesh, const std::vector<std::uint8_t>& judged, std:
     }
 }
 
-/// The incremental check (see triangles_to_refine()): flags in @a bad.
-void mark_changed_region(const DmcGrid& grid, const DmcContour& contour, double tolerance, const SplitVoxels& since,
-                         std::vector<std::uint8_t>& bad) {
+/// Flags in @a bad the triangles that are bad together with a @a changed one (see
+/// triangles_to_refine()).
+void mark_around(const DmcGrid& grid, const DmcContour& contour, double tolerance, const std::vector<std::uint8_t>& changed,
+                 std::vector<std::uint8_t>& bad) {
     const Mesh& mesh = contour.mesh;
-    const std::vector<std::uint8_t> changed = changed_triangles(grid, contour, since);
     // Cubes of 4 voxels: a triangle spans at most a few of them.
     const openvdb::Vec3d voxel = grid.grid->voxelSize();
     const double cube = 4.0 * std::max({voxel[0], voxel[1], voxel[2]});
@@ -313,12 +317,12 @@ std::vector<std::uint32_t> triangles_to_refine(const DmcGrid& grid, const DmcCon
     const Mesh& mesh = contour.mesh;
     std::vector<std::uint8_t> bad(mesh.triangles.size(), 0);
     if (since) {
-        mark_changed_region(grid, contour, tolerance, *since, bad);
+        mark_around(grid, contour, tolerance, changed_triangles(grid, contour, *since), bad);
     } else {
-        mark_broken(mesh, {}, bad);
-        std::vector<std::uint32_t> all(mesh.triangles.size());
-        std::iota(all.begin(), all.end(), 0u);
-        mark_off_surface(grid, contour, tolerance, all, bad);
+        // Only triangles from merged cells are refined: the rest are judged only against them.
+        std::vector<std::uint8_t> merged(mesh.triangles.size());
+        for (std::size_t t = 0; t < merged.size(); ++t) merged[t] = contour.sources[t].merged;
+        mark_around(grid, contour, tolerance, merged, bad);
     }
     std::vector<std::uint32_t> result;
     for (std::uint32_t t = 0; t < bad.size(); ++t) {

@@ -24,10 +24,11 @@ struct SplitVoxels {
 /// Triangles of @a contour made from merged cells that are in a self-intersecting pair, on a
 /// non-manifold edge or vertex, or whose centroid lies farther than @a tolerance
 /// voxels from the isosurface (first-order distance |f - iso| / |grad f| of the trilinear field).
-/// Sorted, unique. With @a since (the cells split since the last check, whose result was
-/// acted on), only the triangles of dual cells with a corner in a split cell are judged,
-/// against the triangles sharing a vertex or a box-overlap with them: every other triangle is
-/// unchanged since the last check, so the answer equals the full check's.
+/// Sorted, unique. Only triangles that may change the answer are judged: without @a since,
+/// those from merged cells (only they are refined); with @a since (the cells split since the
+/// last check, whose result was acted on), those of dual cells with a corner in a split cell
+/// (every other triangle is unchanged since). They are judged against the triangles sharing a
+/// vertex with them or whose boxes come near theirs, so the answer equals the full check's.
 std::vector<std::uint32_t> triangles_to_refine(const DmcGrid& grid, const DmcContour& contour, double tolerance,
                                                const SplitVoxels* since);
 
