@@ -139,6 +139,24 @@ void voxel_qefs(const DmcGrid& grid, double scale, LeafFit& fit) {
     }
 }
 
+/// @a qef plus the voxel QEFs of the one-voxel ring @a ring around the cell, where it lies in
+/// the leaf: a cell next to an edge or corner then sees the planes of the faces beyond it, so
+/// its vertex goes onto the feature or the cell is not merged.
+Qef4 with_ring(const LeafFit& fit, const SampleCube& ring, const Qef4& qef) {
+    Qef4 result = qef;
+    for (int i = 0; i < ring.n; ++i) {
+        for (int j = 0; j < ring.n; ++j) {
+            for (int k = 0; k < ring.n; ++k) {
+                const int x = ring.x + i, y = ring.y + j, z = ring.z + k;
+                const bool on_ring = i == 0 || j == 0 || k == 0 || i == ring.n - 1 || j == ring.n - 1 || k == ring.n - 1;
+                if (!on_ring || x < 0 || y < 0 || z < 0 || x >= kLeafDim || y >= kLeafDim || z >= kLeafDim) continue;
+                result.add(fit.qef[0][std::size_t(cell_index(0, x, y, z))]);
+            }
+        }
+    }
+    return result;
+}
+
 /// Tries to merge the level-@a level cell (cx, cy, cz) of the leaf.
 void try_merge(const DmcGrid& grid, double error, double scale, int level, int cx, int cy, int cz, LeafFit& fit) {
     const int size = 1 << level;
@@ -160,11 +178,12 @@ void try_merge(const DmcGrid& grid, double error, double scale, int level, int c
         ok = 1;  // no surface here: a parent may absorb it
         return;
     }
-    if (qef.count() == 0) return;
+    const Qef4 fitted = with_ring(fit, ring, qef);
+    if (fitted.count() == 0) return;
     const Point3d lo = {cx * size - 0.5, cy * size - 0.5, cz * size - 0.5};
     const Point3d hi = {lo[0] + size, lo[1] + size, lo[2] + size};
-    const Qef4::Solution solution = qef.solve(lo, hi);
-    if (std::sqrt(solution.error / qef.count()) > error) return;
+    const Qef4::Solution solution = fitted.solve(lo, hi);
+    if (std::sqrt(solution.error / fitted.count()) > error) return;
     if (!single_sheet(fit.block, ring.x, ring.y, ring.z, ring.n)) return;
     const openvdb::Coord origin = fit.block.origin;
     const double value = grid.inside_above ? grid.iso + solution.value * scale : grid.iso - solution.value * scale;

@@ -23,6 +23,9 @@ constexpr int upper(int row, int col) { return row * 5 - row * (row - 1) / 2 + (
 constexpr double kSurfaceMargin = 0.05;
 /// Weight of the value against the position when choosing among equally good minimisers.
 constexpr double kValueWeight = 1e4;
+/// Free directions whose value component is below this (unit vectors) leave the value fixed:
+/// no ridge.
+constexpr double kRidgeSlope = 0.1;
 
 /// Moves the minimiser @a y along the free directions (eigenvectors @a v whose @a inverse is 0)
 /// to value +-kSurfaceMargin, as near the mass point as possible. Where the planes leave the
@@ -31,9 +34,10 @@ constexpr double kValueWeight = 1e4;
 /// axis, and the mass point picks a vertex deep inside whose value, interpolated linearly
 /// towards the neighbours, cuts the corner. The point of the ridge at the isovalue is the
 /// feature itself; the margin keeps the vertex strictly on its side, so the signs of the dual
-/// cells' corners stay those of the mass point.
+/// cells' corners stay those of the mass point. Where the feature lies outside the cell's box
+/// [lo, hi] (a cell next to a medial surface), the vertex stays where it was.
 Eigen::Vector4d on_surface(const Eigen::Vector4d& y, const Eigen::Vector4d& mass, const Eigen::Matrix4d& v,
-                           const Eigen::Vector4d& inverse) {
+                           const Eigen::Vector4d& inverse, const Point3d& lo, const Point3d& hi) {
     Eigen::Matrix<double, 4, Eigen::Dynamic> free(4, 0);
     for (int i = 0; i < 4; ++i) {
         if (inverse(i) == 0.0) {
@@ -43,12 +47,16 @@ Eigen::Vector4d on_surface(const Eigen::Vector4d& y, const Eigen::Vector4d& mass
     }
     // One plane (a flat face) has no ridge: its vertex stays at the mass point, its value
     // well away from the isovalue, so crossings towards it land next to feature vertices.
-    if (free.cols() == 0 || free.cols() >= 3 || mass(3) == 0.0) return y;
+    if (free.cols() == 0 || free.cols() >= 3 || mass(3) == 0.0 || free.row(3).norm() < kRidgeSlope) return y;
     const Eigen::Vector4d target(mass(0), mass(1), mass(2), mass(3) > 0.0 ? kSurfaceMargin : -kSurfaceMargin);
     const Eigen::Vector4d weight(1.0, 1.0, 1.0, kValueWeight);
     const Eigen::MatrixXd normal = free.transpose() * weight.asDiagonal() * free;
     const Eigen::VectorXd c = normal.ldlt().solve(free.transpose() * weight.asDiagonal() * (target - y));
-    return y + free * c;
+    const Eigen::Vector4d moved = y + free * c;
+    for (int k = 0; k < 3; ++k) {
+        if (moved(k) < lo[std::size_t(k)] || moved(k) > hi[std::size_t(k)]) return y;
+    }
+    return moved;
 }
 
 }  // namespace
@@ -101,7 +109,7 @@ Qef4::Solution Qef4::solve(const Point3d& lo, const Point3d& hi) const {
         if (largest > 0.0 && lambda(i) > kTruncation * largest) inverse(i) = 1.0 / lambda(i);
     }
     const Eigen::Matrix4d& v = eigen.eigenvectors();
-    const Eigen::Vector4d y = on_surface(mass + v * inverse.asDiagonal() * v.transpose() * (atb - ata * mass), mass, v, inverse);
+    const Eigen::Vector4d y = on_surface(mass + v * inverse.asDiagonal() * v.transpose() * (atb - ata * mass), mass, v, inverse, lo, hi);
 
     std::array<double, 4> best = {y(0), y(1), y(2), y(3)};
     bool clamped = false;
