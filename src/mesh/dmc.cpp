@@ -40,8 +40,10 @@ Mesh dual_marching_cubes(const openvdb::FloatGrid& grid, const MeshOptions& opti
     const double tolerance = 2.0 * options.error;
     // After the first full check only the surroundings of the cells split since are checked.
     SplitVoxels split;
+    DmcContourCache cache;  // and only the leaves next to them contoured again
     for (int round = 0;; ++round) {
-        DmcContour contour = contour_dual_cells(dmc_grid, octrees, true, {});
+        if (round > 0) cache.changed = split.changed;
+        DmcContour contour = contour_dual_cells(dmc_grid, octrees, true, {}, &cache);
         report(0.3 + 0.7 * std::min(1.0, (round + 1) / 4.0));
         if (round + 1 >= kMaxRefinementRounds || !any_merged(octrees)) return std::move(contour.mesh);
         const std::vector<std::uint32_t> refine =

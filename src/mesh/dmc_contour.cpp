@@ -36,7 +36,7 @@ constexpr int kWords = (kSlots + 63) / 64;
 constexpr int kSlotBits = 12;                         // kSlots < 2^12
 
 /// A vertex as seen from one leaf: the owner's neighbour_slot << kSlotBits | slot in the owner.
-using VertexRef = std::uint32_t;
+using VertexRef = DmcVertexRef;
 
 int slot_of(int axis, const openvdb::Coord& local) {
     return axis * kSlotsPerAxis + ((local.x() + 1) * kSlotDim + (local.y() + 1)) * kSlotDim + (local.z() + 1);
@@ -90,14 +90,12 @@ std::size_t owner_leaf(const DmcGrid& grid, std::size_t leaf, VertexRef ref) {
 }
 unsigned owner_slot(VertexRef ref) { return ref & ((1u << kSlotBits) - 1); }
 
-struct LeafTriangles {
-    std::vector<std::array<VertexRef, 3>> triangles;
-    std::vector<TriangleSource> sources;  ///< only when asked for
-};
+using LeafTriangles = DmcLeafTriangles;
 
 void contour_leaf(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, std::size_t leaf, bool with_sources,
                   SampleBlock& block, std::vector<DualCell>& cells, VertexMarks& marks, LeafTriangles& out) {
     cells.clear();
+    out = LeafTriangles();
     load_sample_block(grid, leaf, block);
     collect_dual_cells(grid, octrees, leaf, block, cells);
     out.triangles.reserve(2 * cells.size());
@@ -167,20 +165,38 @@ std::uint32_t vertex_index(const VertexMarks& marks, const std::vector<std::uint
     return offsets[leaf * kWords + slot / 64] + std::uint32_t(std::bitset<64>(below).count());
 }
 
+/// Whether leaf @a leaf's triangles in @a cache still hold: no neighbour's octree changed.
+bool reusable(const DmcGrid& grid, const DmcContourCache* cache, std::size_t leaf) {
+    if (!cache || cache->per_leaf.size() != grid.leaves.size()) return false;
+    return std::none_of(grid.neighbours[leaf].begin(), grid.neighbours[leaf].end(),
+                        [&](std::int32_t n) { return n >= 0 && cache->changed[std::size_t(n)]; });
+}
+
 }  // namespace
 
 DmcContour contour_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, bool with_sources,
-                              const std::function<void(double)>& progress) {
+                              const std::function<void(double)>& progress, DmcContourCache* cache) {
     const std::size_t leaves = grid.leaves.size();
     VertexMarks marks(leaves);
-    std::vector<LeafTriangles> per_leaf(leaves);
+    std::vector<LeafTriangles> fresh;
+    if (cache && cache->per_leaf.size() == leaves && cache->changed.size() != leaves) cache->changed.assign(leaves, 0);
+    std::vector<LeafTriangles>& per_leaf = cache ? cache->per_leaf : fresh;
+    const bool had_cache = per_leaf.size() == leaves;
+    if (!had_cache) per_leaf.assign(leaves, LeafTriangles());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves), [&](const auto& range) {
         auto block = std::make_unique<SampleBlock>();
         std::vector<DualCell> cells;
         for (std::size_t leaf = range.begin(); leaf != range.end(); ++leaf) {
+            if (had_cache && reusable(grid, cache, leaf)) {
+                for (const auto& triangle : per_leaf[leaf].triangles) {
+                    for (VertexRef ref : triangle) marks.mark(owner_leaf(grid, leaf, ref), owner_slot(ref));
+                }
+                continue;
+            }
             contour_leaf(grid, octrees, leaf, with_sources, *block, cells, marks, per_leaf[leaf]);
         }
     });
+    if (cache) cache->changed.assign(leaves, 0);
     if (progress) progress(0.5);
 
     const std::vector<std::uint32_t> offsets = word_offsets(marks, leaves);
