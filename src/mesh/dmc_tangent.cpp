@@ -1,7 +1,7 @@
 // Sample tangents for Dual Marching Cubes (see dmc_tangent.h): least-squares planes through
 // the sample over the full 3x3x3 neighbourhood or over one of its 26 halves {p : p . u >= 0},
-// u a neighbour direction, whichever fits; the normal matrices are fixed, so each fit is a
-// sum and a 3x3 product.
+// u a neighbour direction, or one of its 8 octants, whichever fits; the normal matrices are
+// fixed, so each fit is a sum and a 3x3 product.
 
 #include "mesh/dmc_tangent.h"
 
@@ -27,32 +27,42 @@ struct Stencil {
 
 int index_of(int i, int j, int k) { return (i + 1) * 9 + (j + 1) * 3 + (k + 1); }
 
-/// Stencil 0: the full neighbourhood; 1..26: the halves p . u >= 0.
-std::vector<Stencil> make_stencils() {
-    std::vector<Eigen::Vector3i> directions = {Eigen::Vector3i::Zero()};
+/// The stencil of the neighbours (not the centre) for which @a keep holds.
+template <typename Keep>
+Stencil make_stencil(Keep keep) {
+    Stencil s;
+    Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
     for (int i = -1; i <= 1; ++i) {
         for (int j = -1; j <= 1; ++j) {
             for (int k = -1; k <= 1; ++k) {
-                if (i != 0 || j != 0 || k != 0) directions.emplace_back(i, j, k);
+                const Eigen::Vector3i p(i, j, k);
+                if (p.isZero() || !keep(p)) continue;
+                s.points.push_back(index_of(i, j, k));
+                normal += p.cast<double>() * p.cast<double>().transpose();
             }
         }
     }
-    std::vector<Stencil> stencils;
-    for (const Eigen::Vector3i& u : directions) {
-        Stencil s;
-        Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
-        for (int i = -1; i <= 1; ++i) {
-            for (int j = -1; j <= 1; ++j) {
-                for (int k = -1; k <= 1; ++k) {
-                    const Eigen::Vector3i p(i, j, k);
-                    if (p.isZero() || p.dot(u) < 0) continue;
-                    s.points.push_back(index_of(i, j, k));
-                    normal += p.cast<double>() * p.cast<double>().transpose();
-                }
+    s.inverse = normal.inverse();
+    return s;
+}
+
+/// Stencil 0: the full neighbourhood; then the 26 halves p . u >= 0 (u a neighbour
+/// direction), then the 8 octants (2x2x2 cubes holding the sample): a sample on the medial
+/// axis of a corner (where three faces' pieces meet at 120 degrees) has no planar half, but
+/// has planar octants.
+std::vector<Stencil> make_stencils() {
+    std::vector<Stencil> stencils = {make_stencil([](const Eigen::Vector3i&) { return true; })};
+    for (int i = -1; i <= 1; ++i) {
+        for (int j = -1; j <= 1; ++j) {
+            for (int k = -1; k <= 1; ++k) {
+                const Eigen::Vector3i u(i, j, k);
+                if (!u.isZero()) stencils.push_back(make_stencil([&](const Eigen::Vector3i& p) { return p.dot(u) >= 0; }));
             }
         }
-        s.inverse = normal.inverse();
-        stencils.push_back(std::move(s));
+    }
+    for (int octant = 0; octant < 8; ++octant) {
+        const Eigen::Vector3i sign(octant & 1 ? 1 : -1, octant & 2 ? 1 : -1, octant & 4 ? 1 : -1);
+        stencils.push_back(make_stencil([&](const Eigen::Vector3i& p) { return (p.array() * sign.array() >= 0).all(); }));
     }
     return stencils;
 }

@@ -4,10 +4,10 @@
 // the field (the medial surface of an edge or corner, where the signed distance has a kink)
 // average the planes on both sides, and the tangent no longer passes through the feature.
 // Here the plane is fitted by least squares to the samples of the 3x3x3 neighbourhood, or,
-// when those are not planar, to the half of it (cut by a plane through the sample) that is
-// most planar: the half on the sample's own side of the crease (ENO-like stencil choice,
-// Harten et al. 1987, in 3D). Samples with no planar half (a cone apex, strong curvature)
-// have no reliable tangent and are left out.
+// when those are not planar, to the half of it (cut by a plane through the sample) or the
+// octant that is most planar: the part on the sample's own side of the crease (ENO-like
+// stencil choice, Harten et al. 1987, in 3D). Samples with no planar part (a cone apex, strong
+// curvature) have no reliable tangent and are left out.
 
 #include <array>
 #include <optional>
