@@ -20,7 +20,7 @@ constexpr int upper(int row, int col) { return row * 5 - row * (row - 1) / 2 + (
 
 /// Value (scaled units: voxels) the vertex is moved to, on the side of the samples' mean,
 /// along directions the planes leave free.
-constexpr double kSurfaceMargin = 0.05;
+constexpr double kSurfaceMargin = 0.02;
 /// Weight of the value against the position when choosing among equally good minimisers.
 constexpr double kValueWeight = 1e4;
 /// Free directions whose value component is below this (unit vectors) leave the value fixed:
