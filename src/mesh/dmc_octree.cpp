@@ -105,7 +105,8 @@ double typical_gradient(const SampleBlock& block) {
 /// Scratch space for one leaf's fit.
 struct LeafFit {
     SampleBlock block;
-    std::array<std::vector<Qef4>, kLevels> qef;
+    std::array<std::vector<Qef4>, kLevels> qef;           ///< valid where qef_ready is set
+    std::array<std::vector<std::uint8_t>, kLevels> qef_ready;
     std::array<std::vector<std::uint8_t>, kLevels> ok;      ///< cell is merged or holds no surface
     std::array<std::vector<std::uint8_t>, kLevels> merged;
     std::array<std::vector<CellVertex>, kLevels> vertex;
@@ -113,6 +114,7 @@ struct LeafFit {
         for (int l = 0; l < kLevels; ++l) {
             const std::size_t cells = std::size_t(1) << (3 * (3 - l));
             qef[std::size_t(l)].resize(cells);
+            qef_ready[std::size_t(l)].resize(cells);
             ok[std::size_t(l)].resize(cells);
             merged[std::size_t(l)].resize(cells);
             vertex[std::size_t(l)].resize(cells);
@@ -120,29 +122,41 @@ struct LeafFit {
     }
 };
 
-/// Voxel QEFs of the leaf, values scaled by 1 / @a scale and made positive inside.
-void voxel_qefs(const DmcGrid& grid, double scale, LeafFit& fit) {
+/// The QEF of voxel (x, y, z) of the leaf, values scaled by 1 / @a scale and made positive
+/// inside; computed on first use (tangent fits are the octree's main cost, and many voxels'
+/// QEFs are never needed).
+const Qef4& voxel_qef(const DmcGrid& grid, double scale, LeafFit& fit, int x, int y, int z) {
+    const std::size_t index = std::size_t(cell_index(0, x, y, z));
+    Qef4& q = fit.qef[0][index];
+    if (fit.qef_ready[0][index]) return q;
+    fit.qef_ready[0][index] = 1;
     const SampleBlock& b = fit.block;
     auto s = [&](int x, int y, int z) { return (grid.inside_above ? b.at(x, y, z) - grid.iso : grid.iso - b.at(x, y, z)) / scale; };
-    for (int x = 0; x < kLeafDim; ++x) {
-        for (int y = 0; y < kLeafDim; ++y) {
-            for (int z = 0; z < kLeafDim; ++z) {
-                Qef4& q = fit.qef[0][std::size_t(cell_index(0, x, y, z))];
-                q = Qef4();
-                const double f = s(x, y, z);
-                if (!(std::abs(f) < kQefBand)) continue;
-                Neighbourhood around;
-                for (int n = 0; n < 27; ++n) around[std::size_t(n)] = s(x + n / 9 - 1, y + n / 3 % 3 - 1, z + n % 3 - 1);
-                if (const std::optional<Point3d> g = sample_tangent(around)) q.add_sample({double(x), double(y), double(z)}, f, *g);
-            }
-        }
-    }
+    q = Qef4();
+    const double f = s(x, y, z);
+    if (!(std::abs(f) < kQefBand)) return q;
+    Neighbourhood around;
+    for (int n = 0; n < 27; ++n) around[std::size_t(n)] = s(x + n / 9 - 1, y + n / 3 % 3 - 1, z + n % 3 - 1);
+    if (const std::optional<Point3d> g = sample_tangent(around)) q.add_sample({double(x), double(y), double(z)}, f, *g);
+    return q;
+}
+
+/// The QEF of the level-@a level cell (cx, cy, cz): the sum of its children's, computed on first use.
+const Qef4& cell_qef(const DmcGrid& grid, double scale, LeafFit& fit, int level, int cx, int cy, int cz) {
+    if (level == 0) return voxel_qef(grid, scale, fit, cx, cy, cz);
+    const std::size_t index = std::size_t(cell_index(level, cx, cy, cz));
+    Qef4& qef = fit.qef[std::size_t(level)][index];
+    if (fit.qef_ready[std::size_t(level)][index]) return qef;
+    fit.qef_ready[std::size_t(level)][index] = 1;
+    qef = Qef4();
+    for (int c = 0; c < 8; ++c) qef.add(cell_qef(grid, scale, fit, level - 1, 2 * cx + (c & 1), 2 * cy + ((c >> 1) & 1), 2 * cz + (c >> 2)));
+    return qef;
 }
 
 /// @a qef plus the voxel QEFs of the one-voxel ring @a ring around the cell, where it lies in
 /// the leaf: a cell next to an edge or corner then sees the planes of the faces beyond it, so
 /// its vertex goes onto the feature or the cell is not merged.
-Qef4 with_ring(const LeafFit& fit, const SampleCube& ring, const Qef4& qef) {
+Qef4 with_ring(const DmcGrid& grid, double scale, LeafFit& fit, const SampleCube& ring, const Qef4& qef) {
     Qef4 result = qef;
     for (int i = 0; i < ring.n; ++i) {
         for (int j = 0; j < ring.n; ++j) {
@@ -150,7 +164,7 @@ Qef4 with_ring(const LeafFit& fit, const SampleCube& ring, const Qef4& qef) {
                 const int x = ring.x + i, y = ring.y + j, z = ring.z + k;
                 const bool on_ring = i == 0 || j == 0 || k == 0 || i == ring.n - 1 || j == ring.n - 1 || k == ring.n - 1;
                 if (!on_ring || x < 0 || y < 0 || z < 0 || x >= kLeafDim || y >= kLeafDim || z >= kLeafDim) continue;
-                result.add(fit.qef[0][std::size_t(cell_index(0, x, y, z))]);
+                result.add(voxel_qef(grid, scale, fit, x, y, z));
             }
         }
     }
@@ -165,12 +179,9 @@ void try_merge(const DmcGrid& grid, double error, double scale, int level, int c
     auto& merged = fit.merged[std::size_t(level)][std::size_t(index)];
     ok = 0;
     merged = 0;
-    Qef4& qef = fit.qef[std::size_t(level)][std::size_t(index)];
-    qef = Qef4();
     for (int c = 0; c < 8; ++c) {
         const int child = cell_index(level - 1, 2 * cx + (c & 1), 2 * cy + ((c >> 1) & 1), 2 * cz + (c >> 2));
         if (!fit.ok[std::size_t(level - 1)][std::size_t(child)]) return;
-        qef.add(fit.qef[std::size_t(level - 1)][std::size_t(child)]);
     }
     const SampleCube ring = {cx * size - 1, cy * size - 1, cz * size - 1, size + 2};
     if (has_outside_scan(fit.block, ring)) return;
@@ -178,13 +189,14 @@ void try_merge(const DmcGrid& grid, double error, double scale, int level, int c
         ok = 1;  // no surface here: a parent may absorb it
         return;
     }
-    const Qef4 fitted = with_ring(fit, ring, qef);
+    // The cheap topology test first: the QEFs then fit only cells that may merge.
+    if (!single_sheet(fit.block, ring.x, ring.y, ring.z, ring.n)) return;
+    const Qef4 fitted = with_ring(grid, scale, fit, ring, cell_qef(grid, scale, fit, level, cx, cy, cz));
     if (fitted.count() == 0) return;
     const Point3d lo = {cx * size - 0.5, cy * size - 0.5, cz * size - 0.5};
     const Point3d hi = {lo[0] + size, lo[1] + size, lo[2] + size};
     const Qef4::Solution solution = fitted.solve(lo, hi);
     if (std::sqrt(solution.error / fitted.count()) > error) return;
-    if (!single_sheet(fit.block, ring.x, ring.y, ring.z, ring.n)) return;
     const openvdb::Coord origin = fit.block.origin;
     const double value = grid.inside_above ? grid.iso + solution.value * scale : grid.iso - solution.value * scale;
     fit.vertex[std::size_t(level)][std::size_t(index)] = {
@@ -233,7 +245,7 @@ void build_leaf_octree(const DmcGrid& grid, std::size_t leaf, double error, Leaf
     load_sample_block(grid, leaf, fit.block);
     const double scale = typical_gradient(fit.block);
     if (!(scale > 0.0)) return;
-    voxel_qefs(grid, scale, fit);
+    for (auto& ready : fit.qef_ready) std::fill(ready.begin(), ready.end(), std::uint8_t(0));
     std::fill(fit.ok[0].begin(), fit.ok[0].end(), std::uint8_t(1));
     for (int level = 1; level < kLevels; ++level) {
         const int n = cells_per_axis(level);
