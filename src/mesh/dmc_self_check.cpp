@@ -14,6 +14,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "mesh/dmc_tangent.h"
 #include "vdbmesh/analysis.h"
 
 namespace vdbmesh::detail {
@@ -138,7 +139,12 @@ void mark_off_surface(const DmcGrid& grid, const DmcContour& contour, double tol
                 const auto& v = mesh.vertices[mesh.triangles[t][std::size_t(k)]];
                 centroid += transform.worldToIndex(openvdb::Vec3d(v[0], v[1], v[2])) / 3.0;
             }
-            if (isosurface_distance(accessor, grid.iso, centroid) > tolerance) bad[t] = 1;
+            // Off only when off the trilinear field AND off the samples' tangent planes: the
+            // trilinear field rounds sharp edges and corners the QEF vertices keep.
+            if (isosurface_distance(accessor, grid.iso, centroid) > tolerance &&
+                tangent_plane_distance(accessor, grid.iso, centroid) > tolerance) {
+                bad[t] = 1;
+            }
         }
     });
 }

@@ -7,7 +7,9 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace vdbmesh::detail {
@@ -112,6 +114,30 @@ std::optional<Point3d> sample_tangent(const Neighbourhood& f) {
         if (full.rms > 2.0 * best.rms) chosen = best;
     }
     return Point3d{chosen.gradient(0), chosen.gradient(1), chosen.gradient(2)};
+}
+
+double tangent_plane_distance(const openvdb::FloatGrid::ConstAccessor& accessor, double iso, const openvdb::Vec3d& p) {
+    const openvdb::Coord base = openvdb::Coord::floor(p);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int corner = 0; corner < 8; ++corner) {
+        const openvdb::Coord sample = base.offsetBy(corner & 1, (corner >> 1) & 1, corner >> 2);
+        Neighbourhood f;
+        for (int n = 0; n < 27; ++n) {
+            f[std::size_t(n)] = double(accessor.getValue(sample.offsetBy(n / 9 - 1, n / 3 % 3 - 1, n % 3 - 1))) - iso;
+        }
+        // In voxels: values over the sample's gradient magnitude (central differences).
+        const double scale = fit_plane(f, stencils()[0]).gradient.norm();
+        if (!(scale > 0.0)) continue;
+        for (double& value : f) value /= scale;
+        const std::optional<Point3d> g = sample_tangent(f);
+        if (!g) continue;
+        const Eigen::Vector3d gradient((*g)[0], (*g)[1], (*g)[2]);
+        const double norm = gradient.norm();
+        if (!(norm > 0.0)) continue;
+        const Eigen::Vector3d offset(p.x() - sample.x(), p.y() - sample.y(), p.z() - sample.z());
+        nearest = std::min(nearest, std::abs(f[13] + gradient.dot(offset)) / norm);
+    }
+    return nearest;
 }
 
 }  // namespace vdbmesh::detail

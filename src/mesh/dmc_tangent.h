@@ -9,6 +9,8 @@
 // stencil choice, Harten et al. 1987, in 3D). Samples with no planar part (a cone apex, strong
 // curvature) have no reliable tangent and are left out.
 
+#include <openvdb/openvdb.h>
+
 #include <array>
 #include <optional>
 
@@ -23,5 +25,13 @@ using Neighbourhood = std::array<double, 27>;
 /// The gradient of the sample's tangent plane (through its value at offset 0), or nothing when
 /// no half of the neighbourhood is planar (or a value is not finite).
 std::optional<Point3d> sample_tangent(const Neighbourhood& f);
+
+/// Distance (voxels) from index-space point @a p to the nearest tangent plane (at @a iso) of
+/// the 8 samples around it, read through @a accessor; infinity when none has a tangent. Unlike
+/// the trilinear field, which rounds edges and corners by up to 0.58 voxel, the planes keep
+/// them: a point on a sharp feature reads as on the surface. The distance can read short
+/// outside a convex feature (by up to sqrt(3) at a cube's corner, where the surface is the
+/// corner point, not the planes' extensions), so it complements a smooth estimate.
+double tangent_plane_distance(const openvdb::FloatGrid::ConstAccessor& accessor, double iso, const openvdb::Vec3d& p);
 
 }  // namespace vdbmesh::detail
