@@ -108,6 +108,26 @@ void mark_nonmanifold_vertices(const Mesh& mesh, const std::vector<std::uint8_t>
     }
 }
 
+/// Marks the triangles on distinct vertices that share a position (float bits, -0 = +0):
+/// written out and welded, they would be degenerate or non-manifold.
+void mark_coincident_vertices(const Mesh& mesh, std::vector<std::uint8_t>& bad) {
+    std::vector<std::pair<std::array<float, 3>, std::uint32_t>> keyed(mesh.vertices.size());
+    for (std::uint32_t v = 0; v < keyed.size(); ++v) {
+        const auto& p = mesh.vertices[v];
+        keyed[v] = {{p[0] + 0.0f, p[1] + 0.0f, p[2] + 0.0f}, v};
+    }
+    tbb::parallel_sort(keyed.begin(), keyed.end());
+    std::vector<std::uint8_t> shared(mesh.vertices.size(), 0);
+    for (std::size_t i = 1; i < keyed.size(); ++i) {
+        if (keyed[i].first == keyed[i - 1].first) shared[keyed[i].second] = shared[keyed[i - 1].second] = 1;
+    }
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+        for (std::uint32_t v : mesh.triangles[t]) {
+            if (shared[v]) bad[t] = 1;
+        }
+    }
+}
+
 /// First-order distance (voxels) from index-space point @a p to the isosurface.
 template <typename Accessor>
 double isosurface_distance(Accessor& accessor, double iso, const openvdb::Vec3d& p) {
@@ -271,10 +291,12 @@ Mesh submesh(const Mesh& mesh, const std::vector<std::uint32_t>& triangles, std:
 }
 
 /// Marks the triangles of @a mesh that are on a non-manifold edge or vertex (vertices
-/// flagged in @a judged only, all when empty) or in a self-intersecting pair.
+/// flagged in @a judged only, all when empty), on a vertex another one coincides with, or in
+/// a self-intersecting pair.
 void mark_broken(const Mesh& mesh, const std::vector<std::uint8_t>& judged, std::vector<std::uint8_t>& bad) {
     mark_nonmanifold_edges(mesh, bad);
     mark_nonmanifold_vertices(mesh, judged, bad);
+    mark_coincident_vertices(mesh, bad);
     for (const auto& [a, b] : find_self_intersections(mesh)) {
         bad[a] = 1;
         bad[b] = 1;

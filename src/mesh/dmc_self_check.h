@@ -22,7 +22,7 @@ struct SplitVoxels {
 };
 
 /// Triangles of @a contour made from merged cells that are in a self-intersecting pair, on a
-/// non-manifold edge or vertex, or whose centroid lies farther than @a tolerance
+/// non-manifold edge or vertex, on a vertex at the position of another, or whose centroid lies farther than @a tolerance
 /// voxels from the isosurface (first-order distance |f - iso| / |grad f| of the trilinear field).
 /// Sorted, unique. Only triangles that may change the answer are judged: without @a since,
 /// those from merged cells (only they are refined); with @a since (the cells split since the
