@@ -21,6 +21,10 @@ namespace {
 constexpr double kSmooth = 0.02;
 /// RMS residual (voxels) above which not even the best half is planar: no tangent.
 constexpr double kPlanar = 0.05;
+/// RMS residual (voxels) under which a tangent plane stands for the surface in
+/// tangent_plane_distance(): the data is piecewise planar there (a phantom, a machined part
+/// sampled finely), not merely smooth or noisy, where the trilinear field is the better guide.
+constexpr double kExactPlane = 0.005;
 
 struct Stencil {
     std::vector<int> points;  ///< neighbourhood indices, the centre excluded
@@ -93,27 +97,31 @@ Fit fit_plane(const Neighbourhood& f, const Stencil& s) {
     return {g, std::sqrt(residual / double(s.points.size() - 3))};
 }
 
-}  // namespace
-
-std::optional<Point3d> sample_tangent(const Neighbourhood& f) {
+/// The plane of sample_tangent() with its RMS residual.
+std::optional<Fit> tangent_fit(const Neighbourhood& f) {
     for (double v : f) {
         if (!std::isfinite(v)) return std::nullopt;
     }
     const std::vector<Stencil>& all = stencils();
     const Fit full = fit_plane(f, all[0]);
-    Fit chosen = full;
-    if (full.rms > kSmooth) {
-        Fit best = fit_plane(f, all[1]);
-        for (std::size_t s = 2; s < all.size(); ++s) {
-            const Fit half = fit_plane(f, all[s]);
-            if (half.rms < best.rms) best = half;
-        }
-        if (best.rms > kPlanar) return std::nullopt;
-        // Curvature alone leaves every half about as planar as the whole: keep the symmetric
-        // (second-order) fit then; a crease leaves one half far more planar.
-        if (full.rms > 2.0 * best.rms) chosen = best;
+    if (full.rms <= kSmooth) return full;
+    Fit best = fit_plane(f, all[1]);
+    for (std::size_t s = 2; s < all.size(); ++s) {
+        const Fit part = fit_plane(f, all[s]);
+        if (part.rms < best.rms) best = part;
     }
-    return Point3d{chosen.gradient(0), chosen.gradient(1), chosen.gradient(2)};
+    if (best.rms > kPlanar) return std::nullopt;
+    // Curvature alone leaves every half about as planar as the whole: keep the symmetric
+    // (second-order) fit then; a crease leaves one half far more planar.
+    return full.rms > 2.0 * best.rms ? best : full;
+}
+
+}  // namespace
+
+std::optional<Point3d> sample_tangent(const Neighbourhood& f) {
+    const std::optional<Fit> fit = tangent_fit(f);
+    if (!fit) return std::nullopt;
+    return Point3d{fit->gradient(0), fit->gradient(1), fit->gradient(2)};
 }
 
 double tangent_plane_distance(const openvdb::FloatGrid::ConstAccessor& accessor, double iso, const openvdb::Vec3d& p) {
@@ -129,13 +137,12 @@ double tangent_plane_distance(const openvdb::FloatGrid::ConstAccessor& accessor,
         const double scale = fit_plane(f, stencils()[0]).gradient.norm();
         if (!(scale > 0.0)) continue;
         for (double& value : f) value /= scale;
-        const std::optional<Point3d> g = sample_tangent(f);
-        if (!g) continue;
-        const Eigen::Vector3d gradient((*g)[0], (*g)[1], (*g)[2]);
-        const double norm = gradient.norm();
+        const std::optional<Fit> fit = tangent_fit(f);
+        if (!fit || fit->rms > kExactPlane) continue;
+        const double norm = fit->gradient.norm();
         if (!(norm > 0.0)) continue;
         const Eigen::Vector3d offset(p.x() - sample.x(), p.y() - sample.y(), p.z() - sample.z());
-        nearest = std::min(nearest, std::abs(f[13] + gradient.dot(offset)) / norm);
+        nearest = std::min(nearest, std::abs(f[13] + fit->gradient.dot(offset)) / norm);
     }
     return nearest;
 }

@@ -27,7 +27,8 @@ using Neighbourhood = std::array<double, 27>;
 std::optional<Point3d> sample_tangent(const Neighbourhood& f);
 
 /// Distance (voxels) from index-space point @a p to the nearest tangent plane (at @a iso) of
-/// the 8 samples around it, read through @a accessor; infinity when none has a tangent. Unlike
+/// the 8 samples around it, read through @a accessor, among those fitting their samples to
+/// within 0.005 voxel RMS; infinity when none does. Unlike
 /// the trilinear field, which rounds edges and corners by up to 0.58 voxel, the planes keep
 /// them: a point on a sharp feature reads as on the surface. The distance can read short
 /// outside a convex feature (by up to sqrt(3) at a cube's corner, where the surface is the
