@@ -229,7 +229,8 @@ std::vector<Scan> real_scans(const std::filesystem::path& data, const std::strin
     {
         Scan s{"bunny", data / "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part1of2.raw.gz", {}, 1200.5};
         s.read.raw_dims = std::array<std::int64_t, 3>{512, 512, 361};
-        s.read.raw_type = SampleType::u16;
+        // 12-bit data in 16 bits; the padding outside the field of view, 0xF830, is -2000 only as int16.
+        s.read.raw_type = SampleType::i16;
         s.read.raw_byte_order = ByteOrder::big;
         s.read.raw_more_files = {data / "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part2of2.raw.gz"};
         all.push_back(s);
