@@ -9,7 +9,6 @@
 
 #include <unistd.h>
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -23,6 +22,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "common_options.h"
+#include "load_grid.h"
 #include "report_json.h"
 #include "svg_plot.h"
 #include "vdbmesh/atomic_file.h"
@@ -50,10 +50,7 @@ struct CompareCommandOptions {
 };
 
 /// The grid to compare on, and what the report says about where it came from.
-struct LoadedGrid {
-    openvdb::FloatGrid::Ptr grid;
-    double iso = 0;
-    std::optional<double> convert_seconds;  ///< none for a .vdb input
+struct LoadedGrid : GridInput {
     std::optional<PhantomSpec> phantom;
 };
 
@@ -76,15 +73,10 @@ private:
     std::filesystem::path path_;
 };
 
-openvdb::FloatGrid::Ptr convert_timed(VolumeReader& reader, double iso, LoadedGrid& loaded, bool quiet) {
+ConvertOptions convert_with_progress(Progress& progress) {
     ConvertOptions convert;
-    convert.iso = iso;
-    Progress progress("converting", quiet);
     convert.progress = [&](double f) { progress(f); };
-    const auto start = std::chrono::steady_clock::now();
-    openvdb::FloatGrid::Ptr grid = convert_to_grid(reader, convert);
-    loaded.convert_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return grid;
+    return convert;
 }
 
 /// The phantom written as float samples (density 0..1, surface at 0.5), then converted.
@@ -104,27 +96,19 @@ LoadedGrid load_phantom(const CompareCommandOptions& o) {
     const std::filesystem::path file = folder.path() / "phantom.nii";
     write_volume(file, header, [&](std::int64_t z, float* slice) { fill_phantom_slice(spec, z, slice); });
     auto reader = open_volume(file);
-    loaded.grid = convert_timed(*reader, loaded.iso, loaded, o.common.quiet);
+    Progress progress("converting", o.common.quiet);
+    ConvertOptions convert = convert_with_progress(progress);
+    convert.iso = loaded.iso;
+    loaded.grid = convert_timed(*reader, convert, loaded.convert_seconds);
     return loaded;
 }
 
 LoadedGrid load_input(const CompareCommandOptions& o) {
     if (!o.phantom.empty()) return load_phantom(o);
     if (o.inputs.empty()) throw UsageError("compare: needs an input file or --phantom SHAPE");
+    Progress progress("converting", o.common.quiet);
     LoadedGrid loaded;
-    const std::filesystem::path input = o.inputs.front();
-    if (input.extension() == ".vdb") {
-        if (o.inputs.size() > 1) throw UsageError("a .vdb input takes no further input files");
-        loaded.grid = read_vdb(input);
-        const std::optional<double> iso = o.iso ? o.iso : stored_isovalue(*loaded.grid);
-        if (!iso) throw UsageError("--iso: required, " + input.string() + " stores no isovalue");
-        loaded.iso = *iso;
-        return loaded;
-    }
-    if (!o.iso) throw UsageError("--iso: required to compare on a scan");
-    loaded.iso = *o.iso;
-    auto reader = open_volume(input, o.read.to_read_options({o.inputs.begin() + 1, o.inputs.end()}));
-    loaded.grid = convert_timed(*reader, loaded.iso, loaded, o.common.quiet);
+    static_cast<GridInput&>(loaded) = load_grid(o.inputs, o.iso, o.read, "compare on", convert_with_progress(progress));
     return loaded;
 }
 

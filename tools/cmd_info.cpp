@@ -13,6 +13,7 @@
 #include "cli.h"
 #include "commands.h"
 #include "common_options.h"
+#include "load_grid.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/read.h"
@@ -153,7 +154,7 @@ int run_info(const InfoOptions& o) {
         else print_vdb(j, std::cout);
         return kSuccess;
     }
-    auto reader = open_volume(o.inputs.front(), o.read.to_read_options({o.inputs.begin() + 1, o.inputs.end()}));
+    auto reader = open_scan(o.inputs, o.read);
     Progress progress("reading", o.common.quiet);
     const VolumeStats stats = compute_volume_stats(*reader, [&](double f) { progress(f); });
     if (o.json) std::cout << scan_json(reader->header(), stats).dump() << "\n";

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <filesystem>
 #include <chrono>
 #include <iostream>
 #include <map>
@@ -13,6 +12,7 @@
 
 #include "commands.h"
 #include "common_options.h"
+#include "load_grid.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/mesh_io.h"
@@ -45,30 +45,14 @@ std::string lowercase(std::string text) {
     return text;
 }
 
-std::string lowercase_extension(const std::string& path) {
-    return lowercase(std::filesystem::path(path).extension().string());
-}
-
 /// The grid to mesh, with options.mesh.iso set: a .vdb as stored, a scan converted (band 1).
-openvdb::FloatGrid::Ptr load_grid(MeshCommandOptions& options, Progress& progress) {
-    const std::string& input = options.inputs.front();
-    if (lowercase_extension(input) == ".vdb") {
-        if (options.inputs.size() > 1) throw UsageError("a .vdb input takes no further input files");
-        openvdb::FloatGrid::Ptr grid = read_vdb(input);
-        const std::optional<double> iso = options.iso ? options.iso : stored_isovalue(*grid);
-        if (!iso) throw UsageError("--iso: required, " + input + " stores no isovalue");
-        options.mesh.iso = *iso;
-        return grid;
-    }
-    if (!options.iso) throw UsageError("--iso: required to mesh a scan");
-    options.mesh.iso = *options.iso;
-    const std::vector<std::string> more_inputs(options.inputs.begin() + 1, options.inputs.end());
-    std::unique_ptr<VolumeReader> reader = open_volume(input, options.read.to_read_options(more_inputs));
+openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& progress) {
     ConvertOptions convert;
-    convert.iso = *options.iso;
     convert.band = 1;
     convert.progress = [&](double fraction) { progress(0.5 * fraction); };
-    return convert_to_grid(*reader, convert);
+    const GridInput loaded = load_grid(options.inputs, options.iso, options.read, "mesh", convert);
+    options.mesh.iso = loaded.iso;
+    return loaded.grid;
 }
 
 void run_mesh(MeshCommandOptions& options) {
@@ -82,7 +66,7 @@ void run_mesh(MeshCommandOptions& options) {
     const ThreadLimit limit(options.common);
     const auto start = std::chrono::steady_clock::now();
     Progress progress("meshing", options.common.quiet);
-    const openvdb::FloatGrid::Ptr grid = load_grid(options, progress);
+    const openvdb::FloatGrid::Ptr grid = load_mesh_grid(options, progress);
     options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
     const Mesh mesh = mesh_grid(*grid, options.mesh);
     write_mesh(mesh, options.output, MeshWriteOptions{options.ascii, options.normals});
