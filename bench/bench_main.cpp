@@ -7,7 +7,9 @@
 // thread pool) carries into the next. The parent never starts TBB or OpenVDB before forking.
 // In a child the stages run in a fixed order (conversion, then each mesher setting in the
 // order printed), and the memory printed for a mesher is the process peak after it: the
-// conversion's grid plus the largest mesh made so far.
+// conversion's grid plus the largest mesh made so far. Both conversions also report CPU time
+// (steadier than wall time on a shared machine) and their grid's size in memory and as a
+// .vdb file (written last, into a temporary folder).
 //
 // Usage: vdbmesh_bench [--scans bunny,cthead,engine,walnut] [--phantom-sizes 256,512]
 //                      [--errors 0,0.1,0.25,0.5] [--adaptivities 0,0.1,0.25,1] [--threads 1,2]
@@ -21,6 +23,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <functional>
 #include <iomanip>
 #include <iostream>
@@ -73,6 +76,22 @@ double peak_rss_mb() {
     return double(usage.ru_maxrss) / 1024.0;  // kilobytes on Linux
 }
 
+double cpu_seconds_since(std::clock_t start) { return double(std::clock() - start) / CLOCKS_PER_SEC; }
+
+/// A converted grid's size in memory and, written with write_vdb to @a file, on disk.
+Json grid_figures(const openvdb::FloatGrid& grid, const std::filesystem::path& file) {
+    const auto start = Clock::now();
+    write_vdb(grid, file);
+    const double write_seconds = seconds_since(start);
+    const double vdb_mb = double(std::filesystem::file_size(file)) / 1e6;
+    std::filesystem::remove(file);
+    return {{"active_voxels", grid.activeVoxelCount()},
+            {"leaves", grid.tree().leafCount()},
+            {"grid_mb", double(grid.memUsage()) / 1e6},
+            {"write_seconds", write_seconds},
+            {"vdb_mb", vdb_mb}};
+}
+
 /// Runs @a job in a forked child and returns the JSON it produced ({"failed": message} when it died).
 Json run_forked(const std::function<Json()>& job) {
     int fds[2];
@@ -106,15 +125,18 @@ Json run_forked(const std::function<Json()>& job) {
 }
 
 /// Child: convert with convert_to_grid, then mesh with every setting, on @a threads threads.
-Json convert_and_mesh(const Scan& scan, const std::vector<Setting>& settings, int threads) {
+Json convert_and_mesh(const Scan& scan, const std::vector<Setting>& settings, int threads,
+                      const std::filesystem::path& scratch) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     Json result;
     auto start = Clock::now();
+    const std::clock_t cpu_start = std::clock();
     auto reader = open_volume(scan.file, scan.read);
     ConvertOptions convert;
     convert.iso = scan.iso;
     const openvdb::FloatGrid::Ptr grid = convert_to_grid(*reader, convert);
     result["convert_seconds"] = seconds_since(start);
+    result["convert_cpu_seconds"] = cpu_seconds_since(cpu_start);
     result["active_voxels"] = grid->activeVoxelCount();
     result["convert_peak_mb"] = peak_rss_mb();
     for (const Setting& s : settings) {
@@ -127,14 +149,17 @@ Json convert_and_mesh(const Scan& scan, const std::vector<Setting>& settings, in
         result["meshes"].push_back(
             {{"seconds", seconds_since(start)}, {"triangles", mesh.triangles.size()}, {"peak_mb", peak_rss_mb()}});
     }
+    // Last, so that writing leaves the conversion's and the meshers' peaks as they were.
+    result["grid"] = grid_figures(*grid, scratch / "sparse.vdb");
     return result;
 }
 
 /// Child: the dense route, read every sample into openvdb::tools::Dense, then copyFromDense
 /// (voxels equal to the background, the scan's minimum, stay inactive).
-Json dense_route(const Scan& scan, int threads) {
+Json dense_route(const Scan& scan, int threads, const std::filesystem::path& scratch) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     auto start = Clock::now();
+    const std::clock_t cpu_start = std::clock();
     auto reader = open_volume(scan.file, scan.read);
     const auto& dims = reader->header().dims;
     const openvdb::CoordBBox box(openvdb::Coord(0), openvdb::Coord(int(dims[0]) - 1, int(dims[1]) - 1, int(dims[2]) - 1));
@@ -146,16 +171,28 @@ Json dense_route(const Scan& scan, int threads) {
     start = Clock::now();
     auto grid = openvdb::FloatGrid::create(minimum);
     openvdb::tools::copyFromDense(dense, *grid, 0.0f);
+    const double copy_seconds = seconds_since(start);
+    const double cpu_seconds = cpu_seconds_since(cpu_start);
+    const double peak_mb = peak_rss_mb();
     return {{"read_seconds", read_seconds},
-            {"copy_seconds", seconds_since(start)},
-            {"active_voxels", grid->activeVoxelCount()},
-            {"peak_mb", peak_rss_mb()}};
+            {"copy_seconds", copy_seconds},
+            {"cpu_seconds", cpu_seconds},
+            {"peak_mb", peak_mb},
+            {"grid", grid_figures(*grid, scratch / "dense.vdb")}};
 }
 
 std::string fixed(double value, int digits) {
     std::ostringstream text;
     text << std::fixed << std::setprecision(digits) << value;
     return text.str();
+}
+
+/// A grid_figures() result as one phrase.
+std::string grid_text(const Json& g) {
+    return "grid: " + fixed(g["active_voxels"].get<double>() / 1e6, 2) + " M active voxels, " +
+           std::to_string(g["leaves"].get<std::size_t>()) + " leaves, " + fixed(g["grid_mb"].get<double>(), 1) +
+           " MB in memory, write_vdb " + fixed(g["write_seconds"].get<double>(), 2) + " s, " +
+           fixed(g["vdb_mb"].get<double>(), 1) + " MB on disk";
 }
 
 /// The volumeToMesh setting a DMC setting is timed against: same position in the lists.
@@ -178,13 +215,15 @@ void report(const Scan& scan, const std::vector<Setting>& settings, const std::m
     const double convert_s = r["convert_seconds"].get<double>();
     std::cout << "conversion, " << most << " threads: convert_to_grid " << fixed(convert_s, 2) << " s, "
               << fixed(active_m, 2) << " M active voxels (" << fixed(active_m / convert_s, 2)
-              << " M/s), peak " << fixed(r["convert_peak_mb"].get<double>(), 0) << " MB\n";
+              << " M/s), " << fixed(r["convert_cpu_seconds"].get<double>(), 2) << " s CPU, peak "
+              << fixed(r["convert_peak_mb"].get<double>(), 0) << " MB; " << grid_text(r["grid"]) << "\n";
     if (!dense.contains("failed")) {
         const double dense_s = dense["read_seconds"].get<double>() + dense["copy_seconds"].get<double>();
         std::cout << "dense route: read " << fixed(dense["read_seconds"].get<double>(), 2) << " s + copyFromDense "
-                  << fixed(dense["copy_seconds"].get<double>(), 2) << " s, peak "
+                  << fixed(dense["copy_seconds"].get<double>(), 2) << " s, "
+                  << fixed(dense["cpu_seconds"].get<double>(), 2) << " s CPU, peak "
                   << fixed(dense["peak_mb"].get<double>(), 0) << " MB; convert_to_grid / dense route = "
-                  << fixed(convert_s / dense_s, 2) << "\n";
+                  << fixed(convert_s / dense_s, 2) << "; " << grid_text(dense["grid"]) << "\n";
     }
     std::cout << "\n| mesher | seconds | / volumeToMesh | M triangles/s | triangles | peak MB |";
     for (const auto& [threads, run] : runs)
@@ -300,8 +339,8 @@ int run(int argc, char** argv) {
         std::cerr << "bench: " << scan.name << "\n";
         std::map<int, Json> runs;
         for (double threads : numbers(flags["--threads"]))
-            runs[int(threads)] = run_forked([&] { return convert_and_mesh(scan, settings, int(threads)); });
-        const Json dense = run_forked([&] { return dense_route(scan, runs.rbegin()->first); });
+            runs[int(threads)] = run_forked([&] { return convert_and_mesh(scan, settings, int(threads), folder); });
+        const Json dense = run_forked([&] { return dense_route(scan, runs.rbegin()->first, folder); });
         report(scan, settings, runs, dense);
         std::cout << std::flush;
     }
