@@ -17,14 +17,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-MeshOptions mc_options(double iso, Inside inside = Inside::above) {
-    MeshOptions options;
-    options.method = MeshMethod::mc;
-    options.iso = iso;
-    options.inside = inside;
-    return options;
-}
-
 void expect_closed_manifold(const Mesh& mesh) {
     ASSERT_FALSE(mesh.triangles.empty());
     const MeshReport report = analyze_mesh(mesh);
@@ -59,7 +51,7 @@ void set_scan_box(openvdb::FloatGrid& grid, const openvdb::Coord& min, const ope
 TEST(MarchingCubesTest, BallIsClosedOutwardAndHasTheRightVolume) {
     const double radius = 10;
     auto grid = make_ball(radius, {0.3, 0.2, 0.1});
-    const Mesh mesh = detail::marching_cubes(*grid, mc_options(0.0));
+    const Mesh mesh = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.0));
     expect_closed_manifold(mesh);
     // The field is the exact signed distance, so the vertices lie within h^2 / (2 R) = 0.05
     // voxels of the sphere and the flat triangles (edges up to sqrt(2) voxels) sag at most
@@ -72,10 +64,10 @@ TEST(MarchingCubesTest, BallIsClosedOutwardAndHasTheRightVolume) {
 
 TEST(MarchingCubesTest, InsideBelowMeshesTheSameObjectOutward) {
     auto grid = make_ball(6, {0.5, 0.25, 0});
-    const Mesh above = detail::marching_cubes(*grid, mc_options(0.0));
+    const Mesh above = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.0));
     for (auto it = grid->beginValueOn(); it; ++it) it.setValue(-*it);
     grid->tree().root().setBackground(-grid->background(), true);
-    const Mesh below = detail::marching_cubes(*grid, mc_options(0.0, Inside::below));
+    const Mesh below = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.0, Inside::below));
     expect_closed_manifold(below);
     EXPECT_EQ(below.triangles.size(), above.triangles.size());
     EXPECT_NEAR(signed_volume(below), signed_volume(above), 1e-3);
@@ -84,10 +76,10 @@ TEST(MarchingCubesTest, InsideBelowMeshesTheSameObjectOutward) {
 
 TEST(MarchingCubesTest, WorldCoordinatesFollowTheTransform) {
     auto grid = make_ball(5, {0, 0, 0});
-    const Mesh index_mesh = detail::marching_cubes(*grid, mc_options(0.0));
+    const Mesh index_mesh = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.0));
     grid->setTransform(openvdb::math::Transform::createLinearTransform(0.5));
     grid->transform().postTranslate(openvdb::Vec3d(10, 0, 0));
-    const Mesh world_mesh = detail::marching_cubes(*grid, mc_options(0.0));
+    const Mesh world_mesh = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.0));
     ASSERT_EQ(world_mesh.vertices.size(), index_mesh.vertices.size());
     for (std::size_t v = 0; v < index_mesh.vertices.size(); ++v) {
         EXPECT_FLOAT_EQ(world_mesh.vertices[v][0], 0.5f * index_mesh.vertices[v][0] + 10.0f);
@@ -103,7 +95,7 @@ TEST(MarchingCubesTest, IntegerIsovalueOnIntegerSamplesGivesNoDegenerateTriangle
     std::uniform_int_distribution<int> value(0, 2);
     auto grid = make_grid(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(23)),
                           [&](int, int, int) { return float(value(random)); }, 0.0f);
-    const Mesh mesh = detail::marching_cubes(*grid, mc_options(1.0));
+    const Mesh mesh = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 1.0));
     EXPECT_GT(mesh.triangles.size(), 5000u);
     expect_closed_manifold(mesh);
     EXPECT_GT(signed_volume(mesh), 0);
@@ -127,7 +119,7 @@ TEST(MarchingCubesTest, IntegerTentFieldWithIsovalueOnSamples) {
     auto grid = make_grid(openvdb::CoordBBox(openvdb::Coord(-9), openvdb::Coord(9)), [](int i, int j, int k) {
         return float(10 - std::max({std::abs(i), std::abs(j), std::abs(k)}));
     }, 0.0f);
-    const Mesh mesh = detail::marching_cubes(*grid, mc_options(5.0));
+    const Mesh mesh = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 5.0));
     expect_closed_manifold(mesh);
     // Inside: max < 5, samples -4..4; the crossings are clamped 1e-3 short of the shell at 5.
     EXPECT_NEAR(signed_volume(mesh), mc_box_volume({9, 9, 9}, 1 - 1e-3), 1e-3);
@@ -138,11 +130,11 @@ TEST(MarchingCubesTest, SameBytesWithOneAndTwoThreads) {
     Mesh one, two;
     {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-        one = detail::marching_cubes(*grid, mc_options(0.0));
+        one = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.0));
     }
     {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-        two = detail::marching_cubes(*grid, mc_options(0.0));
+        two = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.0));
     }
     ASSERT_GT(one.triangles.size(), 10000u);
     EXPECT_EQ(one.vertices, two.vertices);
@@ -155,7 +147,7 @@ TEST(MarchingCubesTest, TilesOfBothLevelsAreMeshed) {
     grid->tree().fill(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(127)), 1.0f, true);
     grid->tree().fill(openvdb::CoordBBox(openvdb::Coord(512, 0, 0), openvdb::Coord(527, 7, 7)), 1.0f, true);
     ASSERT_EQ(grid->tree().leafCount(), 0u);
-    const Mesh mesh = detail::marching_cubes(*grid, mc_options(0.0));
+    const Mesh mesh = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.0));
     expect_closed_manifold(mesh);
     // Values +-1 around iso 0: faces half a voxel beyond the samples. Float coordinates up
     // to 528 (exact multiples of 1/2) sum to the volume with errors far below 0.01.
@@ -168,7 +160,7 @@ TEST(MarchingCubesTest, ScanBoxClosesTheCutObject) {
         return std::max({std::abs(i), std::abs(j), std::abs(k)}) <= 10 ? 1.0f : -1.0f;
     }, -1.0f);
     set_scan_box(*grid, openvdb::Coord(-12), openvdb::Coord(5));
-    const Mesh mesh = detail::marching_cubes(*grid, mc_options(0.0));
+    const Mesh mesh = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.0));
     expect_closed_manifold(mesh);
     // Samples -10..5 inside: faces at -10.5 and, half a voxel beyond the box, at 5.5.
     EXPECT_NEAR(signed_volume(mesh), mc_box_volume({16, 16, 16}, 0.5), 1e-3);
@@ -182,7 +174,7 @@ TEST(MarchingCubesTest, OpenBoundaryLeavesTheCutOpen) {
         return std::max({std::abs(i), std::abs(j), std::abs(k)}) <= 10 ? 1.0f : -1.0f;
     }, -1.0f);
     set_scan_box(*grid, openvdb::Coord(-12), openvdb::Coord(5));
-    MeshOptions options = mc_options(0.0);
+    MeshOptions options = mesh_options(MeshMethod::mc, 0.0);
     options.open_boundary = true;
     const Mesh mesh = detail::marching_cubes(*grid, options);
     const MeshReport report = analyze_mesh(mesh);
@@ -204,15 +196,15 @@ TEST(MarchingCubesTest, WithoutScanBoxTheGridValuesRule) {
     auto grid = make_grid(openvdb::CoordBBox(openvdb::Coord(-3), openvdb::Coord(3)), [](int i, int j, int k) {
         return std::max({std::abs(i), std::abs(j), std::abs(k)}) <= 1 ? -1.0f : 1.0f;
     }, 1.0f);
-    const Mesh mesh = detail::marching_cubes(*grid, mc_options(0.0));
+    const Mesh mesh = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.0));
     expect_closed_manifold(mesh);
     EXPECT_LT(signed_volume(mesh), 0);
 }
 
 TEST(MarchingCubesTest, EmptyWhenNothingCrosses) {
     auto grid = make_grid(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(9)), [](int, int, int) { return 0.0f; }, 0.0f);
-    EXPECT_TRUE(detail::marching_cubes(*grid, mc_options(0.5)).triangles.empty());
-    EXPECT_TRUE(detail::marching_cubes(*grid, mc_options(-0.5, Inside::below)).vertices.empty());
+    EXPECT_TRUE(detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.5)).triangles.empty());
+    EXPECT_TRUE(detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, -0.5, Inside::below)).vertices.empty());
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #pragma once
-// Analytic test grids for the mesher tests, and the few mesh checks analysis.h does not make.
+// Analytic test grids for the mesher tests, their options, and the few mesh checks analysis.h
+// does not make.
 
 #include <openvdb/openvdb.h>
 
@@ -11,8 +12,18 @@
 
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/mesh.h"
+#include "vdbmesh/mesher.h"
 
 namespace vdbmesh::test {
+
+/// Options for meshing with @a method at @a iso, everything else left at its default.
+inline MeshOptions mesh_options(MeshMethod method, double iso, Inside inside = Inside::above) {
+    MeshOptions options;
+    options.method = method;
+    options.iso = iso;
+    options.inside = inside;
+    return options;
+}
 
 /// Vertices whose coordinates equal those of another vertex.
 inline std::size_t coincident_vertices(const Mesh& mesh) {

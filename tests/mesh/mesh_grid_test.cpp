@@ -18,14 +18,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-MeshOptions options_for(MeshMethod method, double iso, Inside inside = Inside::above) {
-    MeshOptions options;
-    options.method = method;
-    options.iso = iso;
-    options.inside = inside;
-    return options;
-}
-
 void expect_closed(const Mesh& mesh) {
     ASSERT_FALSE(mesh.triangles.empty());
     const MeshReport report = analyze_mesh(mesh);
@@ -36,27 +28,27 @@ void expect_closed(const Mesh& mesh) {
 
 TEST(MeshGridTest, RejectsBadOptions) {
     auto grid = make_ball(3, {0, 0, 0});
-    MeshOptions options = options_for(MeshMethod::mc, 0.0);
+    MeshOptions options = mesh_options(MeshMethod::mc, 0.0);
     options.adaptivity = 1.5;
     EXPECT_THROW(mesh_grid(*grid, options), UsageError);
-    options = options_for(MeshMethod::dmc, 0.0);
+    options = mesh_options(MeshMethod::dmc, 0.0);
     options.error = -1;
     EXPECT_THROW(mesh_grid(*grid, options), UsageError);
-    options = options_for(MeshMethod::mc, std::nan(""));
+    options = mesh_options(MeshMethod::mc, std::nan(""));
     EXPECT_THROW(mesh_grid(*grid, options), UsageError);
-    options = options_for(MeshMethod::openvdb, 0.0);
+    options = mesh_options(MeshMethod::openvdb, 0.0);
     options.open_boundary = true;
     EXPECT_THROW(mesh_grid(*grid, options), UsageError);
 }
 
 TEST(MeshGridTest, DispatchesEachMethod) {
     auto grid = make_ball(6, {0.2, 0.1, 0.4});
-    const Mesh mc = mesh_grid(*grid, options_for(MeshMethod::mc, 0.0));
-    const Mesh direct = detail::marching_cubes(*grid, options_for(MeshMethod::mc, 0.0));
+    const Mesh mc = mesh_grid(*grid, mesh_options(MeshMethod::mc, 0.0));
+    const Mesh direct = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.0));
     EXPECT_EQ(mc.triangles, direct.triangles);
     EXPECT_EQ(mc.vertices, direct.vertices);
     for (MeshMethod method : {MeshMethod::dmc, MeshMethod::openvdb}) {
-        const Mesh mesh = mesh_grid(*grid, options_for(method, 0.0));
+        const Mesh mesh = mesh_grid(*grid, mesh_options(method, 0.0));
         expect_closed(mesh);
         EXPECT_GT(signed_volume(mesh), 0);
     }
@@ -65,7 +57,7 @@ TEST(MeshGridTest, DispatchesEachMethod) {
 TEST(MeshGridTest, OpenvdbMethodIsClosedAndOutwardOnADensityBall) {
     const double radius = 10;
     auto grid = make_ball(radius, {0.3, 0.2, 0.1});  // grid class unknown: a density
-    const Mesh mesh = mesh_grid(*grid, options_for(MeshMethod::openvdb, 0.0));
+    const Mesh mesh = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 0.0));
     expect_closed(mesh);
     EXPECT_EQ(analyze_mesh(mesh).degenerate_faces, 0u);
     // Vertices at the mean of a cell's edge crossings sit inside the sphere by up to about
@@ -78,14 +70,14 @@ TEST(MeshGridTest, OpenvdbMethodIsOutwardOnALevelSetWithInsideBelow) {
     const float radius = 5.0f, voxel = 0.25f;
     auto grid = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(radius, openvdb::Vec3f(1, 2, 3), voxel);
     ASSERT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
-    const Mesh mesh = mesh_grid(*grid, options_for(MeshMethod::openvdb, 0.0, Inside::below));
+    const Mesh mesh = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 0.0, Inside::below));
     expect_closed(mesh);
     const double exact_volume = 4.0 / 3.0 * kPi * radius * radius * radius;
     EXPECT_NEAR(signed_volume(mesh), exact_volume, 0.1 * voxel * 4 * kPi * radius * radius);
     // The same level set read as a density (inside above) is the complement: reversed. Not
     // bit for bit: samples at exactly 0 (distance 20 voxels from the centre) are outside both
     // times, which moves a few vertices.
-    const Mesh complement = mesh_grid(*grid, options_for(MeshMethod::openvdb, 0.0, Inside::above));
+    const Mesh complement = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 0.0, Inside::above));
     EXPECT_NEAR(signed_volume(complement), -signed_volume(mesh), 1e-4 * exact_volume);
 }
 
@@ -98,11 +90,11 @@ TEST(MeshGridTest, OpenvdbMethodCountsTheIsovalueAsOutside) {
     auto grid = make_grid(openvdb::CoordBBox(openvdb::Coord(-12), openvdb::Coord(12)), [](int i, int j, int k) {
         return float(10 - std::max({std::abs(i), std::abs(j), std::abs(k)}));
     }, -2.0f);
-    const Mesh above = mesh_grid(*grid, options_for(MeshMethod::openvdb, 5.0));
+    const Mesh above = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 5.0));
     expect_closed(above);
     EXPECT_GT(signed_volume(above), 8.0 * 8 * 8);
     EXPECT_LT(signed_volume(above), 10.0 * 10 * 10);
-    const Mesh below = mesh_grid(*grid, options_for(MeshMethod::openvdb, 5.0, Inside::below));
+    const Mesh below = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 5.0, Inside::below));
     expect_closed(below);
     EXPECT_LT(signed_volume(below), -10.0 * 10 * 10);
     EXPECT_GT(signed_volume(below), -12.0 * 12 * 12);
@@ -114,11 +106,11 @@ TEST(MeshGridTest, EveryMethodGivesTheSameBytesWithOneAndTwoThreads) {
         Mesh one, two;
         {
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-            one = mesh_grid(*grid, options_for(method, 0.0));
+            one = mesh_grid(*grid, mesh_options(method, 0.0));
         }
         {
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-            two = mesh_grid(*grid, options_for(method, 0.0));
+            two = mesh_grid(*grid, mesh_options(method, 0.0));
         }
         ASSERT_GT(one.triangles.size(), 10000u);
         EXPECT_EQ(one.vertices, two.vertices) << int(method);
@@ -136,7 +128,7 @@ TEST(MeshGridTest, MirroringTransformKeepsNormalsOutward) {
     mirror(2, 2) = 2.0;
     grid->setTransform(openvdb::math::Transform::createLinearTransform(mirror));
     for (MeshMethod method : {MeshMethod::dmc, MeshMethod::mc, MeshMethod::openvdb}) {
-        const Mesh mesh = mesh_grid(*grid, options_for(method, 0.0));
+        const Mesh mesh = mesh_grid(*grid, mesh_options(method, 0.0));
         const MeshReport report = analyze_mesh(mesh);
         EXPECT_TRUE(report.closed) << int(method);
         EXPECT_TRUE(report.outward) << int(method);
