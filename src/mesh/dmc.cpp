@@ -38,9 +38,10 @@ Mesh dual_marching_cubes(const openvdb::FloatGrid& grid, const MeshOptions& opti
     }
     // Chords of merged cells may stray up to twice the QEF tolerance from the isosurface.
     const double tolerance = 2.0 * options.error;
-    // After the first full check only the surroundings of the cells split since are checked.
+    // The first check judges the triangles of merged cells, later ones only those next to the
+    // cells split since, and only the leaves next to those are contoured again.
     SplitVoxels split;
-    DmcContourCache cache;  // and only the leaves next to them contoured again
+    DmcContourCache cache;
     for (int round = 0;; ++round) {
         if (round > 0) cache.changed = split.changed;
         DmcContour contour = contour_dual_cells(dmc_grid, octrees, true, {}, &cache);
