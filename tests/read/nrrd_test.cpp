@@ -17,6 +17,7 @@ namespace vdbmesh {
 namespace {
 
 using test::expect_format_error;
+using test::has_warning;
 using test::read_all_samples;
 using test::testdata;
 
@@ -27,11 +28,6 @@ std::uint64_t ten_byte_lines(const std::filesystem::path&, std::uint64_t, std::i
 
 VolumeSource parse(const std::string& text, const std::string& name = "read/test.nhdr") {
     return detail::parse_nrrd_header(text, testdata(name), ten_byte_lines);
-}
-
-bool has_warning(const VolumeHeader& h, const std::string& part) {
-    return std::any_of(h.warnings.begin(), h.warnings.end(),
-                       [&](const std::string& w) { return w.find(part) != std::string::npos; });
 }
 
 TEST(NrrdTest, HeadsqSliceFilesEqualTheConcatenatedRaw) {

@@ -16,16 +16,12 @@ namespace vdbmesh {
 namespace {
 
 using test::expect_format_error;
+using test::has_warning;
 using test::read_all_samples;
 using test::testdata;
 
 float at(const std::vector<float>& samples, const VolumeHeader& h, int x, int y, int z) {
     return samples[static_cast<std::size_t>(x + h.dims[0] * (y + h.dims[1] * z))];
-}
-
-bool has_warning(const VolumeHeader& h, const std::string& part) {
-    return std::any_of(h.warnings.begin(), h.warnings.end(),
-                       [&](const std::string& w) { return w.find(part) != std::string::npos; });
 }
 
 TEST(OpenQVisTest, WalnutTabSeparatedHeaderWithComments) {

@@ -1,10 +1,12 @@
 #pragma once
 // Helpers for the text-header reader tests (OpenQVis, MetaImage, NRRD): every sample of a
-// source, files written byte for byte, zlib/gzip compression, and FormatError checks.
+// source, files written byte for byte, zlib/gzip compression, header warnings, and FormatError
+// checks.
 
 #include <gtest/gtest.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -42,6 +44,12 @@ inline std::string compress_bytes(const std::string& bytes, bool gzip) {
     out.resize(stream.total_out);
     deflateEnd(&stream);
     return out;
+}
+
+/// Whether one of the header's warnings contains @a part.
+inline bool has_warning(const VolumeHeader& h, const std::string& part) {
+    return std::any_of(h.warnings.begin(), h.warnings.end(),
+                       [&](const std::string& w) { return w.find(part) != std::string::npos; });
 }
 
 /// Expects @a call to throw a FormatError whose message names @a field.
