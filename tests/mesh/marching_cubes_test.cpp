@@ -15,8 +15,6 @@
 namespace vdbmesh::test {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 void expect_closed_manifold(const Mesh& mesh) {
     ASSERT_FALSE(mesh.triangles.empty());
     const MeshReport report = analyze_mesh(mesh);

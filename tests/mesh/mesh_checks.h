@@ -16,6 +16,8 @@
 
 namespace vdbmesh::test {
 
+inline constexpr double kPi = 3.14159265358979323846;
+
 /// Options for meshing with @a method at @a iso, everything else left at its default.
 inline MeshOptions mesh_options(MeshMethod method, double iso, Inside inside = Inside::above) {
     MeshOptions options;
