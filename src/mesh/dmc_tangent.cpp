@@ -97,11 +97,13 @@ Fit fit_plane(const Neighbourhood& f, const Stencil& s) {
     return {g, std::sqrt(residual / double(s.points.size() - 3))};
 }
 
-/// The plane of sample_tangent() with its RMS residual.
+bool all_finite(const Neighbourhood& f) {
+    return std::all_of(f.begin(), f.end(), [](double v) { return std::isfinite(v); });
+}
+
+/// The plane of sample_tangent() with its RMS residual; nothing where no part is planar.
 std::optional<Fit> tangent_fit(const Neighbourhood& f) {
-    for (double v : f) {
-        if (!std::isfinite(v)) return std::nullopt;
-    }
+    if (!all_finite(f)) return std::nullopt;
     const std::vector<Stencil>& all = stencils();
     const Fit full = fit_plane(f, all[0]);
     if (full.rms <= kSmooth) return full;
@@ -118,9 +120,15 @@ std::optional<Fit> tangent_fit(const Neighbourhood& f) {
 
 }  // namespace
 
+std::optional<Point3d> sample_gradient(const Neighbourhood& f) {
+    if (!all_finite(f)) return std::nullopt;
+    const Eigen::Vector3d g = fit_plane(f, stencils()[0]).gradient;
+    return Point3d{g(0), g(1), g(2)};
+}
+
 std::optional<Point3d> sample_tangent(const Neighbourhood& f) {
     const std::optional<Fit> fit = tangent_fit(f);
-    if (!fit) return std::nullopt;
+    if (!fit) return sample_gradient(f);
     return Point3d{fit->gradient(0), fit->gradient(1), fit->gradient(2)};
 }
 

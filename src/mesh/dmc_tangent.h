@@ -7,7 +7,7 @@
 // when those are not planar, to the half of it (cut by a plane through the sample) or the
 // octant that is most planar: the part on the sample's own side of the crease (ENO-like
 // stencil choice, Harten et al. 1987, in 3D). Samples with no planar part (a cone apex, strong
-// curvature) have no reliable tangent and are left out.
+// curvature, scan noise) keep the plane of the whole neighbourhood.
 
 #include <openvdb/openvdb.h>
 
@@ -22,8 +22,14 @@ namespace vdbmesh::detail {
 /// (i, j, k) in {-1, 0, 1}^3, in units where the gradient is about 1 (voxels).
 using Neighbourhood = std::array<double, 27>;
 
-/// The gradient of the sample's tangent plane (through its value at offset 0), or nothing when
-/// no half of the neighbourhood is planar (or a value is not finite).
+/// The gradient of the least-squares plane through the sample over its whole neighbourhood
+/// (a smoothed central difference); nothing when a value is not finite. Noise on a scan
+/// averages out in it, which is what the merge decision of the octree needs.
+std::optional<Point3d> sample_gradient(const Neighbourhood& f);
+
+/// The gradient of the sample's tangent plane (through its value at offset 0): the best
+/// planar part's, or sample_gradient() when no part is planar (noise, strong curvature);
+/// nothing when a value is not finite.
 std::optional<Point3d> sample_tangent(const Neighbourhood& f);
 
 /// Distance (voxels) from index-space point @a p to the nearest tangent plane (at @a iso) of
