@@ -17,9 +17,10 @@
 //    shell (one crossing loop), which also keeps the signs at edge midpoints, face centres
 //    and the centre consistent with the corners,
 //  - no sample within one voxel lies outside the scanned box.
-// The vertex is the minimiser of the feature-preserving QEF of the parent and its one-voxel
-// ring when that fits within the tolerance (the vertex goes onto an edge or corner next to
-// the cell), else that of the QEF that fitted the parent alone.
+// The vertex is the minimiser of the QEF that fitted the parent alone, the smooth one first;
+// a parent only the feature-preserving QEF fits holds an edge or corner, and its vertex comes
+// from that QEF with the one-voxel ring where that fits too (the ring sees the faces beyond
+// the cell). Tangent fits, the octree's main cost, are then made only around feature cells.
 
 #include "mesh/dmc_octree.h"
 
@@ -226,9 +227,12 @@ void try_merge(const DmcGrid& grid, double error, double scale, int level, int c
         return solution;
     };
     std::optional<Qef4::Solution> own = fitted(cell_qef(grid, scale, fit, kSmooth, level, cx, cy, cz));
-    if (!own) own = fitted(cell_qef(grid, scale, fit, kSharp, level, cx, cy, cz));
-    if (!own) return;
-    const std::optional<Qef4::Solution> sharp = fitted(with_ring(grid, scale, fit, ring, cell_qef(grid, scale, fit, kSharp, level, cx, cy, cz)));
+    std::optional<Qef4::Solution> sharp;
+    if (!own) {
+        own = fitted(cell_qef(grid, scale, fit, kSharp, level, cx, cy, cz));
+        if (!own) return;
+        sharp = fitted(with_ring(grid, scale, fit, ring, cell_qef(grid, scale, fit, kSharp, level, cx, cy, cz)));
+    }
     const Qef4::Solution& solution = sharp ? *sharp : *own;
     const openvdb::Coord origin = fit.block.origin;
     const double value = grid.inside_above ? grid.iso + solution.value * scale : grid.iso - solution.value * scale;
