@@ -83,19 +83,31 @@ struct Fit {
     double rms;
 };
 
-Fit fit_plane(const Neighbourhood& f, const Stencil& s) {
-    const double centre = f[13];
-    Eigen::Vector3d b = Eigen::Vector3d::Zero();
-    double squares = 0.0;
-    for (int n : s.points) {
-        const double delta = f[std::size_t(n)] - centre;
-        b += delta * Eigen::Vector3d(n / 9 - 1, n / 3 % 3 - 1, n % 3 - 1);
-        squares += delta * delta;
+/// Per neighbour n: (delta p, delta^2) with delta = f_n - f_centre and p the offset; every
+/// stencil's fit is a sum of these, so they are computed once per neighbourhood.
+using Moments = std::array<std::array<double, 4>, 27>;
+
+Moments moments_of(const Neighbourhood& f) {
+    Moments m;
+    for (int n = 0; n < 27; ++n) {
+        const double delta = f[std::size_t(n)] - f[13];
+        m[std::size_t(n)] = {delta * (n / 9 - 1), delta * (n / 3 % 3 - 1), delta * (n % 3 - 1), delta * delta};
     }
+    return m;
+}
+
+Fit fit_plane(const Moments& m, const Stencil& s) {
+    std::array<double, 4> sum{};
+    for (int n : s.points) {
+        for (std::size_t c = 0; c < 4; ++c) sum[c] += m[std::size_t(n)][c];
+    }
+    const Eigen::Vector3d b(sum[0], sum[1], sum[2]);
     const Eigen::Vector3d g = s.inverse * b;
-    const double residual = std::max(squares - g.dot(b), 0.0);
+    const double residual = std::max(sum[3] - g.dot(b), 0.0);
     return {g, std::sqrt(residual / double(s.points.size() - 3))};
 }
+
+Fit fit_plane(const Neighbourhood& f, const Stencil& s) { return fit_plane(moments_of(f), s); }
 
 bool all_finite(const Neighbourhood& f) {
     return std::all_of(f.begin(), f.end(), [](double v) { return std::isfinite(v); });
@@ -105,11 +117,12 @@ bool all_finite(const Neighbourhood& f) {
 std::optional<Fit> tangent_fit(const Neighbourhood& f) {
     if (!all_finite(f)) return std::nullopt;
     const std::vector<Stencil>& all = stencils();
-    const Fit full = fit_plane(f, all[0]);
+    const Moments m = moments_of(f);
+    const Fit full = fit_plane(m, all[0]);
     if (full.rms <= kSmooth) return full;
-    Fit best = fit_plane(f, all[1]);
+    Fit best = fit_plane(m, all[1]);
     for (std::size_t s = 2; s < all.size(); ++s) {
-        const Fit part = fit_plane(f, all[s]);
+        const Fit part = fit_plane(m, all[s]);
         if (part.rms < best.rms) best = part;
     }
     if (best.rms > kPlanar) return std::nullopt;
