@@ -62,6 +62,9 @@ openvdb::FloatGrid::Ptr read_vdb(const std::filesystem::path& path);
 /// The isovalue stored on a converted grid, if any.
 std::optional<double> stored_isovalue(const openvdb::FloatGrid& grid);
 
+/// The scanned box stored on a converted grid (kMetaScanMin/Max, index space, inclusive), if any.
+std::optional<openvdb::CoordBBox> stored_scan_box(const openvdb::FloatGrid& grid);
+
 /// What `vdbmesh info` reports about one grid of a .vdb file.
 struct GridInfo {
     std::string name, grid_class, value_type;  ///< e.g. "density", "unknown", "float"

@@ -61,4 +61,11 @@ std::optional<double> stored_isovalue(const openvdb::FloatGrid& grid) {
     return std::nullopt;
 }
 
+std::optional<openvdb::CoordBBox> stored_scan_box(const openvdb::FloatGrid& grid) {
+    const auto min = grid.getMetadata<openvdb::Vec3IMetadata>(kMetaScanMin);
+    const auto max = grid.getMetadata<openvdb::Vec3IMetadata>(kMetaScanMax);
+    if (!min || !max) return std::nullopt;
+    return openvdb::CoordBBox(openvdb::Coord(min->value()), openvdb::Coord(max->value()));
+}
+
 }  // namespace vdbmesh

@@ -69,7 +69,7 @@ Vec3d closing_face_normal(const std::optional<openvdb::CoordBBox>& box, const de
 void project_onto_isosurface(std::vector<std::array<double, 3>>& points, const openvdb::FloatGrid& grid, double iso,
                              Inside inside) {
     std::vector<std::optional<Vec3d>> moved(points.size());
-    const auto box = detail::scan_box(grid);
+    const auto box = stored_scan_box(grid);
     tbb::enumerable_thread_specific<detail::TrilinearField> fields([&] { return detail::TrilinearField(grid, box); });
     tbb::parallel_for(std::size_t(0), points.size(), [&](std::size_t i) {
         moved[i] = detail::closest_boundary_point(fields.local(), iso, inside == Inside::above,
@@ -165,7 +165,7 @@ Accuracy TrueSurface::measure(const Mesh& world_mesh) const {
     const Mesh mesh = to_index_space(world_mesh, grid_);
     if (mesh.triangles.empty()) return result;
     const SignedDistance& exact = options_.exact_signed_distance;
-    const auto box = detail::scan_box(grid_);
+    const auto box = stored_scan_box(grid_);
     tbb::enumerable_thread_specific<detail::TrilinearField> fields([&] { return detail::TrilinearField(grid_, box); });
     std::atomic<std::size_t> unresolved{0};
     const SignedDistance to_surface = exact ? exact : SignedDistance([&](double x, double y, double z) {

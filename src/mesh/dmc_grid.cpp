@@ -14,13 +14,6 @@ namespace vdbmesh::detail {
 
 namespace {
 
-std::optional<openvdb::CoordBBox> read_scan_box(const openvdb::FloatGrid& grid) {
-    const auto min = grid.getMetadata<openvdb::Vec3IMetadata>(kMetaScanMin);
-    const auto max = grid.getMetadata<openvdb::Vec3IMetadata>(kMetaScanMax);
-    if (!min || !max) return std::nullopt;
-    return openvdb::CoordBBox(openvdb::Coord(min->value()), openvdb::Coord(max->value()));
-}
-
 /// Range of local coordinates a neighbour block contributes to a SampleBlock.
 struct AxisRange {
     int begin, end;
@@ -39,7 +32,7 @@ DmcGrid make_dmc_grid(const openvdb::FloatGrid& grid, const MeshOptions& options
     result.iso = options.iso;
     result.inside_above = options.inside == Inside::above;
     result.open_boundary = options.open_boundary;
-    result.scan_box = read_scan_box(grid);
+    result.scan_box = stored_scan_box(grid);
     for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) result.leaves.push_back(&*leaf);
 
     std::unordered_map<const FloatLeaf*, std::int32_t> index_of;

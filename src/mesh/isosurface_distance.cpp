@@ -163,7 +163,7 @@ std::optional<Vec3d> closest_boundary_point(const TrilinearField& field, double 
 
 std::optional<double> distance_to_trilinear_isosurface(const openvdb::FloatGrid& grid, double iso,
                                                        const openvdb::Vec3d& index_point, Inside inside) {
-    const detail::TrilinearField field(grid, detail::scan_box(grid));
+    const detail::TrilinearField field(grid, stored_scan_box(grid));
     const auto q = detail::closest_boundary_point(field, iso, inside == Inside::above, index_point);
     if (!q) return std::nullopt;
     return (*q - index_point).length();

@@ -12,14 +12,6 @@
 
 namespace vdbmesh::detail {
 
-/// The scanned box of a converted grid (kMetaScanMin/Max), if stored.
-inline std::optional<openvdb::CoordBBox> scan_box(const openvdb::FloatGrid& grid) {
-    const auto min = grid.getMetadata<openvdb::Vec3IMetadata>(kMetaScanMin);
-    const auto max = grid.getMetadata<openvdb::Vec3IMetadata>(kMetaScanMax);
-    if (!min || !max) return std::nullopt;
-    return openvdb::CoordBBox(openvdb::Coord(min->value()), openvdb::Coord(max->value()));
-}
-
 /// Value and gradient of the interpolant at a point (index space).
 struct FieldSample {
     double value = 0;
