@@ -29,6 +29,8 @@
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <tuple>
+#include <utility>
 
 #include "mesh/dmc_qef.h"
 #include "mesh/dmc_single_sheet.h"
@@ -213,9 +215,17 @@ void try_merge(const DmcGrid& grid, double error, double scale, int level, int c
     const SampleCube ring = {cx * size - 1, cy * size - 1, cz * size - 1, size + 2};
     if (has_outside_scan(fit.block, ring)) return;
     if (!has_sign_change(fit.block, ring)) {
-        ok = 1;  // no surface here: a parent may absorb it
+        const double c = cx * size + 0.5 * (size - 1), cyy = cy * size + 0.5 * (size - 1), cz2 = cz * size + 0.5 * (size - 1);
+        const int h = size / 2;
+        double sum = 0.0;
+        for (int k = 0; k < 8; ++k) sum += fit.block.at(cx * size + h - 1 + (k & 1), cy * size + h - 1 + ((k >> 1) & 1), cz * size + h - 1 + (k >> 2));
+        const openvdb::Coord origin = fit.block.origin;
+        fit.vertex[std::size_t(level)][std::size_t(index)] = {{origin.x() + c, origin.y() + cyy, origin.z() + cz2}, sum / 8.0};
+        ok = 1;
+        merged = 1;
         return;
     }
+    if (!(scale > 0.0)) return;
     // The cheap topology test first: the QEFs then fit only cells that may merge.
     if (!single_sheet(fit.block, ring.x, ring.y, ring.z, ring.n)) return;
     const Point3d lo = {cx * size - 0.5, cy * size - 0.5, cz * size - 0.5};
@@ -242,46 +252,33 @@ void try_merge(const DmcGrid& grid, double error, double scale, int level, int c
     merged = 1;
 }
 
-/// Writes the merged cells into @a octree: the largest merged cell wins.
+/// Key of the level-@a level cell whose minimum voxel is @a min_offset in LeafOctree::built_key.
+std::uint16_t cell_key(int level, int min_offset) { return std::uint16_t((level << 9) | min_offset); }
+
+/// Writes every merged cell into @a octree's built cells, and makes the largest ones its cells.
 void record_cells(const LeafFit& fit, LeafOctree& octree) {
     octree = LeafOctree();
-    std::array<std::uint8_t, 512> level{};
-    bool any = false;
-    for (int l = kLevels - 1; l >= 1; --l) {
+    for (int l = 1; l < kLevels; ++l) {
         const int n = cells_per_axis(l), size = 1 << l;
         for (int cx = 0; cx < n; ++cx) {
             for (int cy = 0; cy < n; ++cy) {
                 for (int cz = 0; cz < n; ++cz) {
-                    if (!fit.merged[std::size_t(l)][std::size_t(cell_index(l, cx, cy, cz))]) continue;
-                    const int min = leaf_offset(cx * size, cy * size, cz * size);
-                    if (level[std::size_t(min)] != 0) continue;  // inside a larger merged cell
-                    any = true;
-                    for (int i = 0; i < size; ++i) {
-                        for (int j = 0; j < size; ++j) {
-                            for (int k = 0; k < size; ++k) level[std::size_t(leaf_offset(cx * size + i, cy * size + j, cz * size + k))] = std::uint8_t(l);
-                        }
-                    }
+                    const std::size_t index = std::size_t(cell_index(l, cx, cy, cz));
+                    if (!fit.merged[std::size_t(l)][index]) continue;
+                    octree.built_key.push_back(cell_key(l, leaf_offset(cx * size, cy * size, cz * size)));
+                    octree.built_vertex.push_back(fit.vertex[std::size_t(l)][index]);
                 }
             }
         }
     }
-    if (!any) return;
-    octree.level.assign(level.begin(), level.end());
-    for (int offset = 0; offset < 512; ++offset) {
-        const int l = level[std::size_t(offset)];
-        if (l == 0) continue;
-        const int x = offset >> 6, y = (offset >> 3) & 7, z = offset & 7;
-        const int mask = (1 << l) - 1;
-        if ((x & mask) || (y & mask) || (z & mask)) continue;  // not the cell's minimum voxel
-        octree.merged_min.push_back(std::uint16_t(offset));
-        octree.merged_vertex.push_back(fit.vertex[std::size_t(l)][std::size_t(cell_index(l, x >> l, y >> l, z >> l))]);
-    }
+    if (octree.built_key.empty()) return;
+    octree.level.assign(512, 0);
+    octree.expand(0, 0, 0, kLeafDim, kLevels);
 }
 
 void build_leaf_octree(const DmcGrid& grid, std::size_t leaf, double error, LeafFit& fit, LeafOctree& octree) {
     load_sample_block(grid, leaf, fit.block);
     const double scale = typical_gradient(fit.block);
-    if (!(scale > 0.0)) return;
     for (QefCache& cache : fit.cache) {
         for (auto& ready : cache.ready) std::fill(ready.begin(), ready.end(), std::uint8_t(0));
     }
@@ -299,6 +296,36 @@ void build_leaf_octree(const DmcGrid& grid, std::size_t leaf, double error, Leaf
 
 }  // namespace
 
+void LeafOctree::expand(int x0, int y0, int z0, int extent, int below) {
+    std::vector<std::pair<std::uint16_t, CellVertex>> added;
+    for (int l = below - 1; l >= 1; --l) {
+        const int size = 1 << l;
+        for (int x = x0; x < x0 + extent; x += size) {
+            for (int y = y0; y < y0 + extent; y += size) {
+                for (int z = z0; z < z0 + extent; z += size) {
+                    const int min = leaf_offset(x, y, z);
+                    if (level[std::size_t(min)] != 0) continue;  // inside a larger cell
+                    const std::uint16_t key = cell_key(l, min);
+                    const auto it = std::lower_bound(built_key.begin(), built_key.end(), key);
+                    if (it == built_key.end() || *it != key) continue;
+                    for (int i = 0; i < size; ++i) {
+                        for (int j = 0; j < size; ++j) {
+                            for (int k = 0; k < size; ++k) level[std::size_t(leaf_offset(x + i, y + j, z + k))] = std::uint8_t(l);
+                        }
+                    }
+                    added.emplace_back(std::uint16_t(min), built_vertex[std::size_t(it - built_key.begin())]);
+                }
+            }
+        }
+    }
+    if (added.empty()) return;
+    for (std::size_t i = 0; i < merged_min.size(); ++i) added.emplace_back(merged_min[i], merged_vertex[i]);
+    std::sort(added.begin(), added.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    merged_min.resize(added.size());
+    merged_vertex.resize(added.size());
+    for (std::size_t i = 0; i < added.size(); ++i) std::tie(merged_min[i], merged_vertex[i]) = added[i];
+}
+
 void LeafOctree::split_cell(int offset) {
     const int l = level_at(offset);
     if (l == 0) return;
@@ -313,6 +340,7 @@ void LeafOctree::split_cell(int offset) {
             for (int k = 0; k < size; ++k) level[std::size_t(leaf_offset(mx + i, my + j, mz + k))] = 0;
         }
     }
+    expand(mx, my, mz, size, l);
 }
 
 std::vector<LeafOctree> build_leaf_octrees(const DmcGrid& grid, double error) {

@@ -28,6 +28,10 @@ struct LeafOctree {
     std::vector<std::uint8_t> level;          ///< per voxel offset: level of its cell; empty: all 0
     std::vector<std::uint16_t> merged_min;    ///< sorted offsets of the merged cells' minimum voxels
     std::vector<CellVertex> merged_vertex;    ///< their vertices, in the same order
+    /// Every cell the bottom-up merge made, at any level (level << 9 | minimum voxel offset,
+    /// sorted), with its vertex: splitting a cell brings back its largest merged descendants.
+    std::vector<std::uint16_t> built_key;
+    std::vector<CellVertex> built_vertex;
 
     int level_at(int offset) const { return level.empty() ? 0 : level[offset]; }
     const CellVertex& vertex_at(int min_offset) const {
@@ -35,8 +39,12 @@ struct LeafOctree {
         return merged_vertex[std::size_t(it - merged_min.begin())];
     }
     bool has_merges() const { return !merged_min.empty(); }
-    /// Splits the merged cell holding voxel @a offset back into voxels (unit cells).
+    /// Splits the merged cell holding voxel @a offset into its largest merged descendants
+    /// (voxels where none was merged).
     void split_cell(int offset);
+    /// Makes cells of the largest built cells below level @a below in the cube of @a extent
+    /// voxels at local voxel (x, y, z), whose voxels are all unit cells.
+    void expand(int x, int y, int z, int extent, int below);
 };
 
 /// Builds the octree of every leaf. error <= 0: no merging (every voxel is a cell).
