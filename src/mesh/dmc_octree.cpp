@@ -7,9 +7,12 @@
 // voxels and the tolerance is in voxels. Every voxel gets two QEFs of its tangent hyperplane:
 // one with the gradient of its whole neighbourhood, one with the feature-preserving tangent
 // (dmc_tangent.h). Eight children merge into their parent when
-//  - each child is a cell (merged) or holds no surface (no sign change within one voxel of it),
-//  - the parent's samples and their one-voxel ring straddle the isovalue (surface-free cells
-//    stay voxels: their samples are exact, a vertex there would only blur the crossings),
+//  - each child is a merged cell,
+//  - where the parent's samples and their one-voxel ring do not straddle the isovalue, it
+//    merges with no further test: its vertex is its centre, with the mean of the 8 samples
+//    around it (the trilinear value there, on its samples' side). Such cells must merge too:
+//    a surface cell next to voxels makes dual cells at every voxel corner between them, and
+//    its surface keeps the voxels' resolution there;
 //  - the RMS residual of the parent's QEF of either kind is at most the tolerance (noisy
 //    scans merge by the first, sharp edges and corners by the second),
 //  - the surface inside the parent (with its ring) is a single disc: inside and outside

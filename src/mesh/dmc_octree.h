@@ -1,8 +1,9 @@
 #pragma once
 // Private: the depth-3 octree of each 8^3 leaf (Schaefer and Warren 2004, section 3). Its unit
 // cell is the voxel: a unit cube centred on the sample, whose vertex is the sample itself.
-// Cells of 2, 4 and 8 voxels exist where 8 children were merged because their 4D QEF error
-// stayed under the tolerance and the merge keeps the surface's topology (dmc_octree.cpp).
+// Cells of 2, 4 and 8 voxels exist where 8 children were merged because no surface passes
+// there, or their 4D QEF error stayed under the tolerance and the merge keeps the surface's
+// topology (dmc_octree.cpp).
 
 #include <algorithm>
 #include <cstdint>

@@ -195,7 +195,7 @@ CubeRun mesh_cube(const std::array<double, 3>& degrees, double error) {
 
 // The target at error 0.1: Hausdorff <= 0.2 voxel with 5x fewer triangles than at
 // error 0, axis-aligned and tilted (Marching Cubes: 0.58 and 0.92 voxel). Met on the
-// axis-aligned cube (measured: 76,796 -> 1,196 triangles, Hausdorff 0.088): the QEF puts the
+// axis-aligned cube (measured: 76,796 -> 1,196 triangles, Hausdorff 0.163): the QEF puts the
 // vertices of the cells holding corners and edges on the features (dmc_tangent.h: one-sided
 // tangents at creases; dmc_qef.cpp: the free ridge direction moved to the isovalue) and the
 // self-check accepts them (dmc_tangent.h: tangent-plane distance).
@@ -206,13 +206,15 @@ TEST(DmcAccuracyTest, AxisAlignedCubeCornersAndEdgesAreSharpAtErrorPointOne) {
     expect_clean(run.coarse);
 }
 
-// NOT met on the tilted cube: edges crossing the dual cells obliquely leave chords across
-// them, which the self-check splits back into voxels. Asserted: what is reached (measured:
-// 109,468 -> 39,432 triangles, 2.8x; Hausdorff 0.647, below Marching Cubes' 0.92), clean.
+// Half met on the tilted cube: 8x fewer triangles (measured: 109,468 -> 13,674), but a
+// Hausdorff distance of 0.588 voxel, not 0.2 (Marching Cubes: 0.92). The worst points are on
+// the edges where the self-check split the merged cells back into voxels: there Marching
+// Cubes' chords cut the edge. (Tried: voxels keeping a vertex moved onto the edge; the MC
+// table's triangles still join crossings on both faces across the edge.)
 TEST(DmcAccuracyTest, TiltedCubeAtErrorPointOneIsCleanAndCoarser) {
     const CubeRun run = mesh_cube({17, 31, 7}, 0.1);
-    EXPECT_LE(run.distance.hausdorff, 0.65);
-    EXPECT_LE(run.coarse.triangles.size() * 5, run.fine.triangles.size() * 2);
+    EXPECT_LE(run.distance.hausdorff, 0.6);
+    EXPECT_LE(run.coarse.triangles.size() * 5, run.fine.triangles.size());
     expect_clean(run.coarse);
 }
 
@@ -244,8 +246,9 @@ double sample_noise(const openvdb::Coord& c, double amplitude) {
 
 // Scans are noisy: the sample planes then disagree slightly everywhere, and a feature-seeking
 // tangent sees no planar part at all. Noise of +-0.2 voxel (0.02 of the ramp's 0.1 per voxel,
-// RMS 0.12 voxel, below the tolerance) must still let most cells merge (before the smooth
-// merge test, the sphere kept 37% of its error-0 triangles; it now keeps 23%).
+// RMS 0.12 voxel, below the tolerance) must still let most cells merge. The sphere kept 37%
+// of its error-0 triangles before the smooth merge test, 23% before surface-free cells merged
+// and the self-check split cells one level at a time; it now keeps 9%.
 TEST(DmcAccuracyTest, NoisySphereAtErrorQuarterIsCleanAndCoarser) {
     const PhantomSpec spec = phantom_spec(PhantomShape::sphere);
     const auto grid = phantom_grid(spec);
@@ -260,7 +263,7 @@ TEST(DmcAccuracyTest, NoisySphereAtErrorQuarterIsCleanAndCoarser) {
     // The self-check's bound on chords (twice the tolerance) plus the noise's shift of the
     // isosurface (0.2 voxel).
     EXPECT_LE(d.hausdorff, 0.7);
-    EXPECT_LE(coarse.triangles.size() * 3, fine.triangles.size());
+    EXPECT_LE(coarse.triangles.size() * 8, fine.triangles.size());
     expect_clean(coarse);
 }
 
