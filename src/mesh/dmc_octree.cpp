@@ -15,6 +15,8 @@
 //    its surface keeps the voxels' resolution there;
 //  - the RMS residual of the parent's QEF of either kind is at most the tolerance (noisy
 //    scans merge by the first, sharp edges and corners by the second),
+//  - no sample of the parent and its ring belongs to a sign component that the leaf's block
+//    encloses (a speck or a pore: dmc_enclosed_components.h),
 //  - the surface inside the parent (with its ring) is a single disc: inside and outside
 //    samples each form one 6-connected component, and so do they on the block's boundary
 //    shell (one crossing loop), which also keeps the signs at edge midpoints, face centres
@@ -35,6 +37,7 @@
 #include <tuple>
 #include <utility>
 
+#include "mesh/dmc_enclosed_components.h"
 #include "mesh/dmc_qef.h"
 #include "mesh/dmc_single_sheet.h"
 #include "mesh/dmc_tangent.h"
@@ -134,6 +137,7 @@ struct LeafFit {
     std::array<std::vector<std::uint8_t>, kLevels> ok;  ///< cell is merged or holds no surface
     std::array<std::vector<std::uint8_t>, kLevels> merged;
     std::array<std::vector<CellVertex>, kLevels> vertex;
+    std::array<bool, kBlockSamples> enclosed;  ///< per sample: in a component the block encloses
     LeafFit() {
         for (int l = 0; l < kLevels; ++l) {
             const std::size_t cells = std::size_t(1) << (3 * (3 - l));
@@ -203,6 +207,19 @@ Qef4 with_ring(const DmcGrid& grid, double scale, LeafFit& fit, const SampleCube
     return result;
 }
 
+/// Whether @a cube holds a sample of a sign component that the leaf's block encloses
+/// (dmc_enclosed_components.h): merging there could make its surface vanish.
+bool holds_enclosed(const LeafFit& fit, const SampleCube& cube) {
+    for (int i = 0; i < cube.n; ++i) {
+        for (int j = 0; j < cube.n; ++j) {
+            for (int k = 0; k < cube.n; ++k) {
+                if (fit.enclosed[std::size_t(SampleBlock::index(cube.x + i, cube.y + j, cube.z + k))]) return true;
+            }
+        }
+    }
+    return false;
+}
+
 /// Tries to merge the level-@a level cell (cx, cy, cz) of the leaf.
 void try_merge(const DmcGrid& grid, double error, double scale, int level, int cx, int cy, int cz, LeafFit& fit) {
     const int size = 1 << level;
@@ -230,7 +247,7 @@ void try_merge(const DmcGrid& grid, double error, double scale, int level, int c
     }
     if (!(scale > 0.0)) return;
     // The cheap topology test first: the QEFs then fit only cells that may merge.
-    if (!single_sheet(fit.block, ring.x, ring.y, ring.z, ring.n)) return;
+    if (!single_sheet(fit.block, ring.x, ring.y, ring.z, ring.n) || holds_enclosed(fit, ring)) return;
     const Point3d lo = {cx * size - 0.5, cy * size - 0.5, cz * size - 0.5};
     const Point3d hi = {lo[0] + size, lo[1] + size, lo[2] + size};
     auto fitted = [&](const Qef4& qef) -> std::optional<Qef4::Solution> {
@@ -282,6 +299,7 @@ void record_cells(const LeafFit& fit, LeafOctree& octree) {
 void build_leaf_octree(const DmcGrid& grid, std::size_t leaf, double error, LeafFit& fit, LeafOctree& octree) {
     load_sample_block(grid, leaf, fit.block);
     const double scale = typical_gradient(fit.block);
+    fit.enclosed = enclosed_components(fit.block);
     for (QefCache& cache : fit.cache) {
         for (auto& ready : cache.ready) std::fill(ready.begin(), ready.end(), std::uint8_t(0));
     }

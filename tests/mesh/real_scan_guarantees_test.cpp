@@ -111,6 +111,7 @@ TEST_P(RealScanGuaranteesTest, DmcAndMcMeshesAreClean) {
     convert.iso = scan.iso;
     const openvdb::FloatGrid::Ptr grid = convert_to_grid(*reader, convert);
 
+    std::vector<MeshReport> reports;
     for (const Method& method : kMethods) {
         MeshOptions options;
         options.method = method.method;
@@ -120,7 +121,13 @@ TEST_P(RealScanGuaranteesTest, DmcAndMcMeshesAreClean) {
         std::cout << "[ figures  ] " << scan.name << " " << method.label << ": " << describe(report) << "\n";
         EXPECT_TRUE(report.is_clean()) << scan.name << " at iso " << scan.iso << ", " << method.label
                                        << ": not clean: " << describe(report);
+        reports.push_back(report);
     }
+    // Merging must not erase Marching Cubes' surfaces: specks of noise at the threshold are
+    // components of their own (the bunny CT's error-0 mesh has 1,219). Specks that straddle a
+    // leaf's sample block are not protected (dmc_enclosed_components.h): up to 2% may go (the
+    // bunny lost 32 before the octree kept enclosed components, 4 since; headsq 3 of 258).
+    EXPECT_GE(reports[1].components * 100, reports[0].components * 98) << scan.name << ": components at error 0.25 vs 0";
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedData, RealScanGuaranteesTest, ::testing::ValuesIn(kScans),

@@ -1,10 +1,12 @@
-// Tests of the single-sheet test of Dual Marching Cubes' octree merging (src/mesh/dmc_single_sheet.cpp).
+// Tests of the topology tests of Dual Marching Cubes' octree merging: the single-sheet test
+// (src/mesh/dmc_single_sheet.cpp) and the enclosed sign components (dmc_enclosed_components.cpp).
 
 #include <gtest/gtest.h>
 
 #include <functional>
 #include <memory>
 
+#include "mesh/dmc_enclosed_components.h"
 #include "mesh/dmc_single_sheet.h"
 
 namespace vdbmesh {
@@ -50,6 +52,35 @@ TEST(DmcSingleSheetTest, CornerTouchingIsNotConnected) {
     EXPECT_FALSE(detail::single_sheet(*block, 0, 0, 0, 4));
     const auto one = block_of([](int x, int y, int z) { return x == 0 && y == 0 && z == 0; });
     EXPECT_TRUE(detail::single_sheet(*one, 0, 0, 0, 4));
+}
+
+bool enclosed_at(const detail::SampleBlock& block, int x, int y, int z) {
+    return detail::enclosed_components(block)[std::size_t(detail::SampleBlock::index(x, y, z))];
+}
+
+TEST(DmcEnclosedComponentsTest, SpeckInsideTheBlockIsEnclosed) {
+    const auto block = block_of([](int x, int y, int z) { return z < 2 || (x == 5 && y == 5 && (z == 5 || z == 6)); });
+    EXPECT_TRUE(enclosed_at(*block, 5, 5, 5));
+    EXPECT_TRUE(enclosed_at(*block, 5, 5, 6));
+    EXPECT_FALSE(enclosed_at(*block, 5, 5, 0));  // the slab reaches the outer layer
+    EXPECT_FALSE(enclosed_at(*block, 0, 0, 5));  // and so does the outside around the speck
+}
+
+TEST(DmcEnclosedComponentsTest, PoreIsEnclosedButATunnelToTheOuterLayerIsNot) {
+    const auto pore = block_of([](int x, int y, int z) { return !(x == 3 && y == 4 && z == 4); });
+    EXPECT_TRUE(enclosed_at(*pore, 3, 4, 4));
+    EXPECT_FALSE(enclosed_at(*pore, 0, 0, 0));
+    const auto tunnel = block_of([](int x, int y, int) { return !(x == 3 && y == 4); });
+    EXPECT_FALSE(enclosed_at(*tunnel, 3, 4, 4));
+}
+
+TEST(DmcEnclosedComponentsTest, DiagonalNeighboursAreNotConnected) {
+    // 6-connectivity, as the single-sheet test: a diagonal chain of samples from the outer
+    // layer is a chain of specks, each enclosed but the first.
+    const auto block = block_of([](int x, int y, int z) { return z == 4 && x == y && x <= 3; });
+    EXPECT_FALSE(enclosed_at(*block, -1, -1, 4));
+    EXPECT_TRUE(enclosed_at(*block, 0, 0, 4));
+    EXPECT_TRUE(enclosed_at(*block, 3, 3, 4));
 }
 
 }  // namespace
