@@ -113,6 +113,10 @@ std::pair<double, Vec3d> refine(const TrilinearField& field, double iso, const V
 
 }  // namespace
 
+std::optional<Vec3d> project_onto_isosurface(const TrilinearField& field, double iso, const Vec3d& point) {
+    return project(field, iso, point, point);
+}
+
 std::optional<Vec3d> closest_isosurface_point(const TrilinearField& field, double iso, const Vec3d& p) {
     std::optional<Vec3d> closest;
     double best = kIsosurfaceSearchVoxels;

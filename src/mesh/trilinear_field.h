@@ -79,6 +79,11 @@ private:
     std::optional<openvdb::CoordBBox> scan_box_;
 };
 
+/// Newton's projection of @a point onto {field = iso} (steps along the gradient); empty when
+/// it does not converge nearby. The point found is on the surface, so its distance to
+/// @a point bounds the distance to the surface from above.
+std::optional<openvdb::Vec3d> project_onto_isosurface(const TrilinearField& field, double iso, const openvdb::Vec3d& point);
+
 /// The nearest point of {field = iso} to @a point that the closest-point iteration finds
 /// (isosurface_distance.cpp); empty when none within kIsosurfaceSearchVoxels.
 std::optional<openvdb::Vec3d> closest_isosurface_point(const TrilinearField& field, double iso,
