@@ -144,13 +144,16 @@ double isosurface_distance(Accessor& accessor, double iso, const openvdb::Vec3d&
     return slope > 0.0 ? std::abs(f - iso) / slope : 0.0;
 }
 
-/// Whether Newton's projection of @a p onto the isosurface lands within @a tolerance: on noisy
-/// scans the first-order distance above reads far too long where the gradient is weak (two
-/// thirds of the bunny CT's flagged centroids lay within the tolerance of the Marching Cubes
-/// surface), and every split cell costs triangles. The projection is on the surface, so this
-/// never accepts a point farther than the tolerance.
+/// Whether a point of the isosurface lies within @a tolerance of @a p: Newton's projection,
+/// else the closest-point search of isosurface_distance.cpp. On noisy scans the first-order
+/// distance above reads far too long where the gradient is weak (two thirds of the bunny CT's
+/// flagged centroids lay within the tolerance of the Marching Cubes surface), and every split
+/// cell costs triangles. Both points found are on the surface, so this never accepts a point
+/// farther than the tolerance.
 bool projects_within(const TrilinearField& field, double iso, const openvdb::Vec3d& p, double tolerance) {
-    const std::optional<openvdb::Vec3d> q = project_onto_isosurface(field, iso, p);
+    std::optional<openvdb::Vec3d> q = project_onto_isosurface(field, iso, p);
+    if (q && (*q - p).length() <= tolerance) return true;
+    q = closest_isosurface_point(field, iso, p);
     return q && (*q - p).length() <= tolerance;
 }
 
