@@ -152,9 +152,9 @@ std::uint32_t TriangleBvh::build(std::uint32_t begin, std::uint32_t end, const s
     return index;
 }
 
-ClosestPoint TriangleBvh::closest_point(const Point3& p) const {
+ClosestPoint TriangleBvh::closest_point(const Point3& p, double bound_squared) const {
     ClosestPoint best;
-    best.distance_squared = std::numeric_limits<double>::infinity();
+    best.distance_squared = bound_squared;
     std::uint32_t stack[kMaxDepth];
     int top = 0;
     stack[top++] = 0;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "analysis/exact_predicates.h"
@@ -47,8 +48,10 @@ public:
     /// Over the listed triangles of @a mesh (which must outlive the tree).
     TriangleBvh(const Mesh& mesh, std::vector<std::uint32_t> triangles);
 
-    /// The closest point of the listed triangles to @a p; requires at least one triangle.
-    ClosestPoint closest_point(const Point3& p) const;
+    /// The closest point of the listed triangles to @a p; requires at least one triangle. Only
+    /// triangles nearer than sqrt(@a bound_squared) are looked at: where none is, the result
+    /// keeps that bound as its distance.
+    ClosestPoint closest_point(const Point3& p, double bound_squared = std::numeric_limits<double>::infinity()) const;
 
     bool empty() const { return nodes_.empty(); }
     /// Self-overlap, one leaf at a time (for parallel loops over leaf_count()): calls

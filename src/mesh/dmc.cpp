@@ -1,13 +1,15 @@
 // Dual Marching Cubes on the VDB tree: the driver. Octrees per leaf (dmc_octree.cpp), dual
 // cells (dmc_dual_cells.cpp), Marching Cubes on them (dmc_contour.cpp), then the self-check
-// (dmc_self_check.cpp): merged cells behind self-intersecting, non-manifold or inaccurate
-// triangles are split back into voxels and the surface remade, until none remain.
+// (dmc_self_check.cpp) and the coverage check (dmc_coverage_check.cpp): merged cells behind
+// self-intersecting, non-manifold or inaccurate triangles, or holding isosurface the mesh
+// strays from, are split into their children and the surface remade, until none remain.
 
 #include "mesh/dmc.h"
 
 #include <algorithm>
 
 #include "mesh/dmc_contour.h"
+#include "mesh/dmc_coverage_check.h"
 #include "mesh/dmc_grid.h"
 #include "mesh/dmc_octree.h"
 #include "mesh/dmc_self_check.h"
@@ -16,8 +18,7 @@ namespace vdbmesh::detail {
 
 namespace {
 
-/// Each round splits at least one merged cell, and a leaf has at most 73; this bounds the
-/// rounds far above what the meshes tried need (2 to 4).
+/// Far above what the meshes tried need (2 to 5 rounds); past it, Marching Cubes is returned.
 constexpr int kMaxRefinementRounds = 32;
 
 bool any_merged(const std::vector<LeafOctree>& octrees) {
@@ -46,11 +47,17 @@ Mesh dual_marching_cubes(const openvdb::FloatGrid& grid, const MeshOptions& opti
         if (round > 0) cache.changed = split.changed;
         DmcContour contour = contour_dual_cells(dmc_grid, octrees, true, {}, &cache);
         report(0.3 + 0.7 * std::min(1.0, (round + 1) / 4.0));
-        if (round + 1 >= kMaxRefinementRounds || !any_merged(octrees)) return std::move(contour.mesh);
-        const std::vector<std::uint32_t> refine =
-            triangles_to_refine(dmc_grid, contour, tolerance, round == 0 ? nullptr : &split);
-        if (refine.empty() || !split_cells_of(dmc_grid, contour, refine, octrees, split)) return std::move(contour.mesh);
+        if (!any_merged(octrees)) return std::move(contour.mesh);
+        const SplitVoxels* since = round == 0 ? nullptr : &split;
+        const std::vector<std::uint32_t> refine = triangles_to_refine(dmc_grid, contour, tolerance, since);
+        const std::vector<LeafVoxel> uncovered = cells_missing_surface(dmc_grid, octrees, contour.mesh, tolerance, since);
+        const bool refined = split_cells_of(dmc_grid, contour, refine, octrees, split);  // resets split
+        if (!split_cells_at(uncovered, octrees, split) && !refined) return std::move(contour.mesh);
+        if (round + 1 == kMaxRefinementRounds) break;
     }
+    // Still not clean after all the rounds: Marching Cubes, which always is.
+    for (LeafOctree& octree : octrees) octree = LeafOctree();
+    return contour_dual_cells(dmc_grid, octrees, false, {}).mesh;
 }
 
 }  // namespace vdbmesh::detail

@@ -168,8 +168,7 @@ std::uint32_t vertex_index(const VertexMarks& marks, const std::vector<std::uint
 /// Whether leaf @a leaf's triangles in @a cache still hold: no neighbour's octree changed.
 bool reusable(const DmcGrid& grid, const DmcContourCache* cache, std::size_t leaf) {
     if (!cache || cache->per_leaf.size() != grid.leaves.size()) return false;
-    return std::none_of(grid.neighbours[leaf].begin(), grid.neighbours[leaf].end(),
-                        [&](std::int32_t n) { return n >= 0 && cache->changed[std::size_t(n)]; });
+    return !grid.any_neighbour(leaf, [&](std::size_t n) { return cache->changed[n]; });
 }
 
 }  // namespace

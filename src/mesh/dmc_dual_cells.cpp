@@ -26,14 +26,6 @@ bool owns_dual_cell(const DmcGrid& grid, std::size_t leaf, int x, int y, int z) 
     return false;
 }
 
-/// Whether any leaf in the 3^3 neighbourhood has merged cells (else every corner is a voxel).
-bool neighbourhood_has_merges(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, std::size_t leaf) {
-    for (std::int32_t n : grid.neighbours[leaf]) {
-        if (n >= 0 && octrees[std::size_t(n)].has_merges()) return true;
-    }
-    return false;
-}
-
 }  // namespace
 
 DualCorner dual_corner(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, std::size_t leaf,

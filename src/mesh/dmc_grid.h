@@ -6,6 +6,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -33,6 +34,13 @@ struct DmcGrid {
     std::vector<std::array<std::int32_t, 27>> neighbours;  ///< leaf index per neighbour_slot, -1: none
 
     bool inside(double value) const { return inside_above ? value > iso : value < iso; }
+    /// Whether @a holds(n) for the index n of a leaf among leaf @a leaf's 27 neighbours (itself
+    /// included).
+    template <typename Holds>
+    bool any_neighbour(std::size_t leaf, Holds&& holds) const {
+        return std::any_of(neighbours[leaf].begin(), neighbours[leaf].end(),
+                           [&](std::int32_t n) { return n >= 0 && holds(std::size_t(n)); });
+    }
     bool in_box(const openvdb::Coord& ijk) const { return !scan_box || scan_box->isInside(ijk); }
     /// Index of the leaf holding voxel @a local (relative to leaf @a leaf's origin, each
     /// coordinate in [-8, 15]), or -1 when a tile or the background holds it.

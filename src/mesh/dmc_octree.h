@@ -48,6 +48,11 @@ struct LeafOctree {
     void expand(int x, int y, int z, int extent, int below);
 };
 
+/// Whether a leaf among leaf @a leaf's 27 neighbours (itself included) has merged cells.
+inline bool neighbourhood_has_merges(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, std::size_t leaf) {
+    return grid.any_neighbour(leaf, [&](std::size_t n) { return octrees[n].has_merges(); });
+}
+
 /// Builds the octree of every leaf. error <= 0: no merging (every voxel is a cell).
 /// @a progress (may be empty) gets the fraction of leaves done.
 std::vector<LeafOctree> build_leaf_octrees(const DmcGrid& grid, double error);

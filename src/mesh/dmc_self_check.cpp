@@ -208,9 +208,7 @@ std::vector<std::uint8_t> changed_triangles(const DmcGrid& grid, const DmcContou
     std::vector<std::uint8_t> changed(contour.mesh.triangles.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.leaves.size()), [&](const auto& range) {
         for (std::size_t leaf = range.begin(); leaf != range.end(); ++leaf) {
-            const bool near_split = std::any_of(grid.neighbours[leaf].begin(), grid.neighbours[leaf].end(),
-                                                [&](std::int32_t n) { return n >= 0 && split.changed[std::size_t(n)]; });
-            if (!near_split) continue;
+            if (!grid.any_neighbour(leaf, [&](std::size_t n) { return split.changed[n]; })) continue;
             const openvdb::Coord origin = grid.leaves[leaf]->origin();
             for (std::size_t t = contour.first_triangle[leaf]; t < contour.first_triangle[leaf + 1]; ++t) {
                 const openvdb::Coord p = contour.sources[t].p - origin;
@@ -353,6 +351,16 @@ void mark_cell(const LeafOctree& octree, int offset, std::bitset<512>& voxels) {
     }
 }
 
+/// Splits the merged cell of leaf @a leaf holding voxel @a offset, if any, recording it.
+bool split_cell(std::vector<LeafOctree>& octrees, std::size_t leaf, int offset, SplitVoxels& split) {
+    LeafOctree& octree = octrees[leaf];
+    if (octree.level_at(offset) == 0) return false;
+    mark_cell(octree, offset, split.voxels[leaf]);
+    split.changed[leaf] = 1;
+    octree.split_cell(offset);
+    return true;
+}
+
 }  // namespace
 
 std::vector<std::uint32_t> triangles_to_refine(const DmcGrid& grid, const DmcContour& contour, double tolerance,
@@ -389,14 +397,18 @@ bool split_cells_of(const DmcGrid& grid, const DmcContour& contour, const std::v
             const FloatLeaf* leaf = accessor.probeConstLeaf(voxel);
             if (!leaf) continue;
             const std::size_t index = index_of.at(leaf);
-            LeafOctree& octree = octrees[index];
             const int offset = leaf_offset(voxel.x() & 7, voxel.y() & 7, voxel.z() & 7);
-            if (octree.level_at(offset) == 0) continue;
-            mark_cell(octree, offset, split.voxels[index]);
-            split.changed[index] = 1;
-            octree.split_cell(offset);
-            any_split = true;
+            any_split = split_cell(octrees, index, offset, split) || any_split;
         }
+    }
+    return any_split;
+}
+
+bool split_cells_at(const std::vector<LeafVoxel>& voxels, std::vector<LeafOctree>& octrees, SplitVoxels& split) {
+    bool any_split = false;
+    for (const LeafVoxel& v : voxels) {
+        if (split.voxels[v.leaf][v.offset]) continue;  // split this round already
+        any_split = split_cell(octrees, v.leaf, v.offset, split) || any_split;
     }
     return any_split;
 }

@@ -21,6 +21,12 @@ struct SplitVoxels {
     std::vector<std::uint8_t> changed;     ///< per leaf: any bit set
 };
 
+/// A voxel of a leaf: the leaf's index and the voxel's leaf_offset.
+struct LeafVoxel {
+    std::uint32_t leaf;
+    std::uint16_t offset;
+};
+
 /// Triangles of @a contour made from merged cells that are in a self-intersecting pair, on a
 /// non-manifold edge or vertex, on a vertex at the position of another, or whose centroid lies farther than @a tolerance
 /// voxels from the isosurface (first-order distance |f - iso| / |grad f| of the trilinear field).
@@ -37,5 +43,9 @@ std::vector<std::uint32_t> triangles_to_refine(const DmcGrid& grid, const DmcCon
 /// anything was split.
 bool split_cells_of(const DmcGrid& grid, const DmcContour& contour, const std::vector<std::uint32_t>& triangles,
                     std::vector<LeafOctree>& octrees, SplitVoxels& split);
+
+/// Splits the merged cells holding @a voxels, except those split since @a split was reset,
+/// and records their voxels in @a split. Returns whether anything was split.
+bool split_cells_at(const std::vector<LeafVoxel>& voxels, std::vector<LeafOctree>& octrees, SplitVoxels& split);
 
 }  // namespace vdbmesh::detail

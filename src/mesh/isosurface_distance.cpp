@@ -33,6 +33,7 @@ constexpr double kMaxStep = 0.5;        ///< Newton step clamp (voxels): stay ne
 constexpr int kRefinements = 8;
 constexpr double kRayStep = 1.0 / 16;   ///< ray search step (voxels): finer than any cell
 constexpr int kBisections = 40;
+constexpr double kSpeckSearchFrom = 1.0;  ///< best distance (voxels) above which grid edges are searched
 
 /// Newton steps from @a start onto the surface; empty when they do not converge near @a origin.
 std::optional<Vec3d> project(const TrilinearField& field, double iso, const Vec3d& start, const Vec3d& origin) {
@@ -93,6 +94,27 @@ std::vector<Vec3d> surface_points_near(const TrilinearField& field, double iso, 
     return found;
 }
 
+/// The points where {f = iso} crosses the grid edges between samples within @a reach of @a p
+/// (per axis): there f is linear, so each is exact.
+std::vector<Vec3d> grid_edge_crossings(const TrilinearField& field, double iso, const Vec3d& p, double reach) {
+    std::vector<Vec3d> crossings;
+    const int r = int(std::ceil(reach));
+    const openvdb::Coord centre = openvdb::Coord::round(p);
+    for (int x = -r; x <= r; ++x)
+        for (int y = -r; y <= r; ++y)
+            for (int z = -r; z <= r; ++z) {
+                const Vec3d a = (centre + openvdb::Coord(x, y, z)).asVec3d();
+                const double fa = field(a).value - iso;
+                for (int axis = 0; axis < 3; ++axis) {
+                    Vec3d b = a;
+                    b[axis] += 1.0;
+                    const double fb = field(b).value - iso;
+                    if ((fa > 0) != (fb > 0)) crossings.push_back(a + (b - a) * (fa / (fa - fb)));
+                }
+            }
+    return crossings;
+}
+
 /// From the surface point q, the closest-point iteration; the smallest distance to p seen.
 std::pair<double, Vec3d> refine(const TrilinearField& field, double iso, const Vec3d& p, Vec3d q) {
     double best = (q - p).length();
@@ -133,6 +155,11 @@ std::optional<Vec3d> closest_isosurface_point(const TrilinearField& field, doubl
     static const std::vector<Vec3d> kNeighbours = neighbour_directions();
     for (const Vec3d& u : kNeighbours)
         if (const auto t = ray_crossing(field, iso, p, u, best)) consider(p + u * *t);
+    // Specks of the isosurface around a single sample barely across the isovalue are far
+    // smaller than the ray step: where nothing near was found, the crossings of the grid edges
+    // around p (points of the isosurface, as in Marching Cubes) are tried too.
+    if (best > kSpeckSearchFrom)
+        for (const Vec3d& start : grid_edge_crossings(field, iso, p, best)) consider(start);
     return closest;
 }
 

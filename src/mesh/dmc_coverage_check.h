@@ -1,0 +1,25 @@
+#pragma once
+// Private: the other direction of Dual Marching Cubes' self-check. dmc_self_check.h judges
+// the triangles against the isosurface; here the isosurface is judged against the mesh: every
+// crossing of the isosurface with a grid edge inside a merged cell (a vertex of the Marching
+// Cubes mesh, on the trilinear isosurface) must lie within the tolerance of the mesh. Where
+// one does not, the merge lost surface (a bump flattened, a thin part cut off, a tunnel
+// closed) and the cell must be split.
+
+#include <vector>
+
+#include "mesh/dmc_grid.h"
+#include "mesh/dmc_octree.h"
+#include "mesh/dmc_self_check.h"
+#include "vdbmesh/mesh.h"
+
+namespace vdbmesh::detail {
+
+/// A voxel of each merged cell of @a octrees holding a crossing farther than @a tolerance
+/// voxels from @a mesh (world coordinates, made from @a octrees), in leaf order. Without
+/// @a since every merged cell is judged; with it (the cells split since the last call), only
+/// those in leaves next to a leaf it changed: the mesh changed only there.
+std::vector<LeafVoxel> cells_missing_surface(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, const Mesh& mesh,
+                                             double tolerance, const SplitVoxels* since);
+
+}  // namespace vdbmesh::detail
