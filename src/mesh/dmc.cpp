@@ -50,7 +50,7 @@ Mesh dual_marching_cubes(const openvdb::FloatGrid& grid, const MeshOptions& opti
         if (!any_merged(octrees)) return std::move(contour.mesh);
         const SplitVoxels* since = round == 0 ? nullptr : &split;
         const std::vector<std::uint32_t> refine = triangles_to_refine(dmc_grid, contour, tolerance, since);
-        const std::vector<LeafVoxel> uncovered = cells_missing_surface(dmc_grid, octrees, contour.mesh, tolerance, since);
+        const std::vector<LeafVoxel> uncovered = cells_missing_surface(dmc_grid, octrees, contour, tolerance, since);
         const bool refined = split_cells_of(dmc_grid, contour, refine, octrees, split);  // resets split
         if (!split_cells_at(uncovered, octrees, split) && !refined) return std::move(contour.mesh);
         if (round + 1 == kMaxRefinementRounds) break;

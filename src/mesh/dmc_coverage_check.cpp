@@ -92,14 +92,40 @@ void judge_leaf(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, std
     }
 }
 
+/// Per leaf, whether its cells are judged: those next to merged cells, and without @a since
+/// every such leaf, with it only those next to a leaf it changed.
+std::vector<std::uint8_t> leaves_to_judge(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, const SplitVoxels* since) {
+    std::vector<std::uint8_t> judged(grid.leaves.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, judged.size()), [&](const auto& range) {
+        for (std::size_t leaf = range.begin(); leaf != range.end(); ++leaf) {
+            judged[leaf] = neighbourhood_has_merges(grid, octrees, leaf) &&
+                           (!since || grid.any_neighbour(leaf, [&](std::size_t n) { return since->changed[n]; }));
+        }
+    });
+    return judged;
+}
+
+/// The triangles that can lie near a point of a judged leaf: those of the dual cells owned by
+/// its neighbours (a dual cell's corners are cells holding voxels of its owner or the next
+/// leaf, and a cell stays within its leaf).
+std::vector<std::uint32_t> triangles_near(const DmcGrid& grid, const DmcContour& contour, const std::vector<std::uint8_t>& judged) {
+    std::vector<std::uint32_t> triangles;
+    for (std::size_t leaf = 0; leaf < judged.size(); ++leaf) {
+        if (!grid.any_neighbour(leaf, [&](std::size_t n) { return judged[n] != 0; })) continue;
+        for (std::size_t t = contour.first_triangle[leaf]; t < contour.first_triangle[leaf + 1]; ++t) triangles.push_back(std::uint32_t(t));
+    }
+    return triangles;
+}
+
 }  // namespace
 
-std::vector<LeafVoxel> cells_missing_surface(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, const Mesh& mesh,
-                                             double tolerance, const SplitVoxels* since) {
-    std::vector<std::uint32_t> all(mesh.triangles.size());
-    for (std::uint32_t t = 0; t < all.size(); ++t) all[t] = t;
-    if (all.empty()) return {};
-    const TriangleBvh bvh(mesh, std::move(all));
+std::vector<LeafVoxel> cells_missing_surface(const DmcGrid& grid, const std::vector<LeafOctree>& octrees,
+                                             const DmcContour& contour, double tolerance, const SplitVoxels* since) {
+    const std::vector<std::uint8_t> judged = leaves_to_judge(grid, octrees, since);
+    std::vector<std::uint32_t> nearby = triangles_near(grid, contour, judged);
+    if (nearby.empty()) return {};
+    const Mesh& mesh = contour.mesh;
+    const TriangleBvh bvh(mesh, std::move(nearby));
     const openvdb::Vec3d voxel = grid.grid->voxelSize();
     // The smallest voxel edge: a point this near in world units is at most this near in voxels.
     const double radius = tolerance * std::min({voxel[0], voxel[1], voxel[2]});
@@ -108,7 +134,7 @@ std::vector<LeafVoxel> cells_missing_surface(const DmcGrid& grid, const std::vec
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.leaves.size()), [&](const auto& range) {
         auto block = std::make_unique<SampleBlock>();
         for (std::size_t leaf = range.begin(); leaf != range.end(); ++leaf) {
-            if (!neighbourhood_has_merges(grid, octrees, leaf) || (since && !grid.any_neighbour(leaf, [&](std::size_t n) { return since->changed[n]; }))) continue;
+            if (!judged[leaf]) continue;
             load_sample_block(grid, leaf, *block);
             judge_leaf(grid, octrees, leaf, *block, nearness, per_leaf[leaf]);
         }

@@ -8,18 +8,19 @@
 
 #include <vector>
 
+#include "mesh/dmc_contour.h"
 #include "mesh/dmc_grid.h"
 #include "mesh/dmc_octree.h"
 #include "mesh/dmc_self_check.h"
-#include "vdbmesh/mesh.h"
 
 namespace vdbmesh::detail {
 
 /// A voxel of each merged cell of @a octrees holding a crossing farther than @a tolerance
-/// voxels from @a mesh (world coordinates, made from @a octrees), in leaf order. Without
-/// @a since every merged cell is judged; with it (the cells split since the last call), only
-/// those in leaves next to a leaf it changed: the mesh changed only there.
-std::vector<LeafVoxel> cells_missing_surface(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, const Mesh& mesh,
-                                             double tolerance, const SplitVoxels* since);
+/// voxels from the mesh of @a contour (made from @a octrees), and of the merged cells next to
+/// a voxel holding one, in leaf order. Without @a since every leaf is judged; with it (the
+/// cells split since the last call), only leaves next to a leaf it changed: the mesh changed
+/// only there.
+std::vector<LeafVoxel> cells_missing_surface(const DmcGrid& grid, const std::vector<LeafOctree>& octrees,
+                                             const DmcContour& contour, double tolerance, const SplitVoxels* since);
 
 }  // namespace vdbmesh::detail
