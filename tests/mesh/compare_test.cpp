@@ -4,27 +4,16 @@
 
 #include <cmath>
 
+#include "phantom_grid.h"
 #include "test_data.h"
 #include "vdbmesh/compare.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/phantom.h"
-#include "vdbmesh/write_volume.h"
 
 namespace vdbmesh {
 namespace {
 
-/// The phantom written as float samples and converted like a scan (iso 0.5).
-openvdb::FloatGrid::Ptr phantom_grid(const PhantomSpec& spec) {
-    const test::ScratchDir dir;
-    VolumeHeader header;
-    header.dims = spec.dims;
-    header.type = SampleType::f32;
-    write_volume(dir / "phantom.nii", header, [&](std::int64_t z, float* slice) { fill_phantom_slice(spec, z, slice); });
-    auto reader = open_volume(dir / "phantom.nii");
-    ConvertOptions options;
-    options.iso = 0.5;
-    return convert_to_grid(*reader, options);
-}
+using test::phantom_scan_grid;
 
 Mesh mesh_with(const openvdb::FloatGrid& grid, MeshMethod method, double adaptivity = 0) {
     MeshOptions options;
@@ -42,7 +31,7 @@ class CompareTest : public testing::Test {
 protected:
     static void SetUpTestSuite() {
         sphere_ = new PhantomSpec(phantom_preset("sphere", {64, 64, 64}));  // radius 20, blur 5
-        grid_holder_ = phantom_grid(*sphere_);
+        grid_holder_ = phantom_scan_grid(*sphere_);
         grid_ = grid_holder_.get();
     }
     static void TearDownTestSuite() {
