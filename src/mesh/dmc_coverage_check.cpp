@@ -19,13 +19,31 @@ namespace {
 
 /// The mesh near the surface, queried in world units.
 struct MeshNearness {
+    const Mesh& mesh;
     const TriangleBvh& bvh;
     const openvdb::math::Transform& transform;
     double radius_squared;  ///< the tolerance in world units, squared
 
-    bool covers(const Point3d& index_point) const {
+    /// Whether a triangle lies within the tolerance of @a index_point. @a hint, the triangle
+    /// found last (crossings of one cell are mostly near one triangle), is tried first.
+    bool covers(const Point3d& index_point, std::uint32_t& hint) const {
         const openvdb::Vec3d w = transform.indexToWorld(openvdb::Vec3d(index_point[0], index_point[1], index_point[2]));
-        return bvh.closest_point({w[0], w[1], w[2]}, radius_squared).distance_squared < radius_squared;
+        const Point3 p = {w[0], w[1], w[2]};
+        if (hint < mesh.triangles.size() && distance_squared(p, hint) < radius_squared) return true;
+        const ClosestPoint closest = bvh.closest_point(p, radius_squared);
+        if (!(closest.distance_squared < radius_squared)) return false;
+        hint = closest.triangle;
+        return true;
+    }
+
+    double distance_squared(const Point3& p, std::uint32_t triangle) const {
+        const auto& t = mesh.triangles[triangle];
+        const auto corner = [&](int k) {
+            const auto& v = mesh.vertices[t[std::size_t(k)]];
+            return Point3{v[0], v[1], v[2]};
+        };
+        const Point3 q = closest_point_on_triangle(p, corner(0), corner(1), corner(2));
+        return (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]);
     }
 };
 
@@ -34,6 +52,7 @@ struct MeshNearness {
 /// and the ring below it are walked; a crossing counts where it lies in the cell's box.
 bool cell_covered(const DmcGrid& grid, const SampleBlock& block, int x, int y, int z, int size, const MeshNearness& mesh) {
     const Point3d lo = {x - 0.5, y - 0.5, z - 0.5}, hi = {x + size - 0.5, y + size - 0.5, z + size - 0.5};
+    std::uint32_t hint = ~std::uint32_t(0);
     for (int i = x - 1; i < x + size; ++i) {
         for (int j = y - 1; j < y + size; ++j) {
             for (int k = z - 1; k < z + size; ++k) {
@@ -50,7 +69,7 @@ bool cell_covered(const DmcGrid& grid, const SampleBlock& block, int x, int y, i
                     for (std::size_t n = 0; n < 3; ++n) in_cell = in_cell && c[n] >= lo[n] && c[n] <= hi[n];
                     if (!in_cell) continue;
                     const openvdb::Coord o = block.origin;
-                    if (!mesh.covers({o.x() + c[0], o.y() + c[1], o.z() + c[2]})) return false;
+                    if (!mesh.covers({o.x() + c[0], o.y() + c[1], o.z() + c[2]}, hint)) return false;
                 }
             }
         }
@@ -129,7 +148,7 @@ std::vector<LeafVoxel> cells_missing_surface(const DmcGrid& grid, const std::vec
     const openvdb::Vec3d voxel = grid.grid->voxelSize();
     // The smallest voxel edge: a point this near in world units is at most this near in voxels.
     const double radius = tolerance * std::min({voxel[0], voxel[1], voxel[2]});
-    const MeshNearness nearness{bvh, grid.grid->transform(), radius * radius};
+    const MeshNearness nearness{mesh, bvh, grid.grid->transform(), radius * radius};
     std::vector<std::vector<LeafVoxel>> per_leaf(grid.leaves.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, grid.leaves.size()), [&](const auto& range) {
         auto block = std::make_unique<SampleBlock>();

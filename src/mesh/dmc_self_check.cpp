@@ -144,17 +144,21 @@ double isosurface_distance(Accessor& accessor, double iso, const openvdb::Vec3d&
     return slope > 0.0 ? std::abs(f - iso) / slope : 0.0;
 }
 
-/// Whether a point of the isosurface lies within @a tolerance of @a p: Newton's projection,
-/// else the closest-point search of isosurface_distance.cpp. On noisy scans the first-order
-/// distance above reads far too long where the gradient is weak (two thirds of the bunny CT's
-/// flagged centroids lay within the tolerance of the Marching Cubes surface), and every split
-/// cell costs triangles. Both points found are on the surface, so this never accepts a point
-/// farther than the tolerance.
-bool projects_within(const TrilinearField& field, double iso, const openvdb::Vec3d& p, double tolerance) {
-    std::optional<openvdb::Vec3d> q = project_onto_isosurface(field, iso, p);
-    if (q && (*q - p).length() <= tolerance) return true;
-    q = closest_isosurface_point(field, iso, p);
-    return q && (*q - p).length() <= tolerance;
+/// Whether @a p (index space) lies within @a tolerance voxels of the isosurface, tried from
+/// the cheapest test up: the first-order distance |f - iso| / |grad f|; Newton's projection
+/// onto the surface; the nearest of the samples' exact tangent planes (the trilinear field
+/// rounds sharp edges and corners the QEF vertices keep); the closest-point search of
+/// isosurface_distance.cpp. On noisy scans the first-order distance reads far too long where
+/// the gradient is weak (two thirds of the bunny CT's flagged centroids lay within the
+/// tolerance of the Marching Cubes surface), and every split cell costs triangles. Newton's
+/// and the search's points are on the surface, so they never accept a point farther away.
+template <typename Accessor>
+bool near_isosurface(Accessor& accessor, const TrilinearField& field, double iso, const openvdb::Vec3d& p, double tolerance) {
+    if (isosurface_distance(accessor, iso, p) <= tolerance) return true;
+    const auto within = [&](const std::optional<openvdb::Vec3d>& q) { return q && (*q - p).length() <= tolerance; };
+    if (within(project_onto_isosurface(field, iso, p))) return true;
+    if (tangent_plane_distance(accessor, iso, p) <= tolerance) return true;
+    return within(closest_isosurface_point(field, iso, p));
 }
 
 /// Marks the listed triangles from merged cells whose centroid strays from the isosurface.
@@ -174,12 +178,7 @@ void mark_off_surface(const DmcGrid& grid, const DmcContour& contour, double tol
                 const auto& v = mesh.vertices[mesh.triangles[t][std::size_t(k)]];
                 centroid += transform.worldToIndex(openvdb::Vec3d(v[0], v[1], v[2])) / 3.0;
             }
-            // Off only when off the trilinear field AND off the samples' tangent planes: the
-            // trilinear field rounds sharp edges and corners the QEF vertices keep.
-            if (isosurface_distance(accessor, grid.iso, centroid) > tolerance && !projects_within(field, grid.iso, centroid, tolerance) &&
-                tangent_plane_distance(accessor, grid.iso, centroid) > tolerance) {
-                bad[t] = 1;
-            }
+            if (!near_isosurface(accessor, field, grid.iso, centroid, tolerance)) bad[t] = 1;
         }
     });
 }
