@@ -142,14 +142,23 @@ void place_vertices(const DmcGrid& grid, const std::vector<LeafOctree>& octrees,
         auto block = std::make_unique<SampleBlock>();
         for (std::size_t leaf = range.begin(); leaf != range.end(); ++leaf) {
             if (offsets[leaf * kWords] == offsets[(leaf + 1) * kWords]) continue;
-            load_sample_block(grid, leaf, *block);
+            // Where no cell around is merged, both ends of an edge are samples: read just those.
+            const bool plain = !neighbourhood_has_merges(grid, octrees, leaf);
+            if (!plain) load_sample_block(grid, leaf, *block);
+            const auto end = [&](int x, int y, int z) {
+                if (!plain) return dual_corner(grid, octrees, leaf, *block, x, y, z);
+                DualCorner sample;
+                const openvdb::Coord voxel = grid.leaves[leaf]->origin().offsetBy(x, y, z);
+                sample.position = {double(voxel.x()), double(voxel.y()), double(voxel.z())};
+                sample.value = sample_value(grid, leaf, x, y, z);
+                return sample;
+            };
             std::uint32_t index = offsets[leaf * kWords];
             for (int w = 0; w < kWords; ++w) {
                 for (std::uint64_t bits = marks.word(leaf, w); bits != 0; bits &= bits - 1) {
                     const SlotEdge e = edge_of_slot(w * 64 + __builtin_ctzll(bits));
-                    const DualCorner a = dual_corner(grid, octrees, leaf, *block, e.x, e.y, e.z);
-                    const DualCorner b = dual_corner(grid, octrees, leaf, *block, e.x + (e.axis == 0),
-                                                     e.y + (e.axis == 1), e.z + (e.axis == 2));
+                    const DualCorner a = end(e.x, e.y, e.z);
+                    const DualCorner b = end(e.x + (e.axis == 0), e.y + (e.axis == 1), e.z + (e.axis == 2));
                     const Point3d p = edge_crossing(a.position, a.value, b.position, b.value, grid.iso);
                     const openvdb::Vec3d world = transform.indexToWorld(openvdb::Vec3d(p[0], p[1], p[2]));
                     mesh.vertices[index++] = {float(world[0]), float(world[1]), float(world[2])};

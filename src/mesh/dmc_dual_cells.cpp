@@ -28,17 +28,20 @@ bool owns_dual_cell(const DmcGrid& grid, std::size_t leaf, int x, int y, int z) 
 
 }  // namespace
 
+DualCorner sample_corner(const SampleBlock& block, int x, int y, int z) {
+    DualCorner corner;
+    corner.min = block.origin.offsetBy(x, y, z);
+    corner.position = {double(corner.min.x()), double(corner.min.y()), double(corner.min.z())};
+    corner.value = block.at(x, y, z);
+    return corner;
+}
+
 DualCorner dual_corner(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, std::size_t leaf,
                        const SampleBlock& block, int x, int y, int z) {
-    DualCorner corner;
     const std::int32_t holder = grid.leaf_at(leaf, x, y, z);
     const int level = holder < 0 ? 0 : octrees[std::size_t(holder)].level_at(leaf_offset(x & 7, y & 7, z & 7));
-    if (level == 0) {
-        corner.min = block.origin.offsetBy(x, y, z);
-        corner.position = {double(corner.min.x()), double(corner.min.y()), double(corner.min.z())};
-        corner.value = block.at(x, y, z);
-        return corner;
-    }
+    if (level == 0) return sample_corner(block, x, y, z);
+    DualCorner corner;
     const int mask = ~((1 << level) - 1);
     const int mx = (x & 7) & mask, my = (y & 7) & mask, mz = (z & 7) & mask;
     const CellVertex& vertex = octrees[std::size_t(holder)].vertex_at(leaf_offset(mx, my, mz));
@@ -92,8 +95,7 @@ void collect_dual_cells(const DmcGrid& grid, const std::vector<LeafOctree>& octr
                 for (int c = 0; c < 8; ++c) {
                     DualCorner& corner = cell.corners[std::size_t(c)];
                     const int cx = x + (c & 1), cy = y + ((c >> 1) & 1), cz = z + (c >> 2);
-                    corner = merged ? corner_of[std::size_t(SampleBlock::index(cx, cy, cz))]
-                                    : dual_corner(grid, octrees, leaf, block, cx, cy, cz);
+                    corner = merged ? corner_of[std::size_t(SampleBlock::index(cx, cy, cz))] : sample_corner(block, cx, cy, cz);
                     emitted = emitted || is_corner_of(corner, cell.p);
                 }
                 if (emitted) cells.push_back(cell);

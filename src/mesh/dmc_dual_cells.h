@@ -27,6 +27,9 @@ struct DualCell {
     std::array<DualCorner, 8> corners;  ///< corner c holds voxel p + (c & 1, c >> 1 & 1, c >> 2 & 1)
 };
 
+/// Voxel (x, y, z) of @a block (local coordinates in [-1, 8]) as a unit cell: its sample.
+DualCorner sample_corner(const SampleBlock& block, int x, int y, int z);
+
 /// The cell holding voxel @a local (relative to leaf @a leaf's origin, coordinates in [-1, 8]),
 /// with @a block the leaf's sample block.
 DualCorner dual_corner(const DmcGrid& grid, const std::vector<LeafOctree>& octrees, std::size_t leaf,

@@ -40,6 +40,7 @@ DmcGrid make_dmc_grid(const openvdb::FloatGrid& grid, const MeshOptions& options
     for (std::size_t i = 0; i < result.leaves.size(); ++i) index_of.emplace(result.leaves[i], std::int32_t(i));
 
     result.neighbours.resize(result.leaves.size());
+    result.tile_values.resize(result.leaves.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, result.leaves.size()), [&](const auto& range) {
         openvdb::FloatGrid::ConstAccessor accessor = grid.getConstAccessor();
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
@@ -47,9 +48,10 @@ DmcGrid make_dmc_grid(const openvdb::FloatGrid& grid, const MeshOptions& options
             for (int dz = -1; dz <= 1; ++dz) {
                 for (int dy = -1; dy <= 1; ++dy) {
                     for (int dx = -1; dx <= 1; ++dx) {
-                        const FloatLeaf* leaf =
-                            accessor.probeConstLeaf(origin.offsetBy(dx * kLeafDim, dy * kLeafDim, dz * kLeafDim));
+                        const openvdb::Coord block = origin.offsetBy(dx * kLeafDim, dy * kLeafDim, dz * kLeafDim);
+                        const FloatLeaf* leaf = accessor.probeConstLeaf(block);
                         result.neighbours[i][neighbour_slot(dx, dy, dz)] = leaf ? index_of.at(leaf) : -1;
+                        result.tile_values[i][neighbour_slot(dx, dy, dz)] = leaf ? 0.0f : accessor.getValue(block);
                     }
                 }
             }
@@ -78,8 +80,7 @@ void load_sample_block(const DmcGrid& grid, std::size_t leaf, SampleBlock& block
                     }
                 } else {
                     // A tile or the background: one value for the whole neighbour block.
-                    const float tile = grid.grid->tree().getValue(
-                        origin.offsetBy(dx * kLeafDim, dy * kLeafDim, dz * kLeafDim));
+                    const float tile = grid.tile_values[leaf][neighbour_slot(dx, dy, dz)];
                     for (int x = rx.begin; x < rx.end; ++x) {
                         for (int y = ry.begin; y < ry.end; ++y) {
                             for (int z = rz.begin; z < rz.end; ++z) block.value[SampleBlock::index(x, y, z)] = tile;
@@ -100,6 +101,15 @@ void load_sample_block(const DmcGrid& grid, std::size_t leaf, SampleBlock& block
         }
     }
     for (std::size_t i = 0; i < block.value.size(); ++i) block.inside[i] = grid.inside(block.value[i]);
+}
+
+double sample_value(const DmcGrid& grid, std::size_t leaf, int x, int y, int z) {
+    const openvdb::Coord voxel = grid.leaves[leaf]->origin().offsetBy(x, y, z);
+    if (!grid.in_box(voxel)) return outside_scan_value(grid.inside_above);
+    const int slot = neighbour_slot(block_offset(x), block_offset(y), block_offset(z));
+    const std::int32_t holder = grid.neighbours[leaf][std::size_t(slot)];
+    if (holder < 0) return grid.tile_values[leaf][std::size_t(slot)];
+    return grid.leaves[std::size_t(holder)]->buffer().data()[((x & 7) << 6) | ((y & 7) << 3) | (z & 7)];
 }
 
 }  // namespace vdbmesh::detail

@@ -32,6 +32,9 @@ struct DmcGrid {
     std::optional<openvdb::CoordBBox> scan_box;
     std::vector<const FloatLeaf*> leaves;                 ///< tree order (deterministic)
     std::vector<std::array<std::int32_t, 27>> neighbours;  ///< leaf index per neighbour_slot, -1: none
+    /// Per leaf and neighbour_slot without a leaf there: the value of the tile or background
+    /// that holds that block (read once here, not through the tree for every sample block).
+    std::vector<std::array<float, 27>> tile_values;
 
     bool inside(double value) const { return inside_above ? value > iso : value < iso; }
     /// Whether @a holds(n) for the index n of a leaf among leaf @a leaf's 27 neighbours (itself
@@ -63,5 +66,9 @@ struct SampleBlock {
 
 /// Fills @a block for leaf @a leaf.
 void load_sample_block(const DmcGrid& grid, std::size_t leaf, SampleBlock& block);
+
+/// The value of one voxel of a SampleBlock of leaf @a leaf (local coordinates in [-1, 8]),
+/// read without loading the block.
+double sample_value(const DmcGrid& grid, std::size_t leaf, int x, int y, int z);
 
 }  // namespace vdbmesh::detail
