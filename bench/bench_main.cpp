@@ -27,6 +27,7 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -49,6 +50,8 @@ using Json = nlohmann::ordered_json;
 /// Otsu's threshold that `vdbmesh info` suggests for the walnut (the others: issue 4's isovalues).
 constexpr double kWalnutIso = 4084.5;
 using Clock = std::chrono::steady_clock;
+
+constexpr int kRunsPerMesher = 2;
 
 struct Scan {
     std::string name;
@@ -144,10 +147,17 @@ Json convert_and_mesh(const Scan& scan, const std::vector<Setting>& settings, in
         options.method = s.method;
         options.iso = scan.iso;
         (s.method == MeshMethod::dmc ? options.error : options.adaptivity) = s.value;
-        start = Clock::now();
-        const Mesh mesh = mesh_grid(*grid, options);
-        result["meshes"].push_back(
-            {{"seconds", seconds_since(start)}, {"triangles", mesh.triangles.size()}, {"peak_mb", peak_rss_mb()}});
+        // The better of two runs: the first mesher timed would otherwise also pay for the
+        // process's first touch of the memory its mesh needs, which later ones reuse.
+        double best = std::numeric_limits<double>::infinity();
+        std::size_t triangles = 0;
+        for (int run = 0; run < kRunsPerMesher; ++run) {
+            start = Clock::now();
+            const Mesh mesh = mesh_grid(*grid, options);
+            best = std::min(best, seconds_since(start));
+            triangles = mesh.triangles.size();
+        }
+        result["meshes"].push_back({{"seconds", best}, {"triangles", triangles}, {"peak_mb", peak_rss_mb()}});
     }
     // Last, so that writing leaves the conversion's and the meshers' peaks as they were.
     result["grid"] = grid_figures(*grid, scratch / "sparse.vdb");
