@@ -1,4 +1,5 @@
-// `vdbmesh mesh`: a .vdb grid or a scan (converted on the fly) to a triangle mesh file.
+// `vdbmesh mesh`: a .vdb grid or a scan (converted on the fly) to a triangle mesh file. It
+// reports its figures on stderr, or with --json as one JSON object on stdout.
 
 #include <algorithm>
 #include <cctype>
@@ -9,6 +10,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "common_options.h"
@@ -36,6 +39,7 @@ struct MeshCommandOptions {
     MeshOptions mesh;
     bool ascii = false;
     bool normals = false;
+    bool json = false;
     ReadFlags read;
     CommonOptions common;
 };
@@ -55,6 +59,22 @@ openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& pr
     return loaded.grid;
 }
 
+/// What was made: the settings that made it, then its figures (the setting a method does not
+/// use is null).
+nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Mesh& mesh, double seconds) {
+    const bool dmc = options.mesh.method == MeshMethod::dmc, openvdb = options.mesh.method == MeshMethod::openvdb;
+    nlohmann::ordered_json j;
+    j["output"] = options.output;
+    j["method"] = lowercase(options.method);
+    j["iso"] = options.mesh.iso;
+    j["error"] = dmc ? nlohmann::ordered_json(options.mesh.error) : nlohmann::ordered_json(nullptr);
+    j["adaptivity"] = openvdb ? nlohmann::ordered_json(options.mesh.adaptivity) : nlohmann::ordered_json(nullptr);
+    j["triangles"] = mesh.triangles.size();
+    j["vertices"] = mesh.vertices.size();
+    j["seconds"] = seconds;
+    return j;
+}
+
 void run_mesh(MeshCommandOptions& options) {
     const std::string extension = lowercase_extension(options.output);
     if (extension != ".stl" && extension != ".ply" && extension != ".obj") {
@@ -71,7 +91,9 @@ void run_mesh(MeshCommandOptions& options) {
     const Mesh mesh = mesh_grid(*grid, options.mesh);
     write_mesh(mesh, options.output, MeshWriteOptions{options.ascii, options.normals});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (!options.common.quiet) {
+    if (options.json) {
+        std::cout << figures_json(options, mesh, seconds).dump() << "\n";
+    } else if (!options.common.quiet) {
         std::cerr << "vdbmesh mesh: " << mesh.triangles.size() << " triangles, " << mesh.vertices.size()
                   << " vertices, " << seconds << " s -> " << options.output << "\n";
     }
@@ -101,6 +123,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
                      "Leave the surface open where it meets the edge of the scan");
     command.add_flag("--ascii", options->ascii, "ASCII STL or PLY instead of binary");
     command.add_flag("--normals", options->normals, "Per-vertex normals (PLY, OBJ)");
+    command.add_flag("--json", options->json, "Print the figures as one JSON object on stdout");
     add_read_flags(command, options->read);
     add_common_options(command, options->common);
     command.callback([options, &result] {

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -43,6 +45,23 @@ std::filesystem::path write_ball_raw(const ScratchDir& scratch) {
     const std::filesystem::path path = scratch / "ball.raw";
     std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(samples.data()), std::streamsize(samples.size()));
     return path;
+}
+
+TEST(CmdMeshTest, JsonReportsTheSettingsAndTheWrittenMesh) {
+    ScratchDir scratch;
+    const auto input = write_ball_vdb(scratch, true);
+    const auto output = scratch / "ball.stl";
+    testing::internal::CaptureStdout();
+    const int status = cli::run({"mesh", input.string(), "--error", "0.25", "-o", output.string(), "--json"});
+    const nlohmann::json report = nlohmann::json::parse(testing::internal::GetCapturedStdout());
+    ASSERT_EQ(status, cli::kSuccess);
+    const Mesh written = read_mesh(output);
+    EXPECT_EQ(report["method"], "dmc");
+    EXPECT_EQ(report["error"], 0.25);
+    EXPECT_TRUE(report["adaptivity"].is_null());
+    EXPECT_EQ(report["triangles"], written.triangles.size());
+    EXPECT_EQ(report["vertices"], written.vertices.size());
+    EXPECT_GT(report["seconds"].get<double>(), 0.0);
 }
 
 TEST(CmdMeshTest, MeshesAVdbAtItsStoredIsovalue) {
