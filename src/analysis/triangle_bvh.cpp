@@ -152,6 +152,14 @@ std::uint32_t TriangleBvh::build(std::uint32_t begin, std::uint32_t end, const s
     return index;
 }
 
+ClosestPoint TriangleBvh::closest_on_triangle(const Point3& p, std::uint32_t triangle) const {
+    const auto& t = mesh_->triangles[triangle];
+    const Point3 q = closest_point_on_triangle(p, to_point(mesh_->vertices[t[0]]), to_point(mesh_->vertices[t[1]]),
+                                               to_point(mesh_->vertices[t[2]]));
+    const Point3 d = minus(q, p);
+    return {dot(d, d), triangle, q};
+}
+
 ClosestPoint TriangleBvh::closest_point(const Point3& p, double bound_squared) const {
     ClosestPoint best;
     best.distance_squared = bound_squared;
@@ -163,14 +171,8 @@ ClosestPoint TriangleBvh::closest_point(const Point3& p, double bound_squared) c
         if (box_distance_squared(p, node.box) >= best.distance_squared) continue;
         if (node.right == 0) {
             for (std::uint32_t k = node.begin; k < node.end; ++k) {
-                const std::uint32_t triangle = order_[k];
-                const auto& t = mesh_->triangles[triangle];
-                const Point3 q = closest_point_on_triangle(p, to_point(mesh_->vertices[t[0]]),
-                                                           to_point(mesh_->vertices[t[1]]),
-                                                           to_point(mesh_->vertices[t[2]]));
-                const Point3 d = minus(q, p);
-                const double d2 = dot(d, d);
-                if (d2 < best.distance_squared) best = {d2, triangle, q};
+                const ClosestPoint candidate = closest_on_triangle(p, order_[k]);
+                if (candidate.distance_squared < best.distance_squared) best = candidate;
             }
             continue;
         }

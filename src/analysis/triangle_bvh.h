@@ -53,6 +53,9 @@ public:
     /// keeps that bound as its distance.
     ClosestPoint closest_point(const Point3& p, double bound_squared = std::numeric_limits<double>::infinity()) const;
 
+    /// The closest point of triangle @a triangle of the mesh to @a p.
+    ClosestPoint closest_on_triangle(const Point3& p, std::uint32_t triangle) const;
+
     bool empty() const { return nodes_.empty(); }
     /// Self-overlap, one leaf at a time (for parallel loops over leaf_count()): calls
     /// visit(first, second) for every pair of listed triangles whose boxes overlap, where the

@@ -29,21 +29,11 @@ struct MeshNearness {
     bool covers(const Point3d& index_point, std::uint32_t& hint) const {
         const openvdb::Vec3d w = transform.indexToWorld(openvdb::Vec3d(index_point[0], index_point[1], index_point[2]));
         const Point3 p = {w[0], w[1], w[2]};
-        if (hint < mesh.triangles.size() && distance_squared(p, hint) < radius_squared) return true;
+        if (hint < mesh.triangles.size() && bvh.closest_on_triangle(p, hint).distance_squared < radius_squared) return true;
         const ClosestPoint closest = bvh.closest_point(p, radius_squared);
         if (!(closest.distance_squared < radius_squared)) return false;
         hint = closest.triangle;
         return true;
-    }
-
-    double distance_squared(const Point3& p, std::uint32_t triangle) const {
-        const auto& t = mesh.triangles[triangle];
-        const auto corner = [&](int k) {
-            const auto& v = mesh.vertices[t[std::size_t(k)]];
-            return Point3{v[0], v[1], v[2]};
-        };
-        const Point3 q = closest_point_on_triangle(p, corner(0), corner(1), corner(2));
-        return (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]);
     }
 };
 
