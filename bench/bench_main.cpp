@@ -153,7 +153,7 @@ Json convert_and_mesh(const Scan& scan, const std::vector<Setting>& settings, in
         std::size_t triangles = 0;
         for (int run = 0; run < kRunsPerMesher; ++run) {
             start = Clock::now();
-            const Mesh mesh = mesh_grid(*grid, options);
+            const Mesh mesh = mesh_grid(*grid, options).mesh;
             best = std::min(best, seconds_since(start));
             triangles = mesh.triangles.size();
         }

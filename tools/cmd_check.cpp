@@ -17,7 +17,7 @@
 
 namespace vdbmesh::cli {
 
-nlohmann::ordered_json report_json(const MeshReport& r) {
+nlohmann::ordered_json report_json(const MeshAnalysis& r) {
     nlohmann::ordered_json j;
     j["clean"] = r.is_clean();
     j["triangles"] = r.triangles;
@@ -76,7 +76,7 @@ void print_table(const nlohmann::ordered_json& j, std::ostream& out) {
 int run_check(const CheckOptions& o) {
     const ThreadLimit limit(o.common);
     const Mesh mesh = read_mesh(o.mesh);
-    const MeshReport report = analyze_mesh(mesh);
+    const MeshAnalysis report = analyze_mesh(mesh);
     nlohmann::ordered_json j = report_json(report);
     if (!o.reference.empty()) {
         const Mesh reference = read_mesh(o.reference);

@@ -149,8 +149,8 @@ nlohmann::ordered_json mesh_json(const MeshComparison& m) {
     j["unresolved_samples"] = m.accuracy.unresolved_samples;
     j["normal_mean_deg"] = m.accuracy.normals.mean_deg;
     j["normal_p95_deg"] = m.accuracy.normals.p95_deg;
-    j["manifold"] = m.report.nonmanifold_edges == 0 && m.report.nonmanifold_vertices == 0;
-    j.update(report_json(m.report));
+    j["manifold"] = m.analysis.nonmanifold_edges == 0 && m.analysis.nonmanifold_vertices == 0;
+    j.update(report_json(m.analysis));
     return j;
 }
 
@@ -175,13 +175,13 @@ void print_table(const nlohmann::ordered_json& report, const std::vector<MeshCom
     for (const auto& m : meshes) {
         const DistanceReport& d = m.accuracy.distance;
         out << std::left << std::setw(9) << method_name(m.method) << std::setw(12) << setting_text(m) << std::right
-            << std::setprecision(3) << std::setw(9) << m.seconds << std::setw(11) << m.report.triangles << std::setw(11)
-            << m.report.vertices << std::setprecision(4) << std::setw(11) << d.hausdorff << std::setw(9) << d.mean
+            << std::setprecision(3) << std::setw(9) << m.seconds << std::setw(11) << m.analysis.triangles << std::setw(11)
+            << m.analysis.vertices << std::setprecision(4) << std::setw(11) << d.hausdorff << std::setw(9) << d.mean
             << std::setprecision(2) << std::setw(9) << m.accuracy.normals.mean_deg << std::setw(8)
-            << m.accuracy.normals.p95_deg << std::setw(8) << m.report.self_intersecting_pairs << std::setw(8)
-            << (m.report.closed ? "yes" : "no") << std::setw(10)
-            << (m.report.nonmanifold_edges == 0 && m.report.nonmanifold_vertices == 0 ? "yes" : "no") << std::setw(7)
-            << (m.report.is_clean() ? "yes" : "no") << "\n";
+            << m.accuracy.normals.p95_deg << std::setw(8) << m.analysis.self_intersecting_pairs << std::setw(8)
+            << (m.analysis.closed ? "yes" : "no") << std::setw(10)
+            << (m.analysis.nonmanifold_edges == 0 && m.analysis.nonmanifold_vertices == 0 ? "yes" : "no") << std::setw(7)
+            << (m.analysis.is_clean() ? "yes" : "no") << "\n";
     }
     out << std::defaultfloat << "distances in voxels (two-sided, " << g["samples"]
         << " samples each way); normal deviation in degrees\n";
@@ -200,7 +200,7 @@ Plot make_plot(const std::string& title, const std::vector<MeshComparison>& mesh
             std::ostringstream label;
             if (m.error) label << "e=" << *m.error;
             if (m.adaptivity) label << "a=" << *m.adaptivity;
-            series.points.push_back({double(m.report.triangles), m.accuracy.distance.hausdorff, label.str()});
+            series.points.push_back({double(m.analysis.triangles), m.accuracy.distance.hausdorff, label.str()});
         }
         if (!series.points.empty()) plot.series.push_back(series);
     }

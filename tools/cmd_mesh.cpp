@@ -61,7 +61,8 @@ openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& pr
 
 /// What was made: the settings that made it, then its figures (the setting a method does not
 /// use is null).
-nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Mesh& mesh, double seconds) {
+nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const MeshResult& result, double seconds) {
+    const Mesh& mesh = result.mesh;
     const bool dmc = options.mesh.method == MeshMethod::dmc, openvdb = options.mesh.method == MeshMethod::openvdb;
     nlohmann::ordered_json j;
     j["output"] = options.output;
@@ -72,6 +73,12 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Mes
     j["triangles"] = mesh.triangles.size();
     j["vertices"] = mesh.vertices.size();
     j["seconds"] = seconds;
+    // What the mesher did: its phases in the order run, DMC's safety-net rounds, fallbacks.
+    nlohmann::ordered_json phases = nlohmann::ordered_json::array();
+    for (const MeshPhase& phase : result.report.phases) phases.push_back({{"name", phase.name}, {"seconds", phase.seconds}});
+    j["phases"] = phases;
+    j["refinement_rounds"] = result.report.refinement_rounds;
+    j["fallbacks"] = result.report.fallbacks;
     return j;
 }
 
@@ -88,12 +95,14 @@ void run_mesh(MeshCommandOptions& options) {
     Progress progress("meshing", options.common.quiet);
     const openvdb::FloatGrid::Ptr grid = load_mesh_grid(options, progress);
     options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
-    const Mesh mesh = mesh_grid(*grid, options.mesh);
+    const MeshResult result = mesh_grid(*grid, options.mesh);
+    const Mesh& mesh = result.mesh;
     write_mesh(mesh, options.output, MeshWriteOptions{options.ascii, options.normals});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.json) {
-        std::cout << figures_json(options, mesh, seconds).dump() << "\n";
+        std::cout << figures_json(options, result, seconds).dump() << "\n";
     } else if (!options.common.quiet) {
+        for (const std::string& fallback : result.report.fallbacks) std::cerr << "vdbmesh mesh: fell back to " << fallback << "\n";
         std::cerr << "vdbmesh mesh: " << mesh.triangles.size() << " triangles, " << mesh.vertices.size()
                   << " vertices, " << seconds << " s -> " << options.output << "\n";
     }

@@ -8,6 +8,6 @@
 namespace vdbmesh::cli {
 
 /// Every field of @a report (and "clean"), in a fixed order.
-nlohmann::ordered_json report_json(const MeshReport& report);
+nlohmann::ordered_json report_json(const MeshAnalysis& report);
 
 }  // namespace vdbmesh::cli

@@ -15,7 +15,7 @@
 namespace vdbmesh {
 
 /// What analyze_mesh() finds. Nothing is repaired; every count is of the mesh as given.
-struct MeshReport {
+struct MeshAnalysis {
     // Sizes.
     std::size_t triangles = 0;
     std::size_t vertices = 0;               ///< mesh.vertices.size()
@@ -64,7 +64,7 @@ struct MeshReport {
 };
 
 /// Measures and validates @a mesh (parallel with TBB; deterministic).
-MeshReport analyze_mesh(const Mesh& mesh);
+MeshAnalysis analyze_mesh(const Mesh& mesh);
 
 /// @brief All pairs (i < j, sorted) of non-degenerate triangles that intersect beyond what
 /// they must share, decided with exact orientation predicates. Sharing is by position:

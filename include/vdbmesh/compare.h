@@ -107,7 +107,8 @@ struct MeshComparison {
     std::optional<double> error;       ///< DMC
     std::optional<double> adaptivity;  ///< volumeToMesh
     double seconds = 0;                ///< mesh_grid() wall time
-    MeshReport report;                 ///< analyze_mesh()
+    MeshReport mesher;                 ///< what mesh_grid() reported (phases, fallbacks)
+    MeshAnalysis analysis;             ///< analyze_mesh()
     Accuracy accuracy;
 };
 

@@ -6,6 +6,8 @@
 #include <openvdb/openvdb.h>
 
 #include <functional>
+#include <string>
+#include <vector>
 
 #include "vdbmesh/mesh.h"
 
@@ -33,6 +35,33 @@ struct MeshOptions {
     std::function<void(double)> progress;  ///< fraction done (0..1), may be empty
 };
 
+/// One step of a mesher and the wall time it took.
+struct MeshPhase {
+    std::string name;  ///< "mesh" (MC, volumeToMesh); DMC: "octree", "contour", "check"
+    double seconds = 0;
+};
+
+/// What mesh_grid() did: the settings it ran with, where the time went, and anything it
+/// did instead of what was asked.
+struct MeshReport {
+    MeshMethod method = MeshMethod::dmc;
+    double iso = 0;
+    double error = 0;
+    double adaptivity = 0;
+    Inside inside = Inside::above;
+    bool open_boundary = false;
+    std::vector<MeshPhase> phases;       ///< in the order run
+    int refinement_rounds = 0;           ///< DMC safety-net rounds, 0 when none ran
+    std::vector<std::string> fallbacks;  ///< anything the mesher fell back to, in words; empty when none
+    double total_seconds() const;        ///< the sum of the phases
+};
+
+/// A mesh and how it was made.
+struct MeshResult {
+    Mesh mesh;
+    MeshReport report;
+};
+
 /// Meshes @a grid at options.iso. The result is in world coordinates (the grid's
 /// transform), triangles counter-clockwise seen from outside the object. Unless
 /// open_boundary, the surface is closed where the object meets the edge of the scanned
@@ -41,6 +70,6 @@ struct MeshOptions {
 /// MeshMethod::openvdb meshes the grid's values as they are (no scan-box closing).
 /// @throw UsageError for a non-finite iso, error < 0, adaptivity outside [0, 1], or
 /// open_boundary with MeshMethod::openvdb.
-Mesh mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options);
+MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options);
 
 }  // namespace vdbmesh

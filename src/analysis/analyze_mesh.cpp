@@ -91,14 +91,14 @@ std::size_t count_negative_components(const Mesh& mesh, const detail::Topology& 
 
 }  // namespace
 
-bool MeshReport::is_clean() const {
+bool MeshAnalysis::is_clean() const {
     return triangles > 0 && closed && nonmanifold_edges == 0 && nonmanifold_vertices == 0 &&
            misoriented_edges == 0 && outward && self_intersecting_pairs == 0 && degenerate_faces == 0;
 }
 
-MeshReport analyze_mesh(const Mesh& mesh) {
+MeshAnalysis analyze_mesh(const Mesh& mesh) {
     detail::check_indices(mesh);
-    MeshReport report;
+    MeshAnalysis report;
     report.triangles = mesh.triangles.size();
     report.vertices = mesh.vertices.size();
 

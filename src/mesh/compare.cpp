@@ -150,7 +150,7 @@ TrueSurface::TrueSurface(const openvdb::FloatGrid& grid, double iso, Inside insi
     mc.method = MeshMethod::mc;
     mc.iso = iso;
     mc.inside = inside;
-    const Mesh reference = to_index_space(mesh_grid(grid, mc), grid);
+    const Mesh reference = to_index_space(mesh_grid(grid, mc).mesh, grid);
     reference_triangles_ = reference.triangles.size();
     if (reference.triangles.empty()) return;
     reference_points_ = sample_surface(reference, options_.samples);
@@ -211,10 +211,11 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
         mesh_options.error = run.error.value_or(0.0);
         mesh_options.adaptivity = run.adaptivity.value_or(0.0);
         const auto start = std::chrono::steady_clock::now();
-        const Mesh mesh = mesh_grid(grid, mesh_options);
+        MeshResult result = mesh_grid(grid, mesh_options);
         run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        run.report = analyze_mesh(mesh);
-        run.accuracy = truth.measure(mesh);
+        run.mesher = std::move(result.report);
+        run.analysis = analyze_mesh(result.mesh);
+        run.accuracy = truth.measure(result.mesh);
     }
     if (options.progress) options.progress(runs.size(), runs.size());
     return {std::move(runs), truth.reference_triangles()};

@@ -7,6 +7,7 @@
 
 #include "mesh/dmc.h"
 #include "mesh/marching_cubes.h"
+#include "mesh/mesh_phases.h"
 #include "mesh/openvdb_mesher.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/mesher.h"
@@ -28,10 +29,10 @@ void check_options(const MeshOptions& options) {
     }
 }
 
-Mesh run_mesher(const openvdb::FloatGrid& grid, const MeshOptions& options) {
+Mesh run_mesher(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report) {
     switch (options.method) {
         case MeshMethod::dmc:
-            return detail::dual_marching_cubes(grid, options);
+            return detail::dual_marching_cubes(grid, options, report);
         case MeshMethod::mc:
             return detail::marching_cubes(grid, options);
         case MeshMethod::openvdb:
@@ -49,13 +50,30 @@ bool mirrors(const openvdb::math::Transform& transform) {
 
 }  // namespace
 
-Mesh mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options) {
+double MeshReport::total_seconds() const {
+    double total = 0;
+    for (const MeshPhase& phase : phases) total += phase.seconds;
+    return total;
+}
+
+MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options) {
     check_options(options);
-    Mesh mesh = run_mesher(grid, options);
+    MeshResult result;
+    MeshReport& report = result.report;
+    report.method = options.method;
+    report.iso = options.iso;
+    report.error = options.error;
+    report.adaptivity = options.adaptivity;
+    report.inside = options.inside;
+    report.open_boundary = options.open_boundary;
+    detail::PhaseClock clock;
+    result.mesh = run_mesher(grid, options, report);
+    // Meshers that time no phases of their own are one phase.
+    if (report.phases.empty()) clock.lap(report, "mesh");
     if (mirrors(grid.transform())) {
-        for (auto& triangle : mesh.triangles) std::swap(triangle[1], triangle[2]);
+        for (auto& triangle : result.mesh.triangles) std::swap(triangle[1], triangle[2]);
     }
-    return mesh;
+    return result;
 }
 
 }  // namespace vdbmesh

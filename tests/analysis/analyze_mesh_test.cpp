@@ -16,7 +16,7 @@ using test::tetrahedron;
 constexpr double kTol = 1e-12;
 
 TEST(AnalyzeMeshTest, TetrahedronIsCleanWithExactIntegrals) {
-    const MeshReport r = analyze_mesh(tetrahedron());
+    const MeshAnalysis r = analyze_mesh(tetrahedron());
     EXPECT_TRUE(r.is_clean());
     EXPECT_EQ(r.triangles, 4u);
     EXPECT_EQ(r.vertices, 4u);
@@ -39,7 +39,7 @@ TEST(AnalyzeMeshTest, TetrahedronIsCleanWithExactIntegrals) {
 }
 
 TEST(AnalyzeMeshTest, OffsetCubeHasExactIntegrals) {
-    const MeshReport r = analyze_mesh(cube({1, 2, -1}, 2));
+    const MeshAnalysis r = analyze_mesh(cube({1, 2, -1}, 2));
     EXPECT_TRUE(r.is_clean());
     EXPECT_EQ(r.genus, 0);
     EXPECT_EQ(r.euler_characteristic, 2);
@@ -56,7 +56,7 @@ TEST(AnalyzeMeshTest, OffsetCubeHasExactIntegrals) {
 }
 
 TEST(AnalyzeMeshTest, TorusHasGenusOne) {
-    const MeshReport r = analyze_mesh(test::torus());
+    const MeshAnalysis r = analyze_mesh(test::torus());
     EXPECT_TRUE(r.is_clean());
     EXPECT_EQ(r.euler_characteristic, 0);
     EXPECT_EQ(r.genus, 1);
@@ -69,7 +69,7 @@ TEST(AnalyzeMeshTest, TorusHasGenusOne) {
 TEST(AnalyzeMeshTest, InsideOutMeshIsNotOutward) {
     Mesh mesh = cube();
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
-    const MeshReport r = analyze_mesh(mesh);
+    const MeshAnalysis r = analyze_mesh(mesh);
     EXPECT_FALSE(r.outward);
     EXPECT_EQ(r.negative_components, 1u);
     EXPECT_EQ(r.misoriented_edges, 0u);
@@ -80,7 +80,7 @@ TEST(AnalyzeMeshTest, InsideOutMeshIsNotOutward) {
 TEST(AnalyzeMeshTest, HoleLeavesBoundaryEdges) {
     Mesh mesh = cube();
     mesh.triangles.pop_back();
-    const MeshReport r = analyze_mesh(mesh);
+    const MeshAnalysis r = analyze_mesh(mesh);
     EXPECT_EQ(r.boundary_edges, 3u);
     EXPECT_EQ(r.boundary_loops, 1u);
     EXPECT_FALSE(r.closed);
@@ -91,7 +91,7 @@ TEST(AnalyzeMeshTest, HoleLeavesBoundaryEdges) {
 TEST(AnalyzeMeshTest, FlippedTriangleMisorientsItsEdges) {
     Mesh mesh = cube();
     std::swap(mesh.triangles[3][1], mesh.triangles[3][2]);
-    const MeshReport r = analyze_mesh(mesh);
+    const MeshAnalysis r = analyze_mesh(mesh);
     EXPECT_EQ(r.misoriented_edges, 3u);
     EXPECT_TRUE(r.closed);
     EXPECT_EQ(r.nonmanifold_edges, 0u);
@@ -102,7 +102,7 @@ TEST(AnalyzeMeshTest, ThirdTriangleOnAnEdgeIsNonManifold) {
     Mesh mesh = cube();
     mesh.vertices.push_back({0.5f, -1.0f, -1.0f});
     mesh.triangles.push_back({0, 1, 8});
-    const MeshReport r = analyze_mesh(mesh);
+    const MeshAnalysis r = analyze_mesh(mesh);
     EXPECT_EQ(r.nonmanifold_edges, 1u);
     EXPECT_EQ(r.boundary_edges, 2u);
     EXPECT_EQ(r.genus, -1);
@@ -122,7 +122,7 @@ TEST(AnalyzeMeshTest, ConesTouchingAtAVertexMakeItNonManifold) {
         // A point reflection reverses orientation: swap two corners to stay outward.
         mesh.triangles.push_back({mirrored(t[0]), mirrored(t[2]), mirrored(t[1])});
     }
-    const MeshReport r = analyze_mesh(mesh);
+    const MeshAnalysis r = analyze_mesh(mesh);
     EXPECT_EQ(r.nonmanifold_vertices, 1u);
     EXPECT_EQ(r.nonmanifold_edges, 0u);
     EXPECT_EQ(r.misoriented_edges, 0u);
@@ -135,7 +135,7 @@ TEST(AnalyzeMeshTest, ConesTouchingAtAVertexMakeItNonManifold) {
 
 TEST(AnalyzeMeshTest, CrossingTrianglesIntersect) {
     const Mesh mesh = test::triangle_soup({{{{0, 0, 0}, {2, 0, 0}, {0, 2, 0}}}, {{{0.5f, 0.5f, -1}, {0.5f, 0.5f, 1}, {3, 3, 0}}}});
-    const MeshReport r = analyze_mesh(mesh);
+    const MeshAnalysis r = analyze_mesh(mesh);
     EXPECT_EQ(r.self_intersecting_pairs, 1u);
     EXPECT_EQ(r.components, 2u);
 }
@@ -143,7 +143,7 @@ TEST(AnalyzeMeshTest, CrossingTrianglesIntersect) {
 TEST(AnalyzeMeshTest, DuplicatedFaceIsCaught) {
     Mesh mesh = cube();
     mesh.triangles.push_back(mesh.triangles[5]);
-    const MeshReport r = analyze_mesh(mesh);
+    const MeshAnalysis r = analyze_mesh(mesh);
     EXPECT_EQ(r.self_intersecting_pairs, 1u);
     EXPECT_EQ(r.nonmanifold_edges, 3u);
     EXPECT_EQ(r.misoriented_edges, 3u);
@@ -155,7 +155,7 @@ TEST(AnalyzeMeshTest, DegenerateFacesAreCountedBothWays) {
     mesh.vertices.push_back({0.5f, 0, 0});  // on the edge from vertex 0 to vertex 1
     mesh.triangles.push_back({0, 8, 1});    // zero area, distinct indices
     mesh.triangles.push_back({2, 2, 3});    // repeated vertex
-    const MeshReport r = analyze_mesh(mesh);
+    const MeshAnalysis r = analyze_mesh(mesh);
     EXPECT_EQ(r.zero_area_faces, 1u);
     EXPECT_EQ(r.repeated_vertex_faces, 1u);
     EXPECT_EQ(r.degenerate_faces, 2u);
@@ -166,13 +166,13 @@ TEST(AnalyzeMeshTest, DegenerateFacesAreCountedBothWays) {
 TEST(AnalyzeMeshTest, SmallAnglesAreMeasured) {
     // One sliver with a 5.71 degree angle (atan(0.1)) among otherwise fine triangles.
     const Mesh mesh = test::triangle_soup({{{{0, 0, 0}, {10, 0, 0}, {10, 1, 0}}}});
-    const MeshReport r = analyze_mesh(mesh);
+    const MeshAnalysis r = analyze_mesh(mesh);
     EXPECT_NEAR(r.min_angle_deg, std::atan(0.1) * 180 / M_PI, 1e-6);
     EXPECT_NEAR(r.small_angle_share, 1.0 / 3, 1e-12);
 }
 
 TEST(AnalyzeMeshTest, EmptyMeshIsNotClean) {
-    const MeshReport r = analyze_mesh(Mesh{});
+    const MeshAnalysis r = analyze_mesh(Mesh{});
     EXPECT_EQ(r.triangles, 0u);
     EXPECT_FALSE(r.is_clean());
 }
@@ -187,7 +187,7 @@ TEST(AnalyzeMeshTest, OutOfRangeIndexThrows) {
 TEST(AnalyzeMeshTest, UnreferencedVerticesAreCountedNotUsed) {
     Mesh mesh = tetrahedron();
     mesh.vertices.push_back({5, 5, 5});
-    const MeshReport r = analyze_mesh(mesh);
+    const MeshAnalysis r = analyze_mesh(mesh);
     EXPECT_EQ(r.unreferenced_vertices, 1u);
     EXPECT_EQ(r.euler_characteristic, 2);
     EXPECT_TRUE(r.is_clean());

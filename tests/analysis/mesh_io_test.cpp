@@ -205,7 +205,7 @@ TEST(MeshIoTest, ZipperedBunnyReads) {
     const Mesh bunny = read_mesh(path);
     EXPECT_EQ(bunny.vertices.size(), 35947u);
     EXPECT_EQ(bunny.triangles.size(), 69451u);
-    const MeshReport r = analyze_mesh(bunny);
+    const MeshAnalysis r = analyze_mesh(bunny);
     // The zippered bunny is open at its base (holes the scanner could not see).
     EXPECT_FALSE(r.closed);
     EXPECT_GT(r.boundary_edges, 0u);

@@ -62,6 +62,15 @@ TEST(CmdMeshTest, JsonReportsTheSettingsAndTheWrittenMesh) {
     EXPECT_EQ(report["triangles"], written.triangles.size());
     EXPECT_EQ(report["vertices"], written.vertices.size());
     EXPECT_GT(report["seconds"].get<double>(), 0.0);
+    // What the mesher did: DMC's phases in order, its rounds, no fallback.
+    ASSERT_TRUE(report["phases"].is_array());
+    ASSERT_GE(report["phases"].size(), 2u);
+    EXPECT_EQ(report["phases"][0]["name"], "octree");
+    EXPECT_EQ(report["phases"][1]["name"], "contour");
+    EXPECT_GE(report["phases"][0]["seconds"].get<double>(), 0.0);
+    EXPECT_GE(report["refinement_rounds"].get<int>(), 0);
+    EXPECT_TRUE(report["fallbacks"].is_array());
+    EXPECT_TRUE(report["fallbacks"].empty());
 }
 
 TEST(CmdMeshTest, MeshesAVdbAtItsStoredIsovalue) {
@@ -84,7 +93,7 @@ TEST(CmdMeshTest, EveryMethodWritesAClosedOutwardMesh) {
         const auto output = scratch / (std::string(method) + ".stl");
         ASSERT_EQ(cli::run({"mesh", input.string(), "--method", method, "-o", output.string(), "-q", "--threads", "2"}),
                   cli::kSuccess) << method;
-        const MeshReport report = analyze_mesh(read_mesh(output));
+        const MeshAnalysis report = analyze_mesh(read_mesh(output));
         EXPECT_TRUE(report.closed) << method;
         EXPECT_TRUE(report.outward) << method;
         EXPECT_EQ(report.nonmanifold_edges, 0u) << method;
@@ -97,7 +106,7 @@ TEST(CmdMeshTest, MeshesARawScanConvertedOnTheFly) {
     const auto output = scratch / "ball.obj";
     ASSERT_EQ(cli::run({"mesh", input.string(), "--raw-dims", "20,20,20", "--iso", "100", "-o", output.string(), "-q"}),
               cli::kSuccess);
-    const MeshReport report = analyze_mesh(read_mesh(output));
+    const MeshAnalysis report = analyze_mesh(read_mesh(output));
     EXPECT_TRUE(report.closed);
     EXPECT_TRUE(report.outward);
     // Samples 200 and 0 around 100: the surface passes half way between the last inside and

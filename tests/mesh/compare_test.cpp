@@ -20,7 +20,7 @@ Mesh mesh_with(const openvdb::FloatGrid& grid, MeshMethod method, double adaptiv
     options.method = method;
     options.iso = 0.5;
     options.adaptivity = adaptivity;
-    return mesh_grid(grid, options);
+    return mesh_grid(grid, options).mesh;
 }
 
 SignedDistance exact_distance(const PhantomSpec& spec) {
@@ -91,7 +91,7 @@ TEST(IsosurfaceDistanceTest, McVerticesLieOnTheTrilinearIsosurfaceOfARealScan) {
     MeshOptions options;
     options.method = MeshMethod::mc;
     options.iso = 100.5;
-    const Mesh mesh = to_index_space(mesh_grid(*grid, options), *grid);
+    const Mesh mesh = to_index_space(mesh_grid(*grid, options).mesh, *grid);
     double worst = 0;
     for (std::size_t i = 0; i < mesh.vertices.size(); i += 97) {  // a spread subset: the full set takes long
         const auto& v = mesh.vertices[i];
@@ -149,11 +149,13 @@ TEST_F(CompareTest, CompareMeshersRunsEverySettingInOrder) {
     EXPECT_EQ(result.meshes[4].adaptivity, 1.0);
     EXPECT_GT(result.reference_triangles, 0u);
     // DMC at error 0 is MC (dmc.h): the same triangle count.
-    EXPECT_EQ(result.meshes[0].report.triangles, result.meshes[2].report.triangles);
+    EXPECT_EQ(result.meshes[0].analysis.triangles, result.meshes[2].analysis.triangles);
     for (const auto& m : result.meshes) {
-        EXPECT_TRUE(m.report.closed) << method_name(m.method);
-        EXPECT_GT(m.report.triangles, 0u);
+        EXPECT_TRUE(m.analysis.closed) << method_name(m.method);
+        EXPECT_GT(m.analysis.triangles, 0u);
         EXPECT_GE(m.seconds, 0.0);
+        EXPECT_EQ(m.mesher.method, m.method);
+        EXPECT_FALSE(m.mesher.phases.empty());
     }
 }
 

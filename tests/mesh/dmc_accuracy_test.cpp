@@ -130,7 +130,7 @@ DistanceReport distance(const Mesh& mesh, const SignedDistance& sd, const std::v
 }
 
 void expect_clean(const Mesh& mesh) {
-    const MeshReport report = analyze_mesh(mesh);
+    const MeshAnalysis report = analyze_mesh(mesh);
     EXPECT_TRUE(report.closed);
     EXPECT_EQ(report.nonmanifold_edges, 0u);
     EXPECT_EQ(report.nonmanifold_vertices, 0u);

@@ -17,7 +17,7 @@ namespace {
 
 void expect_closed_manifold(const Mesh& mesh) {
     ASSERT_FALSE(mesh.triangles.empty());
-    const MeshReport report = analyze_mesh(mesh);
+    const MeshAnalysis report = analyze_mesh(mesh);
     EXPECT_TRUE(report.closed);
     EXPECT_EQ(report.nonmanifold_edges, 0u);
     EXPECT_EQ(report.nonmanifold_vertices, 0u);
@@ -175,7 +175,7 @@ TEST(MarchingCubesTest, OpenBoundaryLeavesTheCutOpen) {
     MeshOptions options = mesh_options(MeshMethod::mc, 0.0);
     options.open_boundary = true;
     const Mesh mesh = detail::marching_cubes(*grid, options);
-    const MeshReport report = analyze_mesh(mesh);
+    const MeshAnalysis report = analyze_mesh(mesh);
     // The three cut faces leave one boundary loop, on the planes x, y or z = 5.
     EXPECT_EQ(report.boundary_loops, 1u);
     EXPECT_GT(report.boundary_edges, 3u * 15);

@@ -6,6 +6,8 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "mesh/marching_cubes.h"
 #include "mesh_checks.h"
@@ -18,7 +20,7 @@ namespace {
 
 void expect_closed(const Mesh& mesh) {
     ASSERT_FALSE(mesh.triangles.empty());
-    const MeshReport report = analyze_mesh(mesh);
+    const MeshAnalysis report = analyze_mesh(mesh);
     EXPECT_TRUE(report.closed);
     EXPECT_EQ(report.nonmanifold_edges, 0u);
     EXPECT_EQ(report.misoriented_edges, 0u);
@@ -41,21 +43,52 @@ TEST(MeshGridTest, RejectsBadOptions) {
 
 TEST(MeshGridTest, DispatchesEachMethod) {
     auto grid = make_ball(6, {0.2, 0.1, 0.4});
-    const Mesh mc = mesh_grid(*grid, mesh_options(MeshMethod::mc, 0.0));
+    const Mesh mc = mesh_grid(*grid, mesh_options(MeshMethod::mc, 0.0)).mesh;
     const Mesh direct = detail::marching_cubes(*grid, mesh_options(MeshMethod::mc, 0.0));
     EXPECT_EQ(mc.triangles, direct.triangles);
     EXPECT_EQ(mc.vertices, direct.vertices);
     for (MeshMethod method : {MeshMethod::dmc, MeshMethod::openvdb}) {
-        const Mesh mesh = mesh_grid(*grid, mesh_options(method, 0.0));
+        const Mesh mesh = mesh_grid(*grid, mesh_options(method, 0.0)).mesh;
         expect_closed(mesh);
         EXPECT_GT(signed_volume(mesh), 0);
     }
 }
 
+TEST(MeshGridTest, ReportsSettingsAndPhases) {
+    auto grid = make_ball(6, {0.2, 0.1, 0.4});
+    MeshOptions options = mesh_options(MeshMethod::openvdb, 0.0, Inside::below);
+    options.adaptivity = 0.25;
+    const MeshReport vdb = mesh_grid(*grid, options).report;
+    EXPECT_EQ(vdb.method, MeshMethod::openvdb);
+    EXPECT_EQ(vdb.adaptivity, 0.25);
+    EXPECT_EQ(vdb.inside, Inside::below);
+    ASSERT_EQ(vdb.phases.size(), 1u);
+    EXPECT_EQ(vdb.phases[0].name, "mesh");
+    EXPECT_GE(vdb.total_seconds(), 0.0);
+    EXPECT_EQ(vdb.refinement_rounds, 0);
+    EXPECT_TRUE(vdb.fallbacks.empty());
+
+    options = mesh_options(MeshMethod::dmc, 0.0);
+    options.error = 0.5;
+    const MeshReport dmc = mesh_grid(*grid, options).report;
+    EXPECT_EQ(dmc.method, MeshMethod::dmc);
+    EXPECT_EQ(dmc.error, 0.5);
+    std::vector<std::string> names;
+    for (const MeshPhase& phase : dmc.phases) names.push_back(phase.name);
+    ASSERT_GE(names.size(), 2u);
+    EXPECT_EQ(names[0], "octree");
+    EXPECT_EQ(names[1], "contour");
+    EXPECT_TRUE(dmc.fallbacks.empty());
+    EXPECT_LT(dmc.refinement_rounds, 32);
+    double sum = 0;
+    for (const MeshPhase& phase : dmc.phases) sum += phase.seconds;
+    EXPECT_DOUBLE_EQ(dmc.total_seconds(), sum);
+}
+
 TEST(MeshGridTest, OpenvdbMethodIsClosedAndOutwardOnADensityBall) {
     const double radius = 10;
     auto grid = make_ball(radius, {0.3, 0.2, 0.1});  // grid class unknown: a density
-    const Mesh mesh = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 0.0));
+    const Mesh mesh = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 0.0)).mesh;
     expect_closed(mesh);
     EXPECT_EQ(analyze_mesh(mesh).degenerate_faces, 0u);
     // Vertices at the mean of a cell's edge crossings sit inside the sphere by up to about
@@ -68,14 +101,14 @@ TEST(MeshGridTest, OpenvdbMethodIsOutwardOnALevelSetWithInsideBelow) {
     const float radius = 5.0f, voxel = 0.25f;
     auto grid = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(radius, openvdb::Vec3f(1, 2, 3), voxel);
     ASSERT_EQ(grid->getGridClass(), openvdb::GRID_LEVEL_SET);
-    const Mesh mesh = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 0.0, Inside::below));
+    const Mesh mesh = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 0.0, Inside::below)).mesh;
     expect_closed(mesh);
     const double exact_volume = 4.0 / 3.0 * kPi * radius * radius * radius;
     EXPECT_NEAR(signed_volume(mesh), exact_volume, 0.1 * voxel * 4 * kPi * radius * radius);
     // The same level set read as a density (inside above) is the complement: reversed. Not
     // bit for bit: samples at exactly 0 (distance 20 voxels from the centre) are outside both
     // times, which moves a few vertices.
-    const Mesh complement = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 0.0, Inside::above));
+    const Mesh complement = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 0.0, Inside::above)).mesh;
     EXPECT_NEAR(signed_volume(complement), -signed_volume(mesh), 1e-4 * exact_volume);
 }
 
@@ -88,11 +121,11 @@ TEST(MeshGridTest, OpenvdbMethodCountsTheIsovalueAsOutside) {
     auto grid = make_grid(openvdb::CoordBBox(openvdb::Coord(-12), openvdb::Coord(12)), [](int i, int j, int k) {
         return float(10 - std::max({std::abs(i), std::abs(j), std::abs(k)}));
     }, -2.0f);
-    const Mesh above = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 5.0));
+    const Mesh above = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 5.0)).mesh;
     expect_closed(above);
     EXPECT_GT(signed_volume(above), 8.0 * 8 * 8);
     EXPECT_LT(signed_volume(above), 10.0 * 10 * 10);
-    const Mesh below = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 5.0, Inside::below));
+    const Mesh below = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 5.0, Inside::below)).mesh;
     expect_closed(below);
     EXPECT_LT(signed_volume(below), -10.0 * 10 * 10);
     EXPECT_GT(signed_volume(below), -12.0 * 12 * 12);
@@ -104,11 +137,11 @@ TEST(MeshGridTest, EveryMethodGivesTheSameBytesWithOneAndTwoThreads) {
         Mesh one, two;
         {
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-            one = mesh_grid(*grid, mesh_options(method, 0.0));
+            one = mesh_grid(*grid, mesh_options(method, 0.0)).mesh;
         }
         {
             tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-            two = mesh_grid(*grid, mesh_options(method, 0.0));
+            two = mesh_grid(*grid, mesh_options(method, 0.0)).mesh;
         }
         ASSERT_GT(one.triangles.size(), 10000u);
         EXPECT_EQ(one.vertices, two.vertices) << int(method);
@@ -126,8 +159,8 @@ TEST(MeshGridTest, MirroringTransformKeepsNormalsOutward) {
     mirror(2, 2) = 2.0;
     grid->setTransform(openvdb::math::Transform::createLinearTransform(mirror));
     for (MeshMethod method : {MeshMethod::dmc, MeshMethod::mc, MeshMethod::openvdb}) {
-        const Mesh mesh = mesh_grid(*grid, mesh_options(method, 0.0));
-        const MeshReport report = analyze_mesh(mesh);
+        const Mesh mesh = mesh_grid(*grid, mesh_options(method, 0.0)).mesh;
+        const MeshAnalysis report = analyze_mesh(mesh);
         EXPECT_TRUE(report.closed) << int(method);
         EXPECT_TRUE(report.outward) << int(method);
     }

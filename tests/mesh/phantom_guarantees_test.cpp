@@ -43,11 +43,11 @@ TEST_P(PhantomGuaranteesTest, EveryErrorGivesACleanMesh) {
     MeshOptions options;
     options.iso = 0.5;
     options.method = MeshMethod::mc;
-    EXPECT_TRUE(analyze_mesh(mesh_grid(*grid, options)).is_clean()) << "mc";
+    EXPECT_TRUE(analyze_mesh(mesh_grid(*grid, options).mesh).is_clean()) << "mc";
     options.method = MeshMethod::dmc;
     for (double error : {0.0, 0.1, 0.25, 0.5, 1.0}) {
         options.error = error;
-        const MeshReport report = analyze_mesh(mesh_grid(*grid, options));
+        const MeshAnalysis report = analyze_mesh(mesh_grid(*grid, options).mesh);
         EXPECT_TRUE(report.is_clean()) << "dmc --error " << error << ": " << report.triangles << " triangles, "
                                        << report.self_intersecting_pairs << " self-intersecting pairs, "
                                        << report.boundary_edges << " boundary edges, " << report.nonmanifold_edges

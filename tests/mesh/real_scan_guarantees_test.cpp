@@ -1,6 +1,6 @@
 // Issue 3, point 6: at every --error, the DMC and MC meshes of every real volume of the shared
 // data (../shared/data) must be clean as `vdbmesh check` judges them (analyze_mesh() and
-// MeshReport::is_clean(): closed, manifold, consistently oriented outward, no degenerate faces,
+// MeshAnalysis::is_clean(): closed, manifold, consistently oriented outward, no degenerate faces,
 // no self-intersecting pairs). The analytic phantoms of the other mesher tests do not exercise
 // what real scans do (noise, thin walls, objects touching the scan's border, tiny components),
 // so each scan is converted once at its known-good isovalue (those of the per-scan table of
@@ -92,7 +92,7 @@ ReadOptions read_options(const RealScan& scan, const std::vector<std::filesystem
 }
 
 /// The figures `vdbmesh check` prints that tell why a mesh is not clean.
-std::string describe(const MeshReport& r) {
+std::string describe(const MeshAnalysis& r) {
     std::ostringstream out;
     out << r.triangles << " triangles, " << r.self_intersecting_pairs << " self-intersecting pairs, "
         << r.boundary_edges << " boundary edges, " << r.nonmanifold_edges << " non-manifold edges, "
@@ -119,15 +119,15 @@ TEST_P(RealScanGuaranteesTest, DmcAndMcMeshesAreClean) {
     convert.iso = scan.iso;
     const openvdb::FloatGrid::Ptr grid = convert_to_grid(*reader, convert);
 
-    std::vector<MeshReport> reports;
+    std::vector<MeshAnalysis> reports;
     std::vector<Mesh> dmc_meshes;  // index space, by error
     for (const Method& method : kMethods) {
         MeshOptions options;
         options.method = method.method;
         options.error = method.error;
         options.iso = scan.iso;
-        const Mesh mesh = mesh_grid(*grid, options);
-        const MeshReport report = analyze_mesh(mesh);
+        const Mesh mesh = mesh_grid(*grid, options).mesh;
+        const MeshAnalysis report = analyze_mesh(mesh);
         if (method.method == MeshMethod::dmc) dmc_meshes.push_back(to_index_space(mesh, *grid));
         std::cout << "[ figures  ] " << scan.name << " " << method.label << ": " << describe(report) << "\n";
         EXPECT_TRUE(report.is_clean()) << scan.name << " at iso " << scan.iso << ", " << method.label
