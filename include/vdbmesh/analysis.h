@@ -1,7 +1,8 @@
 #pragma once
 /// @file analysis.h
 /// @brief Validating and measuring triangle meshes: topology, degeneracies, exact
-/// self-intersections, integrals (area, volume, centroid, inertia) and distances (OpenVDB-free).
+/// self-intersections (geometry.h), integrals (area, volume, centroid, inertia) and
+/// distances (OpenVDB-free).
 
 #include <array>
 #include <cstddef>
@@ -10,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "vdbmesh/geometry.h"  // find_self_intersections()
 #include "vdbmesh/mesh.h"
 
 namespace vdbmesh {
@@ -65,17 +67,6 @@ struct MeshAnalysis {
 
 /// Measures and validates @a mesh (parallel with TBB; deterministic).
 MeshAnalysis analyze_mesh(const Mesh& mesh);
-
-/// @brief All pairs (i < j, sorted) of non-degenerate triangles that intersect beyond what
-/// they must share, decided with exact orientation predicates. Sharing is by position:
-/// corners with bit-identical coordinates are the same point even under different indices.
-/// - no shared corner: any common point (touching counts, as in CGAL's PMP);
-/// - one shared corner: a common point other than that corner (a fold or a crossing);
-/// - a shared edge: coplanar and on the same side of the edge (overlapping);
-/// - all three corners shared (a duplicated face): always.
-/// Degenerate triangles (repeated or collinear corners) are skipped: analyze_mesh() counts them.
-/// O(n log n) with a bounding-volume hierarchy.
-std::vector<std::pair<std::uint32_t, std::uint32_t>> find_self_intersections(const Mesh& mesh);
 
 /// Area, signed volume, centroid and inertia about the centroid (unit density) of the solid
 /// bounded by @a mesh, by the divergence theorem on its triangles (exact for a closed mesh).

@@ -1,7 +1,7 @@
 #pragma once
 /// @file compare.h
 /// @brief Measuring meshers against the true isosurface of a grid (`vdbmesh compare`,
-/// bench/): distance and normal deviation of a mesh to the surface the samples define, and
+/// bench/; OpenVDB-free: the grid is only declared, openvdb_fwd.h): distance and normal deviation of a mesh to the surface the samples define, and
 /// the same grid meshed by DMC, Marching Cubes and volumeToMesh side by side.
 ///
 /// The true surface is, for a scan, the isovalue surface of the grid's trilinear interpolant
@@ -9,8 +9,7 @@
 /// surface given by its exact signed distance. Everything is measured in index space, so
 /// distances are in VOXELS (index units, whatever the spacing).
 
-#include <openvdb/openvdb.h>
-
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <optional>
@@ -19,6 +18,7 @@
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/mesh.h"
 #include "vdbmesh/mesher.h"
+#include "vdbmesh/openvdb_fwd.h"
 
 namespace vdbmesh {
 
@@ -49,7 +49,8 @@ struct Accuracy {
     std::size_t unresolved_samples = 0;
 };
 
-/// How far from a mesh point the trilinear isosurface is searched for.
+/// How far from a mesh point the trilinear isosurface is searched for (the reach of the
+/// grid stage's search, trilinear_field.h).
 inline constexpr double kIsosurfaceSearchVoxels = 4.0;
 
 /// Distance (voxels) from @a index_point to the nearest point of {trilinear(grid) = iso} that
@@ -61,7 +62,7 @@ inline constexpr double kIsosurfaceSearchVoxels = 4.0;
 /// extended constantly beyond the last one: its faces count as surface where the last layer
 /// of samples is inside. Empty when no surface point was found within kIsosurfaceSearchVoxels.
 std::optional<double> distance_to_trilinear_isosurface(const openvdb::FloatGrid& grid, double iso,
-                                                       const openvdb::Vec3d& index_point,
+                                                       const std::array<double, 3>& index_point,
                                                        Inside inside = Inside::above);
 
 /// @a mesh (world coordinates, as mesh_grid() returns) moved to @a grid's index space.

@@ -1,7 +1,8 @@
 #pragma once
 /// @file grid.h
 /// @brief Scans as sparse OpenVDB grids: streaming conversion, .vdb input and output.
-/// This is the only public header (with mesher.h) that includes OpenVDB.
+/// This is one of the two public headers that include OpenVDB (with trilinear_field.h);
+/// mesher.h and compare.h take a grid by reference and only declare it (openvdb_fwd.h).
 
 #include <openvdb/openvdb.h>
 

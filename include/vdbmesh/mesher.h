@@ -1,15 +1,16 @@
 #pragma once
 /// @file mesher.h
 /// @brief Meshing a sparse grid: Dual Marching Cubes on the VDB tree, Marching Cubes, or
-/// OpenVDB's volumeToMesh, all returning the same indexed, welded, oriented Mesh.
-
-#include <openvdb/openvdb.h>
+/// OpenVDB's volumeToMesh, all returning the same indexed, welded, oriented Mesh, with a
+/// report of what the mesher did. OpenVDB-free: the grid is only declared (openvdb_fwd.h);
+/// grid.h makes and reads grids.
 
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "vdbmesh/mesh.h"
+#include "vdbmesh/openvdb_fwd.h"
 
 namespace vdbmesh {
 

@@ -25,6 +25,23 @@ std::string to_string(ByteOrder order);
 /// Parses "u8|i8|u16|i16|u32|i32|f32|f64"; throws UsageError otherwise.
 SampleType parse_sample_type(const std::string& name);
 
+/// Calls @a f with a zero of the C++ type that stores @a type (std::uint8_t ... double), so
+/// that a template runs once per sample type:
+/// `visit_sample_type(type, [&](auto zero) { decode<decltype(zero)>(...); })`.
+template <class F>
+void visit_sample_type(SampleType type, F&& f) {
+    switch (type) {
+        case SampleType::u8: return f(std::uint8_t{});
+        case SampleType::i8: return f(std::int8_t{});
+        case SampleType::u16: return f(std::uint16_t{});
+        case SampleType::i16: return f(std::int16_t{});
+        case SampleType::u32: return f(std::uint32_t{});
+        case SampleType::i32: return f(std::int32_t{});
+        case SampleType::f32: return f(float{});
+        case SampleType::f64: return f(double{});
+    }
+}
+
 /// 3x4 affine matrix, row major: world = m * (i, j, k, 1), with (i, j, k) a voxel index.
 using Affine = std::array<std::array<double, 4>, 3>;
 

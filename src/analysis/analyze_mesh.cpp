@@ -7,8 +7,8 @@
 #include <limits>
 
 #include "analysis/block_reduce.h"
-#include "analysis/classify_faces.h"
-#include "analysis/topology.h"
+#include "vdbmesh/geometry.h"
+#include "vdbmesh/geometry.h"
 #include "vdbmesh/analysis.h"
 
 namespace vdbmesh {
@@ -16,11 +16,6 @@ namespace {
 
 constexpr double kSmallAngleDeg = 10.0;
 constexpr double kPi = 3.14159265358979323846;
-
-struct AngleStats {
-    double min_angle = std::numeric_limits<double>::infinity();
-    std::size_t small = 0, total = 0;
-};
 
 /// The three angles of triangle abc in degrees (via atan2, accurate for tiny angles).
 std::array<double, 3> triangle_angles(const std::array<float, 3>& a, const std::array<float, 3>& b,
@@ -42,26 +37,14 @@ std::array<double, 3> triangle_angles(const std::array<float, 3>& a, const std::
     return angles;
 }
 
-AngleStats angle_stats(const Mesh& mesh, const std::vector<std::uint32_t>& regular) {
-    return detail::block_reduce(
-        regular.size(), 16384, AngleStats{},
-        [&](std::size_t begin, std::size_t end) {
-            AngleStats local;
-            for (std::size_t i = begin; i < end; ++i) {
-                const auto& t = mesh.triangles[regular[i]];
-                for (const double angle : triangle_angles(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]])) {
-                    local.min_angle = std::min(local.min_angle, angle);
-                    local.small += angle < kSmallAngleDeg;
-                    ++local.total;
-                }
-            }
-            return local;
-        },
-        [](AngleStats& total, const AngleStats& block) {
-            total.min_angle = std::min(total.min_angle, block.min_angle);
-            total.small += block.small;
-            total.total += block.total;
-        });
+/// The angles of the listed triangles; flagged: those under kSmallAngleDeg.
+detail::ValueStats angle_stats(const Mesh& mesh, const std::vector<std::uint32_t>& regular) {
+    return detail::block_stats(regular.size(), 16384, [&](std::size_t i, detail::ValueStats& stats) {
+        const auto& t = mesh.triangles[regular[i]];
+        for (const double angle : triangle_angles(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]])) {
+            stats.add(angle, angle < kSmallAngleDeg);
+        }
+    });
 }
 
 /// Number of components whose signed volume is negative. Each component's tetrahedra join
@@ -135,10 +118,10 @@ MeshAnalysis analyze_mesh(const Mesh& mesh) {
     report.outward = integrals.volume > 0;
     report.negative_components = count_negative_components(mesh, topology);
 
-    const AngleStats angles = angle_stats(mesh, detail::regular_faces(classes));
-    if (angles.total > 0) {
-        report.min_angle_deg = angles.min_angle;
-        report.small_angle_share = double(angles.small) / double(angles.total);
+    const detail::ValueStats angles = angle_stats(mesh, detail::regular_faces(classes));
+    if (angles.count > 0) {
+        report.min_angle_deg = angles.min;
+        report.small_angle_share = double(angles.flagged) / double(angles.count);
     }
     return report;
 }

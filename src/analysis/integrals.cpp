@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "analysis/block_reduce.h"
-#include "analysis/classify_faces.h"
+#include "vdbmesh/geometry.h"
 #include "vdbmesh/analysis.h"
 
 namespace vdbmesh {

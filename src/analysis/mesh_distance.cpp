@@ -1,7 +1,7 @@
 // Surface-to-surface distances (DESIGN.md section 6): points sampled uniformly by area on one
 // surface (a triangle chosen with probability proportional to its area, then a uniform point
 // in it by the square-root mapping of Osada et al., "Shape distributions", ACM TOG 2002),
-// measured exactly to the closest point of the other mesh through a BVH (triangle_bvh.h),
+// measured exactly to the closest point of the other mesh through a BVH (geometry.h),
 // or by an analytic signed-distance function. Sample k comes from a counter-based generator
 // (SplitMix64 of the seed and k), so results do not depend on the thread count.
 #include <algorithm>
@@ -9,8 +9,8 @@
 #include <numeric>
 
 #include "analysis/block_reduce.h"
-#include "analysis/classify_faces.h"
-#include "analysis/triangle_bvh.h"
+#include "vdbmesh/geometry.h"
+#include "vdbmesh/geometry.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
 
@@ -76,33 +76,10 @@ private:
     std::vector<double> cumulative_;
 };
 
-/// Maximum, sum and sum of squares of one direction's distances.
-struct OneSided {
-    double max = 0, sum = 0, sum_squares = 0;
-    std::size_t count = 0;
-};
-
+/// One direction's distances: their count, maximum, sum and sum of squares.
 template <class DistanceOf>
-OneSided measure(std::size_t count, DistanceOf distance_of) {
-    return detail::block_reduce(
-        count, kBlock, OneSided{},
-        [&](std::size_t begin, std::size_t end) {
-            OneSided local;
-            for (std::size_t k = begin; k < end; ++k) {
-                const double d = distance_of(k);
-                local.max = std::max(local.max, d);
-                local.sum += d;
-                local.sum_squares += d * d;
-                ++local.count;
-            }
-            return local;
-        },
-        [](OneSided& total, const OneSided& block) {
-            total.max = std::max(total.max, block.max);
-            total.sum += block.sum;
-            total.sum_squares += block.sum_squares;
-            total.count += block.count;
-        });
+detail::ValueStats measure(std::size_t count, DistanceOf distance_of) {
+    return detail::block_stats(count, kBlock, [&](std::size_t k, detail::ValueStats& stats) { stats.add(distance_of(k)); });
 }
 
 std::vector<std::uint32_t> all_triangles(const Mesh& mesh) {
@@ -111,11 +88,11 @@ std::vector<std::uint32_t> all_triangles(const Mesh& mesh) {
     return all;
 }
 
-DistanceReport combine(const OneSided& ab, const OneSided& ba) {
+DistanceReport combine(const detail::ValueStats& ab, const detail::ValueStats& ba) {
     DistanceReport report;
-    report.max_a_to_b = ab.max;
-    report.max_b_to_a = ba.max;
-    report.hausdorff = std::max(ab.max, ba.max);
+    report.max_a_to_b = ab.count ? ab.max : 0.0;
+    report.max_b_to_a = ba.count ? ba.max : 0.0;
+    report.hausdorff = std::max(report.max_a_to_b, report.max_b_to_a);
     report.mean_a_to_b = ab.count ? ab.sum / double(ab.count) : 0.0;
     report.mean_b_to_a = ba.count ? ba.sum / double(ba.count) : 0.0;
     report.mean = ba.count ? 0.5 * (report.mean_a_to_b + report.mean_b_to_a) : report.mean_a_to_b;
@@ -131,10 +108,10 @@ DistanceReport mesh_distance(const Mesh& a, const Mesh& b, std::size_t samples_p
     detail::check_indices(b);
     const AreaSampler sample_a(a), sample_b(b);
     const detail::TriangleBvh tree_a(a, all_triangles(a)), tree_b(b, all_triangles(b));
-    const OneSided ab = measure(samples_per_mesh, [&](std::size_t k) {
+    const detail::ValueStats ab = measure(samples_per_mesh, [&](std::size_t k) {
         return std::sqrt(tree_b.closest_point(sample_a.sample(0, k)).distance_squared);
     });
-    const OneSided ba = measure(samples_per_mesh, [&](std::size_t k) {
+    const detail::ValueStats ba = measure(samples_per_mesh, [&](std::size_t k) {
         return std::sqrt(tree_a.closest_point(sample_b.sample(1, k)).distance_squared);
     });
     return combine(ab, ba);
@@ -152,11 +129,11 @@ DistanceReport mesh_distance(const Mesh& mesh, const std::function<double(double
                              std::size_t samples, const std::vector<std::array<double, 3>>& surface_points) {
     detail::check_indices(mesh);
     const AreaSampler sampler(mesh);
-    const OneSided to_surface = measure(samples, [&](std::size_t k) {
+    const detail::ValueStats to_surface = measure(samples, [&](std::size_t k) {
         const Point3 p = sampler.sample(0, k);
         return std::fabs(signed_distance(p[0], p[1], p[2]));
     });
-    OneSided to_mesh;
+    detail::ValueStats to_mesh;
     if (!surface_points.empty()) {
         const detail::TriangleBvh tree(mesh, all_triangles(mesh));
         to_mesh = measure(surface_points.size(), [&](std::size_t k) {

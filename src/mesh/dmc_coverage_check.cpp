@@ -10,7 +10,7 @@
 #include <cmath>
 #include <memory>
 
-#include "analysis/triangle_bvh.h"
+#include "vdbmesh/geometry.h"
 #include "mesh/edge_crossing.h"
 
 namespace vdbmesh::detail {

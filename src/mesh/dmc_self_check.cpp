@@ -1,22 +1,20 @@
 // Dual Marching Cubes checks its own output (see dmc_self_check.h): exact self-intersections
-// (find_self_intersections: BVH and exact predicates), non-manifold edges and vertices, and
-// the distance to the isosurface, on the triangles that come from merged cells.
+// (find_self_intersections: BVH and exact predicates), non-manifold edges and vertices (the
+// checks of analyze_mesh(), geometry.h), coincident vertices, and the distance to the
+// isosurface, on the triangles that come from merged cells.
 
 #include "mesh/dmc_self_check.h"
 
 #include <openvdb/tools/Interpolation.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
-#include <tuple>
 #include <unordered_map>
 
 #include "mesh/dmc_tangent.h"
-#include "mesh/trilinear_field.h"
-#include "vdbmesh/analysis.h"
+#include "vdbmesh/geometry.h"
+#include "vdbmesh/trilinear_field.h"
 
 namespace vdbmesh::detail {
 
@@ -24,87 +22,20 @@ namespace {
 
 /// Marks the triangles on edges used more than twice or twice in the same direction.
 void mark_nonmanifold_edges(const Mesh& mesh, std::vector<std::uint8_t>& bad) {
-    struct Use {
-        std::uint64_t key;  // smaller << 32 | larger
-        std::uint32_t triangle;
-        bool forward;
-    };
-    std::vector<Use> uses;
-    uses.reserve(mesh.triangles.size() * 3);
-    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t a = mesh.triangles[t][std::size_t(k)], b = mesh.triangles[t][std::size_t((k + 1) % 3)];
-            uses.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), t, a < b});
-        }
-    }
-    tbb::parallel_sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) {
-        return std::tie(x.key, x.triangle, x.forward) < std::tie(y.key, y.triangle, y.forward);
-    });
-    for (std::size_t i = 0; i < uses.size();) {
-        std::size_t j = i;
-        while (j < uses.size() && uses[j].key == uses[i].key) ++j;
-        const bool broken = j - i > 2 || (j - i == 2 && uses[i].forward == uses[i + 1].forward);
-        if (broken) {
-            for (std::size_t k = i; k < j; ++k) bad[uses[k].triangle] = 1;
-        }
-        i = j;
+    const MeshEdges edges = mesh_edges(mesh);
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+        if (!edges.nonmanifold(e) && !edges.misoriented(e)) continue;
+        for (std::uint32_t i = edges.first[e]; i < edges.first[e + 1]; ++i) bad[edges.uses[i].triangle] = 1;
     }
 }
 
 /// Marks the triangles around vertices whose triangles form more than one fan; only the
 /// vertices flagged in @a judged count when it is not empty.
 void mark_nonmanifold_vertices(const Mesh& mesh, const std::vector<std::uint8_t>& judged, std::vector<std::uint8_t>& bad) {
-    const std::size_t n = mesh.vertices.size();
-    std::vector<std::uint32_t> first(n + 1, 0);
-    for (const auto& t : mesh.triangles) {
-        for (std::uint32_t v : t) ++first[v + 1];
-    }
-    std::partial_sum(first.begin(), first.end(), first.begin());
-    std::vector<std::uint32_t> incident(first.back());
-    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
-        for (std::uint32_t v : mesh.triangles[t]) incident[fill[v]++] = t;
-    }
-    std::vector<std::uint8_t> broken(n, 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const auto& range) {
-        std::vector<std::uint32_t> link, parent;
-        for (std::size_t v = range.begin(); v != range.end(); ++v) {
-            // Union-find over the link vertices: each triangle joins its two other corners.
-            link.clear();
-            for (std::uint32_t i = first[v]; i < first[v + 1]; ++i) {
-                for (std::uint32_t w : mesh.triangles[incident[i]]) {
-                    if (w != v) link.push_back(w);
-                }
-            }
-            std::sort(link.begin(), link.end());
-            link.erase(std::unique(link.begin(), link.end()), link.end());
-            parent.resize(link.size());
-            std::iota(parent.begin(), parent.end(), 0u);
-            auto find = [&](std::uint32_t x) {
-                while (parent[x] != x) x = parent[x] = parent[parent[x]];
-                return x;
-            };
-            auto index = [&](std::uint32_t w) { return std::uint32_t(std::lower_bound(link.begin(), link.end(), w) - link.begin()); };
-            std::size_t fans = link.size();
-            for (std::uint32_t i = first[v]; i < first[v + 1]; ++i) {
-                std::array<std::uint32_t, 2> other{};
-                int k = 0;
-                for (std::uint32_t w : mesh.triangles[incident[i]]) {
-                    if (w != v && k < 2) other[std::size_t(k++)] = w;
-                }
-                if (k < 2) continue;
-                const std::uint32_t a = find(index(other[0])), b = find(index(other[1]));
-                if (a != b) {
-                    parent[a] = b;
-                    --fans;
-                }
-            }
-            broken[v] = fans > 1 && (judged.empty() || judged[v]);
-        }
-    });
+    const std::vector<std::uint8_t> broken = nonmanifold_vertices(mesh);
     for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
         for (std::uint32_t v : mesh.triangles[t]) {
-            if (broken[v]) bad[t] = 1;
+            if (broken[v] && (judged.empty() || judged[v])) bad[t] = 1;
         }
     }
 }
@@ -112,15 +43,10 @@ void mark_nonmanifold_vertices(const Mesh& mesh, const std::vector<std::uint8_t>
 /// Marks the triangles on distinct vertices that share a position (float bits, -0 = +0):
 /// written out and welded, they would be degenerate or non-manifold.
 void mark_coincident_vertices(const Mesh& mesh, std::vector<std::uint8_t>& bad) {
-    std::vector<std::pair<std::array<float, 3>, std::uint32_t>> keyed(mesh.vertices.size());
-    for (std::uint32_t v = 0; v < keyed.size(); ++v) {
-        const auto& p = mesh.vertices[v];
-        keyed[v] = {{p[0] + 0.0f, p[1] + 0.0f, p[2] + 0.0f}, v};
-    }
-    tbb::parallel_sort(keyed.begin(), keyed.end());
+    const std::vector<std::uint32_t> canonical = canonical_vertices(mesh);
     std::vector<std::uint8_t> shared(mesh.vertices.size(), 0);
-    for (std::size_t i = 1; i < keyed.size(); ++i) {
-        if (keyed[i].first == keyed[i - 1].first) shared[keyed[i].second] = shared[keyed[i - 1].second] = 1;
+    for (std::uint32_t v = 0; v < canonical.size(); ++v) {
+        if (canonical[v] != v) shared[v] = shared[canonical[v]] = 1;
     }
     for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
         for (std::uint32_t v : mesh.triangles[t]) {
@@ -148,7 +74,7 @@ double isosurface_distance(Accessor& accessor, double iso, const openvdb::Vec3d&
 /// the cheapest test up: the first-order distance |f - iso| / |grad f|; Newton's projection
 /// onto the surface; the nearest of the samples' exact tangent planes (the trilinear field
 /// rounds sharp edges and corners the QEF vertices keep); the closest-point search of
-/// isosurface_distance.cpp. On noisy scans the first-order distance reads far too long where
+/// isosurface_search.cpp. On noisy scans the first-order distance reads far too long where
 /// the gradient is weak (two thirds of the bunny CT's flagged centroids lay within the
 /// tolerance of the Marching Cubes surface), and every split cell costs triangles. Newton's
 /// and the search's points are on the surface, so they never accept a point farther away.

@@ -60,12 +60,7 @@ MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options)
     check_options(options);
     MeshResult result;
     MeshReport& report = result.report;
-    report.method = options.method;
-    report.iso = options.iso;
-    report.error = options.error;
-    report.adaptivity = options.adaptivity;
-    report.inside = options.inside;
-    report.open_boundary = options.open_boundary;
+    report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, 0, {}};
     detail::PhaseClock clock;
     result.mesh = run_mesher(grid, options, report);
     // Meshers that time no phases of their own are one phase.

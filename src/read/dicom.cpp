@@ -17,7 +17,7 @@
 
 #include "dicom_parse.h"
 #include "formats.h"
-#include "parse_util.h"
+#include "vdbmesh/parse_util.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::detail {
@@ -51,9 +51,7 @@ std::string number(double value) {
 
 template <std::size_t N>
 std::string numbers(const std::array<double, N>& values) {
-    std::string text;
-    for (std::size_t i = 0; i < N; ++i) text += (i ? "\\" : "") + number(values[i]);
-    return text;
+    return join_values(values, "\\", number);
 }
 
 bool nearly_equal(double a, double b, double relative) {
@@ -232,7 +230,7 @@ VolumeSource read_dicom_series(const std::filesystem::path& folder) {
     header.type = first.sample_type();
     header.byte_order = first.byte_order;
     header.dims = {first.columns, first.rows, static_cast<std::int64_t>(files.size())};
-    check_dims(folder, "Columns, Rows, slices", header.dims, header.type);
+    check_dims(folder, "Columns, Rows, slices", header.dims, sample_size(header.type));
     header.value_scale = first.rescale_slope;
     header.value_offset = first.rescale_intercept;
     set_geometry(folder, files, header);

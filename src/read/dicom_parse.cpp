@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "dicom_data_set.h"
-#include "parse_util.h"
+#include "vdbmesh/parse_util.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::detail {

@@ -19,7 +19,7 @@
 #include <string>
 
 #include "formats.h"
-#include "parse_util.h"
+#include "vdbmesh/parse_util.h"
 #include "text_formats.h"
 #include "text_header.h"
 #include "vdbmesh/error.h"
@@ -30,16 +30,10 @@ namespace {
 
 const std::string kDataFile = "ElementDataFile";
 
-/// The header's fields, where the text after the ElementDataFile line starts, and for
-/// "LIST" the words of the lines after it (the file names).
-struct MetaHeader {
-    HeaderFields fields;
-    std::size_t end = 0;
-    std::vector<std::string> list_words;
-};
-
-MetaHeader parse_lines(std::string_view text, const std::filesystem::path& path) {
-    MetaHeader header{HeaderFields(path), 0, {}};
+/// The header's fields up to the ElementDataFile line, where the text after it starts, and
+/// for "LIST" the words of the lines after it (the file names).
+TextHeader parse_lines(std::string_view text, const std::filesystem::path& path) {
+    TextHeader header{HeaderFields(path), 0, {}};
     HeaderLines lines(text);
     for (HeaderLine line; lines.next(line);) {
         const std::string_view content = trim(line.text);
@@ -53,7 +47,7 @@ MetaHeader parse_lines(std::string_view text, const std::filesystem::path& path)
         const auto words = split_words(field->second);
         if (!words.empty() && to_lower(words[0]) == "list")
             while (lines.next(line))
-                for (std::string& word : split_words(line.text)) header.list_words.push_back(std::move(word));
+                for (std::string& word : split_words(line.text)) header.list_files.push_back(std::move(word));
         return header;
     }
     throw FormatError(path.string(), kDataFile, "a last line \"ElementDataFile = ...\"", "none (incomplete header)");
@@ -130,42 +124,19 @@ std::size_t parse_file_dimension(const std::filesystem::path& path, std::string_
     return static_cast<std::size_t>(dimension);
 }
 
-/// The data files in order (the header itself for LOCAL) and the dimension each one holds.
-struct DataFiles {
-    std::vector<std::filesystem::path> paths;
-    std::size_t dimension = 0;
-    bool local = false;
-};
-
-DataFiles list_data_files(const MetaHeader& meta, const std::filesystem::path& path,
+/// The data files: the header itself (LOCAL), a LIST, a pattern, or one file name.
+DataFiles list_data_files(const TextHeader& meta, const std::filesystem::path& path,
                           const std::vector<std::int64_t>& sizes) {
     const std::size_t ndims = sizes.size();
     const std::string_view value = meta.fields.require(kDataFile);
     const auto words = split_words(value);
     if (words.empty()) throw FormatError(path.string(), kDataFile, "LOCAL, LIST, a file name or a pattern", "an empty value");
+    const auto parse_dimension = [&](std::string_view word) { return parse_file_dimension(path, word, ndims); };
+    if (auto listed = listed_data_files(meta, kDataFile, words, sizes, parse_dimension)) return *listed;
     DataFiles files;
     files.dimension = ndims;
-    const std::string first = to_lower(words[0]);
-    if (first == "local" && words.size() == 1) {
-        files.local = true;
-        files.paths.push_back(path);
-    } else if (first == "list" && words.size() <= 2) {
-        if (words.size() == 2) files.dimension = parse_file_dimension(path, words[1], ndims);
-        else files.dimension = ndims - 1;
-        const std::int64_t count = product(sizes, files.dimension, ndims);
-        if (static_cast<std::int64_t>(meta.list_words.size()) != count)
-            throw FormatError(path.string(), kDataFile, std::to_string(count) + " file names after LIST",
-                              std::to_string(meta.list_words.size()));
-        for (const std::string& name : meta.list_words) files.paths.push_back(data_path(path, name));
-    } else if (words[0].find('%') != std::string::npos && (words.size() == 4 || words.size() == 5)) {
-        files.dimension = words.size() == 5 ? parse_file_dimension(path, words[4], ndims) : ndims - 1;
-        const auto names = numbered_names(path, kDataFile, words[0], parse_int(path, kDataFile, words[1]),
-                                          parse_int(path, kDataFile, words[2]), parse_int(path, kDataFile, words[3]),
-                                          product(sizes, files.dimension, ndims));
-        for (const std::string& name : names) files.paths.push_back(data_path(path, name));
-    } else {
-        files.paths.push_back(data_path(path, value));
-    }
+    files.inside_header = to_lower(words[0]) == "local" && words.size() == 1;
+    files.paths.push_back(files.inside_header ? path : data_path(path, value));
     return files;
 }
 
@@ -221,7 +192,7 @@ DataSegment data_segment(const std::filesystem::path& header, const Storage& sto
 }  // namespace
 
 VolumeSource parse_metaimage_header(std::string_view text, const std::filesystem::path& path) {
-    const MetaHeader meta = parse_lines(text, path);
+    const TextHeader meta = parse_lines(text, path);
     const HeaderFields& fields = meta.fields;
     check_supported(fields);
     VolumeSource source;
@@ -235,7 +206,7 @@ VolumeSource parse_metaimage_header(std::string_view text, const std::filesystem
     if (ndims != 2 && ndims != 3) throw FormatError(path.string(), "NDims", "2 or 3", shown(ndims_text));
     auto sizes = parse_int_list(path, "DimSize", fields.require("DimSize"), static_cast<std::size_t>(ndims));
     header.dims = {sizes[0], sizes[1], ndims == 3 ? sizes[2] : 1};
-    check_dims(path, "DimSize", header.dims, header.type);
+    check_dims(path, "DimSize", header.dims, sample_size(header.type));
     set_geometry(fields, static_cast<std::size_t>(ndims), header);
     set_byte_order(fields, header);
 
@@ -244,8 +215,8 @@ VolumeSource parse_metaimage_header(std::string_view text, const std::filesystem
         static_cast<std::uint64_t>(product(sizes, 0, files.dimension)) * sample_size(header.type);
     const Storage storage = parse_storage(fields, files.paths.size() == 1);
     for (const auto& file : files.paths) {
-        if (!files.local) require_data_file(path, kDataFile, file);
-        source.segments.push_back(data_segment(path, storage, file, files.local ? meta.end : 0, file_bytes));
+        if (!files.inside_header) require_data_file(path, kDataFile, file);
+        source.segments.push_back(data_segment(path, storage, file, files.inside_header ? meta.end : 0, file_bytes));
     }
     return source;
 }

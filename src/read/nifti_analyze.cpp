@@ -7,7 +7,7 @@
 
 #include "formats.h"
 #include "nifti_header.h"
-#include "parse_util.h"
+#include "vdbmesh/parse_util.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::detail {
@@ -40,6 +40,23 @@ std::filesystem::path require_partner(const std::filesystem::path& path, const s
     if (auto partner = find_partner(path, ext)) return *partner;
     const std::string stem = split_name(path).first;
     throw FormatError(path.string(), field, stem + ext + " or " + stem + ext + ".gz beside it", "no such file");
+}
+
+/// For a segment whose length is known before decompression (plain data), checks that
+/// file_offset + offset + bytes == file size (larger with allow_trailing); the field named is
+/// "file size". Compressed segments are checked while streaming instead.
+void check_segment_size(const DataSegment& segment) {
+    const std::uint64_t size = file_size_or_throw(segment.path);
+    const bool compressed = segment.compression == Compression::zlib ||
+                            (segment.compression == Compression::detect && (segment.file_offset > 0 || is_gzip(segment.path)));
+    if (compressed || segment.bytes == DataSegment::kToEnd) return;  // checked while streaming
+    const std::uint64_t header = segment.file_offset + segment.offset;
+    const std::uint64_t expected = header + segment.bytes;
+    if (size == expected || (segment.allow_trailing && size > expected)) return;
+    throw FormatError(segment.path.string(), "file size",
+                      std::to_string(expected) + " bytes (" + std::to_string(header) + " header + " +
+                          std::to_string(segment.bytes) + " samples)",
+                      std::to_string(size) + " bytes");
 }
 
 }  // namespace

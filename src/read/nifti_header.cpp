@@ -17,7 +17,7 @@
 #include <limits>
 #include <sstream>
 
-#include "parse_util.h"
+#include "vdbmesh/parse_util.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::detail {
@@ -311,7 +311,7 @@ NiftiAnalyzeHeader parse_nifti_analyze_header(const unsigned char* bytes, std::s
     const int rank = static_cast<int>(dims[0]);
     h.dims = {dims[1], dims[2], dims[3]};
     h.type = read_type(f, file);
-    check_dims(path, "dim[1..3]", h.dims, h.type);
+    check_dims(path, "dim[1..3]", h.dims, sample_size(h.type));
     result.volume_bytes = static_cast<std::uint64_t>(h.voxel_count()) * sample_size(h.type);
     result.all_bytes = result.volume_bytes;
     for (int i = 4; i <= 7; ++i) {

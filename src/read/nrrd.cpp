@@ -15,7 +15,7 @@
 #include <string>
 
 #include "formats.h"
-#include "parse_util.h"
+#include "vdbmesh/parse_util.h"
 #include "text_formats.h"
 #include "text_header.h"
 #include "vdbmesh/error.h"
@@ -26,21 +26,13 @@ namespace {
 
 const std::string kDataFile = "data file";
 
-/// The header's fields, where attached data would start (0: no empty line ended the
-/// header), and for "data file: LIST" the file names on the lines after it.
-struct NrrdText {
-    HeaderFields fields;
-    std::size_t end = 0;
-    std::vector<std::string> list_files;
-};
-
 bool is_magic(std::string_view line) {
     if (line == "NRRD00.01") return true;
     return line.size() == 8 && line.substr(0, 7) == "NRRD000" && line[7] >= '1' && line[7] <= '5';
 }
 
 /// The lines after "data file: LIST", up to an empty line or the end of the text.
-void read_file_list(HeaderLines& lines, NrrdText& nrrd) {
+void read_file_list(HeaderLines& lines, TextHeader& nrrd) {
     for (HeaderLine line; lines.next(line);) {
         const std::string_view name = trim(line.text);
         if (name.empty()) break;
@@ -48,8 +40,10 @@ void read_file_list(HeaderLines& lines, NrrdText& nrrd) {
     }
 }
 
-NrrdText parse_lines(std::string_view text, const std::filesystem::path& path) {
-    NrrdText nrrd{HeaderFields(path), 0, {}};
+/// The header's fields, where attached data would start (0: no empty line ended the
+/// header), and for "data file: LIST" the file names on the lines after it.
+TextHeader parse_lines(std::string_view text, const std::filesystem::path& path) {
+    TextHeader nrrd{HeaderFields(path), 0, {}};
     HeaderLines lines(text);
     HeaderLine line;
     if (!lines.next(line) || !is_magic(trim(line.text)))
@@ -243,13 +237,6 @@ Storage parse_storage(const HeaderFields& fields, VolumeHeader& header) {
     return storage;
 }
 
-/// The data files in order (the header itself for attached data) and the axes each one holds.
-struct DataFiles {
-    std::vector<std::filesystem::path> paths;
-    std::size_t dimension = 0;
-    bool attached = false;
-};
-
 std::size_t parse_file_dimension(const std::filesystem::path& path, std::string_view word, std::size_t dimension) {
     const std::int64_t value = parse_int(path, kDataFile, word);
     if (value < 1 || value > static_cast<std::int64_t>(dimension))
@@ -257,7 +244,8 @@ std::size_t parse_file_dimension(const std::filesystem::path& path, std::string_
     return static_cast<std::size_t>(value);
 }
 
-DataFiles list_data_files(const NrrdText& nrrd, const std::vector<std::int64_t>& sizes) {
+/// The data files: attached data, a LIST, a pattern, or one file name.
+DataFiles list_data_files(const TextHeader& nrrd, const std::vector<std::int64_t>& sizes) {
     const std::filesystem::path& path = nrrd.fields.file();
     const std::size_t dimension = sizes.size();
     DataFiles files;
@@ -267,29 +255,14 @@ DataFiles list_data_files(const NrrdText& nrrd, const std::vector<std::int64_t>&
         if (nrrd.end == 0)
             throw FormatError(path.string(), kDataFile, "a \"data file\" line, or data after the empty line ending the header",
                               "neither");
-        files.attached = true;
+        files.inside_header = true;
         files.paths.push_back(path);
         return files;
     }
-    const auto words = split_words(*value);
-    if (!words.empty() && to_lower(words[0]) == "list" && words.size() <= 2) {
-        files.dimension = words.size() == 2 ? parse_file_dimension(path, words[1], dimension) : dimension - 1;
-        const std::int64_t count = product(sizes, files.dimension, dimension);
-        if (static_cast<std::int64_t>(nrrd.list_files.size()) != count)
-            throw FormatError(path.string(), kDataFile, std::to_string(count) + " file names after LIST",
-                              std::to_string(nrrd.list_files.size()));
-        for (const std::string& name : nrrd.list_files) files.paths.push_back(data_path(path, name));
-    } else if (!words.empty() && words[0].find('%') != std::string::npos && (words.size() == 4 || words.size() == 5)) {
-        files.dimension = words.size() == 5 ? parse_file_dimension(path, words[4], dimension) : dimension - 1;
-        const auto names = numbered_names(path, kDataFile, words[0], parse_int(path, kDataFile, words[1]),
-                                          parse_int(path, kDataFile, words[2]), parse_int(path, kDataFile, words[3]),
-                                          product(sizes, files.dimension, dimension));
-        for (const std::string& name : names) files.paths.push_back(data_path(path, name));
-    } else if (!value->empty()) {
-        files.paths.push_back(data_path(path, *value));
-    } else {
-        throw FormatError(path.string(), kDataFile, "a file name, a pattern or LIST", "an empty value");
-    }
+    const auto parse_dimension = [&](std::string_view word) { return parse_file_dimension(path, word, dimension); };
+    if (auto listed = listed_data_files(nrrd, kDataFile, split_words(*value), sizes, parse_dimension)) return *listed;
+    if (value->empty()) throw FormatError(path.string(), kDataFile, "a file name, a pattern or LIST", "an empty value");
+    files.paths.push_back(data_path(path, *value));
     return files;
 }
 
@@ -329,7 +302,7 @@ std::uint64_t skip_lines_in_file(const std::filesystem::path& file, std::uint64_
 }  // namespace
 
 VolumeSource parse_nrrd_header(std::string_view text, const std::filesystem::path& path, const LineSkipper& skip_lines) {
-    const NrrdText nrrd = parse_lines(text, path);
+    const TextHeader nrrd = parse_lines(text, path);
     VolumeSource source;
     VolumeHeader& header = source.header;
     header.format = "nrrd";
@@ -338,7 +311,7 @@ VolumeSource parse_nrrd_header(std::string_view text, const std::filesystem::pat
     const auto sizes = parse_sizes(nrrd.fields);
     const std::size_t first_axis = sizes.size() - 3;
     header.dims = {sizes[first_axis], sizes[first_axis + 1], sizes[first_axis + 2]};
-    check_dims(path, "sizes", header.dims, header.type);
+    check_dims(path, "sizes", header.dims, sample_size(header.type));
     set_geometry(nrrd.fields, sizes.size(), header);
     const Storage storage = parse_storage(nrrd.fields, header);
 
@@ -346,8 +319,8 @@ VolumeSource parse_nrrd_header(std::string_view text, const std::filesystem::pat
     const std::uint64_t file_bytes =
         static_cast<std::uint64_t>(product(sizes, 0, files.dimension)) * sample_size(header.type);
     for (const auto& file : files.paths) {
-        if (!files.attached) require_data_file(path, kDataFile, file);
-        source.segments.push_back(data_segment(path, storage, file, files.attached ? nrrd.end : 0, file_bytes, skip_lines));
+        if (!files.inside_header) require_data_file(path, kDataFile, file);
+        source.segments.push_back(data_segment(path, storage, file, files.inside_header ? nrrd.end : 0, file_bytes, skip_lines));
     }
     return source;
 }

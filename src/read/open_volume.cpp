@@ -4,7 +4,7 @@
 #include <string>
 
 #include "formats.h"
-#include "parse_util.h"
+#include "vdbmesh/parse_util.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/read.h"
 

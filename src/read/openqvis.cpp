@@ -8,7 +8,7 @@
 #include <string>
 
 #include "formats.h"
-#include "parse_util.h"
+#include "vdbmesh/parse_util.h"
 #include "text_formats.h"
 #include "text_header.h"
 #include "vdbmesh/error.h"
@@ -64,7 +64,7 @@ VolumeSource parse_openqvis_header(std::string_view text, const std::filesystem:
     header.type = parse_format(fields);
     const auto dims = parse_int_list(path, "Resolution", fields.require("Resolution"), 3);
     header.dims = {dims[0], dims[1], dims[2]};
-    check_dims(path, "Resolution", header.dims, header.type);
+    check_dims(path, "Resolution", header.dims, sample_size(header.type));
     header.spacing = parse_spacing(fields, header);
     header.index_to_world = axis_aligned_affine(header.spacing);
     if (const auto unit = fields.find("Unit")) header.units = std::string(*unit);

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "formats.h"
-#include "parse_util.h"
+#include "vdbmesh/parse_util.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::detail {
@@ -61,7 +61,7 @@ VolumeSource read_raw(const std::filesystem::path& path, const ReadOptions& opti
     h.byte_order = options.raw_byte_order;
     h.spacing = options.raw_spacing;
     h.index_to_world = axis_aligned_affine(h.spacing);
-    check_dims(path, "--raw-dims", h.dims, h.type);
+    check_dims(path, "--raw-dims", h.dims, sample_size(h.type));
 
     DataSegment first;
     first.path = path;

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "parse_util.h"
+#include "vdbmesh/parse_util.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::detail {
@@ -231,6 +231,32 @@ void set_axes(VolumeHeader& header, const std::string& field, const std::array<s
 std::string read_header_text(const std::filesystem::path& path) {
     const std::vector<unsigned char> bytes = read_prefix(path, kMaxHeaderBytes);
     return std::string(bytes.begin(), bytes.end());
+}
+
+std::optional<DataFiles> listed_data_files(const TextHeader& header, const std::string& field,
+                                           const std::vector<std::string>& words, const std::vector<std::int64_t>& sizes,
+                                           const std::function<std::size_t(std::string_view)>& parse_dimension) {
+    const std::filesystem::path& path = header.fields.file();
+    const std::size_t ndims = sizes.size();
+    DataFiles files;
+    if (!words.empty() && to_lower(words[0]) == "list" && words.size() <= 2) {
+        files.dimension = words.size() == 2 ? parse_dimension(words[1]) : ndims - 1;
+        const std::int64_t count = product(sizes, files.dimension, ndims);
+        if (static_cast<std::int64_t>(header.list_files.size()) != count)
+            throw FormatError(path.string(), field, std::to_string(count) + " file names after LIST",
+                              std::to_string(header.list_files.size()));
+        for (const std::string& name : header.list_files) files.paths.push_back(data_path(path, name));
+        return files;
+    }
+    if (!words.empty() && words[0].find('%') != std::string::npos && (words.size() == 4 || words.size() == 5)) {
+        files.dimension = words.size() == 5 ? parse_dimension(words[4]) : ndims - 1;
+        const auto names = numbered_names(path, field, words[0], parse_int(path, field, words[1]),
+                                          parse_int(path, field, words[2]), parse_int(path, field, words[3]),
+                                          product(sizes, files.dimension, ndims));
+        for (const std::string& name : names) files.paths.push_back(data_path(path, name));
+        return files;
+    }
+    return std::nullopt;
 }
 
 }  // namespace vdbmesh::detail

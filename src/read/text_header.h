@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -91,6 +92,32 @@ std::vector<std::string> numbered_names(const std::filesystem::path& file, const
 
 /// @a name relative to the header's folder (absolute names are kept).
 std::filesystem::path data_path(const std::filesystem::path& header, std::string_view name);
+
+/// A parsed header (MetaImage, NRRD): its fields, where the text after them starts (the data
+/// inside the file; 0 when nothing follows), and the file names on the lines after a "LIST"
+/// data file value.
+struct TextHeader {
+    HeaderFields fields;
+    std::size_t end = 0;
+    std::vector<std::string> list_files;
+};
+
+/// The data files in order (the header's own file for data inside it) and the dimension of
+/// the samples each one holds.
+struct DataFiles {
+    std::vector<std::filesystem::path> paths;
+    std::size_t dimension = 0;
+    bool inside_header = false;  ///< MetaImage LOCAL, NRRD attached data
+};
+
+/// The files a data file value names as "LIST [d]" (the header's list_files, which must be
+/// as many as the volume has d-dimensional pieces) or "pattern min max step [d]"
+/// (numbered_names()), d read by @a parse_dimension (default: one less than the volume's);
+/// MetaImage's ElementDataFile and NRRD's "data file" share these forms. Empty for any other
+/// value. @a words: the value's words; @a field names it in errors.
+std::optional<DataFiles> listed_data_files(const TextHeader& header, const std::string& field,
+                                           const std::vector<std::string>& words, const std::vector<std::int64_t>& sizes,
+                                           const std::function<std::size_t(std::string_view)>& parse_dimension);
 /// FormatError(header, field, "an existing data file", path) when @a path is not a readable file.
 void require_data_file(const std::filesystem::path& header, const std::string& field, const std::filesystem::path& path);
 /// The file offset at which the last @a bytes of @a path start ("data at the end of the file").

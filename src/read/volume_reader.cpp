@@ -292,16 +292,7 @@ void decode_as(const unsigned char* bytes, std::size_t count, bool swap, double 
 
 void decode(const unsigned char* bytes, std::size_t count, SampleType type, bool swap, double scale, double offset,
             float* out) {
-    switch (type) {
-        case SampleType::u8: return decode_as<std::uint8_t>(bytes, count, swap, scale, offset, out);
-        case SampleType::i8: return decode_as<std::int8_t>(bytes, count, swap, scale, offset, out);
-        case SampleType::u16: return decode_as<std::uint16_t>(bytes, count, swap, scale, offset, out);
-        case SampleType::i16: return decode_as<std::int16_t>(bytes, count, swap, scale, offset, out);
-        case SampleType::u32: return decode_as<std::uint32_t>(bytes, count, swap, scale, offset, out);
-        case SampleType::i32: return decode_as<std::int32_t>(bytes, count, swap, scale, offset, out);
-        case SampleType::f32: return decode_as<float>(bytes, count, swap, scale, offset, out);
-        case SampleType::f64: return decode_as<double>(bytes, count, swap, scale, offset, out);
-    }
+    visit_sample_type(type, [&](auto zero) { decode_as<decltype(zero)>(bytes, count, swap, scale, offset, out); });
 }
 
 bool host_is_little() {

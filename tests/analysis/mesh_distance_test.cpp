@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "analysis/triangle_bvh.h"
+#include "vdbmesh/geometry.h"
 #include "test_meshes.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"

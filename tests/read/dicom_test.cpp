@@ -1,5 +1,5 @@
 // Tests of the DICOM series reader (src/read/dicom.cpp, dicom_parse.cpp) and of the DICOM
-// series writer (src/phantom/write_dicom.cpp) through each other and the real EGSnrc series.
+// series writer (src/write/write_dicom.cpp) through each other and the real EGSnrc series.
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <iterator>
 #include <vector>
 
-#include "phantom/write_dicom.h"
+#include "write/write_dicom.h"
 #include "read/dicom_parse.h"
 #include "test_data.h"
 #include "vdbmesh/error.h"

@@ -12,7 +12,7 @@
 
 #include "binary_test_util.h"
 #include "read/nifti_header.h"
-#include "read/parse_util.h"
+#include "vdbmesh/parse_util.h"
 #include "test_data.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/read.h"

@@ -1,0 +1,61 @@
+// read_mesh() and write_mesh(): dispatch on the file extension to the per-format code
+// (read_stl.cpp, read_ply.cpp, read_obj.cpp, write_stl.cpp, write_ply.cpp, write_obj.cpp).
+#include "vdbmesh/mesh_io.h"
+
+#include <fstream>
+
+#include "io/mesh_io_detail.h"
+#include "vdbmesh/parse_util.h"
+#include "vdbmesh/atomic_file.h"
+#include "vdbmesh/error.h"
+
+namespace vdbmesh {
+namespace {
+
+enum class MeshFormat { kStl, kPly, kObj };
+
+MeshFormat format_of(const std::filesystem::path& path) {
+    const std::string extension = detail::to_lower(path.extension().string());
+    if (extension == ".stl") return MeshFormat::kStl;
+    if (extension == ".ply") return MeshFormat::kPly;
+    if (extension == ".obj") return MeshFormat::kObj;
+    throw UsageError(path.string() + ": unknown mesh extension '" + path.extension().string() +
+                     "' (expected .stl, .ply or .obj)");
+}
+
+}  // namespace
+
+void write_mesh(const Mesh& mesh, const std::filesystem::path& path, const MeshWriteOptions& options) {
+    const MeshFormat format = format_of(path);
+    for (const auto& t : mesh.triangles) {
+        for (const std::uint32_t v : t) {
+            if (v >= mesh.vertices.size()) throw Error(path.string() + ": mesh has a vertex index out of range");
+        }
+    }
+    AtomicFile file(path);
+    {
+        std::ofstream out(file.temp_path(), std::ios::binary);
+        if (!out) throw Error(path.string() + ": cannot create " + file.temp_path().string());
+        switch (format) {
+            case MeshFormat::kStl: detail::write_stl(mesh, out, options.ascii); break;
+            case MeshFormat::kPly: detail::write_ply(mesh, out, options.ascii, options.normals); break;
+            case MeshFormat::kObj: detail::write_obj(mesh, out, options.normals); break;
+        }
+        out.flush();
+        if (!out) throw Error(path.string() + ": write failed (disk full?)");
+    }
+    file.commit();
+}
+
+Mesh read_mesh(const std::filesystem::path& path) {
+    const MeshFormat format = format_of(path);
+    const detail::Bytes bytes = detail::read_prefix(path, detail::file_size_or_throw(path));
+    switch (format) {
+        case MeshFormat::kStl: return detail::read_stl(path, bytes);
+        case MeshFormat::kPly: return detail::read_ply(path, bytes);
+        case MeshFormat::kObj: return detail::read_obj(path, bytes);
+    }
+    return {};
+}
+
+}  // namespace vdbmesh
