@@ -9,7 +9,7 @@
 namespace vdbmesh::cli {
 
 int run(const std::vector<std::string>& args) {
-    CLI::App app{"vdbmesh: tomography and point clouds to clean triangle meshes, through sparse OpenVDB grids",
+    CLI::App app{"vdbmesh: tomography (CT, MRI, micro-CT) to clean triangle meshes, through sparse OpenVDB grids",
                  "vdbmesh"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "vdbmesh 0.1.0");

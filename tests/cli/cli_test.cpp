@@ -1,8 +1,43 @@
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
 #include "cli.h"
+#include "commands.h"
 
 namespace vdbmesh::cli {
+namespace {
+
+/// The README's command list: the rows "| `vdbmesh <name>` | <summary> |" of its
+/// "## Commands" section, name -> summary.
+std::map<std::string, std::string> readme_commands() {
+    std::ifstream in(std::string(VDBMESH_SOURCE_DIR) + "/README.md");
+    std::map<std::string, std::string> commands;
+    std::string line;
+    bool in_section = false;
+    while (std::getline(in, line)) {
+        if (line.rfind("## ", 0) == 0) in_section = line == "## Commands";
+        const std::string prefix = "| `vdbmesh ";
+        if (!in_section || line.rfind(prefix, 0) != 0) continue;
+        const auto name_end = line.find('`', prefix.size());
+        const auto summary_begin = line.find("| ", name_end) + 2;
+        const auto summary_end = line.rfind(" |");
+        if (name_end == std::string::npos || summary_end <= summary_begin) continue;
+        commands[line.substr(prefix.size(), name_end - prefix.size())] = line.substr(summary_begin, summary_end - summary_begin);
+    }
+    return commands;
+}
+
+std::string capture_help(const std::vector<std::string>& args) {
+    testing::internal::CaptureStdout();
+    EXPECT_EQ(run(args), kSuccess);
+    return testing::internal::GetCapturedStdout();
+}
+
+}  // namespace
 
 TEST(CliTest, HelpSucceeds) { EXPECT_EQ(run({"--help"}), kSuccess); }
 
@@ -11,7 +46,35 @@ TEST(CliTest, UnknownSubcommandIsUsageError) { EXPECT_EQ(run({"frobnicate"}), kU
 TEST(CliTest, NoSubcommandIsUsageError) { EXPECT_EQ(run({}), kUsageError); }
 
 TEST(CliTest, SubcommandHelpSucceeds) {
-    for (const char* name : {"info", "convert", "phantom"}) EXPECT_EQ(run({name, "--help"}), kSuccess) << name;
+    for (const CommandEntry& entry : kCommands) EXPECT_EQ(run({entry.name, "--help"}), kSuccess) << entry.name;
+}
+
+// --help says what the program does and lists every registered command with its summary.
+TEST(CliTest, HelpListsEveryRegisteredCommand) {
+    const std::string help = capture_help({"--help"});
+    EXPECT_NE(help.find("tomography"), std::string::npos) << help;
+    EXPECT_EQ(help.find("point cloud"), std::string::npos) << help;  // no point cloud input exists
+    for (const CommandEntry& entry : kCommands) {
+        EXPECT_NE(help.find(entry.name), std::string::npos) << entry.name;
+        EXPECT_NE(help.find(entry.summary), std::string::npos) << entry.summary;
+    }
+}
+
+// The README's command list is the registry (tools/commands.h): every registered command
+// appears with its summary, and nothing else does.
+TEST(CliTest, ReadmeListsExactlyTheRegisteredCommands) {
+    const std::map<std::string, std::string> listed = readme_commands();
+    ASSERT_FALSE(listed.empty()) << "README.md has no \"## Commands\" table";
+    std::map<std::string, std::string> registered;
+    for (const CommandEntry& entry : kCommands) registered[entry.name] = entry.summary;
+    for (const auto& [name, summary] : registered) {
+        const auto it = listed.find(name);
+        ASSERT_NE(it, listed.end()) << "README.md does not list `vdbmesh " << name << "`";
+        EXPECT_EQ(it->second, summary) << "README.md's summary of `vdbmesh " << name << "` differs from tools/commands.h";
+    }
+    for (const auto& [name, summary] : listed) {
+        EXPECT_TRUE(registered.count(name)) << "README.md lists `vdbmesh " << name << "`, which tools/commands.h does not register";
+    }
 }
 
 }  // namespace vdbmesh::cli
