@@ -6,6 +6,7 @@ packages=(
   libopenvdb-dev libopenvdb-tools libtbb-dev libblosc-dev
   libboost-dev libboost-iostreams-dev   # OpenVDB's CMake module fails without them
   libeigen3-dev zlib1g-dev libgdcm-dev libcli11-dev nlohmann-json3-dev libgtest-dev
+  libcgal-dev   # test-only: the independent judge of the mesh guarantees (tests/common/cgal_judge.cpp)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,5 +1,7 @@
 // `vdbmesh mesh`: a .vdb grid or a scan (converted on the fly) to a triangle mesh file. It
-// reports its figures on stderr, or with --json as one JSON object on stdout.
+// reports its figures on stderr, or with --json as one JSON object on stdout. With --verify the
+// whole mesh is checked as `vdbmesh check` does (the meshers never run that check themselves);
+// a defective mesh is reported, not written, and the exit status is 3.
 
 #include <algorithm>
 #include <cctype>
@@ -16,6 +18,8 @@
 #include "commands.h"
 #include "common_options.h"
 #include "load_grid.h"
+#include "report_json.h"
+#include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/mesh_io.h"
@@ -40,6 +44,7 @@ struct MeshCommandOptions {
     bool ascii = false;
     bool normals = false;
     bool json = false;
+    bool verify = false;
     ReadFlags read;
     CommonOptions common;
 };
@@ -61,7 +66,8 @@ openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& pr
 
 /// What was made: the settings that made it, then its figures (the setting a method does not
 /// use is null).
-nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const MeshResult& result, double seconds) {
+nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const MeshResult& result,
+                                    const std::optional<MeshAnalysis>& verified, double seconds) {
     const Mesh& mesh = result.mesh;
     const bool dmc = options.mesh.method == MeshMethod::dmc, openvdb = options.mesh.method == MeshMethod::openvdb;
     nlohmann::ordered_json j;
@@ -79,10 +85,12 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Mes
     j["phases"] = phases;
     j["refinement_rounds"] = result.report.refinement_rounds;
     j["fallbacks"] = result.report.fallbacks;
+    j["verified"] = verified ? report_json(*verified) : nlohmann::ordered_json(nullptr);
     return j;
 }
 
-void run_mesh(MeshCommandOptions& options) {
+/// Exit status 0, or 3 when --verify found a defect (the mesh is then not written).
+int run_mesh(MeshCommandOptions& options) {
     const std::string extension = lowercase_extension(options.output);
     if (extension != ".stl" && extension != ".ply" && extension != ".obj") {
         throw UsageError("-o: expected a .stl, .ply or .obj file, got \"" + options.output + "\"");
@@ -97,15 +105,27 @@ void run_mesh(MeshCommandOptions& options) {
     options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
     const MeshResult result = mesh_grid(*grid, options.mesh);
     const Mesh& mesh = result.mesh;
-    write_mesh(mesh, options.output, MeshWriteOptions{options.ascii, options.normals});
+    std::optional<MeshAnalysis> verified;
+    if (options.verify) verified = analyze_mesh(mesh);
+    const bool defective = verified && !verified->is_clean();
+    if (!defective) write_mesh(mesh, options.output, MeshWriteOptions{options.ascii, options.normals});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.json) {
-        std::cout << figures_json(options, result, seconds).dump() << "\n";
-    } else if (!options.common.quiet) {
+        std::cout << figures_json(options, result, verified, seconds).dump() << "\n";
+    } else if (!options.common.quiet || defective) {
         for (const std::string& fallback : result.report.fallbacks) std::cerr << "vdbmesh mesh: fell back to " << fallback << "\n";
-        std::cerr << "vdbmesh mesh: " << mesh.triangles.size() << " triangles, " << mesh.vertices.size()
-                  << " vertices, " << seconds << " s -> " << options.output << "\n";
+        if (defective) {
+            std::cerr << "vdbmesh mesh: --verify: the mesh is not clean (" << verified->self_intersecting_pairs
+                      << " self-intersecting pairs, " << verified->boundary_edges << " boundary edges, "
+                      << verified->nonmanifold_edges << " non-manifold edges, " << verified->nonmanifold_vertices
+                      << " non-manifold vertices, " << verified->misoriented_edges << " misoriented edges, "
+                      << verified->degenerate_faces << " degenerate faces); " << options.output << " not written\n";
+        } else {
+            std::cerr << "vdbmesh mesh: " << mesh.triangles.size() << " triangles, " << mesh.vertices.size()
+                      << " vertices, " << seconds << " s -> " << options.output << (verified ? " (verified clean)" : "") << "\n";
+        }
     }
+    return defective ? 3 : 0;
 }
 
 }  // namespace
@@ -133,11 +153,12 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     command.add_flag("--ascii", options->ascii, "ASCII STL or PLY instead of binary");
     command.add_flag("--normals", options->normals, "Per-vertex normals (PLY, OBJ)");
     command.add_flag("--json", options->json, "Print the figures as one JSON object on stdout");
+    command.add_flag("--verify", options->verify,
+                     "Check the whole mesh as `vdbmesh check` does; a defect: nothing written, exit status 3");
     add_read_flags(command, options->read);
     add_common_options(command, options->common);
     command.callback([options, &result] {
-        run_mesh(*options);
-        result.status = 0;
+        result.status = run_mesh(*options);
     });
 }
 

@@ -73,6 +73,36 @@ TEST(CmdMeshTest, JsonReportsTheSettingsAndTheWrittenMesh) {
     EXPECT_TRUE(report["fallbacks"].empty());
 }
 
+TEST(CmdMeshTest, VerifyWritesACleanMeshAndReportsItsCheck) {
+    ScratchDir scratch;
+    const auto input = write_ball_vdb(scratch, true);
+    const auto output = scratch / "ball.stl";
+    testing::internal::CaptureStdout();
+    const int status = cli::run({"mesh", input.string(), "--error", "0.25", "--verify", "-o", output.string(), "--json"});
+    const nlohmann::json report = nlohmann::json::parse(testing::internal::GetCapturedStdout());
+    ASSERT_EQ(status, cli::kSuccess);
+    EXPECT_TRUE(std::filesystem::exists(output));
+    ASSERT_TRUE(report["verified"].is_object());
+    EXPECT_EQ(report["verified"]["clean"], true);
+    EXPECT_EQ(report["verified"]["triangles"], report["triangles"]);
+}
+
+TEST(CmdMeshTest, VerifyRefusesADefectiveMeshWithExitStatusThree) {
+    // volumeToMesh at adaptivity 1 self-intersects on the walnut CT (20 pairs, issue 9's table).
+    VDBMESH_SHARED_DATA(walnut, "openqvis_walnut_ct/walnut.dat");
+    ScratchDir scratch;
+    const auto output = scratch / "walnut.stl";
+    const int status = cli::run({"mesh", walnut.string(), "--iso", "4084.5", "--method", "openvdb", "--adaptivity", "1",
+                                 "--verify", "-o", output.string(), "--quiet"});
+    EXPECT_EQ(status, cli::kCheckFailed);
+    EXPECT_FALSE(std::filesystem::exists(output));
+    // Without --verify the same mesh is written: the meshers do not check themselves.
+    EXPECT_EQ(cli::run({"mesh", walnut.string(), "--iso", "4084.5", "--method", "openvdb", "--adaptivity", "1", "-o",
+                        output.string(), "--quiet"}),
+              cli::kSuccess);
+    EXPECT_FALSE(analyze_mesh(read_mesh(output)).is_clean());
+}
+
 TEST(CmdMeshTest, MeshesAVdbAtItsStoredIsovalue) {
     ScratchDir scratch;
     const auto input = write_ball_vdb(scratch, true);
