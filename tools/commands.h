@@ -25,6 +25,7 @@ void add_phantom_command(CLI::App& command, CommandResult& result);
 void add_mesh_command(CLI::App& command, CommandResult& result);
 void add_check_command(CLI::App& command, CommandResult& result);
 void add_compare_command(CLI::App& command, CommandResult& result);
+void add_view_command(CLI::App& command, CommandResult& result);
 
 /// All subcommands, in the order --help lists them.
 inline constexpr CommandEntry kCommands[] = {
@@ -34,6 +35,7 @@ inline constexpr CommandEntry kCommands[] = {
     {"mesh", "Mesh a .vdb grid or a scan at an isovalue into STL, PLY or OBJ (DMC, MC or volumeToMesh)", add_mesh_command},
     {"check", "Validate a mesh (closed, manifold, oriented, self-intersections) and measure it", add_check_command},
     {"compare", "Mesh one grid with DMC, MC and volumeToMesh; time them, validate them, measure them against the true surface", add_compare_command},
+    {"view", "Show a scan (re-meshed live as the isovalue moves) or a mesh in the browser", add_view_command},
 };
 
 }  // namespace vdbmesh::cli

@@ -1,0 +1,96 @@
+#pragma once
+/// @file view.h
+/// @brief `vdbmesh view`: what the page shows (a scan meshed on request, or a mesh file) and
+/// the local HTTP server that serves the page, meshes as binary buffers and their figures.
+
+#include <openvdb/openvdb.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vdbmesh/mesh.h"
+#include "vdbmesh/read.h"
+
+namespace vdbmesh {
+
+/// Counts of samples in equal bins over [min, max].
+struct ValueHistogram {
+    double min = 0, max = 0;
+    std::vector<std::uint64_t> counts;
+};
+
+/// A scan prepared for live re-meshing: grids that hold the surface at every isovalue of
+/// [histogram.min, histogram.max].
+struct ViewScan {
+    openvdb::FloatGrid::Ptr grid;    ///< full resolution
+    openvdb::FloatGrid::Ptr coarse;  ///< averaged over coarse_factor^3 blocks: the quick first mesh
+    int coarse_factor = 1;
+    ValueHistogram histogram;        ///< of the scan's samples
+    double suggested_iso = 0;        ///< Otsu's threshold
+    std::string suggested_reason;
+};
+
+/// Bins of ViewScan::histogram.
+inline constexpr std::size_t kViewHistogramBins = 256;
+/// The coarse grid has at most this many samples (the factor grows until it fits).
+inline constexpr std::int64_t kCoarseSampleBudget = 2'000'000;
+
+/// Reads a scan twice through readers made by @a open_reader: once for its statistics, once
+/// into a grid over its whole value range; then averages the coarse grid.
+ViewScan prepare_scan(const std::function<std::unique_ptr<VolumeReader>()>& open_reader);
+
+/// A stored grid as it is: statistics and histogram of its samples inside its scan box (its
+/// active box when it has none). Isovalues away from the one it was converted at may find
+/// only part of the surface.
+ViewScan prepare_grid(openvdb::FloatGrid::Ptr grid);
+
+/// What the page shows: a scan or a mesh.
+struct ViewSource {
+    std::string name;                  ///< the input's file name, shown as the title
+    std::shared_ptr<const ViewScan> scan;  ///< set for scans and .vdb grids
+    std::shared_ptr<const Mesh> mesh;      ///< set for mesh files
+    double initial_iso = 0;            ///< scans: the isovalue shown first
+};
+
+struct ViewServerOptions {
+    std::string host = "127.0.0.1";
+    int port = 0;                            ///< 0: any free port
+    std::size_t triangle_budget = 2'000'000; ///< larger meshes are shown coarse until the user asks
+    /// The figures of a mesh as a JSON object's text (GET /api/figures), e.g. what
+    /// `vdbmesh check --json` prints; empty: none.
+    std::function<std::string(const Mesh&)> mesh_figures;
+};
+
+/// The HTTP server of `vdbmesh view`, bound on construction.
+/// GET /                 the page; /app.js its script
+/// GET /api/info         JSON: the input, its histogram and suggested isovalue, the budget
+/// GET /api/mesh         binary: positions (float32 x 3V), normals (float32 x 3V), indices
+///                       (uint32 x 3T); headers X-Vertices, X-Triangles, X-Seconds.
+///                       Parameters: level=coarse|full, method=dmc|mc|openvdb, iso, error, adaptivity
+/// GET /api/figures      JSON: the analysis of the mesh of the same parameters (as `check`)
+/// GET /api/download     the mesh of the same parameters as format=stl|ply|obj
+class ViewServer {
+public:
+    /// @throw Error when the address cannot be bound (a port in use).
+    ViewServer(ViewSource source, const ViewServerOptions& options);
+    ~ViewServer();
+    ViewServer(const ViewServer&) = delete;
+    ViewServer& operator=(const ViewServer&) = delete;
+
+    int port() const;
+    /// "http://HOST:PORT/".
+    std::string address() const;
+    /// Serves until stop() (called from another thread).
+    void run();
+    void stop();
+
+private:
+    class Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vdbmesh

@@ -1,0 +1,88 @@
+#include "view/coarse_grid.h"
+
+#include <openvdb/tools/Dense.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include "vdbmesh/grid.h"
+
+namespace vdbmesh::view {
+
+namespace {
+
+using DenseGrid = openvdb::tools::Dense<float, openvdb::tools::LayoutXYZ>;
+
+openvdb::Coord coarse_dims(const openvdb::CoordBBox& box, int factor) {
+    const openvdb::Coord dims = box.dim();
+    return {(dims.x() + factor - 1) / factor, (dims.y() + factor - 1) / factor, (dims.z() + factor - 1) / factor};
+}
+
+/// The mean of the full samples in the block of coarse voxel @a coarse.
+template <typename Accessor>
+float block_mean(const Accessor& full, const openvdb::CoordBBox& box, int factor, const openvdb::Coord& coarse) {
+    const openvdb::Coord first = box.min() + coarse * factor;
+    const openvdb::Coord last = openvdb::Coord::minComponent(first + openvdb::Coord(factor - 1), box.max());
+    double sum = 0;
+    int count = 0;
+    for (int z = first.z(); z <= last.z(); ++z) {
+        for (int y = first.y(); y <= last.y(); ++y) {
+            for (int x = first.x(); x <= last.x(); ++x, ++count) sum += full.getValue(openvdb::Coord(x, y, z));
+        }
+    }
+    return float(sum / count);
+}
+
+void fill_dense(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box, int factor, DenseGrid& dense) {
+    const openvdb::Coord dims = dense.bbox().dim();
+    tbb::parallel_for(tbb::blocked_range<int>(0, dims.z()), [&](const tbb::blocked_range<int>& slices) {
+        const auto full = grid.getConstAccessor();
+        for (int z = slices.begin(); z < slices.end(); ++z) {
+            for (int y = 0; y < dims.y(); ++y) {
+                for (int x = 0; x < dims.x(); ++x) {
+                    const openvdb::Coord coarse(x, y, z);
+                    dense.setValue(coarse, block_mean(full, box, factor, coarse));
+                }
+            }
+        }
+    });
+}
+
+/// The full grid's transform with index space scaled by @a factor and shifted to the centre
+/// of the block at box.min(): coarse c maps where full box.min() + factor * c + (factor - 1) / 2 does.
+openvdb::math::Transform::Ptr coarse_transform(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box,
+                                               int factor) {
+    auto transform = grid.transform().copy();
+    const openvdb::Vec3d block_centre = box.min().asVec3d() + openvdb::Vec3d(0.5 * (factor - 1));
+    transform->preScale(double(factor));
+    transform->preTranslate(block_centre / double(factor));
+    return transform;
+}
+
+}  // namespace
+
+int coarse_factor(const openvdb::CoordBBox& box, std::int64_t max_samples) {
+    int factor = 1;
+    auto samples = [&] {
+        const openvdb::Coord dims = coarse_dims(box, factor);
+        return std::int64_t(dims.x()) * dims.y() * dims.z();
+    };
+    while (samples() > max_samples) ++factor;
+    return factor;
+}
+
+openvdb::FloatGrid::Ptr coarse_grid(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box, int factor) {
+    const openvdb::Coord dims = coarse_dims(box, factor);
+    DenseGrid dense(openvdb::CoordBBox(openvdb::Coord(0), dims - openvdb::Coord(1)));
+    fill_dense(grid, box, factor, dense);
+    auto coarse = openvdb::FloatGrid::create(grid.background());
+    openvdb::tools::copyFromDense(dense, coarse->tree(), 0.0f);
+    coarse->setTransform(coarse_transform(grid, box, factor));
+    coarse->setName(grid.getName());
+    coarse->insertMeta(kMetaScanMin, openvdb::Vec3IMetadata(openvdb::Vec3i(0, 0, 0)));
+    coarse->insertMeta(kMetaScanMax, openvdb::Vec3IMetadata(openvdb::Vec3i(dims.x() - 1, dims.y() - 1, dims.z() - 1)));
+    return coarse;
+}
+
+}  // namespace vdbmesh::view

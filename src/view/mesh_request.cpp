@@ -1,0 +1,66 @@
+#include "view/mesh_request.h"
+
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "vdbmesh/error.h"
+
+namespace vdbmesh::view {
+
+namespace {
+
+const std::map<std::string, MeshLevel> kLevels = {{"coarse", MeshLevel::coarse}, {"full", MeshLevel::full}};
+const std::map<std::string, MeshMethod> kMethods = {
+    {"dmc", MeshMethod::dmc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}};
+
+template <typename Value>
+Value named(const std::map<std::string, Value>& names, const std::string& parameter, const std::string& text) {
+    const auto found = names.find(text);
+    if (found != names.end()) return found->second;
+    std::string expected;
+    for (const auto& [name, value] : names) expected += (expected.empty() ? "" : "|") + name;
+    throw UsageError(parameter + ": expected " + expected + ", got \"" + text + "\"");
+}
+
+double number(const std::string& parameter, const std::string& text) {
+    std::size_t used = 0;
+    double value = NAN;
+    try {
+        value = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != text.size() || !std::isfinite(value)) {
+        throw UsageError(parameter + ": expected a finite number, got \"" + text + "\"");
+    }
+    return value;
+}
+
+}  // namespace
+
+std::string MeshRequest::key() const {
+    std::ostringstream key;
+    key.precision(17);
+    key << int(level) << ' ' << int(options.method) << ' ' << options.iso << ' ' << options.error << ' '
+        << options.adaptivity;
+    return key.str();
+}
+
+MeshRequest parse_mesh_request(const ParamLookup& param, double default_iso) {
+    MeshRequest request;
+    if (auto level = param("level")) request.level = named(kLevels, "level", *level);
+    if (auto method = param("method")) request.options.method = named(kMethods, "method", *method);
+    request.options.iso = default_iso;
+    if (auto iso = param("iso")) request.options.iso = number("iso", *iso);
+    if (auto error = param("error")) request.options.error = number("error", *error);
+    if (auto adaptivity = param("adaptivity")) request.options.adaptivity = number("adaptivity", *adaptivity);
+    if (auto most = param("max_triangles")) {
+        const double value = number("max_triangles", *most);
+        if (value < 0) throw UsageError("max_triangles: expected a count >= 0, got \"" + *most + "\"");
+        request.max_triangles = std::size_t(value);
+    }
+    return request;
+}
+
+}  // namespace vdbmesh::view

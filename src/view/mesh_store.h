@@ -1,0 +1,49 @@
+#pragma once
+// The meshes the page asks for: made through the library on request (one at a time, the
+// machine's cores all go to it), the last few kept so that the buffers, the figures and a
+// download of the same mesh cost one meshing.
+
+#include <cstddef>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "vdbmesh/view.h"
+#include "view/mesh_request.h"
+
+namespace vdbmesh::view {
+
+/// A mesh made for the page, and its figures once asked for.
+struct StoredMesh {
+    std::shared_ptr<const Mesh> mesh;
+    double seconds = 0;  ///< meshing wall time (0 for a mesh file)
+    /// The figures of the mesh by @a describe (JSON text), computed on the first call.
+    const std::string& figures(const std::function<std::string(const Mesh&)>& describe);
+
+private:
+    std::once_flag figures_once_;
+    std::string figures_;
+};
+
+class MeshStore {
+public:
+    explicit MeshStore(ViewSource source);
+    const ViewSource& source() const { return source_; }
+    /// The mesh of @a request, made now unless kept.
+    /// @throw UsageError for options the mesher refuses.
+    std::shared_ptr<StoredMesh> mesh(const MeshRequest& request);
+
+private:
+    static constexpr std::size_t kKept = 4;
+    std::shared_ptr<StoredMesh> make(const MeshRequest& request) const;
+
+    ViewSource source_;
+    std::mutex mutex_;
+    std::deque<std::pair<std::string, std::shared_ptr<StoredMesh>>> kept_;  ///< newest first
+};
+
+}  // namespace vdbmesh::view

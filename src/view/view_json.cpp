@@ -1,0 +1,30 @@
+#include "view/view_json.h"
+
+namespace vdbmesh::view {
+
+namespace {
+
+nlohmann::json scan_json(const ViewScan& scan, double initial_iso) {
+    nlohmann::json j;
+    j["value_min"] = scan.histogram.min;
+    j["value_max"] = scan.histogram.max;
+    j["histogram"] = scan.histogram.counts;
+    j["suggested_iso"] = scan.suggested_iso;
+    j["suggested_reason"] = scan.suggested_reason;
+    j["initial_iso"] = initial_iso;
+    j["coarse_factor"] = scan.coarse_factor;
+    return j;
+}
+
+}  // namespace
+
+nlohmann::json info_json(const ViewSource& source, std::size_t triangle_budget) {
+    nlohmann::json j;
+    j["name"] = source.name;
+    j["kind"] = source.scan ? "scan" : "mesh";
+    j["triangle_budget"] = triangle_budget;
+    if (source.scan) j["scan"] = scan_json(*source.scan, source.initial_iso);
+    return j;
+}
+
+}  // namespace vdbmesh::view

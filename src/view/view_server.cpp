@@ -1,0 +1,161 @@
+// ViewServer: the routes of `vdbmesh view` over cpp-httplib.
+
+#include <httplib.h>
+
+#include <sstream>
+
+#include "analysis/mesh_io_detail.h"  // detail::write_stl/ply/obj to a stream
+#include "vdbmesh/error.h"
+#include "vdbmesh/view.h"
+#include "view/mesh_buffers.h"
+#include "view/mesh_store.h"
+#include "view/view_json.h"
+#include "view/web_assets.h"
+
+namespace vdbmesh {
+
+namespace {
+
+using Handler = std::function<void(const httplib::Request&, httplib::Response&)>;
+
+void send_error(httplib::Response& response, int status, const std::string& message) {
+    response.status = status;
+    response.set_content(nlohmann::json{{"error", message}}.dump(), "application/json");
+}
+
+/// @a handler, with a usage error answered 400 and any other failure 500, as JSON.
+Handler guarded(Handler handler) {
+    return [handler = std::move(handler)](const httplib::Request& request, httplib::Response& response) {
+        try {
+            handler(request, response);
+        } catch (const UsageError& e) {
+            send_error(response, 400, e.what());
+        } catch (const std::exception& e) {
+            send_error(response, 500, e.what());
+        }
+    };
+}
+
+view::ParamLookup params_of(const httplib::Request& request) {
+    return [&request](const std::string& name) -> std::optional<std::string> {
+        if (!request.has_param(name.c_str())) return std::nullopt;
+        return request.get_param_value(name.c_str());
+    };
+}
+
+/// The mesh in the format named by @a format, as the writers of write_mesh() encode it.
+std::string encode_mesh(const Mesh& mesh, const std::string& format) {
+    std::ostringstream out;
+    if (format == "stl") {
+        detail::write_stl(mesh, out, false);
+    } else if (format == "ply") {
+        detail::write_ply(mesh, out, false, true);
+    } else if (format == "obj") {
+        detail::write_obj(mesh, out, true);
+    } else {
+        throw UsageError("format: expected stl|ply|obj, got \"" + format + "\"");
+    }
+    return out.str();
+}
+
+}  // namespace
+
+class ViewServer::Impl {
+public:
+    Impl(ViewSource source, const ViewServerOptions& options)
+        : options_(options), store_(std::move(source)) {
+        add_routes();
+        bind();
+    }
+
+    int port() const { return port_; }
+    std::string address() const { return "http://" + options_.host + ":" + std::to_string(port_) + "/"; }
+    void run() { server_.listen_after_bind(); }
+    void stop() { server_.stop(); }
+
+private:
+    void bind() {
+        port_ = options_.port;
+        if (options_.port == 0) {
+            port_ = server_.bind_to_any_port(options_.host);
+        } else if (!server_.bind_to_port(options_.host, options_.port)) {
+            port_ = -1;
+        }
+        if (port_ < 0) {
+            throw Error("cannot listen on " + options_.host + " port " + std::to_string(options_.port) +
+                        ": the port is in use or the address is not this machine's (try another --port, or 0 for any free one)");
+        }
+    }
+
+    void add_routes() {
+        server_.set_keep_alive_timeout(1);
+        server_.Get("/", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
+        server_.Get("/index.html", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
+        server_.Get("/app.js", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
+        server_.Get("/api/info", guarded([this](const auto&, auto& response) {
+            response.set_content(view::info_json(store_.source(), options_.triangle_budget).dump(), "application/json");
+        }));
+        server_.Get("/api/mesh", guarded([this](const auto& request, auto& response) { serve_mesh(request, response); }));
+        server_.Get("/api/figures", guarded([this](const auto& request, auto& response) { serve_figures(request, response); }));
+        server_.Get("/api/download", guarded([this](const auto& request, auto& response) { serve_download(request, response); }));
+    }
+
+    void serve_asset(const httplib::Request& request, httplib::Response& response) const {
+        const auto asset = view::web_asset(request.path);
+        response.set_content(asset->body.data(), asset->body.size(), asset->content_type);
+    }
+
+    view::MeshRequest parse(const httplib::Request& request) const {
+        return view::parse_mesh_request(params_of(request), store_.source().initial_iso);
+    }
+
+    std::shared_ptr<view::StoredMesh> requested_mesh(const httplib::Request& request) { return store_.mesh(parse(request)); }
+
+    void serve_mesh(const httplib::Request& request, httplib::Response& response) {
+        const view::MeshRequest parsed = parse(request);
+        const auto stored = store_.mesh(parsed);
+        response.set_header("X-Triangles", std::to_string(stored->mesh->triangles.size()));
+        if (parsed.max_triangles && stored->mesh->triangles.size() > *parsed.max_triangles) {
+            send_error(response, 413, "the mesh has more triangles than max_triangles");
+            return;
+        }
+        const std::string body = view::mesh_buffers(*stored->mesh);
+        response.set_header("X-Vertices", std::to_string(stored->mesh->vertices.size()));
+        response.set_header("X-Seconds", std::to_string(stored->seconds));
+        response.set_header("Cache-Control", "no-store");
+        response.set_content(body, "application/octet-stream");
+    }
+
+    void serve_figures(const httplib::Request& request, httplib::Response& response) {
+        const auto stored = requested_mesh(request);
+        nlohmann::json j;
+        j["triangles"] = stored->mesh->triangles.size();
+        j["vertices"] = stored->mesh->vertices.size();
+        j["seconds"] = stored->seconds;
+        j["check"] = nlohmann::json::parse(stored->figures(options_.mesh_figures));
+        response.set_content(j.dump(), "application/json");
+    }
+
+    void serve_download(const httplib::Request& request, httplib::Response& response) {
+        const std::string format = request.has_param("format") ? request.get_param_value("format") : "stl";
+        const auto stored = requested_mesh(request);
+        const std::string body = encode_mesh(*stored->mesh, format);
+        response.set_header("Content-Disposition", "attachment; filename=\"mesh." + format + "\"");
+        response.set_content(body, "application/octet-stream");
+    }
+
+    ViewServerOptions options_;
+    view::MeshStore store_;
+    httplib::Server server_;
+    int port_ = 0;
+};
+
+ViewServer::ViewServer(ViewSource source, const ViewServerOptions& options)
+    : impl_(std::make_unique<Impl>(std::move(source), options)) {}
+ViewServer::~ViewServer() = default;
+int ViewServer::port() const { return impl_->port(); }
+std::string ViewServer::address() const { return impl_->address(); }
+void ViewServer::run() { impl_->run(); }
+void ViewServer::stop() { impl_->stop(); }
+
+}  // namespace vdbmesh

@@ -1,0 +1,219 @@
+// The page of `vdbmesh view` in a real browser: Debian's headless Chromium (WebGL through
+// SwiftShader) driven by playwright-core from web/node_modules. Starts `vdbmesh view` on a
+// torus phantom (or --scan FILE), waits for the model, and checks screenshots by their
+// pixels: the model is drawn and centred, the isovalue slider re-meshes (the triangle count
+// the page reports and the picture change), wireframe differs from solid, a clip plane
+// removes the expected half and caps the cut, and Ctrl-C stops the server cleanly.
+// Prints the time from releasing the slider to the coarse and the full mesh on screen.
+// Exit 0 passed, 1 failed, 77 skipped (no Chromium; a failure under VDBMESH_REQUIRE_BROWSER=1).
+//
+// node browser_test.mjs --vdbmesh BIN --web WEB_DIR --out SCREENSHOT_DIR
+//                       [--scan FILE --iso-to V] [-- more `vdbmesh view` arguments]
+import { execFileSync, spawn } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { createRequire } from 'node:module';
+import { changedShare, foreground, pngDecoder, shareWhere } from './pixels.mjs';
+
+const SKIPPED = 77;
+const BACKGROUND = [0x0f, 0x11, 0x15];
+const CHROMIUM_FLAGS = [
+  '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
+  '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+];
+const isCap = (r, g, b) => r > g + 35 && r > b + 60;  // the cut face's orange, lit or in shade
+
+function parseArguments(argv) {
+  const split = argv.indexOf('--');
+  const own = split < 0 ? argv : argv.slice(0, split);
+  const options = { viewArguments: split < 0 ? [] : argv.slice(split + 1) };
+  for (let i = 0; i < own.length; i += 2) options[own[i].replace(/^--/, '').replace(/-(.)/g, (_, c) => c.toUpperCase())] = own[i + 1];
+  for (const required of ['vdbmesh', 'web', 'out']) if (!options[required]) throw new Error(`--${required} is required`);
+  return options;
+}
+
+function skipOrFail(message) {
+  if (process.env.VDBMESH_REQUIRE_BROWSER === '1') {
+    console.error(`FAIL: ${message} (VDBMESH_REQUIRE_BROWSER=1)`);
+    process.exit(1);
+  }
+  console.log(`SKIP: ${message}`);
+  process.exit(SKIPPED);
+}
+
+function findChromium() {
+  const candidates = [process.env.CHROMIUM, '/usr/bin/chromium', '/usr/bin/chromium-browser'].filter(Boolean);
+  return candidates.find((candidate) => fs.existsSync(candidate));
+}
+
+/// Starts `vdbmesh view` and resolves with it and the address it prints.
+function startViewer(vdbmesh, viewArguments) {
+  const child = spawn(vdbmesh, ['view', ...viewArguments, '--no-open', '--port', '0'], { stdio: ['ignore', 'pipe', 'inherit'] });
+  return new Promise((resolve, reject) => {
+    let printed = '';
+    child.stdout.on('data', (chunk) => {
+      printed += chunk;
+      const address = printed.match(/at (http:\/\/\S+)/);
+      if (address) resolve({ child, address: address[1] });
+    });
+    child.on('exit', (code) => reject(new Error(`vdbmesh view exited with ${code} before serving`)));
+  });
+}
+
+/// Sends Ctrl-C's signal and resolves with the exit code (null when it did not stop in time).
+function stopViewer(child) {
+  return new Promise((resolve) => {
+    const timer = setTimeout(() => resolve(null), 10000);
+    child.on('exit', (code) => {
+      clearTimeout(timer);
+      resolve(code);
+    });
+    child.kill('SIGINT');
+  });
+}
+
+class Checks {
+  failures = 0;
+  expect(condition, message) {
+    console.log(`${condition ? 'ok  ' : 'FAIL'} ${message}`);
+    if (!condition) this.failures += 1;
+  }
+}
+
+class PageDriver {
+  constructor(page, outDir, decode) {
+    Object.assign(this, { page, outDir, decode });
+  }
+
+  state() {
+    return this.page.evaluate(() => ({ ...window.vdbmeshView }));
+  }
+
+  /// Waits until a full mesh newer than @a meshesBefore is on screen and analysed.
+  async waitForFullMesh(meshesBefore, timeout) {
+    await this.page.waitForFunction(
+      (before) => { const s = window.vdbmeshView; return s.error || (s.meshes > before && s.level === 'full' && !s.busy); },
+      meshesBefore, { timeout, polling: 100 });
+    const state = await this.state();
+    if (state.error) throw new Error(`the page reports: ${state.error}`);
+    return state;
+  }
+
+  frames() {
+    return this.page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))));
+  }
+
+  async shot(name) {
+    await this.frames();
+    const png = await this.page.locator('#view canvas').screenshot();
+    fs.writeFileSync(path.join(this.outDir, `${name}.png`), png);
+    return this.decode(png);
+  }
+
+  async click(selector) {
+    await this.page.locator(selector).click();
+  }
+}
+
+async function checkModelDrawn(driver, checks) {
+  const solid = await driver.shot('solid');
+  const drawn = foreground(solid, BACKGROUND);
+  checks.expect(drawn.share > 0.03, `the model covers ${(100 * drawn.share).toFixed(1)}% of the view (> 3%)`);
+  const centreX = (drawn.box.minX + drawn.box.maxX) / 2 / solid.width;
+  const centreY = (drawn.box.minY + drawn.box.maxY) / 2 / solid.height;
+  checks.expect(Math.abs(centreX - 0.5) < 0.2 && Math.abs(centreY - 0.5) < 0.2,
+    `the model is centred (box centre at ${centreX.toFixed(2)}, ${centreY.toFixed(2)} of the view)`);
+  return solid;
+}
+
+async function checkIsoSlider(driver, checks, before, isoTo, timeout) {
+  const { triangles } = await driver.state();
+  const [min, current] = await driver.page.evaluate(() => [Number(document.getElementById('iso').min), Number(document.getElementById('iso-value').value)]);
+  const target = isoTo ?? current - (current - min) / 2;
+  const meshes = (await driver.state()).meshes;
+  await driver.page.locator('#iso').fill(String(target));
+  const after = await driver.waitForFullMesh(meshes, timeout);
+  const shown = await driver.page.locator('#triangle-count').textContent();
+  checks.expect(after.triangles !== triangles, `moving the isovalue to ${target} re-meshes: ${triangles} -> ${after.triangles} triangles`);
+  checks.expect(Number(shown.replace(/,/g, '')) === after.triangles, `the page shows the new count (${shown})`);
+  const image = await driver.shot('solid-after-iso');
+  const changed = changedShare(before, image);
+  checks.expect(changed > 0.002, `the picture changes with the isovalue (${(100 * changed).toFixed(2)}% of pixels)`);
+  const timing = after.timings.at(-1);
+  console.log(`timing: slider released -> coarse mesh on screen ${timing.coarseMs?.toFixed(0)} ms, full mesh ${timing.fullMs?.toFixed(0)} ms`);
+  return image;
+}
+
+async function checkWireframe(driver, checks, solid) {
+  await driver.click('input[name=style][value=wireframe]');
+  const wire = await driver.shot('wireframe');
+  const changed = changedShare(solid, wire);
+  checks.expect(changed > 0.02, `wireframe differs from solid (${(100 * changed).toFixed(1)}% of pixels)`);
+  checks.expect(foreground(wire, BACKGROUND).share > 0.005, 'the wireframe is drawn');
+  await driver.click('input[name=style][value=both]');
+  await driver.shot('both');
+  await driver.click('input[name=style][value=solid]');
+}
+
+async function checkClip(driver, checks) {
+  await driver.click('[data-axis="-y"]');
+  const front = foreground(await driver.shot('front'), BACKGROUND);
+  await driver.page.selectOption('#clip-mode', 'clip');
+  const clipped = foreground(await driver.shot('front-clipped-x'), BACKGROUND);
+  checks.expect(clipped.right < 0.1 * front.right,
+    `clipping at the middle of x removes the right half (${front.right} -> ${clipped.right} pixels)`);
+  checks.expect(clipped.left > 0.8 * front.left, `and keeps the left half (${front.left} -> ${clipped.left} pixels)`);
+  await driver.click('[data-axis="+x"]');
+  const capShare = shareWhere(await driver.shot('side-clipped-x'), isCap);
+  checks.expect(capShare > 0.01, `the cut face is capped (${(100 * capShare).toFixed(1)}% of the view)`);
+  await driver.page.selectOption('#clip-mode', 'slab');
+  await driver.shot('side-slab-x');
+  await driver.click('#reset-view');
+  await driver.page.selectOption('#clip-mode', 'none');
+}
+
+async function main() {
+  const options = parseArguments(process.argv.slice(2));
+  const chromiumPath = findChromium();
+  if (!chromiumPath) skipOrFail('no Chromium (install Debian\'s chromium, or set CHROMIUM)');
+  const { chromium } = createRequire(path.join(options.web, 'package.json'))('playwright-core');
+  fs.mkdirSync(options.out, { recursive: true });
+  const scratch = fs.mkdtempSync(path.join(os.tmpdir(), 'vdbmesh-browser-'));
+  const checks = new Checks();
+  let viewer;
+  let browser;
+  try {
+    let scan = options.scan;
+    if (!scan) {
+      scan = path.join(scratch, 'torus.nii');
+      execFileSync(options.vdbmesh, ['phantom', 'torus', '--size', '64', '--type', 'f32', '-o', scan]);
+    }
+    viewer = await startViewer(options.vdbmesh, [scan, ...options.viewArguments]);
+    console.log(`vdbmesh view serves ${scan} at ${viewer.address}`);
+    browser = await chromium.launch({ executablePath: chromiumPath, headless: true, args: [...CHROMIUM_FLAGS, `--user-data-dir=${scratch}/profile`] });
+    const page = await browser.newPage({ viewport: { width: 1000, height: 700 } });
+    page.on('pageerror', (error) => checks.expect(false, `no error in the page: ${error.message}`));
+    const driver = new PageDriver(page, options.out, pngDecoder(options.web));
+    const timeout = Number(options.timeoutMs ?? 120000);
+    const started = Date.now();
+    await page.goto(viewer.address);
+    await driver.waitForFullMesh(0, timeout);
+    console.log(`page loaded and showed the full mesh in ${Date.now() - started} ms`);
+    const solid = await checkModelDrawn(driver, checks);
+    const remeshed = await checkIsoSlider(driver, checks, solid, options.isoTo === undefined ? undefined : Number(options.isoTo), timeout);
+    await checkWireframe(driver, checks, remeshed);
+    await checkClip(driver, checks);
+  } finally {
+    await browser?.close();
+    if (viewer) checks.expect((await stopViewer(viewer.child)) === 0, 'vdbmesh view stops cleanly on SIGINT (exit 0)');
+    fs.rmSync(scratch, { recursive: true, force: true });
+  }
+  console.log(`screenshots in ${options.out}`);
+  process.exit(checks.failures === 0 ? 0 : 1);
+}
+
+main().catch((error) => {
+  console.error(`FAIL: ${error.stack ?? error}`);
+  process.exit(1);
+});

@@ -1,0 +1,259 @@
+// The server of `vdbmesh view`, in-process on a free port: its page, its JSON, its mesh
+// buffers against the library's own meshes, and its answers to bad requests.
+
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <nlohmann/json.hpp>
+#include <cstring>
+#include <numeric>
+#include <thread>
+
+#include "cli.h"
+#include "report_json.h"
+#include "test_data.h"
+#include "vdbmesh/analysis.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/mesher.h"
+#include "vdbmesh/phantom.h"
+#include "vdbmesh/view.h"
+#include "vdbmesh/write_volume.h"
+#include "view/coarse_grid.h"
+
+namespace vdbmesh {
+namespace {
+
+constexpr std::int64_t kSize = 40;
+
+/// A blurred sphere phantom (density 1 inside, 0 outside) as a prepared scan.
+std::shared_ptr<const ViewScan> phantom_scan() {
+    const test::ScratchDir dir;
+    const PhantomSpec spec = phantom_preset("sphere", {kSize, kSize, kSize});
+    VolumeHeader header;
+    header.dims = spec.dims;
+    header.type = SampleType::f32;
+    write_volume(dir / "sphere.nii", header, [&](std::int64_t z, float* slice) { fill_phantom_slice(spec, z, slice); });
+    return std::make_shared<const ViewScan>(prepare_scan([&] { return open_volume(dir / "sphere.nii"); }));
+}
+
+/// A server on a free port of 127.0.0.1, serving in a thread, and a client for it.
+class RunningServer {
+public:
+    explicit RunningServer(ViewSource source, ViewServerOptions options = {})
+        : server_(std::move(source), with_figures(std::move(options))), client_("127.0.0.1", server_.port()),
+          thread_([this] { server_.run(); }) {
+        client_.set_read_timeout(60, 0);
+    }
+    ~RunningServer() {
+        server_.stop();
+        thread_.join();
+    }
+    httplib::Result get(const std::string& path) { return client_.Get(path.c_str()); }
+    int port() const { return server_.port(); }
+
+private:
+    static ViewServerOptions with_figures(ViewServerOptions options) {
+        options.mesh_figures = [](const Mesh& mesh) { return cli::report_json(analyze_mesh(mesh)).dump(); };
+        return options;
+    }
+    ViewServer server_;
+    httplib::Client client_;
+    std::thread thread_;
+};
+
+class ViewServerTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() { scan_ = phantom_scan(); }
+    static void TearDownTestSuite() { scan_.reset(); }
+
+    static ViewSource scan_source() {
+        ViewSource source;
+        source.name = "sphere.nii";
+        source.scan = scan_;
+        source.initial_iso = 0.5;
+        return source;
+    }
+
+    static std::size_t header_count(const httplib::Result& result, const char* name) {
+        return std::stoull(result->get_header_value(name));
+    }
+
+    static std::shared_ptr<const ViewScan> scan_;
+};
+std::shared_ptr<const ViewScan> ViewServerTest::scan_;
+
+TEST_F(ViewServerTest, HistogramCountsEverySampleOverTheValueRange) {
+    const ValueHistogram& histogram = scan_->histogram;
+    EXPECT_EQ(histogram.counts.size(), kViewHistogramBins);
+    EXPECT_EQ(std::accumulate(histogram.counts.begin(), histogram.counts.end(), std::uint64_t(0)),
+              std::uint64_t(kSize * kSize * kSize));
+    EXPECT_NEAR(histogram.min, 0.0, 1e-6);
+    EXPECT_NEAR(histogram.max, 1.0, 1e-6);
+    EXPECT_GT(scan_->suggested_iso, 0.1);
+    EXPECT_LT(scan_->suggested_iso, 0.9);
+    EXPECT_EQ(scan_->coarse_factor, 1);  // 40^3 fits the coarse budget
+}
+
+TEST_F(ViewServerTest, ServesThePageAndItsScript) {
+    RunningServer server(scan_source());
+    const auto page = server.get("/");
+    ASSERT_TRUE(page);
+    EXPECT_EQ(page->status, 200);
+    EXPECT_NE(page->body.find("/app.js"), std::string::npos);
+    const auto script = server.get("/app.js");
+    ASSERT_TRUE(script);
+    EXPECT_EQ(script->status, 200);
+    EXPECT_GT(script->body.size(), 100000u);  // three.js is in it
+    EXPECT_EQ(server.get("/missing")->status, 404);
+}
+
+TEST_F(ViewServerTest, InfoDescribesTheScan) {
+    RunningServer server(scan_source(), ViewServerOptions{"127.0.0.1", 0, 1234, {}});
+    const auto result = server.get("/api/info");
+    ASSERT_TRUE(result);
+    const auto info = nlohmann::json::parse(result->body);
+    EXPECT_EQ(info["kind"], "scan");
+    EXPECT_EQ(info["name"], "sphere.nii");
+    EXPECT_EQ(info["triangle_budget"], 1234);
+    EXPECT_EQ(info["scan"]["histogram"].size(), kViewHistogramBins);
+    EXPECT_DOUBLE_EQ(info["scan"]["initial_iso"].get<double>(), 0.5);
+    EXPECT_DOUBLE_EQ(info["scan"]["suggested_iso"].get<double>(), scan_->suggested_iso);
+}
+
+TEST_F(ViewServerTest, MeshBuffersAreTheLibrarysMesh) {
+    RunningServer server(scan_source());
+    const auto result = server.get("/api/mesh?level=full&method=dmc&iso=0.5&error=0.25");
+    ASSERT_TRUE(result);
+    ASSERT_EQ(result->status, 200);
+    MeshOptions options;
+    options.iso = 0.5;
+    options.error = 0.25;
+    const Mesh expected = mesh_grid(*scan_->grid, options);
+    const std::size_t vertices = header_count(result, "X-Vertices"), triangles = header_count(result, "X-Triangles");
+    EXPECT_EQ(vertices, expected.vertices.size());
+    EXPECT_EQ(triangles, expected.triangles.size());
+    ASSERT_EQ(result->body.size(), 24 * vertices + 12 * triangles);
+    std::array<float, 3> first_position;
+    std::memcpy(first_position.data(), result->body.data(), sizeof first_position);
+    EXPECT_EQ(first_position, expected.vertices.front());
+    std::array<std::uint32_t, 3> last_triangle;
+    std::memcpy(last_triangle.data(), result->body.data() + result->body.size() - 12, 12);
+    EXPECT_EQ(last_triangle, expected.triangles.back());
+}
+
+TEST_F(ViewServerTest, IsovalueAndLevelChangeTheMesh) {
+    RunningServer server(scan_source());
+    const auto low = server.get("/api/mesh?level=full&method=mc&iso=0.3");
+    const auto high = server.get("/api/mesh?level=full&method=mc&iso=0.7");
+    ASSERT_TRUE(low && high);
+    EXPECT_GT(header_count(low, "X-Triangles"), header_count(high, "X-Triangles"));  // a larger sphere
+    const auto default_iso = server.get("/api/mesh?method=mc");
+    const auto at_half = server.get("/api/mesh?method=mc&iso=0.5");
+    EXPECT_EQ(default_iso->body, at_half->body);
+}
+
+/// The box around a mesh's vertices.
+openvdb::BBoxd bounds(const Mesh& mesh) {
+    openvdb::BBoxd box;
+    for (const auto& v : mesh.vertices) box.expand(openvdb::Vec3d(v[0], v[1], v[2]));
+    return box;
+}
+
+TEST_F(ViewServerTest, CoarseGridMeshesTheSameSphereInTheSamePlace) {
+    const openvdb::CoordBBox box = stored_scan_box(*scan_->grid).value();
+    const auto coarse = view::coarse_grid(*scan_->grid, box, 2);
+    MeshOptions options;
+    options.method = MeshMethod::mc;
+    options.iso = 0.5;
+    const openvdb::BBoxd full_box = bounds(mesh_grid(*scan_->grid, options));
+    const openvdb::BBoxd coarse_box = bounds(mesh_grid(*coarse, options));
+    for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_NEAR(coarse_box.getCenter()[axis], full_box.getCenter()[axis], 0.5);
+        EXPECT_NEAR(coarse_box.extents()[axis], full_box.extents()[axis], 2.0);
+    }
+}
+
+TEST(CoarseFactorTest, TheBunnyCtIsAveragedOverBlocksOfFour) {
+    const openvdb::CoordBBox bunny(openvdb::Coord(0), openvdb::Coord(511, 511, 360));
+    EXPECT_EQ(view::coarse_factor(bunny, kCoarseSampleBudget), 4);  // 128 x 128 x 91 samples
+    EXPECT_EQ(view::coarse_factor(openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(9)), kCoarseSampleBudget), 1);
+}
+
+TEST_F(ViewServerTest, CoarseLevelMeshesTheCoarseGrid) {
+    RunningServer server(scan_source());
+    const auto coarse = server.get("/api/mesh?level=coarse&iso=0.5");
+    ASSERT_TRUE(coarse);
+    EXPECT_EQ(coarse->status, 200);
+    MeshOptions options;
+    options.method = MeshMethod::mc;
+    options.iso = 0.5;
+    EXPECT_EQ(header_count(coarse, "X-Triangles"), mesh_grid(*scan_->coarse, options).triangles.size());
+}
+
+TEST_F(ViewServerTest, FiguresAreThoseOfCheck) {
+    RunningServer server(scan_source());
+    const auto result = server.get("/api/figures?level=full&iso=0.5");
+    ASSERT_TRUE(result);
+    ASSERT_EQ(result->status, 200);
+    const auto figures = nlohmann::json::parse(result->body);
+    EXPECT_TRUE(figures["check"]["closed"].get<bool>());
+    EXPECT_EQ(figures["check"]["self_intersecting_pairs"], 0);
+    EXPECT_EQ(figures["check"]["triangles"], figures["triangles"]);
+    EXPECT_GT(figures["check"]["volume"].get<double>(), 0.0);
+    EXPECT_GE(figures["seconds"].get<double>(), 0.0);
+}
+
+TEST_F(ViewServerTest, DownloadsTheMeshAsStlPlyAndObj) {
+    RunningServer server(scan_source());
+    const auto mesh = server.get("/api/mesh?iso=0.5");
+    const std::size_t triangles = header_count(mesh, "X-Triangles");
+    const auto stl = server.get("/api/download?format=stl&iso=0.5");
+    ASSERT_TRUE(stl);
+    EXPECT_EQ(stl->body.size(), 84 + 50 * triangles);
+    EXPECT_EQ(server.get("/api/download?format=ply&iso=0.5")->body.rfind("ply\n", 0), 0u);
+    EXPECT_EQ(server.get("/api/download?format=obj&iso=0.5")->status, 200);
+    EXPECT_EQ(server.get("/api/download?format=gltf&iso=0.5")->status, 400);
+}
+
+TEST_F(ViewServerTest, BadRequestsAreAnsweredWithTheirReason) {
+    RunningServer server(scan_source());
+    const auto method = server.get("/api/mesh?method=voxels");
+    EXPECT_EQ(method->status, 400);
+    EXPECT_NE(nlohmann::json::parse(method->body)["error"].get<std::string>().find("method"), std::string::npos);
+    EXPECT_EQ(server.get("/api/mesh?iso=abc")->status, 400);
+    EXPECT_EQ(server.get("/api/mesh?level=medium")->status, 400);
+    EXPECT_EQ(server.get("/api/mesh?error=-1")->status, 400);
+    EXPECT_EQ(server.get("/api/mesh?method=openvdb&adaptivity=2")->status, 400);
+    const auto over = server.get("/api/mesh?iso=0.5&max_triangles=10");
+    EXPECT_EQ(over->status, 413);
+    EXPECT_GT(header_count(over, "X-Triangles"), 10u);
+}
+
+TEST_F(ViewServerTest, MeshFilesAreServedAsTheyAre) {
+    MeshOptions options;
+    options.iso = 0.5;
+    ViewSource source;
+    source.name = "sphere.stl";
+    source.mesh = std::make_shared<const Mesh>(mesh_grid(*scan_->grid, options));
+    RunningServer server(source);
+    EXPECT_EQ(nlohmann::json::parse(server.get("/api/info")->body)["kind"], "mesh");
+    const auto result = server.get("/api/mesh?iso=0.9");  // the isovalue means nothing here
+    ASSERT_TRUE(result);
+    EXPECT_EQ(header_count(result, "X-Triangles"), source.mesh->triangles.size());
+}
+
+TEST_F(ViewServerTest, APortInUseIsAnError) {
+    RunningServer first(scan_source());
+    ViewServerOptions options;
+    options.port = first.port();
+    EXPECT_THROW(ViewServer(scan_source(), options), Error);
+}
+
+TEST(ViewCommandTest, AnUnreadableInputIsReportedBeforeServing) {
+    EXPECT_EQ(cli::run({"view", "/nonexistent/scan.nii", "--no-open", "--quiet"}), kRuntimeError);
+    EXPECT_EQ(cli::run({"view", "/nonexistent/mesh.stl", "--no-open", "--quiet"}), kRuntimeError);
+}
+
+}  // namespace
+}  // namespace vdbmesh

@@ -1,0 +1,125 @@
+// `vdbmesh view`: serves a page on 127.0.0.1 that shows a scan (re-meshed live as the
+// isovalue moves) or a mesh file, until Ctrl-C.
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "commands.h"
+#include "common_options.h"
+#include "load_grid.h"
+#include "report_json.h"
+#include "vdbmesh/analysis.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/mesh_io.h"
+#include "vdbmesh/view.h"
+
+namespace vdbmesh::cli {
+
+namespace {
+
+struct ViewCommandOptions {
+    std::vector<std::string> inputs;  ///< the input, then the further parts of a split raw scan
+    std::optional<double> iso;
+    ViewServerOptions server;
+    bool no_open = false;
+    ReadFlags read;
+    CommonOptions common;
+};
+
+volatile std::sig_atomic_t g_stop_requested = 0;
+
+extern "C" void request_stop(int) { g_stop_requested = 1; }
+
+bool is_mesh_file(const std::string& path) {
+    const std::string extension = lowercase_extension(path);
+    return extension == ".stl" || extension == ".ply" || extension == ".obj";
+}
+
+/// Reads the input before anything is served, so that a bad file is reported at once.
+ViewSource load_source(const ViewCommandOptions& options) {
+    const std::string& input = options.inputs.front();
+    ViewSource source;
+    source.name = std::filesystem::path(input).filename().string();
+    if (is_mesh_file(input)) {
+        source.mesh = std::make_shared<const Mesh>(read_mesh(input));
+        return source;
+    }
+    std::optional<double> stored_iso;
+    if (lowercase_extension(input) == ".vdb") {
+        auto grid = read_vdb(input);
+        stored_iso = stored_isovalue(*grid);
+        source.scan = std::make_shared<const ViewScan>(prepare_grid(std::move(grid)));
+    } else {
+        source.scan = std::make_shared<const ViewScan>(prepare_scan([&] { return open_scan(options.inputs, options.read); }));
+    }
+    source.initial_iso = options.iso.value_or(stored_iso.value_or(source.scan->suggested_iso));
+    return source;
+}
+
+/// The figures `vdbmesh check --json` prints, for the page.
+std::string check_figures(const Mesh& mesh) { return report_json(analyze_mesh(mesh)).dump(); }
+
+/// Hands @a address to the desktop's browser, when there is one.
+void open_browser(const std::string& address) {
+    if (std::system("command -v xdg-open >/dev/null 2>&1") != 0) return;
+    const std::string command = "xdg-open '" + address + "' >/dev/null 2>&1 &";
+    if (std::system(command.c_str()) != 0) std::cerr << "vdbmesh view: could not open a browser\n";
+}
+
+/// Serves in a thread until SIGINT or SIGTERM, then stops the server and returns.
+void serve_until_interrupted(ViewServer& server) {
+    std::signal(SIGINT, request_stop);
+    std::signal(SIGTERM, request_stop);
+    std::thread serving([&server] { server.run(); });
+    while (!g_stop_requested) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    server.stop();
+    serving.join();
+}
+
+void run_view(ViewCommandOptions& options) {
+    const ThreadLimit limit(options.common);
+    if (!options.common.quiet) std::cerr << "vdbmesh view: reading " << options.inputs.front() << "\n";
+    ViewSource source = load_source(options);
+    options.server.mesh_figures = check_figures;
+    ViewServer server(std::move(source), options.server);
+    std::cout << "vdbmesh view: serving " << options.inputs.front() << " at " << server.address()
+              << " (Ctrl-C to stop)" << std::endl;
+    if (!options.no_open) open_browser(server.address());
+    serve_until_interrupted(server);
+    if (!options.common.quiet) std::cerr << "vdbmesh view: stopped\n";
+}
+
+}  // namespace
+
+void add_view_command(CLI::App& command, CommandResult& result) {
+    auto options = std::make_shared<ViewCommandOptions>();
+    command.add_option("INPUT", options->inputs,
+                       "A scan, a .vdb grid or a mesh (.stl, .ply, .obj); extra files: the parts of a split raw scan")
+        ->required();
+    command.add_option("--iso", options->iso, "Isovalue shown first (default: the stored one, else Otsu's)");
+    command.add_option("--port", options->server.port, "Port (0: any free one)")
+        ->check(CLI::Range(0, 65535))
+        ->capture_default_str();
+    command.add_option("--host", options->server.host, "Address to listen on (others than 127.0.0.1 expose the files)")
+        ->capture_default_str();
+    command.add_option("--budget", options->server.triangle_budget,
+                       "Full meshes with more triangles are shown coarse until asked for")
+        ->capture_default_str();
+    command.add_flag("--no-open", options->no_open, "Do not open a browser");
+    add_read_flags(command, options->read);
+    add_common_options(command, options->common);
+    command.callback([options, &result] {
+        run_view(*options);
+        result.status = 0;
+    });
+}
+
+}  // namespace vdbmesh::cli

@@ -1,0 +1,154 @@
+// The page of `vdbmesh view`: wires the panel to the 3D view and the server.
+// window.vdbmeshView reports what is on screen, for the browser test.
+import { Scene3D } from './scene.js';
+import { Model } from './model.js';
+import { clipPlanes } from './clip_planes.js';
+import { fetchJson, meshQuery } from './mesh_loader.js';
+import { HistogramView } from './histogram.js';
+import { addHistory, showCounts, showFigures } from './figures.js';
+import { Remesher } from './remesher.js';
+
+const $ = (id) => document.getElementById(id);
+const radio = (name) => document.querySelector(`input[name=${name}]:checked`).value;
+const state = (window.vdbmeshView = { level: '', triangles: 0, meshes: 0, busy: false, timings: [], error: '', figures: null });
+
+const scene3d = new Scene3D($('view'));
+const model = new Model(scene3d);
+let info;
+let histogram;
+let fitted = false;
+
+function status(text) {
+  $('status').textContent = text;
+}
+
+function meshParams() {
+  const method = $('method').value;
+  const parameter = Number($('method-parameter').value);
+  return {
+    method,
+    iso: info.scan ? Number($('iso-value').value) : undefined,
+    error: method === 'dmc' ? parameter : 0,
+    adaptivity: method === 'openvdb' ? Math.min(parameter, 1) : 0,
+  };
+}
+
+function applyClip() {
+  if (!model.geometry) return;
+  const settings = {
+    mode: $('clip-mode').value, axis: Number($('clip-axis').value), flip: $('clip-flip').checked,
+    position: Number($('clip-position').value), thickness: Number($('clip-thickness').value),
+  };
+  model.setClipPlanes(clipPlanes(settings, model.geometry.boundingBox), model.geometry.boundingBox);
+}
+
+function showMesh(mesh, level, params) {
+  model.setGeometry(mesh.geometry);
+  applyClip();
+  if (!fitted) {
+    scene3d.fitTo(mesh.geometry.boundingBox);
+    scene3d.setView('home');
+    fitted = true;
+  }
+  Object.assign(state, { level, triangles: mesh.triangles, meshes: state.meshes + 1 });
+  showCounts($('figures'), mesh, level === 'coarse' ? 'coarse preview' : 'analysing…');
+  if (level === 'full' && info.scan) {
+    addHistory($('history'), params, mesh);
+    $('history-box').classList.remove('hidden');
+  }
+  $('budget').classList.add('hidden');
+}
+
+function showOverBudget(triangles) {
+  const budget = $('budget');
+  budget.innerHTML = `The full mesh has ${triangles.toLocaleString('en-US')} triangles, over the budget of ` +
+    `${info.triangle_budget.toLocaleString('en-US')}: the coarse one is shown. <button id="load-full">Show the full mesh</button>`;
+  budget.classList.remove('hidden');
+  $('load-full').onclick = () => remesh(false);
+}
+
+const remesher = new Remesher(false, 0, {
+  onMesh: showMesh,
+  onOverBudget: showOverBudget,
+  onFigures: (figures) => {
+    state.figures = figures;
+    if (state.level === 'full') showFigures($('figures'), figures);
+  },
+});
+
+async function remesh(withinBudget = true) {
+  state.busy = true;
+  status('meshing…');
+  try {
+    const timings = await remesher.run(meshParams(), withinBudget);
+    if (!timings) return;
+    state.timings.push(timings);
+    const shown = timings.coarseMs ? `coarse ${timings.coarseMs.toFixed(0)} ms` : '';
+    const full = timings.fullMs ? `full ${timings.fullMs.toFixed(0)} ms` : '';
+    status([shown, full].filter(Boolean).join(', ') || 'ready');
+    state.busy = false;
+  } catch (error) {
+    Object.assign(state, { busy: false, error: error.message });
+    status(`error: ${error.message}`);
+  }
+}
+
+function setIso(value, andRemesh) {
+  const { value_min: min, value_max: max } = info.scan;
+  const iso = Math.min(Math.max(value, min), max);
+  $('iso').value = iso;
+  $('iso-value').value = Number(iso.toPrecision(6));
+  histogram.setIso(iso);
+  if (andRemesh) remesh();
+}
+
+function setUpScan(scan) {
+  $('scan-controls').classList.remove('hidden');
+  const slider = $('iso');
+  Object.assign(slider, { min: scan.value_min, max: scan.value_max, step: (scan.value_max - scan.value_min) / 1000 || 1 });
+  $('iso-hint').textContent = `Otsu: ${Number(scan.suggested_iso.toPrecision(5))}`;
+  $('iso-hint').title = scan.suggested_reason;
+  histogram = new HistogramView($('histogram'), scan, (value) => setIso(value, true));
+  setIso(scan.initial_iso, false);
+  slider.addEventListener('input', () => setIso(Number(slider.value), false));
+  slider.addEventListener('change', () => setIso(Number(slider.value), true));
+  $('iso-value').addEventListener('change', () => setIso(Number($('iso-value').value), true));
+  $('method').addEventListener('change', () => remesh());
+  $('method-parameter').addEventListener('change', () => remesh());
+}
+
+function download(url, name) {
+  const link = Object.assign(document.createElement('a'), { href: url, download: name });
+  document.body.append(link);
+  link.click();
+  link.remove();
+}
+
+function setUpPanel() {
+  $('reset-view').onclick = () => scene3d.setView('home');
+  for (const button of document.querySelectorAll('[data-axis]')) button.onclick = () => scene3d.setView(button.dataset.axis);
+  for (const input of document.querySelectorAll('input[name=style]')) input.onchange = () => { model.setStyle(radio('style')); applyClip(); };
+  for (const input of document.querySelectorAll('input[name=shading]')) input.onchange = () => model.setFlatShading(radio('shading') === 'flat');
+  $('shadows').onchange = () => scene3d.setShadows($('shadows').checked);
+  for (const id of ['clip-mode', 'clip-axis', 'clip-flip', 'clip-position', 'clip-thickness']) $(id).addEventListener('input', applyClip);
+  for (const button of document.querySelectorAll('[data-format]')) {
+    const format = button.dataset.format;
+    button.onclick = () => download(`/api/download?${meshQuery({ ...meshParams(), level: 'full', format })}`, `mesh.${format}`);
+  }
+  $('save-png').onclick = async () => download(URL.createObjectURL(await scene3d.snapshot()), 'view.png');
+}
+
+async function start() {
+  info = await fetchJson('/api/info');
+  document.title = `${info.name} · vdbmesh view`;
+  $('title').textContent = info.name;
+  Object.assign(remesher, { isScan: Boolean(info.scan), budget: info.triangle_budget });
+  setUpPanel();
+  if (info.scan) setUpScan(info.scan);
+  await remesh();
+}
+
+start().catch((error) => {
+  state.error = error.message;
+  status(`error: ${error.message}`);
+});

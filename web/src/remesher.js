@@ -1,0 +1,50 @@
+// Live re-meshing: for a scan, the coarse mesh first, then the full one (or, over the
+// triangle budget, its count and a button), then its figures. A newer request makes older
+// ones moot: their answers are dropped. Times are measured from the request to the frame
+// that shows the mesh.
+import { fetchJson, fetchMesh, meshQuery, OverBudget } from './mesh_loader.js';
+
+const nextFrame = () => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve)));
+
+export class Remesher {
+  /// @param handlers {onMesh(mesh, level), onOverBudget(triangles), onFigures(figures), onError(error)}
+  constructor(isScan, budget, handlers) {
+    this.isScan = isScan;
+    this.budget = budget;
+    this.handlers = handlers;
+    this.generation = 0;
+  }
+
+  /// Meshes with @a params ({method, iso, error, adaptivity}); @a withinBudget false fetches
+  /// the full mesh whatever its size. Resolves with the timings, or null when overtaken.
+  async run(params, withinBudget = true) {
+    const generation = ++this.generation;
+    this.abort?.abort();
+    const abort = (this.abort = new AbortController());
+    const current = () => generation === this.generation;
+    const start = performance.now();
+    const timings = { params };
+    try {
+      if (this.isScan && withinBudget) {
+        const coarse = await fetchMesh({ ...params, level: 'coarse' }, abort.signal);
+        if (!current()) return null;
+        this.handlers.onMesh(coarse, 'coarse');
+        await nextFrame();
+        timings.coarseMs = performance.now() - start;
+      }
+      const limit = withinBudget && this.isScan ? this.budget : undefined;
+      const full = await fetchMesh({ ...params, level: 'full', max_triangles: limit }, abort.signal);
+      if (!current()) return null;
+      this.handlers.onMesh(full, 'full', params);
+      await nextFrame();
+      timings.fullMs = performance.now() - start;
+    } catch (error) {
+      if (!current() || error.name === 'AbortError') return null;
+      if (!(error instanceof OverBudget)) throw error;
+      this.handlers.onOverBudget(error.triangles);
+    }
+    const figures = await fetchJson(`/api/figures?${meshQuery({ ...params, level: 'full' })}`, abort.signal);
+    if (current()) this.handlers.onFigures(figures);
+    return timings;
+  }
+}

@@ -1,0 +1,119 @@
+// The 3D view: renderer, camera with orbit controls, lights with shadows, and the views the
+// buttons ask for. It draws only when something changed.
+import * as THREE from 'three';
+import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+
+const BACKGROUND = 0x0f1115;
+
+const AXIS_VIEWS = {
+  '+x': { direction: [1, 0, 0], up: [0, 0, 1] },
+  '-x': { direction: [-1, 0, 0], up: [0, 0, 1] },
+  '+y': { direction: [0, 1, 0], up: [0, 0, 1] },
+  '-y': { direction: [0, -1, 0], up: [0, 0, 1] },
+  '+z': { direction: [0, 0, 1], up: [0, 1, 0] },
+  '-z': { direction: [0, 0, -1], up: [0, 1, 0] },
+};
+const HOME_VIEW = { direction: [0.6, -1, 0.7], up: [0, 0, 1] };
+
+export class Scene3D {
+  constructor(container) {
+    this.container = container;
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true, stencil: true });
+    this.renderer.setPixelRatio(window.devicePixelRatio);
+    this.renderer.setClearColor(BACKGROUND);
+    this.renderer.localClippingEnabled = true;
+    this.renderer.shadowMap.enabled = true;
+    this.renderer.shadowMap.type = THREE.PCFSoftShadowMap;
+    container.prepend(this.renderer.domElement);
+
+    this.scene = new THREE.Scene();
+    this.camera = new THREE.PerspectiveCamera(35, 1, 0.01, 1000);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.addEventListener('change', () => this.requestRender());
+    this.addLights();
+    this.bounds = new THREE.Box3(new THREE.Vector3(-1, -1, -1), new THREE.Vector3(1, 1, 1));
+
+    new ResizeObserver(() => this.resize()).observe(container);
+    this.resize();
+    this.renderer.setAnimationLoop(() => this.renderIfNeeded());
+  }
+
+  addLights() {
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x404050, 1.2));
+    this.sun = new THREE.DirectionalLight(0xffffff, 2.2);
+    this.sun.castShadow = true;
+    this.sun.shadow.mapSize.set(2048, 2048);
+    this.sun.shadow.bias = -0.0005;
+    this.sun.shadow.normalBias = 0.02;
+    this.scene.add(this.sun, this.sun.target);
+    this.ground = new THREE.Mesh(new THREE.PlaneGeometry(1, 1), new THREE.ShadowMaterial({ opacity: 0.35 }));
+    this.ground.receiveShadow = true;
+    this.scene.add(this.ground);
+  }
+
+  /// Places the light, its shadow camera and the ground around @a box (world units).
+  fitTo(box) {
+    this.bounds.copy(box);
+    const centre = box.getCenter(new THREE.Vector3());
+    const radius = Math.max(box.getSize(new THREE.Vector3()).length() / 2, 1e-6);
+    this.sun.position.copy(centre).add(new THREE.Vector3(0.5, -0.8, 1.6).multiplyScalar(2 * radius));
+    this.sun.target.position.copy(centre);
+    const shadow = this.sun.shadow.camera;
+    Object.assign(shadow, { left: -radius * 1.5, right: radius * 1.5, top: radius * 1.5, bottom: -radius * 1.5 });
+    shadow.near = 0.1 * radius;
+    shadow.far = 5 * radius;
+    shadow.updateProjectionMatrix();
+    this.ground.scale.setScalar(6 * radius);
+    this.ground.position.set(centre.x, centre.y, box.min.z - 0.01 * radius);
+    this.camera.near = radius / 100;
+    this.camera.far = radius * 100;
+    this.requestRender();
+  }
+
+  setShadows(on) {
+    this.sun.castShadow = on;
+    this.ground.visible = on;
+    this.requestRender();
+  }
+
+  /// Looks at the bounds from @a name ('+x' ... '-z', or 'home').
+  setView(name) {
+    const view = AXIS_VIEWS[name] ?? HOME_VIEW;
+    const centre = this.bounds.getCenter(new THREE.Vector3());
+    const radius = this.bounds.getSize(new THREE.Vector3()).length() / 2;
+    const distance = radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2));
+    const direction = new THREE.Vector3(...view.direction).normalize();
+    this.camera.up.set(...view.up);
+    this.camera.position.copy(centre).addScaledVector(direction, distance);
+    this.camera.updateProjectionMatrix();
+    this.controls.target.copy(centre);
+    this.controls.update();
+    this.requestRender();
+  }
+
+  resize() {
+    const { clientWidth: width, clientHeight: height } = this.container;
+    if (width === 0 || height === 0) return;
+    this.renderer.setSize(width, height, false);
+    this.camera.aspect = width / height;
+    this.camera.updateProjectionMatrix();
+    this.requestRender();
+  }
+
+  requestRender() {
+    this.dirty = true;
+  }
+
+  renderIfNeeded() {
+    if (!this.dirty) return;
+    this.dirty = false;
+    this.renderer.render(this.scene, this.camera);
+    this.onRendered?.();
+  }
+
+  /// A PNG of the view, drawn afresh.
+  async snapshot() {
+    this.renderer.render(this.scene, this.camera);
+    return new Promise((resolve) => this.renderer.domElement.toBlob(resolve, 'image/png'));
+  }
+}
