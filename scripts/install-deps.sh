@@ -7,7 +7,12 @@ packages=(
   libboost-dev libboost-iostreams-dev   # OpenVDB's CMake module fails without them
   libeigen3-dev zlib1g-dev libgdcm-dev libcli11-dev nlohmann-json3-dev libgtest-dev
   libcgal-dev   # test-only: the independent judge of the mesh guarantees (tests/common/cgal_judge.cpp)
+  libcpp-httplib-dev                    # the server of `vdbmesh view`
+  chromium chromium-driver              # the browser test of its page (headless, WebGL through SwiftShader)
 )
+# Node.js and npm build the page (web/: npm ci, esbuild); Debian's, unless the machine has its own.
+command -v node >/dev/null || packages+=(nodejs)
+command -v npm >/dev/null || packages+=(npm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -22,7 +22,7 @@ openvdb::Coord coarse_dims(const openvdb::CoordBBox& box, int factor) {
 /// The mean of the full samples in the block of coarse voxel @a coarse.
 template <typename Accessor>
 float block_mean(const Accessor& full, const openvdb::CoordBBox& box, int factor, const openvdb::Coord& coarse) {
-    const openvdb::Coord first = box.min() + coarse * factor;
+    const openvdb::Coord first = box.min() + openvdb::Coord(coarse.x() * factor, coarse.y() * factor, coarse.z() * factor);
     const openvdb::Coord last = openvdb::Coord::minComponent(first + openvdb::Coord(factor - 1), box.max());
     double sum = 0;
     int count = 0;

@@ -2,7 +2,11 @@
 
 #include <httplib.h>
 
+#include <atomic>
+#include <chrono>
+#include <mutex>
 #include <sstream>
+#include <thread>
 
 #include "analysis/mesh_io_detail.h"  // detail::write_stl/ply/obj to a stream
 #include "vdbmesh/error.h"
@@ -70,11 +74,38 @@ public:
 
     int port() const { return port_; }
     std::string address() const { return "http://" + options_.host + ":" + std::to_string(port_) + "/"; }
-    void run() { server_.listen_after_bind(); }
-    void stop() { server_.stop(); }
+    void run() {
+        {
+            const std::lock_guard<std::mutex> lock(run_mutex_);
+            if (stopping_) return;
+            running_ = true;
+        }
+        server_.listen_after_bind();
+        finished_ = true;
+    }
+
+    /// httplib's stop() does nothing before the server listens, so a stop() right after run()
+    /// began waits for the listening to start (or for run() to have ended).
+    void stop() {
+        {
+            const std::lock_guard<std::mutex> lock(run_mutex_);
+            stopping_ = true;
+            if (!running_) return;
+        }
+        while (!server_.is_running() && !finished_) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        server_.stop();
+    }
 
 private:
+    /// SO_REUSEADDR only: httplib's default adds SO_REUSEPORT, with which a second server
+    /// would share a port in use instead of failing.
+    static void exclusive_port(socket_t socket) {
+        const int yes = 1;
+        setsockopt(socket, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    }
+
     void bind() {
+        server_.set_socket_options(exclusive_port);
         port_ = options_.port;
         if (options_.port == 0) {
             port_ = server_.bind_to_any_port(options_.host);
@@ -148,6 +179,9 @@ private:
     view::MeshStore store_;
     httplib::Server server_;
     int port_ = 0;
+    std::mutex run_mutex_;
+    bool stopping_ = false, running_ = false;
+    std::atomic<bool> finished_{false};
 };
 
 ViewServer::ViewServer(ViewSource source, const ViewServerOptions& options)

@@ -251,8 +251,8 @@ TEST_F(ViewServerTest, APortInUseIsAnError) {
 }
 
 TEST(ViewCommandTest, AnUnreadableInputIsReportedBeforeServing) {
-    EXPECT_EQ(cli::run({"view", "/nonexistent/scan.nii", "--no-open", "--quiet"}), kRuntimeError);
-    EXPECT_EQ(cli::run({"view", "/nonexistent/mesh.stl", "--no-open", "--quiet"}), kRuntimeError);
+    EXPECT_EQ(cli::run({"view", "/nonexistent/scan.nii", "--no-open", "--quiet"}), cli::kRuntimeError);
+    EXPECT_EQ(cli::run({"view", "/nonexistent/mesh.stl", "--no-open", "--quiet"}), cli::kRuntimeError);
 }
 
 }  // namespace

@@ -19,8 +19,8 @@ export function showCounts(table, mesh, note) {
   ]);
 }
 
-/// The full analysis (GET /api/figures).
-export function showFigures(table, figures) {
+/// The full analysis (GET /api/figures), with a @a note under it.
+export function showFigures(table, figures, note) {
   const check = figures.check;
   const manifold = check.nonmanifold_edges === 0 && check.nonmanifold_vertices === 0;
   rows(table, [
@@ -33,6 +33,7 @@ export function showFigures(table, figures) {
     ['self-intersections', yesNo(check.self_intersecting_pairs === 0, 'none', count(check.self_intersecting_pairs))],
     ['components', count(check.components)],
     ['meshing time', `${number(figures.seconds, 3)} s`],
+    ['', note],
   ]);
 }
 

@@ -72,7 +72,7 @@ const remesher = new Remesher(false, 0, {
   onOverBudget: showOverBudget,
   onFigures: (figures) => {
     state.figures = figures;
-    if (state.level === 'full') showFigures($('figures'), figures);
+    showFigures($('figures'), figures, state.level === 'coarse' ? 'of the full mesh; the coarse one is shown' : '');
   },
 });
 
