@@ -29,7 +29,10 @@ function parseArguments(argv) {
   const own = split < 0 ? argv : argv.slice(0, split);
   const options = { viewArguments: split < 0 ? [] : argv.slice(split + 1) };
   for (let i = 0; i < own.length; i += 2) options[own[i].replace(/^--/, '').replace(/-(.)/g, (_, c) => c.toUpperCase())] = own[i + 1];
-  for (const required of ['vdbmesh', 'web', 'out']) if (!options[required]) throw new Error(`--${required} is required`);
+  for (const required of ['vdbmesh', 'web', 'out']) {
+    if (!options[required]) throw new Error(`--${required} is required`);
+    options[required] = path.resolve(options[required]);
+  }
   return options;
 }
 
@@ -129,10 +132,15 @@ async function checkModelDrawn(driver, checks) {
 
 async function checkIsoSlider(driver, checks, before, isoTo, timeout) {
   const { triangles } = await driver.state();
-  const [min, current] = await driver.page.evaluate(() => [Number(document.getElementById('iso').min), Number(document.getElementById('iso-value').value)]);
-  const target = isoTo ?? current - (current - min) / 2;
+  const slider = await driver.page.evaluate(() => {
+    const { min, step } = document.getElementById('iso');
+    return { min: Number(min), step: Number(step), current: Number(document.getElementById('iso-value').value) };
+  });
+  const wanted = isoTo ?? slider.current - (slider.current - slider.min) / 2;
+  // A range input takes only values on its steps.
+  const target = slider.min + Math.round((wanted - slider.min) / slider.step) * slider.step;
   const meshes = (await driver.state()).meshes;
-  await driver.page.locator('#iso').fill(String(target));
+  await driver.page.locator('#iso').fill(String(Number(target.toPrecision(12))));
   const after = await driver.waitForFullMesh(meshes, timeout);
   const shown = await driver.page.locator('#triangle-count').textContent();
   checks.expect(after.triangles !== triangles, `moving the isovalue to ${target} re-meshes: ${triangles} -> ${after.triangles} triangles`);
@@ -191,7 +199,7 @@ async function main() {
     }
     viewer = await startViewer(options.vdbmesh, [scan, ...options.viewArguments]);
     console.log(`vdbmesh view serves ${scan} at ${viewer.address}`);
-    browser = await chromium.launch({ executablePath: chromiumPath, headless: true, args: [...CHROMIUM_FLAGS, `--user-data-dir=${scratch}/profile`] });
+    browser = await chromium.launch({ executablePath: chromiumPath, headless: true, args: CHROMIUM_FLAGS });  // a fresh profile each launch
     const page = await browser.newPage({ viewport: { width: 1000, height: 700 } });
     page.on('pageerror', (error) => checks.expect(false, `no error in the page: ${error.message}`));
     const driver = new PageDriver(page, options.out, pngDecoder(options.web));
