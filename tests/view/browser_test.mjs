@@ -149,7 +149,9 @@ async function checkIsoSlider(driver, checks, before, isoTo, timeout) {
   const changed = changedShare(before, image);
   checks.expect(changed > 0.002, `the picture changes with the isovalue (${(100 * changed).toFixed(2)}% of pixels)`);
   const timing = after.timings.at(-1);
-  console.log(`timing: slider released -> coarse mesh on screen ${timing.coarseMs?.toFixed(0)} ms, full mesh ${timing.fullMs?.toFixed(0)} ms`);
+  const ms = (value) => (value === undefined ? '-' : `${value.toFixed(0)} ms`);
+  console.log(`timing: slider released -> coarse mesh received ${ms(timing.coarseFetchedMs)}, on screen ${ms(timing.coarseMs)}; ` +
+    `full mesh received ${ms(timing.fullFetchedMs)}, on screen ${ms(timing.fullMs)}`);
   return image;
 }
 

@@ -1,7 +1,7 @@
 // Live re-meshing: for a scan, the coarse mesh first, then the full one (or, over the
 // triangle budget, its count and a button), then its figures. A newer request makes older
-// ones moot: their answers are dropped. Times are measured from the request to the frame
-// that shows the mesh.
+// ones moot: their answers are dropped. Times are measured from the request to the buffers
+// received (*FetchedMs) and to the frame that shows the mesh (*Ms).
 import { fetchJson, fetchMesh, meshQuery, OverBudget } from './mesh_loader.js';
 
 const nextFrame = () => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve)));
@@ -28,6 +28,7 @@ export class Remesher {
       if (this.isScan && withinBudget) {
         const coarse = await fetchMesh({ ...params, level: 'coarse' }, abort.signal);
         if (!current()) return null;
+        timings.coarseFetchedMs = performance.now() - start;
         this.handlers.onMesh(coarse, 'coarse');
         await nextFrame();
         timings.coarseMs = performance.now() - start;
@@ -35,6 +36,7 @@ export class Remesher {
       const limit = withinBudget && this.isScan ? this.budget : undefined;
       const full = await fetchMesh({ ...params, level: 'full', max_triangles: limit }, abort.signal);
       if (!current()) return null;
+      timings.fullFetchedMs = performance.now() - start;
       this.handlers.onMesh(full, 'full', params);
       await nextFrame();
       timings.fullMs = performance.now() - start;
