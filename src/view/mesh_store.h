@@ -3,12 +3,15 @@
 // machine's cores all go to it), the last few kept so that the buffers, the figures and a
 // download of the same mesh cost one meshing.
 
+#include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -20,7 +23,7 @@ namespace vdbmesh::view {
 /// A mesh made for the page, and its figures once asked for.
 struct StoredMesh {
     std::shared_ptr<const Mesh> mesh;
-    double seconds = 0;  ///< meshing wall time (0 for a mesh file)
+    double seconds = 0;  ///< the mesher's time, its phases summed (0 for a mesh file)
     /// The figures of the mesh by @a describe (JSON text), computed on the first call.
     const std::string& figures(const std::function<std::string(const Mesh&)>& describe);
 
@@ -29,19 +32,28 @@ private:
     std::string figures_;
 };
 
+/// Thrown when a full mesh is given up because the page asked for a newer coarse one.
+class Superseded : public std::runtime_error {
+public:
+    Superseded() : std::runtime_error("superseded: a newer isovalue or method was asked for") {}
+};
+
 class MeshStore {
 public:
     explicit MeshStore(ViewSource source);
     const ViewSource& source() const { return source_; }
-    /// The mesh of @a request, made now unless kept.
-    /// @throw UsageError for options the mesher refuses.
+    /// The mesh of @a request, made now unless kept. A coarse request is the page's first
+    /// of a new setting: full meshes asked for before it stop at the mesher's next progress
+    /// report (Superseded), so that the new one does not wait for them.
+    /// @throw UsageError for options the mesher refuses, Superseded.
     std::shared_ptr<StoredMesh> mesh(const MeshRequest& request);
 
 private:
     static constexpr std::size_t kKept = 4;
-    std::shared_ptr<StoredMesh> make(const MeshRequest& request) const;
+    std::shared_ptr<StoredMesh> make(const MeshRequest& request, std::uint64_t coarse_seen) const;
 
     ViewSource source_;
+    std::atomic<std::uint64_t> coarse_requests_{0};
     std::mutex mutex_;
     std::deque<std::pair<std::string, std::shared_ptr<StoredMesh>>> kept_;  ///< newest first
 };

@@ -34,6 +34,8 @@ Handler guarded(Handler handler) {
             handler(request, response);
         } catch (const UsageError& e) {
             send_error(response, 400, e.what());
+        } catch (const view::Superseded& e) {
+            send_error(response, 409, e.what());
         } catch (const std::exception& e) {
             send_error(response, 500, e.what());
         }

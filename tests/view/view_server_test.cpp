@@ -129,7 +129,7 @@ TEST_F(ViewServerTest, MeshBuffersAreTheLibrarysMesh) {
     MeshOptions options;
     options.iso = 0.5;
     options.error = 0.25;
-    const Mesh expected = mesh_grid(*scan_->grid, options);
+    const Mesh expected = mesh_grid(*scan_->grid, options).mesh;
     const std::size_t vertices = header_count(result, "X-Vertices"), triangles = header_count(result, "X-Triangles");
     EXPECT_EQ(vertices, expected.vertices.size());
     EXPECT_EQ(triangles, expected.triangles.size());
@@ -166,8 +166,8 @@ TEST_F(ViewServerTest, CoarseGridMeshesTheSameSphereInTheSamePlace) {
     MeshOptions options;
     options.method = MeshMethod::mc;
     options.iso = 0.5;
-    const openvdb::BBoxd full_box = bounds(mesh_grid(*scan_->grid, options));
-    const openvdb::BBoxd coarse_box = bounds(mesh_grid(*coarse, options));
+    const openvdb::BBoxd full_box = bounds(mesh_grid(*scan_->grid, options).mesh);
+    const openvdb::BBoxd coarse_box = bounds(mesh_grid(*coarse, options).mesh);
     for (int axis = 0; axis < 3; ++axis) {
         EXPECT_NEAR(coarse_box.getCenter()[axis], full_box.getCenter()[axis], 0.5);
         EXPECT_NEAR(coarse_box.extents()[axis], full_box.extents()[axis], 2.0);
@@ -188,7 +188,7 @@ TEST_F(ViewServerTest, CoarseLevelMeshesTheCoarseGrid) {
     MeshOptions options;
     options.method = MeshMethod::mc;
     options.iso = 0.5;
-    EXPECT_EQ(header_count(coarse, "X-Triangles"), mesh_grid(*scan_->coarse, options).triangles.size());
+    EXPECT_EQ(header_count(coarse, "X-Triangles"), mesh_grid(*scan_->coarse, options).mesh.triangles.size());
 }
 
 TEST_F(ViewServerTest, FiguresAreThoseOfCheck) {
@@ -235,7 +235,7 @@ TEST_F(ViewServerTest, MeshFilesAreServedAsTheyAre) {
     options.iso = 0.5;
     ViewSource source;
     source.name = "sphere.stl";
-    source.mesh = std::make_shared<const Mesh>(mesh_grid(*scan_->grid, options));
+    source.mesh = std::make_shared<const Mesh>(mesh_grid(*scan_->grid, options).mesh);
     RunningServer server(source);
     EXPECT_EQ(nlohmann::json::parse(server.get("/api/info")->body)["kind"], "mesh");
     const auto result = server.get("/api/mesh?iso=0.9");  // the isovalue means nothing here

@@ -74,7 +74,7 @@ const remesher = new Remesher(false, 0, {
     state.figures = figures;
     showFigures($('figures'), figures, state.level === 'coarse' ? 'of the full mesh; the coarse one is shown' : '');
   },
-});
+}, () => scene3d.nextRender());
 
 async function remesh(withinBudget = true) {
   state.busy = true;

@@ -4,11 +4,11 @@
 // received (*FetchedMs) and to the frame that shows the mesh (*Ms).
 import { fetchJson, fetchMesh, meshQuery, OverBudget } from './mesh_loader.js';
 
-const nextFrame = () => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve)));
-
 export class Remesher {
-  /// @param handlers {onMesh(mesh, level), onOverBudget(triangles), onFigures(figures), onError(error)}
-  constructor(isScan, budget, handlers) {
+  /// @param handlers {onMesh(mesh, level), onOverBudget(triangles), onFigures(figures)}
+  /// @param drawn () => a promise of the next frame drawn
+  constructor(isScan, budget, handlers, drawn) {
+    this.drawn = drawn;
     this.isScan = isScan;
     this.budget = budget;
     this.handlers = handlers;
@@ -30,7 +30,7 @@ export class Remesher {
         if (!current()) return null;
         timings.coarseFetchedMs = performance.now() - start;
         this.handlers.onMesh(coarse, 'coarse');
-        await nextFrame();
+        await this.drawn();
         timings.coarseMs = performance.now() - start;
       }
       const limit = withinBudget && this.isScan ? this.budget : undefined;
@@ -38,7 +38,7 @@ export class Remesher {
       if (!current()) return null;
       timings.fullFetchedMs = performance.now() - start;
       this.handlers.onMesh(full, 'full', params);
-      await nextFrame();
+      await this.drawn();
       timings.fullMs = performance.now() - start;
     } catch (error) {
       if (!current() || error.name === 'AbortError') return null;

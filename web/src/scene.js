@@ -108,7 +108,16 @@ export class Scene3D {
     if (!this.dirty) return;
     this.dirty = false;
     this.renderer.render(this.scene, this.camera);
-    this.onRendered?.();
+    const waiting = this.waitingForRender ?? [];
+    this.waitingForRender = [];
+    if (waiting.length > 0) this.renderer.getContext().finish();
+    for (const resolve of waiting) resolve();
+  }
+
+  /// Resolves once the next frame is drawn (its GL commands finished).
+  nextRender() {
+    this.requestRender();
+    return new Promise((resolve) => (this.waitingForRender ??= []).push(resolve));
   }
 
   /// A PNG of the view, drawn afresh.
