@@ -210,6 +210,7 @@ async function main() {
     await page.goto(viewer.address);
     await driver.waitForFullMesh(0, timeout);
     console.log(`page loaded and showed the full mesh in ${Date.now() - started} ms`);
+    await page.screenshot({ path: path.join(options.out, 'page.png') });
     const solid = await checkModelDrawn(driver, checks);
     const remeshed = await checkIsoSlider(driver, checks, solid, options.isoTo === undefined ? undefined : Number(options.isoTo), timeout);
     await checkWireframe(driver, checks, remeshed);
