@@ -10,7 +10,9 @@ import { Remesher } from './remesher.js';
 
 const $ = (id) => document.getElementById(id);
 const radio = (name) => document.querySelector(`input[name=${name}]:checked`).value;
-const state = (window.vdbmeshView = { level: '', triangles: 0, meshes: 0, busy: false, timings: [], error: '', figures: null });
+const state = (window.vdbmeshView = {
+  level: '', triangles: 0, meshes: 0, busy: false, timings: [], error: '', figures: null, overBudget: 0,
+});
 
 const scene3d = new Scene3D($('view'));
 const model = new Model(scene3d);
@@ -50,7 +52,7 @@ function showMesh(mesh, level, params) {
     scene3d.setView('home');
     fitted = true;
   }
-  Object.assign(state, { level, triangles: mesh.triangles, meshes: state.meshes + 1 });
+  Object.assign(state, { level, triangles: mesh.triangles, meshes: state.meshes + 1, overBudget: 0 });
   showCounts($('figures'), mesh, level === 'coarse' ? 'coarse preview' : 'analysing…');
   if (level === 'full' && info.scan) {
     addHistory($('history'), params, mesh);
@@ -60,6 +62,7 @@ function showMesh(mesh, level, params) {
 }
 
 function showOverBudget(triangles) {
+  state.overBudget = triangles;
   const budget = $('budget');
   budget.innerHTML = `The full mesh has ${triangles.toLocaleString('en-US')} triangles, over the budget of ` +
     `${info.triangle_budget.toLocaleString('en-US')}: the coarse one is shown. <button id="load-full">Show the full mesh</button>`;
