@@ -220,6 +220,7 @@ async function main() {
     page.on('pageerror', (error) => checks.expect(false, `no error in the page: ${error.message}`));
     const driver = new PageDriver(page, options.out, pngDecoder(options.web));
     const timeout = Number(options.timeoutMs ?? 120000);
+    page.setDefaultTimeout(timeout);  // SwiftShader draws millions of triangles slowly
     const started = Date.now();
     await page.goto(viewer.address);
     await driver.waitForFullMesh(0, timeout);
