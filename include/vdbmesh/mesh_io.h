@@ -2,7 +2,9 @@
 /// @file mesh_io.h
 /// @brief Reading and writing triangle meshes: STL (binary and ASCII), PLY and OBJ (OpenVDB-free).
 
+#include <array>
 #include <filesystem>
+#include <vector>
 
 #include "vdbmesh/mesh.h"
 
@@ -33,5 +35,9 @@ void write_mesh(const Mesh& mesh, const std::filesystem::path& path, const MeshW
 /// @throw FormatError (file, field, expected, actual) for a malformed or truncated file,
 /// UsageError for an unknown extension.
 Mesh read_mesh(const std::filesystem::path& path);
+
+/// The unit normal of each vertex: the area-weighted average of its triangles' normals (0 for
+/// a vertex no triangle uses), as PLY and OBJ files get them.
+std::vector<std::array<float, 3>> vertex_normals(const Mesh& mesh);
 
 }  // namespace vdbmesh

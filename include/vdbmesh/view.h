@@ -3,8 +3,6 @@
 /// @brief `vdbmesh view`: what the page shows (a scan meshed on request, or a mesh file) and
 /// the local HTTP server that serves the page, meshes as binary buffers and their figures.
 
-#include <openvdb/openvdb.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -13,6 +11,7 @@
 #include <vector>
 
 #include "vdbmesh/mesh.h"
+#include "vdbmesh/openvdb_fwd.h"
 #include "vdbmesh/read.h"
 
 namespace vdbmesh {
@@ -26,8 +25,8 @@ struct ValueHistogram {
 /// A scan prepared for live re-meshing: grids that hold the surface at every isovalue of
 /// [histogram.min, histogram.max].
 struct ViewScan {
-    openvdb::FloatGrid::Ptr grid;    ///< full resolution
-    openvdb::FloatGrid::Ptr coarse;  ///< averaged over coarse_factor^3 blocks: the quick first mesh
+    std::shared_ptr<openvdb::FloatGrid> grid;    ///< full resolution
+    std::shared_ptr<openvdb::FloatGrid> coarse;  ///< averaged over coarse_factor^3 blocks: the quick first mesh
     int coarse_factor = 1;
     ValueHistogram histogram;        ///< of the scan's samples
     double suggested_iso = 0;        ///< Otsu's threshold
@@ -46,7 +45,7 @@ ViewScan prepare_scan(const std::function<std::unique_ptr<VolumeReader>()>& open
 /// A stored grid as it is: statistics and histogram of its samples inside its scan box (its
 /// active box when it has none). Isovalues away from the one it was converted at may find
 /// only part of the surface.
-ViewScan prepare_grid(openvdb::FloatGrid::Ptr grid);
+ViewScan prepare_grid(std::shared_ptr<openvdb::FloatGrid> grid);
 
 /// What the page shows: a scan or a mesh.
 struct ViewSource {

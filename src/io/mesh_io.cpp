@@ -58,4 +58,6 @@ Mesh read_mesh(const std::filesystem::path& path) {
     return {};
 }
 
+std::vector<std::array<float, 3>> vertex_normals(const Mesh& mesh) { return detail::vertex_normals(mesh); }
+
 }  // namespace vdbmesh

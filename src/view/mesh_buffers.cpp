@@ -2,7 +2,7 @@
 
 #include <cstring>
 
-#include "analysis/mesh_io_detail.h"  // detail::vertex_normals
+#include "vdbmesh/mesh_io.h"
 
 namespace vdbmesh::view {
 
@@ -22,7 +22,7 @@ std::string mesh_buffers(const Mesh& mesh) {
     std::string body;
     body.reserve(24 * mesh.vertices.size() + 12 * mesh.triangles.size());
     append(body, mesh.vertices);
-    append(body, detail::vertex_normals(mesh));
+    append(body, vertex_normals(mesh));
     append(body, mesh.triangles);
     return body;
 }

@@ -34,7 +34,7 @@ ViewScan prepare_scan(const std::function<std::unique_ptr<VolumeReader>()>& open
     return finish_view_scan(std::move(grid), box, stats);
 }
 
-ViewScan prepare_grid(openvdb::FloatGrid::Ptr grid) {
+ViewScan prepare_grid(std::shared_ptr<openvdb::FloatGrid> grid) {
     const openvdb::CoordBBox box = stored_scan_box(*grid).value_or(grid->evalActiveVoxelBoundingBox());
     VolumeStatsAccumulator accumulator;
     view::for_each_sample(*grid, box, [&](const float* values, std::size_t count) { accumulator.add(values, count); });

@@ -4,11 +4,15 @@
 
 #include <atomic>
 #include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <mutex>
-#include <sstream>
 #include <thread>
 
-#include "analysis/mesh_io_detail.h"  // detail::write_stl/ply/obj to a stream
+#include <unistd.h>
+
+#include "vdbmesh/mesh_io.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/view.h"
 #include "view/mesh_buffers.h"
@@ -49,19 +53,21 @@ view::ParamLookup params_of(const httplib::Request& request) {
     };
 }
 
-/// The mesh in the format named by @a format, as the writers of write_mesh() encode it.
+/// The mesh as write_mesh() writes a file of extension @a format (binary, PLY and OBJ with
+/// normals), through a temporary file.
 std::string encode_mesh(const Mesh& mesh, const std::string& format) {
-    std::ostringstream out;
-    if (format == "stl") {
-        detail::write_stl(mesh, out, false);
-    } else if (format == "ply") {
-        detail::write_ply(mesh, out, false, true);
-    } else if (format == "obj") {
-        detail::write_obj(mesh, out, true);
-    } else {
+    if (format != "stl" && format != "ply" && format != "obj") {
         throw UsageError("format: expected stl|ply|obj, got \"" + format + "\"");
     }
-    return out.str();
+    static std::atomic<unsigned> downloads{0};
+    const std::filesystem::path path = std::filesystem::temp_directory_path() /
+        ("vdbmesh-view-" + std::to_string(::getpid()) + "-" + std::to_string(++downloads) + "." + format);
+    write_mesh(mesh, path, MeshWriteOptions{false, true});
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    std::filesystem::remove(path);
+    return bytes;
 }
 
 }  // namespace
