@@ -39,7 +39,7 @@ inline constexpr const char* kMetaScanMax = "vdbmesh_scan_max";
 /// With ConvertOptions::iso_range, the range (Vec2d) instead of kMetaIsovalue.
 inline constexpr const char* kMetaIsoRange = "vdbmesh_iso_range";
 
-/// Streams @a reader into a sparse float grid, a few slices at a time (TBB-parallel).
+/// Streams @a source (a VolumeReader, or an array in memory) into a sparse float grid, a few slices at a time (TBB-parallel).
 /// Active voxels: the corners of every cell whose samples straddle the isovalue (a value
 /// above iso and one at or below it; or any value of iso_range), dilated by @a band voxels.
 /// Samples outside the scan count as outside, so the band closes where the object touches
@@ -52,7 +52,7 @@ inline constexpr const char* kMetaIsoRange = "vdbmesh_iso_range";
 /// set), with the kMeta* metadata above. Same grid for any thread count.
 /// Memory: the sparse result plus 2 * band + 10 slices of floats and 4 * band + 17 of bytes. Throws FormatError on bad data, UsageError
 /// on bad options (band outside 1..32, iso_range reversed, an isovalue outside the float range).
-openvdb::FloatGrid::Ptr convert_to_grid(VolumeReader& reader, const ConvertOptions& options);
+openvdb::FloatGrid::Ptr convert_to_grid(SliceReader& source, const ConvertOptions& options);
 
 /// Writes @a grid to @a path atomically (temporary file, then rename).
 void write_vdb(const openvdb::FloatGrid& grid, const std::filesystem::path& path);

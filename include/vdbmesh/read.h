@@ -104,21 +104,30 @@ struct ReadOptions {
     std::vector<std::filesystem::path> raw_more_files;      ///< further parts, read after the first (a split scan)
 };
 
+/// Samples of a volume handed out z-slice by z-slice as floats (what convert_to_grid()
+/// consumes): a scan on disk (VolumeReader) or an array in memory (the Python module).
+class SliceReader {
+public:
+    virtual ~SliceReader() = default;
+    virtual const VolumeHeader& header() const = 0;
+    /// Reads the next @a slices z-slices into @a out, which holds slice_voxels() * slices
+    /// floats (x fastest). Throws FormatError on truncated data or a NaN/infinite sample.
+    virtual void read_slices(std::int64_t slices, float* out) = 0;
+    /// Index of the next slice read_slices() returns.
+    virtual std::int64_t next_slice() const = 0;
+};
+
 /// Streams the samples of a volume, slab by slab, as floats with the value scale applied.
-class VolumeReader {
+class VolumeReader : public SliceReader {
 public:
     explicit VolumeReader(VolumeSource source);
-    ~VolumeReader();
+    ~VolumeReader() override;
     VolumeReader(const VolumeReader&) = delete;
     VolumeReader& operator=(const VolumeReader&) = delete;
 
-    const VolumeHeader& header() const { return source_.header; }
-
-    /// Reads the next @a slices z-slices into @a out, which holds slice_voxels() * slices
-    /// floats (x fastest). Throws FormatError on truncated data or a NaN/infinite sample.
-    void read_slices(std::int64_t slices, float* out);
-    /// Index of the next slice read_slices() returns.
-    std::int64_t next_slice() const { return next_slice_; }
+    const VolumeHeader& header() const override { return source_.header; }
+    void read_slices(std::int64_t slices, float* out) override;
+    std::int64_t next_slice() const override { return next_slice_; }
 
 private:
     class ByteStream;

@@ -103,7 +103,7 @@ struct BlockResult {
 
 class Converter {
 public:
-    Converter(VolumeReader& reader, const ConvertOptions& options);
+    Converter(SliceReader& source, const ConvertOptions& options);
     openvdb::FloatGrid::Ptr run();
 
 private:
@@ -127,7 +127,7 @@ private:
     void add_row(int z0, std::vector<BlockResult>& blocks);
     openvdb::FloatGrid::Ptr assemble();
 
-    VolumeReader& reader_;
+    SliceReader& source_;
     const VolumeHeader& header_;
     const ConvertOptions& options_;
     int band_;
@@ -150,9 +150,9 @@ private:
     std::vector<std::pair<openvdb::Coord, float>> tiles_;
 };
 
-Converter::Converter(VolumeReader& reader, const ConvertOptions& options)
-    : reader_(reader),
-      header_(reader.header()),
+Converter::Converter(SliceReader& source, const ConvertOptions& options)
+    : source_(source),
+      header_(source.header()),
       options_(options),
       band_(options.band),
       iso_lo_(options.iso_range ? options.iso_range->first : options.iso),
@@ -171,7 +171,7 @@ Converter::Converter(VolumeReader& reader, const ConvertOptions& options)
       cells_(kLeafDim + 2 * band_ + 1, static_cast<std::size_t>(width_ * height_), 0),
       distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(width_ * height_), 0),
       read_buffer_(static_cast<std::size_t>(header_.slice_voxels())) {
-    if (reader.next_slice() != 0) throw Error("internal: convert_to_grid needs a reader at slice 0");
+    if (source.next_slice() != 0) throw Error("internal: convert_to_grid needs a source at slice 0");
 }
 
 void Converter::fill_sample_slice(std::int64_t z, float* out) {
@@ -179,7 +179,7 @@ void Converter::fill_sample_slice(std::int64_t z, float* out) {
         std::fill(out, out + width_ * height_, kVirtual);
         return;
     }
-    reader_.read_slices(1, read_buffer_.data());
+    source_.read_slices(1, read_buffer_.data());
     const auto [lo, hi] = std::minmax_element(read_buffer_.begin(), read_buffer_.end());
     value_min_ = std::min<double>(value_min_, *lo);
     value_max_ = std::max<double>(value_max_, *hi);
@@ -403,10 +403,10 @@ openvdb::FloatGrid::Ptr Converter::assemble() {
 
 }  // namespace
 
-openvdb::FloatGrid::Ptr convert_to_grid(VolumeReader& reader, const ConvertOptions& options) {
+openvdb::FloatGrid::Ptr convert_to_grid(SliceReader& source, const ConvertOptions& options) {
     openvdb::initialize();
-    check_options(reader.header(), options);
-    Converter converter(reader, options);
+    check_options(source.header(), options);
+    Converter converter(source, options);
     return converter.run();
 }
 
