@@ -9,6 +9,8 @@ packages=(
   libcgal-dev   # test-only: the independent judge of the mesh guarantees (tests/common/cgal_judge.cpp)
   libcpp-httplib-dev                    # the server of `vdbmesh view`
   chromium chromium-driver              # the browser test of its page (headless, WebGL through SwiftShader)
+  pybind11-dev python3-dev python3-numpy python3-pytest   # the Python module and its tests
+  python3-skimage                                          # its comparison test and bench/python_vs_skimage.py
 )
 # Node.js and npm build the page (web/: npm ci, esbuild); Debian's, unless the machine has its own.
 command -v node >/dev/null || packages+=(nodejs)

@@ -1,0 +1,86 @@
+#include "array_slice_reader.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "axis_order.h"
+#include "vdbmesh/error.h"
+
+namespace vdbmesh::python {
+
+namespace {
+
+/// Converts row [z, y, :] of the array to floats.
+template <typename T>
+void convert_row(const StridedVolume& v, std::int64_t z, std::int64_t y, float* out) {
+    const char* row = static_cast<const char*>(v.data) + z * v.strides[0] + y * v.strides[1];
+    const std::int64_t width = v.shape[2];
+    if (v.strides[2] == static_cast<std::int64_t>(sizeof(T))) {  // contiguous: let the compiler vectorise
+        const T* samples = reinterpret_cast<const T*>(row);
+        for (std::int64_t x = 0; x < width; ++x) out[x] = static_cast<float>(samples[x]);
+        return;
+    }
+    for (std::int64_t x = 0; x < width; ++x) out[x] = static_cast<float>(*reinterpret_cast<const T*>(row + x * v.strides[2]));
+}
+
+template <typename T>
+void convert_slice(const StridedVolume& v, std::int64_t z, float* out) {
+    const std::int64_t width = v.shape[2];
+    tbb::parallel_for(std::int64_t{0}, v.shape[1], [&](std::int64_t y) { convert_row<T>(v, z, y, out + y * width); });
+}
+
+void convert_slice(const StridedVolume& v, std::int64_t z, float* out) {
+    switch (v.type) {
+        case SampleType::u8: return convert_slice<std::uint8_t>(v, z, out);
+        case SampleType::i8: return convert_slice<std::int8_t>(v, z, out);
+        case SampleType::u16: return convert_slice<std::uint16_t>(v, z, out);
+        case SampleType::i16: return convert_slice<std::int16_t>(v, z, out);
+        case SampleType::u32: return convert_slice<std::uint32_t>(v, z, out);
+        case SampleType::i32: return convert_slice<std::int32_t>(v, z, out);
+        case SampleType::f32: return convert_slice<float>(v, z, out);
+        case SampleType::f64: return convert_slice<double>(v, z, out);
+    }
+}
+
+bool is_float(SampleType type) { return type == SampleType::f32 || type == SampleType::f64; }
+
+}  // namespace
+
+ArraySliceReader::ArraySliceReader(const StridedVolume& volume, const Affine& array_to_world, std::string name)
+    : volume_(volume) {
+    header_.format = "array";
+    header_.path = std::move(name);
+    header_.dims = reversed(volume.shape);
+    header_.type = volume.type;
+    header_.index_to_world = swap_i_and_k(array_to_world);
+    for (int axis = 0; axis < 3; ++axis) {
+        const auto& m = header_.index_to_world;
+        header_.spacing[axis] = std::sqrt(m[0][axis] * m[0][axis] + m[1][axis] * m[1][axis] + m[2][axis] * m[2][axis]);
+    }
+}
+
+void ArraySliceReader::read_slices(std::int64_t slices, float* out) {
+    if (slices < 0 || next_slice_ + slices > volume_.shape[0]) throw Error("internal: read_slices past the last slice");
+    const std::int64_t slice_voxels = header_.slice_voxels();
+    for (std::int64_t s = 0; s < slices; ++s, ++next_slice_) {
+        float* slice = out + s * slice_voxels;
+        convert_slice(volume_, next_slice_, slice);
+        if (is_float(volume_.type)) check_finite(slice, next_slice_);
+    }
+}
+
+void ArraySliceReader::check_finite(const float* slice, std::int64_t z) const {
+    const std::int64_t count = header_.slice_voxels();
+    const float* bad = std::find_if(slice, slice + count, [](float v) { return !std::isfinite(v); });
+    if (bad == slice + count) return;
+    const std::int64_t index = bad - slice;
+    const std::int64_t y = index / volume_.shape[2], x = index % volume_.shape[2];
+    throw FormatError(header_.path.string(),
+                      "sample [" + std::to_string(z) + ", " + std::to_string(y) + ", " + std::to_string(x) + "]",
+                      "a finite number", std::isnan(*bad) ? "NaN" : "infinity (or beyond the float range)");
+}
+
+}  // namespace vdbmesh::python

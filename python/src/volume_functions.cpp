@@ -1,0 +1,176 @@
+// read_volume, mesh_array, mesh_file, array_to_vdb: scans and arrays through sparse grids.
+// Arrays are streamed into the grid by ArraySliceReader, without a dense copy.
+
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <cctype>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "array_slice_reader.h"
+#include "axis_order.h"
+#include "bindings.h"
+#include "mesh_arrays.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/mesher.h"
+
+namespace py = pybind11;
+
+namespace vdbmesh::python {
+
+namespace {
+
+/// What the array stands for in error messages.
+constexpr const char* kArrayName = "array";
+
+SampleType sample_type_of(const py::dtype& dtype) {
+    if (dtype.byteorder() == '>' || (dtype.byteorder() == '<' && !PY_LITTLE_ENDIAN))
+        throw UsageError("volume: expected an array in native byte order");
+    const char kind = dtype.kind();
+    const auto size = dtype.itemsize();
+    if (kind == 'u' && size == 1) return SampleType::u8;
+    if (kind == 'i' && size == 1) return SampleType::i8;
+    if (kind == 'u' && size == 2) return SampleType::u16;
+    if (kind == 'i' && size == 2) return SampleType::i16;
+    if (kind == 'u' && size == 4) return SampleType::u32;
+    if (kind == 'i' && size == 4) return SampleType::i32;
+    if (kind == 'f' && size == 4) return SampleType::f32;
+    if (kind == 'f' && size == 8) return SampleType::f64;
+    throw UsageError("volume: expected a 3D array of uint8, int8, uint16, int16, uint32, int32, float32 or float64, got " +
+                     py::str(static_cast<const py::handle&>(dtype)).cast<std::string>());
+}
+
+StridedVolume strided_volume(const py::array& array) {
+    if (array.ndim() != 3) throw UsageError("volume: expected a 3D array, got " + std::to_string(array.ndim()) + "D");
+    StridedVolume volume;
+    volume.data = array.data();
+    volume.type = sample_type_of(array.dtype());
+    for (int axis = 0; axis < 3; ++axis) {
+        volume.shape[axis] = array.shape(axis);
+        volume.strides[axis] = array.strides(axis);
+    }
+    return volume;
+}
+
+MeshMethod parse_method(const std::string& name) {
+    if (name == "dmc") return MeshMethod::dmc;
+    if (name == "mc") return MeshMethod::mc;
+    if (name == "openvdb") return MeshMethod::openvdb;
+    throw UsageError("method: expected \"dmc\", \"mc\" or \"openvdb\", got \"" + name + "\"");
+}
+
+Inside parse_inside(const std::string& name) {
+    if (name == "above") return Inside::above;
+    if (name == "below") return Inside::below;
+    throw UsageError("inside: expected \"above\" or \"below\", got \"" + name + "\"");
+}
+
+MeshOptions mesh_options(double iso, const std::string& method, double error, double adaptivity, const std::string& inside) {
+    MeshOptions options;
+    options.method = parse_method(method);
+    options.iso = iso;
+    options.error = error;
+    options.adaptivity = adaptivity;
+    options.inside = parse_inside(inside);
+    return options;
+}
+
+ConvertOptions convert_options(double iso) {
+    ConvertOptions options;
+    options.iso = iso;
+    return options;
+}
+
+openvdb::FloatGrid::Ptr array_grid(const StridedVolume& volume, double iso, const Affine& array_to_world) {
+    ArraySliceReader source(volume, array_to_world, kArrayName);
+    return convert_to_grid(source, convert_options(iso));
+}
+
+bool is_vdb_file(const std::filesystem::path& path) {
+    std::string extension = path.extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return extension == ".vdb";
+}
+
+/// A .vdb file's first float grid as stored, or a scan converted at @a iso.
+openvdb::FloatGrid::Ptr file_grid(const std::filesystem::path& path, double iso) {
+    if (is_vdb_file(path)) return read_vdb(path);
+    const auto reader = open_volume(path);
+    return convert_to_grid(*reader, convert_options(iso));
+}
+
+/// The 4 x 4 matrix of @a affine.
+py::array_t<double> affine_matrix(const Affine& affine) {
+    py::array_t<double> matrix({4, 4});
+    auto m = matrix.mutable_unchecked<2>();
+    for (int row = 0; row < 4; ++row)
+        for (int col = 0; col < 4; ++col) m(row, col) = row < 3 ? affine[row][col] : (col == 3 ? 1.0 : 0.0);
+    return matrix;
+}
+
+/// (array[z, y, x] float32, spacing, 4 x 4 affine), both in array axis order.
+py::tuple read_volume(const std::filesystem::path& path) {
+    std::unique_ptr<VolumeReader> reader;
+    {
+        py::gil_scoped_release released;
+        reader = open_volume(path);
+    }
+    const VolumeHeader& header = reader->header();
+    const std::array<std::int64_t, 3> shape = reversed(header.dims);
+    py::array_t<float> samples({shape[0], shape[1], shape[2]});
+    float* data = samples.mutable_data();
+    {
+        py::gil_scoped_release released;
+        reader->read_slices(header.dims[2], data);
+    }
+    const std::array<double, 3> spacing = reversed(header.spacing);
+    return py::make_tuple(samples, py::make_tuple(spacing[0], spacing[1], spacing[2]),
+                          affine_matrix(swap_i_and_k(header.index_to_world)));
+}
+
+py::tuple mesh_array(const py::array& array, double iso, const std::string& method, double error, double adaptivity,
+                     const std::string& inside, const Affine& array_to_world) {
+    const MeshOptions options = mesh_options(iso, method, error, adaptivity, inside);
+    const StridedVolume volume = strided_volume(array);
+    Mesh mesh;
+    {
+        py::gil_scoped_release released;
+        mesh = mesh_grid(*array_grid(volume, iso, array_to_world), options);
+    }
+    return to_arrays(std::move(mesh));
+}
+
+py::tuple mesh_file(const std::filesystem::path& path, double iso, const std::string& method, double error,
+                    double adaptivity, const std::string& inside) {
+    const MeshOptions options = mesh_options(iso, method, error, adaptivity, inside);
+    Mesh mesh;
+    {
+        py::gil_scoped_release released;
+        mesh = mesh_grid(*file_grid(path, iso), options);
+    }
+    return to_arrays(std::move(mesh));
+}
+
+void array_to_vdb(const py::array& array, double iso, const std::filesystem::path& path, const Affine& array_to_world) {
+    const StridedVolume volume = strided_volume(array);
+    py::gil_scoped_release released;
+    write_vdb(*array_grid(volume, iso, array_to_world), path);
+}
+
+}  // namespace
+
+void bind_volume_functions(py::module_& module) {
+    module.def("read_volume", &read_volume, py::arg("path"));
+    module.def("mesh_array", &mesh_array, py::arg("array"), py::arg("iso"), py::arg("method"), py::arg("error"),
+               py::arg("adaptivity"), py::arg("inside"), py::arg("array_to_world"));
+    module.def("mesh_file", &mesh_file, py::arg("path"), py::arg("iso"), py::arg("method"), py::arg("error"),
+               py::arg("adaptivity"), py::arg("inside"));
+    module.def("array_to_vdb", &array_to_vdb, py::arg("array"), py::arg("iso"), py::arg("path"),
+               py::arg("array_to_world"));
+}
+
+}  // namespace vdbmesh::python
