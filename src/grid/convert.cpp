@@ -62,12 +62,18 @@ public:
     const T* slice(std::int64_t z) const { return data_.data() + static_cast<std::size_t>(z - first_) * size_; }
     std::int64_t first() const { return first_; }
     std::int64_t end() const { return first_ + count_; }
-    void set_first(std::int64_t z) { first_ = z; }
-    /// Moves the window @a n slices up, keeping the overlapping ones (their slots move down).
-    void shift(int n) {
-        const std::size_t kept = static_cast<std::size_t>(std::max(count_ - n, 0)) * size_;
-        std::copy(data_.end() - static_cast<std::ptrdiff_t>(kept), data_.end(), data_.begin());
-        first_ += n;
+    /// Moves the window up to start at slice @a first, keeping the slices it already holds
+    /// (their slots move down); returns the first slice it lacks, to be filled by the caller.
+    std::int64_t move_to(std::int64_t first) {
+        if (first_ < first && first < end()) {
+            const std::int64_t lacking = end();
+            const auto kept = static_cast<std::ptrdiff_t>(static_cast<std::size_t>(end() - first) * size_);
+            std::copy(data_.end() - kept, data_.end(), data_.begin());
+            first_ = first;
+            return lacking;
+        }
+        first_ = first;
+        return first;
     }
 
 private:
@@ -94,6 +100,57 @@ void check_options(const VolumeHeader& header, const ConvertOptions& options) {
                               std::to_string(header.dims[axis]));
 }
 
+/// Min and max of each column i < n over the 2 x 2 samples of rows a and b of slices 0 and 1.
+void column_ranges(const float* __restrict a0, const float* __restrict b0, const float* __restrict a1,
+                   const float* __restrict b1, float* __restrict lo, float* __restrict hi, std::int64_t n) {
+    // Samples copied to locals: std::min on array elements selects addresses, which does not vectorise.
+    for (std::int64_t i = 0; i < n; ++i) {
+        const float a = a0[i], b = b0[i], c = a1[i], d = b1[i];
+        lo[i] = std::min(std::min(a, b), std::min(c, d));
+        hi[i] = std::max(std::max(a, b), std::max(c, d));
+    }
+}
+
+/// out[i] for i < n: whether cell i (columns i and i + 1) straddles an isovalue of
+/// [iso_lo, iso_hi] (its samples' min <= iso_hi and max > iso_lo, and min < max).
+void mark_straddling(const float* __restrict lo, const float* __restrict hi, float iso_lo, float iso_hi,
+                     std::uint8_t* __restrict out, std::int64_t n) {
+    for (std::int64_t i = 0; i < n; ++i) {
+        const float lo0 = lo[i], lo1 = lo[i + 1], hi0 = hi[i], hi1 = hi[i + 1];
+        const float cell_min = std::min(lo0, lo1), cell_max = std::max(hi0, hi1);
+        out[i] = (cell_min < cell_max) & (cell_min <= iso_hi) & (cell_max > iso_lo);
+    }
+}
+
+/// out[i] = a[i] | b[i] for i < n.
+void or_rows(std::uint8_t* __restrict out, const std::uint8_t* __restrict a, const std::uint8_t* __restrict b,
+             std::int64_t n) {
+    for (std::int64_t i = 0; i < n; ++i) out[i] = a[i] | b[i];
+}
+
+/// d[i] = 0 where marked[i], else far, for i < n; returns whether any is marked.
+bool place_marks(std::uint8_t* __restrict d, const std::uint8_t* __restrict marked, std::uint8_t far, std::int64_t n) {
+    std::uint8_t any = 0;
+    for (std::int64_t i = 0; i < n; ++i) {
+        d[i] = marked[i] ? 0 : far;
+        any |= marked[i];
+    }
+    return any != 0;
+}
+
+/// d[i] = min(d[i], step) where marked[i + offset] (within 0 .. n - 1), for i < n.
+void mark_distance(std::uint8_t* __restrict d, const std::uint8_t* __restrict marked, std::int64_t offset,
+                   std::uint8_t step, std::uint8_t far, std::int64_t n) {
+    const std::int64_t begin = std::max<std::int64_t>(0, -offset), end = std::min(n, n - offset);
+    for (std::int64_t i = begin; i < end; ++i) d[i] = std::min(d[i], marked[i + offset] ? step : far);
+}
+
+/// out[i] = min(out[i], from[i] + 1) for i < n: one step of a distance transform across rows
+/// (two rows of a slice, which never overlap).
+void relax_row(std::uint8_t* __restrict out, const std::uint8_t* __restrict from, std::int64_t n) {
+    for (std::int64_t i = 0; i < n; ++i) out[i] = std::min(out[i], static_cast<std::uint8_t>(from[i] + 1));
+}
+
 /// What one 8^3 block becomes.
 struct BlockResult {
     std::unique_ptr<Leaf> leaf;
@@ -114,12 +171,16 @@ private:
     bool block_in_scan(int x0, int y0, int z0) const {
         return in_scan(x0, y0, z0) && in_scan(x0 + kLeafDim - 1, y0 + kLeafDim - 1, z0 + kLeafDim - 1);
     }
-    bool straddles(float min, float max) const { return min < max && min <= iso_hi_f_ && max > iso_lo_f_; }
 
     void advance_samples(int z0);
-    void fill_sample_slice(std::int64_t z, float* out);
+    /// A slice of the padded frame from @a samples (a slice of the scan), or virtual outside
+    /// the scan (@a samples null); returns the slice's value range.
+    std::pair<float, float> fill_sample_slice(const float* samples, float* out) const;
     void compute_cell_slice(std::int64_t z);
     void compute_distance_slice(std::int64_t z);
+    void summarise_distance_slice(std::int64_t z);
+    /// Whether block (x0, y0, z0) may hold an active voxel (block_distances_ says where none can be).
+    bool block_may_be_active(int x0, int y0, int z0) const;
     /// Which voxels (x0 .. x0 + 7, y, z) are active: an in-plane distance <= band - |dz| in slice z + dz.
     void active_row(int x0, int y, int z, bool* active) const;
     BlockResult make_block(int x0, int y0, int z0) const;
@@ -141,6 +202,8 @@ private:
     SliceWindow<float> samples_;           // [z0 - band - 1, z0 + 8 + band]
     SliceWindow<std::uint8_t> cells_;      // cell z spans samples z, z + 1: [z0 - band - 1, z0 + 7 + band]
     SliceWindow<std::uint8_t> distances_;  // voxels [z0 - band, z0 + 7 + band]
+    /// Per slice of distances_, frame row and block column: the least distance over the block's columns.
+    SliceWindow<std::uint8_t> block_distances_;
     std::vector<float> read_buffer_;
 
     double value_min_ = std::numeric_limits<double>::max();
@@ -170,88 +233,134 @@ Converter::Converter(SliceReader& source, const ConvertOptions& options)
       samples_(kLeafDim + 2 * pad_, static_cast<std::size_t>(width_ * height_), kVirtual),
       cells_(kLeafDim + 2 * band_ + 1, static_cast<std::size_t>(width_ * height_), 0),
       distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(width_ * height_), 0),
-      read_buffer_(static_cast<std::size_t>(header_.slice_voxels())) {
+      block_distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(height_ * block_x_count_), 0) {
     if (source.next_slice() != 0) throw Error("internal: convert_to_grid needs a source at slice 0");
 }
 
-void Converter::fill_sample_slice(std::int64_t z, float* out) {
-    if (z < 0 || z >= dims_[2]) {
+std::pair<float, float> Converter::fill_sample_slice(const float* samples, float* out) const {
+    if (!samples) {
         std::fill(out, out + width_ * height_, kVirtual);
-        return;
+        return {std::numeric_limits<float>::max(), std::numeric_limits<float>::lowest()};
     }
-    source_.read_slices(1, read_buffer_.data());
-    const auto [lo, hi] = std::minmax_element(read_buffer_.begin(), read_buffer_.end());
-    value_min_ = std::min<double>(value_min_, *lo);
-    value_max_ = std::max<double>(value_max_, *hi);
-    for (int y = 0; y < dims_[1]; ++y)
-        std::copy_n(read_buffer_.data() + static_cast<std::size_t>(y) * dims_[0], dims_[0], out + frame_index(0, y));
+    float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+    for (int y = 0; y < dims_[1]; ++y) {
+        const float* row = samples + static_cast<std::size_t>(y) * dims_[0];
+        for (int x = 0; x < dims_[0]; ++x) {
+            const float value = row[x];
+            lo = std::min(lo, value);
+            hi = std::max(hi, value);
+        }
+        std::copy_n(row, dims_[0], out + frame_index(0, y));
+    }
+    return {lo, hi};
 }
 
 void Converter::advance_samples(int z0) {
-    const std::int64_t first = z0 - band_ - 1;
-    std::int64_t next = first;
-    if (samples_.end() > first && samples_.first() < first) {  // overlap with the previous row
-        next = samples_.end();
-        samples_.shift(static_cast<int>(first - samples_.first()));
-    } else {
-        samples_.set_first(first);
+    // The slices the window lacks, read in one go and framed in parallel.
+    const std::int64_t first = samples_.move_to(z0 - band_ - 1), end = samples_.end();
+    const std::int64_t scan_first = std::clamp<std::int64_t>(first, 0, dims_[2]);
+    const std::int64_t scan_end = std::clamp<std::int64_t>(end, 0, dims_[2]);
+    const auto slice_voxels = static_cast<std::size_t>(header_.slice_voxels());
+    if (scan_end > scan_first) {
+        read_buffer_.resize(slice_voxels * static_cast<std::size_t>(scan_end - scan_first));
+        source_.read_slices(scan_end - scan_first, read_buffer_.data());
     }
-    for (; next < samples_.end(); ++next) fill_sample_slice(next, samples_.slice(next));
+    std::vector<std::pair<float, float>> ranges(static_cast<std::size_t>(end - first));
+    tbb::parallel_for(first, end, [&](std::int64_t z) {
+        const float* samples = z >= scan_first && z < scan_end
+                                   ? read_buffer_.data() + static_cast<std::size_t>(z - scan_first) * slice_voxels
+                                   : nullptr;
+        ranges[static_cast<std::size_t>(z - first)] = fill_sample_slice(samples, samples_.slice(z));
+    });
+    for (const auto& [lo, hi] : ranges) {
+        value_min_ = std::min<double>(value_min_, lo);
+        value_max_ = std::max<double>(value_max_, hi);
+    }
 }
 
 void Converter::compute_cell_slice(std::int64_t z) {
     const float* s0 = samples_.slice(z);
     const float* s1 = samples_.slice(z + 1);
     std::uint8_t* out = cells_.slice(z);
-    std::vector<float> pair_min(static_cast<std::size_t>(width_)), pair_max(static_cast<std::size_t>(width_));
-    for (std::int64_t row = 0; row + 1 < height_; ++row) {
-        const std::int64_t r0 = row * width_, r1 = r0 + width_;
-        // Min and max over the 2x2 samples (y, z) of each column, then over column pairs.
-        for (std::int64_t i = 0; i < width_; ++i) {
-            pair_min[i] = std::min(std::min(s0[r0 + i], s0[r1 + i]), std::min(s1[r0 + i], s1[r1 + i]));
-            pair_max[i] = std::max(std::max(s0[r0 + i], s0[r1 + i]), std::max(s1[r0 + i], s1[r1 + i]));
-        }
-        for (std::int64_t i = 0; i + 1 < width_; ++i)
-            out[r0 + i] = straddles(std::min(pair_min[i], pair_min[i + 1]), std::max(pair_max[i], pair_max[i + 1]));
-        out[r0 + width_ - 1] = 0;
+    const std::int64_t width = width_, height = height_;
+    std::vector<float> column_min(static_cast<std::size_t>(width)), column_max(static_cast<std::size_t>(width));
+    for (std::int64_t row = 0; row + 1 < height; ++row) {
+        const std::int64_t r0 = row * width, r1 = r0 + width;
+        column_ranges(s0 + r0, s0 + r1, s1 + r0, s1 + r1, column_min.data(), column_max.data(), width);
+        mark_straddling(column_min.data(), column_max.data(), iso_lo_f_, iso_hi_f_, out + r0, width - 1);
+        out[r0 + width - 1] = 0;
     }
-    std::fill(out + (height_ - 1) * width_, out + height_ * width_, 0);
+    std::fill(out + (height - 1) * width, out + height * width, 0);
 }
 
 void Converter::compute_distance_slice(std::int64_t z) {
     const std::uint8_t* below = cells_.slice(z - 1);
     const std::uint8_t* above = cells_.slice(z);
     std::uint8_t* d = distances_.slice(z);
-    // Distances only matter up to the band: they saturate at band + 1 (so d + 1 fits a byte).
+    // Distances only matter up to the band: they saturate at band + 1 (so d + band fits a byte).
     const auto far = static_cast<std::uint8_t>(band_ + 1);
     // A voxel is a corner of the cells (x-1..x, y-1..y, z-1..z); mark it when one straddles.
     // The frame's first row and column lie beyond the virtual ring: no straddling cell there.
-    // City-block distance is separable: exact 1D distances along each row with a mark, then
-    // the same recurrence along the columns (two passes each way).
-    std::fill(d, d + width_, far);
-    for (std::int64_t row = 1; row < height_; ++row) {
-        std::uint8_t* r = d + row * width_;
-        const std::int64_t f0 = row * width_;
-        std::uint8_t any = 0;
-        r[0] = far;
-        for (std::int64_t f = f0 + 1; f < f0 + width_; ++f) {
-            const std::uint8_t marked = below[f] | above[f] | below[f - 1] | above[f - 1] | below[f - width_] |
-                                        above[f - width_] | below[f - width_ - 1] | above[f - width_ - 1];
-            d[f] = marked ? 0 : far;
-            any |= marked;
+    // City-block distance is separable: exact 1D distances along each row with a mark (the
+    // nearest mark within the band on either side), then a recurrence along the columns (one
+    // pass each way). Every loop runs over whole rows, so that the compiler vectorises it.
+    const auto width = static_cast<std::size_t>(width_);
+    std::vector<std::uint8_t> rows(4 * width);
+    std::uint8_t* previous = rows.data();       // cells of the previous frame row straddling in slice z - 1 or z
+    std::uint8_t* current = previous + width;   // the same for this row
+    std::uint8_t* columns = current + width;    // either of them
+    std::uint8_t* marked = columns + width;     // marks of this row's voxels
+    const std::int64_t w = width_, height = height_;
+    const int band = band_;
+    or_rows(previous, below, above, w);
+    std::fill(d, d + w, far);
+    // Rows further than the band from every row with a mark stay far: the column passes skip them.
+    std::vector<std::uint8_t> near_mark(static_cast<std::size_t>(height), 0);
+    for (std::int64_t row = 1; row < height; ++row) {
+        std::uint8_t* r = d + row * w;
+        or_rows(current, below + row * w, above + row * w, w);
+        or_rows(columns, current, previous, w);
+        or_rows(marked + 1, columns, columns + 1, w - 1);
+        std::swap(previous, current);
+        marked[0] = 0;
+        if (!place_marks(r, marked, far, w)) continue;
+        std::fill(near_mark.begin() + std::max<std::int64_t>(row - band, 0),
+                  near_mark.begin() + std::min<std::int64_t>(row + band + 1, height), 1);
+        for (int k = 1; k <= band; ++k) {
+            mark_distance(r, marked, -k, static_cast<std::uint8_t>(k), far, w);
+            mark_distance(r, marked, k, static_cast<std::uint8_t>(k), far, w);
         }
-        if (!any) continue;
-        for (std::int64_t i = 1; i < width_; ++i) r[i] = std::min<std::uint8_t>(r[i], r[i - 1] + 1);
-        for (std::int64_t i = width_ - 1; i-- > 0;) r[i] = std::min<std::uint8_t>(r[i], r[i + 1] + 1);
     }
-    for (std::int64_t row = 1; row < height_; ++row) {
-        std::uint8_t* r = d + row * width_;
-        for (std::int64_t i = 0; i < width_; ++i) r[i] = std::min<std::uint8_t>(r[i], r[i - width_] + 1);
-    }
-    for (std::int64_t row = height_ - 1; row-- > 0;) {
-        std::uint8_t* r = d + row * width_;
-        for (std::int64_t i = 0; i < width_; ++i) r[i] = std::min<std::uint8_t>(r[i], r[i + width_] + 1);
-    }
+    for (std::int64_t row = 1; row < height; ++row)
+        if (near_mark[static_cast<std::size_t>(row)]) relax_row(d + row * w, d + (row - 1) * w, w);
+    for (std::int64_t row = height - 1; row-- > 0;)
+        if (near_mark[static_cast<std::size_t>(row)]) relax_row(d + row * w, d + (row + 1) * w, w);
+}
+
+void Converter::summarise_distance_slice(std::int64_t z) {
+    const std::uint8_t* d = distances_.slice(z);
+    std::uint8_t* summary = block_distances_.slice(z);
+    for (std::int64_t row = 0; row < height_; ++row)
+        for (int b = 0; b < block_x_count_; ++b) {
+            // The block's voxels x0 .. x0 + 7 within the frame (voxels -pad .. dim + pad - 1).
+            const int x0 = (block_x_first_ + b) * kLeafDim;
+            const std::int64_t begin = std::max(x0, -pad_) + pad_, end = std::min(x0 + kLeafDim, dims_[0] + pad_) + pad_;
+            const std::uint8_t* r = d + row * width_;
+            summary[row * block_x_count_ + b] = begin < end ? *std::min_element(r + begin, r + end) : std::uint8_t(255);
+        }
+}
+
+bool Converter::block_may_be_active(int x0, int y0, int z0) const {
+    const int b = floor_div(x0, kLeafDim) - block_x_first_;
+    const int y_begin = std::max(y0, -pad_), y_end = std::min(y0 + kLeafDim, dims_[1] + pad_);
+    for (int z = z0; z < z0 + kLeafDim; ++z)
+        for (int dz = -band_; dz <= band_; ++dz) {
+            const std::uint8_t* summary = block_distances_.slice(z + dz);
+            const int limit = band_ - std::abs(dz);
+            for (int y = y_begin; y < y_end; ++y)
+                if (summary[static_cast<std::int64_t>(y + pad_) * block_x_count_ + b] <= limit) return true;
+        }
+    return false;
 }
 
 void Converter::active_row(int x0, int y, int z, bool* active) const {
@@ -271,12 +380,13 @@ BlockResult Converter::make_block(int x0, int y0, int z0) const {
     BlockResult result;
     Leaf::NodeMaskType active;
     bool row[kLeafDim];
-    for (int z = z0; z < z0 + kLeafDim; ++z)
-        for (int y = y0; y < y0 + kLeafDim; ++y) {
-            active_row(x0, y, z, row);
-            for (int i = 0; i < kLeafDim; ++i)
-                if (row[i]) active.setOn(Leaf::coordToOffset(openvdb::Coord(x0 + i, y, z)));
-        }
+    if (block_may_be_active(x0, y0, z0))
+        for (int z = z0; z < z0 + kLeafDim; ++z)
+            for (int y = y0; y < y0 + kLeafDim; ++y) {
+                active_row(x0, y, z, row);
+                for (int i = 0; i < kLeafDim; ++i)
+                    if (row[i]) active.setOn(Leaf::coordToOffset(openvdb::Coord(x0 + i, y, z)));
+            }
 
     if (active.isOff()) {
         // No active voxel: every sample of the block is on one side of every isovalue. A block
@@ -286,9 +396,11 @@ BlockResult Converter::make_block(int x0, int y0, int z0) const {
         for (int z = z0; z < z0 + kLeafDim; ++z)
             for (int y = y0; y < y0 + kLeafDim; ++y) {
                 const float* row = samples_.slice(z) + frame_index(x0, y);
-                const auto [min_it, max_it] = std::minmax_element(row, row + kLeafDim);
-                lo = std::min(lo, *min_it);
-                hi = std::max(hi, *max_it);
+                for (int i = 0; i < kLeafDim; ++i) {
+                    const float value = row[i];
+                    lo = std::min(lo, value);
+                    hi = std::max(hi, value);
+                }
             }
         if (hi > iso_lo_f_) {  // inside for some isovalue: keep the block's minimum
             result.tile = true;
@@ -339,11 +451,16 @@ openvdb::FloatGrid::Ptr Converter::run() {
     const std::size_t block_count = static_cast<std::size_t>(block_x_count_) * block_y_count_;
     std::vector<BlockResult> blocks(block_count);
     for (int z0 = z_first; z0 <= z_last; z0 += kLeafDim) {
+        // Each window keeps the slices of the previous row it still covers and computes the rest.
         advance_samples(z0);
-        cells_.set_first(z0 - band_ - 1);
-        distances_.set_first(z0 - band_);
-        tbb::parallel_for(cells_.first(), cells_.end(), [&](std::int64_t z) { compute_cell_slice(z); });
-        tbb::parallel_for(distances_.first(), distances_.end(), [&](std::int64_t z) { compute_distance_slice(z); });
+        const std::int64_t new_cells = cells_.move_to(z0 - band_ - 1);
+        tbb::parallel_for(new_cells, cells_.end(), [&](std::int64_t z) { compute_cell_slice(z); });
+        block_distances_.move_to(z0 - band_);
+        const std::int64_t new_distances = distances_.move_to(z0 - band_);
+        tbb::parallel_for(new_distances, distances_.end(), [&](std::int64_t z) {
+            compute_distance_slice(z);
+            summarise_distance_slice(z);
+        });
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, block_count), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t b = r.begin(); b != r.end(); ++b) {
                 const int bx = block_x_first_ + static_cast<int>(b % block_x_count_);
