@@ -3,7 +3,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstring>
+#include <type_traits>
 #include <utility>
 
 #include "axis_order.h"
@@ -13,26 +16,45 @@ namespace vdbmesh::python {
 
 namespace {
 
-/// Converts row [z, y, :] of the array to floats.
+/// Whether no value is a NaN or an infinity (exponent bits all set), tested on the bits so that it vectorises.
+bool all_finite(const float* values, std::int64_t n) {
+    std::uint32_t bad = 0;
+    for (std::int64_t i = 0; i < n; ++i) {
+        std::uint32_t bits;
+        std::memcpy(&bits, values + i, sizeof bits);
+        bad |= (bits & 0x7f800000u) == 0x7f800000u;
+    }
+    return bad == 0;
+}
+
+/// Converts row [z, y, :] of the array to floats; returns whether they are all finite.
 template <typename T>
-void convert_row(const StridedVolume& v, std::int64_t z, std::int64_t y, float* out) {
+bool convert_row(const StridedVolume& v, std::int64_t z, std::int64_t y, float* out) {
     const char* row = static_cast<const char*>(v.data) + z * v.strides[0] + y * v.strides[1];
     const std::int64_t width = v.shape[2];
     if (v.strides[2] == static_cast<std::int64_t>(sizeof(T))) {  // contiguous: let the compiler vectorise
         const T* samples = reinterpret_cast<const T*>(row);
         for (std::int64_t x = 0; x < width; ++x) out[x] = static_cast<float>(samples[x]);
-        return;
+    } else {
+        for (std::int64_t x = 0; x < width; ++x)
+            out[x] = static_cast<float>(*reinterpret_cast<const T*>(row + x * v.strides[2]));
     }
-    for (std::int64_t x = 0; x < width; ++x) out[x] = static_cast<float>(*reinterpret_cast<const T*>(row + x * v.strides[2]));
+    if constexpr (std::is_floating_point_v<T>) return all_finite(out, width);
+    return true;
 }
 
+/// Converts slice [z, :, :] of the array to floats; returns whether they are all finite.
 template <typename T>
-void convert_slice(const StridedVolume& v, std::int64_t z, float* out) {
+bool convert_slice(const StridedVolume& v, std::int64_t z, float* out) {
     const std::int64_t width = v.shape[2];
-    tbb::parallel_for(std::int64_t{0}, v.shape[1], [&](std::int64_t y) { convert_row<T>(v, z, y, out + y * width); });
+    std::atomic<bool> finite{true};
+    tbb::parallel_for(std::int64_t{0}, v.shape[1], [&](std::int64_t y) {
+        if (!convert_row<T>(v, z, y, out + y * width)) finite.store(false, std::memory_order_relaxed);
+    });
+    return finite.load();
 }
 
-void convert_slice(const StridedVolume& v, std::int64_t z, float* out) {
+bool convert_slice(const StridedVolume& v, std::int64_t z, float* out) {
     switch (v.type) {
         case SampleType::u8: return convert_slice<std::uint8_t>(v, z, out);
         case SampleType::i8: return convert_slice<std::int8_t>(v, z, out);
@@ -43,9 +65,8 @@ void convert_slice(const StridedVolume& v, std::int64_t z, float* out) {
         case SampleType::f32: return convert_slice<float>(v, z, out);
         case SampleType::f64: return convert_slice<double>(v, z, out);
     }
+    throw Error("internal: unknown sample type");
 }
-
-bool is_float(SampleType type) { return type == SampleType::f32 || type == SampleType::f64; }
 
 }  // namespace
 
@@ -67,15 +88,13 @@ void ArraySliceReader::read_slices(std::int64_t slices, float* out) {
     const std::int64_t slice_voxels = header_.slice_voxels();
     for (std::int64_t s = 0; s < slices; ++s, ++next_slice_) {
         float* slice = out + s * slice_voxels;
-        convert_slice(volume_, next_slice_, slice);
-        if (is_float(volume_.type)) check_finite(slice, next_slice_);
+        if (!convert_slice(volume_, next_slice_, slice)) throw_not_finite(slice, next_slice_);
     }
 }
 
-void ArraySliceReader::check_finite(const float* slice, std::int64_t z) const {
+void ArraySliceReader::throw_not_finite(const float* slice, std::int64_t z) const {
     const std::int64_t count = header_.slice_voxels();
     const float* bad = std::find_if(slice, slice + count, [](float v) { return !std::isfinite(v); });
-    if (bad == slice + count) return;
     const std::int64_t index = bad - slice;
     const std::int64_t y = index / volume_.shape[2], x = index % volume_.shape[2];
     throw FormatError(header_.path.string(),

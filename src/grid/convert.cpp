@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -122,6 +123,27 @@ void mark_straddling(const float* __restrict lo, const float* __restrict hi, flo
     }
 }
 
+/// Widens [lo, hi] to hold values[0 .. n - 1] (in independent lanes, so that it vectorises).
+void widen_range(const float* values, std::int64_t n, float& lo, float& hi) {
+    constexpr int kLanes = 8;
+    float lanes_lo[kLanes], lanes_hi[kLanes];
+    std::fill_n(lanes_lo, kLanes, lo);
+    std::fill_n(lanes_hi, kLanes, hi);
+    std::int64_t i = 0;
+    for (; i + kLanes <= n; i += kLanes)
+        for (int k = 0; k < kLanes; ++k) {
+            const float value = values[i + k];
+            lanes_lo[k] = std::min(lanes_lo[k], value);
+            lanes_hi[k] = std::max(lanes_hi[k], value);
+        }
+    for (; i < n; ++i) {
+        lanes_lo[0] = std::min(lanes_lo[0], values[i]);
+        lanes_hi[0] = std::max(lanes_hi[0], values[i]);
+    }
+    lo = *std::min_element(lanes_lo, lanes_lo + kLanes);
+    hi = *std::max_element(lanes_hi, lanes_hi + kLanes);
+}
+
 /// out[i] = a[i] | b[i] for i < n.
 void or_rows(std::uint8_t* __restrict out, const std::uint8_t* __restrict a, const std::uint8_t* __restrict b,
              std::int64_t n) {
@@ -202,7 +224,7 @@ private:
     SliceWindow<float> samples_;           // [z0 - band - 1, z0 + 8 + band]
     SliceWindow<std::uint8_t> cells_;      // cell z spans samples z, z + 1: [z0 - band - 1, z0 + 7 + band]
     SliceWindow<std::uint8_t> distances_;  // voxels [z0 - band, z0 + 7 + band]
-    /// Per slice of distances_, frame row and block column: the least distance over the block's columns.
+    /// Per slice of distances_ and 8 x 8 column of blocks: the least distance in the block's square.
     SliceWindow<std::uint8_t> block_distances_;
     std::vector<float> read_buffer_;
 
@@ -233,7 +255,7 @@ Converter::Converter(SliceReader& source, const ConvertOptions& options)
       samples_(kLeafDim + 2 * pad_, static_cast<std::size_t>(width_ * height_), kVirtual),
       cells_(kLeafDim + 2 * band_ + 1, static_cast<std::size_t>(width_ * height_), 0),
       distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(width_ * height_), 0),
-      block_distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(height_ * block_x_count_), 0) {
+      block_distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(block_y_count_) * block_x_count_, 0) {
     if (source.next_slice() != 0) throw Error("internal: convert_to_grid needs a source at slice 0");
 }
 
@@ -243,15 +265,9 @@ std::pair<float, float> Converter::fill_sample_slice(const float* samples, float
         return {std::numeric_limits<float>::max(), std::numeric_limits<float>::lowest()};
     }
     float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
-    for (int y = 0; y < dims_[1]; ++y) {
-        const float* row = samples + static_cast<std::size_t>(y) * dims_[0];
-        for (int x = 0; x < dims_[0]; ++x) {
-            const float value = row[x];
-            lo = std::min(lo, value);
-            hi = std::max(hi, value);
-        }
-        std::copy_n(row, dims_[0], out + frame_index(0, y));
-    }
+    widen_range(samples, static_cast<std::int64_t>(dims_[0]) * dims_[1], lo, hi);
+    for (int y = 0; y < dims_[1]; ++y)
+        std::copy_n(samples + static_cast<std::size_t>(y) * dims_[0], dims_[0], out + frame_index(0, y));
     return {lo, hi};
 }
 
@@ -340,26 +356,25 @@ void Converter::compute_distance_slice(std::int64_t z) {
 void Converter::summarise_distance_slice(std::int64_t z) {
     const std::uint8_t* d = distances_.slice(z);
     std::uint8_t* summary = block_distances_.slice(z);
-    for (std::int64_t row = 0; row < height_; ++row)
+    std::fill(summary, summary + static_cast<std::int64_t>(block_y_count_) * block_x_count_, std::uint8_t(255));
+    for (std::int64_t row = 0; row < height_; ++row) {
+        const std::uint8_t* r = d + row * width_;
+        std::uint8_t* blocks = summary + static_cast<std::int64_t>(floor_div(row - pad_, kLeafDim) - block_y_first_) * block_x_count_;
         for (int b = 0; b < block_x_count_; ++b) {
             // The block's voxels x0 .. x0 + 7 within the frame (voxels -pad .. dim + pad - 1).
             const int x0 = (block_x_first_ + b) * kLeafDim;
             const std::int64_t begin = std::max(x0, -pad_) + pad_, end = std::min(x0 + kLeafDim, dims_[0] + pad_) + pad_;
-            const std::uint8_t* r = d + row * width_;
-            summary[row * block_x_count_ + b] = begin < end ? *std::min_element(r + begin, r + end) : std::uint8_t(255);
+            for (std::int64_t x = begin; x < end; ++x) blocks[b] = std::min(blocks[b], r[x]);
         }
+    }
 }
 
 bool Converter::block_may_be_active(int x0, int y0, int z0) const {
-    const int b = floor_div(x0, kLeafDim) - block_x_first_;
-    const int y_begin = std::max(y0, -pad_), y_end = std::min(y0 + kLeafDim, dims_[1] + pad_);
+    const std::int64_t block = static_cast<std::int64_t>(floor_div(y0, kLeafDim) - block_y_first_) * block_x_count_ +
+                               (floor_div(x0, kLeafDim) - block_x_first_);
     for (int z = z0; z < z0 + kLeafDim; ++z)
-        for (int dz = -band_; dz <= band_; ++dz) {
-            const std::uint8_t* summary = block_distances_.slice(z + dz);
-            const int limit = band_ - std::abs(dz);
-            for (int y = y_begin; y < y_end; ++y)
-                if (summary[static_cast<std::int64_t>(y + pad_) * block_x_count_ + b] <= limit) return true;
-        }
+        for (int dz = -band_; dz <= band_; ++dz)
+            if (block_distances_.slice(z + dz)[block] <= band_ - std::abs(dz)) return true;
     return false;
 }
 
@@ -392,16 +407,25 @@ BlockResult Converter::make_block(int x0, int y0, int z0) const {
         // No active voxel: every sample of the block is on one side of every isovalue. A block
         // reaching outside the scan shares a cell with the virtual ring, so it is outside.
         if (!block_in_scan(x0, y0, z0)) return result;
-        float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+        // Min and max per x, in two vectors of 4 x each (GCC/Clang vector extension, SSE width), then over x.
+        using Quad = float __attribute__((vector_size(4 * sizeof(float))));
+        Quad lanes_lo[2], lanes_hi[2];
+        std::memcpy(lanes_lo, samples_.slice(z0) + frame_index(x0, y0), sizeof lanes_lo);
+        std::memcpy(lanes_hi, lanes_lo, sizeof lanes_hi);
         for (int z = z0; z < z0 + kLeafDim; ++z)
             for (int y = y0; y < y0 + kLeafDim; ++y) {
-                const float* row = samples_.slice(z) + frame_index(x0, y);
-                for (int i = 0; i < kLeafDim; ++i) {
-                    const float value = row[i];
-                    lo = std::min(lo, value);
-                    hi = std::max(hi, value);
+                Quad row[2];
+                std::memcpy(row, samples_.slice(z) + frame_index(x0, y), sizeof row);
+                for (int half = 0; half < 2; ++half) {
+                    lanes_lo[half] = row[half] < lanes_lo[half] ? row[half] : lanes_lo[half];
+                    lanes_hi[half] = row[half] > lanes_hi[half] ? row[half] : lanes_hi[half];
                 }
             }
+        float lo = lanes_lo[0][0], hi = lanes_hi[0][0];
+        for (int i = 0; i < kLeafDim; ++i) {
+            lo = std::min(lo, static_cast<float>(lanes_lo[i / 4][i % 4]));
+            hi = std::max(hi, static_cast<float>(lanes_hi[i / 4][i % 4]));
+        }
         if (hi > iso_lo_f_) {  // inside for some isovalue: keep the block's minimum
             result.tile = true;
             result.tile_value = lo;
@@ -410,10 +434,13 @@ BlockResult Converter::make_block(int x0, int y0, int z0) const {
     }
 
     result.leaf = std::make_unique<Leaf>(openvdb::Coord(x0, y0, z0), kVirtual, false);
+    float* values = result.leaf->buffer().data();
     for (int z = std::max(z0, 0); z < std::min(z0 + kLeafDim, dims_[2]); ++z)
-        for (int y = std::max(y0, 0); y < std::min(y0 + kLeafDim, dims_[1]); ++y)
+        for (int y = std::max(y0, 0); y < std::min(y0 + kLeafDim, dims_[1]); ++y) {
+            const float* row = samples_.slice(z) + frame_index(0, y);
             for (int x = std::max(x0, 0); x < std::min(x0 + kLeafDim, dims_[0]); ++x)
-                result.leaf->setValueOnly(openvdb::Coord(x, y, z), samples_.slice(z)[frame_index(x, y)]);
+                values[Leaf::coordToOffset(openvdb::Coord(x, y, z))] = row[x];
+        }
     result.leaf->setValueMask(active);
     return result;
 }
