@@ -50,7 +50,7 @@ inline constexpr const char* kMetaIsoRange = "vdbmesh_iso_range";
 /// isovalue and every sample. Voxel (i, j, k) holds sample (i, j, k); the transform maps it to
 /// the world as the header's index_to_world does. Grid "density", class unknown (not a level
 /// set), with the kMeta* metadata above. Same grid for any thread count.
-/// Memory: the sparse result plus 2 * band + 10 slices of floats and 4 * band + 17 of bytes. Throws FormatError on bad data, UsageError
+/// Memory: the sparse result plus 2 * band + 18 slices of floats and 4 * band + 17 of bytes. Throws FormatError on bad data, UsageError
 /// on bad options (band outside 1..32, iso_range reversed, an isovalue outside the float range).
 openvdb::FloatGrid::Ptr convert_to_grid(SliceReader& source, const ConvertOptions& options);
 

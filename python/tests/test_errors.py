@@ -18,6 +18,14 @@ def test_a_nan_sample_is_a_format_error_naming_its_array_index(volume):
         vdbmesh.mesh(volume, 0.5)
 
 
+@pytest.mark.parametrize("dtype, value", [(np.float32, np.inf), (np.float64, -np.inf), (np.float64, 1e300)])
+def test_an_infinite_sample_or_one_beyond_the_float_range_is_a_format_error(volume, dtype, value):
+    volume = volume.astype(dtype)
+    volume[11, 0, 7] = value
+    with pytest.raises(vdbmesh.FormatError, match=r"array: sample \[11, 0, 7\]: expected a finite number, got infinity"):
+        vdbmesh.mesh(volume, 0.5)
+
+
 def test_format_errors_are_value_errors_and_vdbmesh_errors():
     assert issubclass(vdbmesh.FormatError, ValueError)
     assert issubclass(vdbmesh.FormatError, vdbmesh.Error)

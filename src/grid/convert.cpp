@@ -205,6 +205,8 @@ private:
     bool block_may_be_active(int x0, int y0, int z0) const;
     /// Which voxels (x0 .. x0 + 7, y, z) are active: an in-plane distance <= band - |dz| in slice z + dz.
     void active_row(int x0, int y, int z, bool* active) const;
+    /// The least and greatest sample of the 8^3 block at (x0, y0, z0), which lies in the scan.
+    std::pair<float, float> block_range(int x0, int y0, int z0) const;
     BlockResult make_block(int x0, int y0, int z0) const;
     float background() const;
     void add_row(int z0, std::vector<BlockResult>& blocks);
@@ -320,14 +322,13 @@ void Converter::compute_distance_slice(std::int64_t z) {
     // City-block distance is separable: exact 1D distances along each row with a mark (the
     // nearest mark within the band on either side), then a recurrence along the columns (one
     // pass each way). Every loop runs over whole rows, so that the compiler vectorises it.
-    const auto width = static_cast<std::size_t>(width_);
-    std::vector<std::uint8_t> rows(4 * width);
-    std::uint8_t* previous = rows.data();       // cells of the previous frame row straddling in slice z - 1 or z
-    std::uint8_t* current = previous + width;   // the same for this row
-    std::uint8_t* columns = current + width;    // either of them
-    std::uint8_t* marked = columns + width;     // marks of this row's voxels
     const std::int64_t w = width_, height = height_;
     const int band = band_;
+    std::vector<std::uint8_t> rows(4 * static_cast<std::size_t>(w));
+    std::uint8_t* previous = rows.data();  // cells of the previous frame row straddling in slice z - 1 or z
+    std::uint8_t* current = previous + w;  // the same for this row
+    std::uint8_t* columns = current + w;   // either of them
+    std::uint8_t* marked = columns + w;    // marks of this row's voxels
     or_rows(previous, below, above, w);
     std::fill(d, d + w, far);
     // Rows further than the band from every row with a mark stay far: the column passes skip them.
@@ -391,6 +392,29 @@ void Converter::active_row(int x0, int y, int z, bool* active) const {
     }
 }
 
+std::pair<float, float> Converter::block_range(int x0, int y0, int z0) const {
+    // Min and max per x, in two vectors of 4 x each (GCC/Clang vector extension, SSE width), then over x.
+    using Quad = float __attribute__((vector_size(4 * sizeof(float))));
+    Quad lanes_lo[2], lanes_hi[2];
+    std::memcpy(lanes_lo, samples_.slice(z0) + frame_index(x0, y0), sizeof lanes_lo);
+    std::memcpy(lanes_hi, lanes_lo, sizeof lanes_hi);
+    for (int z = z0; z < z0 + kLeafDim; ++z)
+        for (int y = y0; y < y0 + kLeafDim; ++y) {
+            Quad row[2];
+            std::memcpy(row, samples_.slice(z) + frame_index(x0, y), sizeof row);
+            for (int half = 0; half < 2; ++half) {
+                lanes_lo[half] = row[half] < lanes_lo[half] ? row[half] : lanes_lo[half];
+                lanes_hi[half] = row[half] > lanes_hi[half] ? row[half] : lanes_hi[half];
+            }
+        }
+    float lo = lanes_lo[0][0], hi = lanes_hi[0][0];
+    for (int i = 0; i < kLeafDim; ++i) {
+        lo = std::min(lo, static_cast<float>(lanes_lo[i / 4][i % 4]));
+        hi = std::max(hi, static_cast<float>(lanes_hi[i / 4][i % 4]));
+    }
+    return {lo, hi};
+}
+
 BlockResult Converter::make_block(int x0, int y0, int z0) const {
     BlockResult result;
     Leaf::NodeMaskType active;
@@ -407,25 +431,7 @@ BlockResult Converter::make_block(int x0, int y0, int z0) const {
         // No active voxel: every sample of the block is on one side of every isovalue. A block
         // reaching outside the scan shares a cell with the virtual ring, so it is outside.
         if (!block_in_scan(x0, y0, z0)) return result;
-        // Min and max per x, in two vectors of 4 x each (GCC/Clang vector extension, SSE width), then over x.
-        using Quad = float __attribute__((vector_size(4 * sizeof(float))));
-        Quad lanes_lo[2], lanes_hi[2];
-        std::memcpy(lanes_lo, samples_.slice(z0) + frame_index(x0, y0), sizeof lanes_lo);
-        std::memcpy(lanes_hi, lanes_lo, sizeof lanes_hi);
-        for (int z = z0; z < z0 + kLeafDim; ++z)
-            for (int y = y0; y < y0 + kLeafDim; ++y) {
-                Quad row[2];
-                std::memcpy(row, samples_.slice(z) + frame_index(x0, y), sizeof row);
-                for (int half = 0; half < 2; ++half) {
-                    lanes_lo[half] = row[half] < lanes_lo[half] ? row[half] : lanes_lo[half];
-                    lanes_hi[half] = row[half] > lanes_hi[half] ? row[half] : lanes_hi[half];
-                }
-            }
-        float lo = lanes_lo[0][0], hi = lanes_hi[0][0];
-        for (int i = 0; i < kLeafDim; ++i) {
-            lo = std::min(lo, static_cast<float>(lanes_lo[i / 4][i % 4]));
-            hi = std::max(hi, static_cast<float>(lanes_hi[i / 4][i % 4]));
-        }
+        const auto [lo, hi] = block_range(x0, y0, z0);
         if (hi > iso_lo_f_) {  // inside for some isovalue: keep the block's minimum
             result.tile = true;
             result.tile_value = lo;
