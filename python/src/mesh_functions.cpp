@@ -17,7 +17,7 @@ namespace vdbmesh::python {
 namespace {
 
 /// The figures of `vdbmesh check --json`, under the same names.
-py::dict report_dict(const MeshReport& r) {
+py::dict analysis_dict(const MeshAnalysis& r) {
     py::dict d;
     d["clean"] = r.is_clean();
     d["triangles"] = r.triangles;
@@ -50,12 +50,12 @@ py::dict report_dict(const MeshReport& r) {
 
 py::dict check(const py::array& vertices, const py::array& faces) {
     const Mesh mesh = from_arrays(vertices, faces);
-    MeshReport report;
+    MeshAnalysis analysis;
     {
         py::gil_scoped_release released;
-        report = analyze_mesh(mesh);
+        analysis = analyze_mesh(mesh);
     }
-    return report_dict(report);
+    return analysis_dict(analysis);
 }
 
 py::tuple read_mesh_arrays(const std::filesystem::path& path) {

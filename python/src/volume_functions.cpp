@@ -139,7 +139,7 @@ py::tuple mesh_array(const py::array& array, double iso, const std::string& meth
     Mesh mesh;
     {
         py::gil_scoped_release released;
-        mesh = mesh_grid(*array_grid(volume, iso, array_to_world), options);
+        mesh = mesh_grid(*array_grid(volume, iso, array_to_world), options).mesh;
     }
     return to_arrays(std::move(mesh));
 }
@@ -150,7 +150,7 @@ py::tuple mesh_file(const std::filesystem::path& path, double iso, const std::st
     Mesh mesh;
     {
         py::gil_scoped_release released;
-        mesh = mesh_grid(*file_grid(path, iso), options);
+        mesh = mesh_grid(*file_grid(path, iso), options).mesh;
     }
     return to_arrays(std::move(mesh));
 }
