@@ -25,7 +25,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -123,27 +122,6 @@ void mark_straddling(const float* __restrict lo, const float* __restrict hi, flo
     }
 }
 
-/// Widens [lo, hi] to hold values[0 .. n - 1] (in independent lanes, so that it vectorises).
-void widen_range(const float* values, std::int64_t n, float& lo, float& hi) {
-    constexpr int kLanes = 8;
-    float lanes_lo[kLanes], lanes_hi[kLanes];
-    std::fill_n(lanes_lo, kLanes, lo);
-    std::fill_n(lanes_hi, kLanes, hi);
-    std::int64_t i = 0;
-    for (; i + kLanes <= n; i += kLanes)
-        for (int k = 0; k < kLanes; ++k) {
-            const float value = values[i + k];
-            lanes_lo[k] = std::min(lanes_lo[k], value);
-            lanes_hi[k] = std::max(lanes_hi[k], value);
-        }
-    for (; i < n; ++i) {
-        lanes_lo[0] = std::min(lanes_lo[0], values[i]);
-        lanes_hi[0] = std::max(lanes_hi[0], values[i]);
-    }
-    lo = *std::min_element(lanes_lo, lanes_lo + kLanes);
-    hi = *std::max_element(lanes_hi, lanes_hi + kLanes);
-}
-
 /// out[i] = a[i] | b[i] for i < n.
 void or_rows(std::uint8_t* __restrict out, const std::uint8_t* __restrict a, const std::uint8_t* __restrict b,
              std::int64_t n) {
@@ -195,9 +173,9 @@ private:
     }
 
     void advance_samples(int z0);
-    /// A slice of the padded frame from @a samples (a slice of the scan), or virtual outside
-    /// the scan (@a samples null); returns the slice's value range.
-    std::pair<float, float> fill_sample_slice(const float* samples, float* out) const;
+    /// Slice z of the padded frame from @a samples (the scan's slice z), or virtual outside
+    /// the scan (@a samples null), with the value range of each 8 x 8 square of blocks in it.
+    void fill_sample_slice(std::int64_t z, const float* samples);
     void compute_cell_slice(std::int64_t z);
     void compute_distance_slice(std::int64_t z);
     void summarise_distance_slice(std::int64_t z);
@@ -207,6 +185,11 @@ private:
     void active_row(int x0, int y, int z, bool* active) const;
     /// The least and greatest sample of the 8^3 block at (x0, y0, z0), which lies in the scan.
     std::pair<float, float> block_range(int x0, int y0, int z0) const;
+    /// Index of the 8 x 8 square of the block at (x0, y0) in a slice of block_distances_, square_lo_, square_hi_.
+    std::int64_t square_index(int x0, int y0) const {
+        return static_cast<std::int64_t>(floor_div(y0, kLeafDim) - block_y_first_) * block_x_count_ +
+               (floor_div(x0, kLeafDim) - block_x_first_);
+    }
     BlockResult make_block(int x0, int y0, int z0) const;
     float background() const;
     void add_row(int z0, std::vector<BlockResult>& blocks);
@@ -228,6 +211,8 @@ private:
     SliceWindow<std::uint8_t> distances_;  // voxels [z0 - band, z0 + 7 + band]
     /// Per slice of distances_ and 8 x 8 column of blocks: the least distance in the block's square.
     SliceWindow<std::uint8_t> block_distances_;
+    /// Per slice of samples_ in the scan and 8 x 8 square of blocks: the least and greatest sample.
+    SliceWindow<float> square_lo_, square_hi_;
     std::vector<float> read_buffer_;
 
     double value_min_ = std::numeric_limits<double>::max();
@@ -257,25 +242,45 @@ Converter::Converter(SliceReader& source, const ConvertOptions& options)
       samples_(kLeafDim + 2 * pad_, static_cast<std::size_t>(width_ * height_), kVirtual),
       cells_(kLeafDim + 2 * band_ + 1, static_cast<std::size_t>(width_ * height_), 0),
       distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(width_ * height_), 0),
-      block_distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(block_y_count_) * block_x_count_, 0) {
+      block_distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(block_y_count_) * block_x_count_, 0),
+      square_lo_(kLeafDim + 2 * pad_, static_cast<std::size_t>(block_y_count_) * block_x_count_, 0),
+      square_hi_(kLeafDim + 2 * pad_, static_cast<std::size_t>(block_y_count_) * block_x_count_, 0) {
     if (source.next_slice() != 0) throw Error("internal: convert_to_grid needs a source at slice 0");
 }
 
-std::pair<float, float> Converter::fill_sample_slice(const float* samples, float* out) const {
+void Converter::fill_sample_slice(std::int64_t z, const float* samples) {
+    float* out = samples_.slice(z);
     if (!samples) {
         std::fill(out, out + width_ * height_, kVirtual);
-        return {std::numeric_limits<float>::max(), std::numeric_limits<float>::lowest()};
+        return;
     }
-    float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
-    widen_range(samples, static_cast<std::int64_t>(dims_[0]) * dims_[1], lo, hi);
-    for (int y = 0; y < dims_[1]; ++y)
-        std::copy_n(samples + static_cast<std::size_t>(y) * dims_[0], dims_[0], out + frame_index(0, y));
-    return {lo, hi};
+    float* lows = square_lo_.slice(z);
+    float* highs = square_hi_.slice(z);
+    std::fill(lows, lows + static_cast<std::int64_t>(block_y_count_) * block_x_count_, std::numeric_limits<float>::max());
+    std::fill(highs, highs + static_cast<std::int64_t>(block_y_count_) * block_x_count_, std::numeric_limits<float>::lowest());
+    for (int y = 0; y < dims_[1]; ++y) {
+        const float* row = samples + static_cast<std::size_t>(y) * dims_[0];
+        std::copy_n(row, dims_[0], out + frame_index(0, y));
+        // The scan starts at a block boundary: its x runs in blocks of 8 from x = 0.
+        const std::int64_t squares = square_index(0, y);
+        for (int x0 = 0; x0 < dims_[0]; x0 += kLeafDim) {
+            float lo = lows[squares + x0 / kLeafDim], hi = highs[squares + x0 / kLeafDim];
+            for (int x = x0; x < std::min(x0 + kLeafDim, dims_[0]); ++x) {
+                const float value = row[x];
+                lo = std::min(lo, value);
+                hi = std::max(hi, value);
+            }
+            lows[squares + x0 / kLeafDim] = lo;
+            highs[squares + x0 / kLeafDim] = hi;
+        }
+    }
 }
 
 void Converter::advance_samples(int z0) {
     // The slices the window lacks, read in one go and framed in parallel.
     const std::int64_t first = samples_.move_to(z0 - band_ - 1), end = samples_.end();
+    square_lo_.move_to(z0 - band_ - 1);
+    square_hi_.move_to(z0 - band_ - 1);
     const std::int64_t scan_first = std::clamp<std::int64_t>(first, 0, dims_[2]);
     const std::int64_t scan_end = std::clamp<std::int64_t>(end, 0, dims_[2]);
     const auto slice_voxels = static_cast<std::size_t>(header_.slice_voxels());
@@ -283,16 +288,14 @@ void Converter::advance_samples(int z0) {
         read_buffer_.resize(slice_voxels * static_cast<std::size_t>(scan_end - scan_first));
         source_.read_slices(scan_end - scan_first, read_buffer_.data());
     }
-    std::vector<std::pair<float, float>> ranges(static_cast<std::size_t>(end - first));
     tbb::parallel_for(first, end, [&](std::int64_t z) {
-        const float* samples = z >= scan_first && z < scan_end
-                                   ? read_buffer_.data() + static_cast<std::size_t>(z - scan_first) * slice_voxels
-                                   : nullptr;
-        ranges[static_cast<std::size_t>(z - first)] = fill_sample_slice(samples, samples_.slice(z));
+        const bool in_scan = z >= scan_first && z < scan_end;
+        fill_sample_slice(z, in_scan ? read_buffer_.data() + static_cast<std::size_t>(z - scan_first) * slice_voxels : nullptr);
     });
-    for (const auto& [lo, hi] : ranges) {
-        value_min_ = std::min<double>(value_min_, lo);
-        value_max_ = std::max<double>(value_max_, hi);
+    const std::size_t squares = static_cast<std::size_t>(block_y_count_) * block_x_count_;
+    for (std::int64_t z = scan_first; z < scan_end; ++z) {
+        value_min_ = std::min<double>(value_min_, *std::min_element(square_lo_.slice(z), square_lo_.slice(z) + squares));
+        value_max_ = std::max<double>(value_max_, *std::max_element(square_hi_.slice(z), square_hi_.slice(z) + squares));
     }
 }
 
@@ -371,8 +374,7 @@ void Converter::summarise_distance_slice(std::int64_t z) {
 }
 
 bool Converter::block_may_be_active(int x0, int y0, int z0) const {
-    const std::int64_t block = static_cast<std::int64_t>(floor_div(y0, kLeafDim) - block_y_first_) * block_x_count_ +
-                               (floor_div(x0, kLeafDim) - block_x_first_);
+    const std::int64_t block = square_index(x0, y0);
     for (int z = z0; z < z0 + kLeafDim; ++z)
         for (int dz = -band_; dz <= band_; ++dz)
             if (block_distances_.slice(z + dz)[block] <= band_ - std::abs(dz)) return true;
@@ -393,24 +395,11 @@ void Converter::active_row(int x0, int y, int z, bool* active) const {
 }
 
 std::pair<float, float> Converter::block_range(int x0, int y0, int z0) const {
-    // Min and max per x, in two vectors of 4 x each (GCC/Clang vector extension, SSE width), then over x.
-    using Quad = float __attribute__((vector_size(4 * sizeof(float))));
-    Quad lanes_lo[2], lanes_hi[2];
-    std::memcpy(lanes_lo, samples_.slice(z0) + frame_index(x0, y0), sizeof lanes_lo);
-    std::memcpy(lanes_hi, lanes_lo, sizeof lanes_hi);
-    for (int z = z0; z < z0 + kLeafDim; ++z)
-        for (int y = y0; y < y0 + kLeafDim; ++y) {
-            Quad row[2];
-            std::memcpy(row, samples_.slice(z) + frame_index(x0, y), sizeof row);
-            for (int half = 0; half < 2; ++half) {
-                lanes_lo[half] = row[half] < lanes_lo[half] ? row[half] : lanes_lo[half];
-                lanes_hi[half] = row[half] > lanes_hi[half] ? row[half] : lanes_hi[half];
-            }
-        }
-    float lo = lanes_lo[0][0], hi = lanes_hi[0][0];
-    for (int i = 0; i < kLeafDim; ++i) {
-        lo = std::min(lo, static_cast<float>(lanes_lo[i / 4][i % 4]));
-        hi = std::max(hi, static_cast<float>(lanes_hi[i / 4][i % 4]));
+    const std::int64_t square = square_index(x0, y0);
+    float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
+    for (int z = z0; z < z0 + kLeafDim; ++z) {
+        lo = std::min(lo, square_lo_.slice(z)[square]);
+        hi = std::max(hi, square_hi_.slice(z)[square]);
     }
     return {lo, hi};
 }
