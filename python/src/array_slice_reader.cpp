@@ -43,27 +43,29 @@ bool convert_row(const StridedVolume& v, std::int64_t z, std::int64_t y, float* 
     return true;
 }
 
-/// Converts slice [z, :, :] of the array to floats; returns whether they are all finite.
+/// Converts slices [first, first + count) of the array to floats, all rows in one parallel
+/// loop; returns whether they are all finite.
 template <typename T>
-bool convert_slice(const StridedVolume& v, std::int64_t z, float* out) {
-    const std::int64_t width = v.shape[2];
+bool convert_slices(const StridedVolume& v, std::int64_t first, std::int64_t count, float* out) {
+    const std::int64_t height = v.shape[1], width = v.shape[2];
     std::atomic<bool> finite{true};
-    tbb::parallel_for(std::int64_t{0}, v.shape[1], [&](std::int64_t y) {
-        if (!convert_row<T>(v, z, y, out + y * width)) finite.store(false, std::memory_order_relaxed);
+    tbb::parallel_for(std::int64_t{0}, count * height, [&](std::int64_t row) {
+        if (!convert_row<T>(v, first + row / height, row % height, out + row * width))
+            finite.store(false, std::memory_order_relaxed);
     });
     return finite.load();
 }
 
-bool convert_slice(const StridedVolume& v, std::int64_t z, float* out) {
+bool convert_slices(const StridedVolume& v, std::int64_t first, std::int64_t count, float* out) {
     switch (v.type) {
-        case SampleType::u8: return convert_slice<std::uint8_t>(v, z, out);
-        case SampleType::i8: return convert_slice<std::int8_t>(v, z, out);
-        case SampleType::u16: return convert_slice<std::uint16_t>(v, z, out);
-        case SampleType::i16: return convert_slice<std::int16_t>(v, z, out);
-        case SampleType::u32: return convert_slice<std::uint32_t>(v, z, out);
-        case SampleType::i32: return convert_slice<std::int32_t>(v, z, out);
-        case SampleType::f32: return convert_slice<float>(v, z, out);
-        case SampleType::f64: return convert_slice<double>(v, z, out);
+        case SampleType::u8: return convert_slices<std::uint8_t>(v, first, count, out);
+        case SampleType::i8: return convert_slices<std::int8_t>(v, first, count, out);
+        case SampleType::u16: return convert_slices<std::uint16_t>(v, first, count, out);
+        case SampleType::i16: return convert_slices<std::int16_t>(v, first, count, out);
+        case SampleType::u32: return convert_slices<std::uint32_t>(v, first, count, out);
+        case SampleType::i32: return convert_slices<std::int32_t>(v, first, count, out);
+        case SampleType::f32: return convert_slices<float>(v, first, count, out);
+        case SampleType::f64: return convert_slices<double>(v, first, count, out);
     }
     throw Error("internal: unknown sample type");
 }
@@ -85,18 +87,16 @@ ArraySliceReader::ArraySliceReader(const StridedVolume& volume, const Affine& ar
 
 void ArraySliceReader::read_slices(std::int64_t slices, float* out) {
     if (slices < 0 || next_slice_ + slices > volume_.shape[0]) throw Error("internal: read_slices past the last slice");
-    const std::int64_t slice_voxels = header_.slice_voxels();
-    for (std::int64_t s = 0; s < slices; ++s, ++next_slice_) {
-        float* slice = out + s * slice_voxels;
-        if (!convert_slice(volume_, next_slice_, slice)) throw_not_finite(slice, next_slice_);
-    }
+    if (!convert_slices(volume_, next_slice_, slices, out)) throw_not_finite(out, slices);
+    next_slice_ += slices;
 }
 
-void ArraySliceReader::throw_not_finite(const float* slice, std::int64_t z) const {
-    const std::int64_t count = header_.slice_voxels();
-    const float* bad = std::find_if(slice, slice + count, [](float v) { return !std::isfinite(v); });
-    const std::int64_t index = bad - slice;
-    const std::int64_t y = index / volume_.shape[2], x = index % volume_.shape[2];
+void ArraySliceReader::throw_not_finite(const float* values, std::int64_t slices) const {
+    const std::int64_t count = header_.slice_voxels() * slices;
+    const float* bad = std::find_if(values, values + count, [](float v) { return !std::isfinite(v); });
+    const std::int64_t index = bad - values;
+    const std::int64_t z = next_slice_ + index / header_.slice_voxels();
+    const std::int64_t y = (index / volume_.shape[2]) % volume_.shape[1], x = index % volume_.shape[2];
     throw FormatError(header_.path.string(),
                       "sample [" + std::to_string(z) + ", " + std::to_string(y) + ", " + std::to_string(x) + "]",
                       "a finite number", std::isnan(*bad) ? "NaN" : "infinity (or beyond the float range)");

@@ -32,8 +32,8 @@ public:
     std::int64_t next_slice() const override { return next_slice_; }
 
 private:
-    /// Throws the FormatError for the first NaN or infinity of @a slice, slice @a z of the array.
-    [[noreturn]] void throw_not_finite(const float* slice, std::int64_t z) const;
+    /// Throws the FormatError for the first NaN or infinity of @a values, the next @a slices slices.
+    [[noreturn]] void throw_not_finite(const float* values, std::int64_t slices) const;
 
     StridedVolume volume_;
     VolumeHeader header_;
