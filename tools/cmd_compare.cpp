@@ -10,7 +10,6 @@
 #include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -25,7 +24,7 @@
 #include "load_grid.h"
 #include "report_json.h"
 #include "svg_plot.h"
-#include "vdbmesh/atomic_file.h"
+#include "write_text_file.h"
 #include "vdbmesh/compare.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
@@ -205,17 +204,6 @@ Plot make_plot(const std::string& title, const std::vector<MeshComparison>& mesh
         if (!series.points.empty()) plot.series.push_back(series);
     }
     return plot;
-}
-
-void write_text_file(const std::string& path, const std::string& text) {
-    AtomicFile file(path);
-    {
-        std::ofstream out(file.temp_path(), std::ios::binary);
-        out << text;
-        out.close();
-        if (!out) throw Error(path + ": cannot write");
-    }
-    file.commit();
 }
 
 int run_compare(const CompareCommandOptions& o) {

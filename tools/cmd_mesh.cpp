@@ -18,6 +18,7 @@
 #include "commands.h"
 #include "common_options.h"
 #include "load_grid.h"
+#include "mesh_processing.h"
 #include "report_json.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
@@ -46,6 +47,7 @@ struct MeshCommandOptions {
     bool json = false;
     bool verify = false;
     ReadFlags read;
+    ProcessingOptions processing;
     CommonOptions common;
 };
 
@@ -57,7 +59,7 @@ std::string lowercase(std::string text) {
 /// The grid to mesh, with options.mesh.iso set: a .vdb as stored, a scan converted (band 1).
 openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& progress) {
     ConvertOptions convert;
-    convert.band = 1;
+    convert.band = conversion_band(options.processing);
     convert.progress = [&](double fraction) { progress(0.5 * fraction); };
     const GridInput loaded = load_grid(options.inputs, options.iso, options.read, "mesh", convert);
     options.mesh.iso = loaded.iso;
@@ -66,8 +68,8 @@ openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& pr
 
 /// What was made: the settings that made it, then its figures (the setting a method does not
 /// use is null).
-nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const MeshResult& result,
-                                    const std::optional<MeshAnalysis>& verified, double seconds) {
+nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const ProcessingReport& processing,
+                                    const MeshResult& result, const std::optional<MeshAnalysis>& verified, double seconds) {
     const Mesh& mesh = result.mesh;
     const bool dmc = options.mesh.method == MeshMethod::dmc, openvdb = options.mesh.method == MeshMethod::openvdb;
     nlohmann::ordered_json j;
@@ -76,6 +78,7 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Mes
     j["iso"] = options.mesh.iso;
     j["error"] = dmc ? nlohmann::ordered_json(options.mesh.error) : nlohmann::ordered_json(nullptr);
     j["adaptivity"] = openvdb ? nlohmann::ordered_json(options.mesh.adaptivity) : nlohmann::ordered_json(nullptr);
+    j["processing"] = processing_json(options.processing, processing);
     j["triangles"] = mesh.triangles.size();
     j["vertices"] = mesh.vertices.size();
     j["seconds"] = seconds;
@@ -101,9 +104,12 @@ int run_mesh(MeshCommandOptions& options) {
     const ThreadLimit limit(options.common);
     const auto start = std::chrono::steady_clock::now();
     Progress progress("meshing", options.common.quiet);
-    const openvdb::FloatGrid::Ptr grid = load_mesh_grid(options, progress);
+    openvdb::FloatGrid::Ptr grid = load_mesh_grid(options, progress);
+    ProcessingReport processing;
+    process_grid(grid, options.mesh, options.processing, processing);
     options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
-    const MeshResult result = mesh_grid(*grid, options.mesh);
+    MeshResult result = mesh_grid(*grid, options.mesh);
+    result.mesh = process_mesh(std::move(result.mesh), options.processing, processing);
     const Mesh& mesh = result.mesh;
     std::optional<MeshAnalysis> verified;
     if (options.verify) verified = analyze_mesh(mesh);
@@ -111,7 +117,7 @@ int run_mesh(MeshCommandOptions& options) {
     if (!defective) write_mesh(mesh, options.output, MeshWriteOptions{options.ascii, options.normals});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.json) {
-        std::cout << figures_json(options, result, verified, seconds).dump() << "\n";
+        std::cout << figures_json(options, processing, result, verified, seconds).dump() << "\n";
     } else if (!options.common.quiet || defective) {
         for (const std::string& fallback : result.report.fallbacks) std::cerr << "vdbmesh mesh: fell back to " << fallback << "\n";
         if (defective) {
@@ -156,6 +162,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     command.add_flag("--verify", options->verify,
                      "Check the whole mesh as `vdbmesh check` does; a defect: nothing written, exit status 3");
     add_read_flags(command, options->read);
+    add_processing_options(command, options->processing);
     add_common_options(command, options->common);
     command.callback([options, &result] {
         result.status = run_mesh(*options);

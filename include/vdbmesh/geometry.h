@@ -35,6 +35,20 @@ namespace vdbmesh::detail {
 
 using Point3 = std::array<double, 3>;
 
+// ---- Exact tests (exact orientation predicates on the double values of the coordinates) ----
+
+using Triangle3 = std::array<Point3, 3>;
+
+/// True when the three points are exactly collinear (or coincide).
+bool collinear(const Point3& a, const Point3& b, const Point3& c);
+
+/// Two non-degenerate triangles whose corners carry ids (equal ids: the same point): true when
+/// they meet beyond what they share. No shared id: any common point; one: a point other than
+/// that corner; two: overlapping beyond that edge; three (the same face): always. The test of
+/// find_self_intersections() (ids: coincident vertices) and of the decimator's local checks.
+bool triangles_intersect(const std::array<std::uint32_t, 3>& t_ids, const Triangle3& t,
+                         const std::array<std::uint32_t, 3>& u_ids, const Triangle3& u);
+
 // ---- Faces -------------------------------------------------------------------------------
 
 enum class FaceClass : std::uint8_t {

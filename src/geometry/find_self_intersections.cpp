@@ -24,43 +24,20 @@ public:
     bool intersect(std::uint32_t first, std::uint32_t second) const {
         const auto& t = mesh_.triangles[first];
         const auto& u = mesh_.triangles[second];
-        int shared = 0, t_shared = -1, u_shared = -1;
-        for (int i = 0; i < 3; ++i) {
-            for (int j = 0; j < 3; ++j) {
-                if (canonical_[t[i]] != canonical_[u[j]]) continue;
-                if (shared == 0) t_shared = i, u_shared = j;
-                ++shared;
-            }
-        }
-        switch (shared) {
-            case 0: return detail::triangles_meet(corners(t, 0), corners(u, 0));
-            case 1: return detail::triangles_meet_beyond_corner(corners(t, t_shared), corners(u, u_shared));
-            case 2: return meet_beyond_edge(t, u);
-            default: return true;  // the same three points: a duplicated face
-        }
+        return detail::triangles_intersect(ids(t), corners(t), ids(u), corners(u));
     }
 
 private:
-    Point3 point(std::uint32_t v) const {
-        const auto& p = mesh_.vertices[v];
-        return {p[0], p[1], p[2]};
+    std::array<std::uint32_t, 3> ids(const std::array<std::uint32_t, 3>& t) const {
+        return {canonical_[t[0]], canonical_[t[1]], canonical_[t[2]]};
     }
 
-    /// The triangle's corners starting from corner @a first (a rotation: same orientation).
-    Triangle3 corners(const std::array<std::uint32_t, 3>& t, int first) const {
-        return {point(t[first]), point(t[(first + 1) % 3]), point(t[(first + 2) % 3])};
-    }
-
-    bool meet_beyond_edge(const std::array<std::uint32_t, 3>& t, const std::array<std::uint32_t, 3>& u) const {
-        const auto is_shared = [&](std::uint32_t v, const std::array<std::uint32_t, 3>& other) {
-            return canonical_[v] == canonical_[other[0]] || canonical_[v] == canonical_[other[1]] ||
-                   canonical_[v] == canonical_[other[2]];
+    Triangle3 corners(const std::array<std::uint32_t, 3>& t) const {
+        const auto point = [&](std::uint32_t v) {
+            const auto& p = mesh_.vertices[v];
+            return Point3{p[0], p[1], p[2]};
         };
-        int t_apex = 0, u_apex = 0;
-        while (is_shared(t[t_apex], u)) ++t_apex;
-        while (is_shared(u[u_apex], t)) ++u_apex;
-        return detail::triangles_meet_beyond_edge(point(t[(t_apex + 1) % 3]), point(t[(t_apex + 2) % 3]),
-                                                  point(t[t_apex]), point(u[u_apex]));
+        return {point(t[0]), point(t[1]), point(t[2])};
     }
 
     const Mesh& mesh_;

@@ -1,0 +1,109 @@
+// `vdbmesh measure INPUT [--iso V] [--json]`: area, volume, centroid, inertia, principal
+// moments and axes, bounding box, genus and components of a mesh file, or of the surface of a
+// scan meshed in memory (include/vdbmesh/measure.h).
+
+#include <algorithm>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli.h"
+#include "commands.h"
+#include "common_options.h"
+#include "load_mesh.h"
+#include "vdbmesh/measure.h"
+
+namespace vdbmesh::cli {
+
+namespace {
+
+constexpr std::size_t kListedComponents = 10;  ///< components listed in the text output
+
+struct MeasureOptions {
+    std::vector<std::string> inputs;
+    MeshInputOptions input;
+    bool json = false;
+    CommonOptions common;
+};
+
+nlohmann::ordered_json component_json(const ComponentMeasure& c) {
+    return {{"triangles", c.triangles}, {"area", c.area}, {"volume", c.volume}};
+}
+
+nlohmann::ordered_json measure_json(const MeshMeasure& m) {
+    const MeshAnalysis& r = m.report;
+    nlohmann::ordered_json j;
+    j["triangles"] = r.triangles;
+    j["vertices"] = r.vertices;
+    j["closed"] = r.closed;
+    j["clean"] = r.is_clean();
+    j["area"] = r.area;
+    j["volume"] = r.volume;
+    j["centroid"] = r.centroid;
+    j["inertia"] = r.inertia;
+    j["principal_moments"] = m.principal_moments;
+    j["principal_axes"] = m.principal_axes;
+    j["bounding_box"] = {{"min", m.box_min}, {"max", m.box_max}};
+    j["genus"] = r.genus;
+    j["components"] = nlohmann::ordered_json::array();
+    for (const ComponentMeasure& c : m.components) j["components"].push_back(component_json(c));
+    return j;
+}
+
+std::ostream& operator<<(std::ostream& out, const std::array<double, 3>& v) {
+    return out << v[0] << "  " << v[1] << "  " << v[2];
+}
+
+void print_measure(const std::string& input, const MeshMeasure& m, std::ostream& out) {
+    const MeshAnalysis& r = m.report;
+    out << std::setprecision(9) << input << ": " << r.triangles << " triangles, "
+        << (r.is_clean() ? "clean" : r.closed ? "closed but not clean (see vdbmesh check)" : "NOT closed: volume is not meaningful")
+        << "\n";
+    out << "area               " << r.area << "\n"
+        << "volume             " << r.volume << "\n"
+        << "centroid           " << r.centroid << "\n"
+        << "inertia            " << r.inertia[0] << "\n"
+        << "                   " << r.inertia[1] << "\n"
+        << "                   " << r.inertia[2] << "\n"
+        << "principal moments  " << m.principal_moments << "\n";
+    for (int k = 0; k < 3; ++k) out << "principal axis " << k << "   " << m.principal_axes[k] << "\n";
+    out << "bounding box       " << m.box_min << "  to  " << m.box_max << "\n"
+        << "genus              " << r.genus << "\n"
+        << "components         " << m.components.size() << " (largest |volume| first: volume, area, triangles)\n";
+    for (std::size_t i = 0; i < std::min(m.components.size(), kListedComponents); ++i) {
+        const ComponentMeasure& c = m.components[i];
+        out << "  " << std::setw(5) << i << "  " << c.volume << "  " << c.area << "  " << c.triangles << "\n";
+    }
+    if (m.components.size() > kListedComponents) {
+        out << "  ... " << m.components.size() - kListedComponents << " more (--json lists all)\n";
+    }
+}
+
+void run_measure(const MeasureOptions& o) {
+    const ThreadLimit limit(o.common);
+    const MeshMeasure measure = measure_mesh(load_mesh(o.inputs, o.input, "measure"));
+    if (o.json) {
+        std::cout << measure_json(measure).dump() << "\n";
+    } else {
+        print_measure(o.inputs.front(), measure, std::cout);
+    }
+}
+
+}  // namespace
+
+void add_measure_command(CLI::App& command, CommandResult& result) {
+    auto options = std::make_shared<MeasureOptions>();
+    command.add_option("INPUT", options->inputs,
+                       "A mesh (.stl, .ply, .obj), or a .vdb or scan meshed in memory (extra files: the parts of a split raw scan)")
+        ->required();
+    add_mesh_input_options(command, options->input);
+    command.add_flag("--json", options->json, "One JSON object instead of a table");
+    add_common_options(command, options->common);
+    command.callback([options, &result] {
+        run_measure(*options);
+        result.status = kSuccess;
+    });
+}
+
+}  // namespace vdbmesh::cli
