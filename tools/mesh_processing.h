@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "vdbmesh/grid.h"
 #include "vdbmesh/grid_filter.h"
 #include "vdbmesh/mesh.h"
 #include "vdbmesh/mesher.h"
