@@ -11,7 +11,7 @@ packages=(
   chromium chromium-driver              # the browser test of its page (headless, WebGL through SwiftShader)
   pybind11-dev python3-dev python3-numpy python3-pytest   # the Python module and its tests
   python3-skimage                                          # its comparison test and bench/python_vs_skimage.py
-  libmeshoptimizer-dev                  # bench/: the speed reference of vdbmesh mesh --decimate
+  libmeshoptimizer-dev                  # bench/decimate_bench.cpp: the speed reference of vdbmesh mesh --decimate
 )
 # Node.js and npm build the page (web/: npm ci, esbuild); Debian's, unless the machine has its own.
 command -v node >/dev/null || packages+=(nodejs)
