@@ -9,6 +9,9 @@ namespace vdbmesh {
 
 /// A temporary path next to @a target; commit() renames it onto the target, and the
 /// destructor deletes it when commit() was not reached (an exception, a failed check).
+/// SIGINT, SIGTERM and SIGHUP delete it too (see base/temporary_registry.h). The temporary's
+/// name is the target's, shortened when needed, plus ".tmp-<pid>-<n>", so any valid target
+/// name works.
 class AtomicFile {
 public:
     explicit AtomicFile(std::filesystem::path target);
@@ -25,6 +28,7 @@ private:
     std::filesystem::path target_;
     std::filesystem::path temp_;
     bool committed_ = false;
+    int signal_slot_ = -1;
 };
 
 }  // namespace vdbmesh
