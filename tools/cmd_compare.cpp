@@ -25,7 +25,7 @@
 #include "load_grid.h"
 #include "report_json.h"
 #include "svg_plot.h"
-#include "vdbmesh/atomic_file.h"
+#include "vdbmesh/checked_output.h"
 #include "vdbmesh/compare.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
@@ -208,13 +208,8 @@ Plot make_plot(const std::string& title, const std::vector<MeshComparison>& mesh
 }
 
 void write_text_file(const std::string& path, const std::string& text) {
-    AtomicFile file(path);
-    {
-        std::ofstream out(file.temp_path(), std::ios::binary);
-        out << text;
-        out.close();
-        if (!out) throw Error(path + ": cannot write");
-    }
+    CheckedOutput file(path);
+    file.stream() << text;
     file.commit();
 }
 

@@ -21,7 +21,8 @@ public:
 
     /// Where to write. Throws Error when the target's folder does not exist.
     const std::filesystem::path& temp_path() const { return temp_; }
-    /// Renames the temporary file onto the target. Throws Error on failure.
+    /// Flushes the temporary file (or folder) to disk with fsync, then renames it onto the
+    /// target. Throws Error on failure; the target is then left as it was.
     void commit();
 
 private:

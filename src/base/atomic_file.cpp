@@ -6,6 +6,7 @@
 #include <atomic>
 #include <string>
 
+#include "base/sync_to_disk.h"
 #include "base/temporary_registry.h"
 #include "vdbmesh/error.h"
 
@@ -46,6 +47,7 @@ AtomicFile::~AtomicFile() {
 }
 
 void AtomicFile::commit() {
+    detail::sync_to_disk(temp_, target_);
     std::error_code ec;
     std::filesystem::rename(temp_, target_, ec);
     if (ec) throw Error(target_.string() + ": cannot move the finished output into place (" + ec.message() + ")");

@@ -1,16 +1,29 @@
 // .vdb files in and out through OpenVDB's io::File (the format is OpenVDB's own, see
-// openvdb/io/Archive.h). Writes go through AtomicFile; every OpenVDB exception becomes a
+// openvdb/io/Archive.h). Writes go through CheckedOutput; every OpenVDB exception becomes a
 // FormatError or Error naming the file.
 
 #include "vdb_file.h"
 
 #include <string>
 
-#include "vdbmesh/atomic_file.h"
+#include "vdbmesh/checked_output.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 
 namespace vdbmesh {
+
+namespace {
+
+/// OpenVDB's archive writer aimed at a stream of ours: io::File writes the same bytes through
+/// a stream of its own whose failures it never reports.
+class VdbStreamWriter : public openvdb::io::Archive {
+public:
+    void write_to(std::ostream& out, const openvdb::GridCPtrVec& grids) const {
+        Archive::write(out, grids, /*seekable=*/true);
+    }
+};
+
+}  // namespace
 
 namespace detail {
 
@@ -34,11 +47,9 @@ openvdb::GridPtrVecPtr read_vdb_grids(const std::filesystem::path& path) {
 
 void write_vdb(const openvdb::FloatGrid& grid, const std::filesystem::path& path) {
     openvdb::initialize();
-    AtomicFile out(path);
+    CheckedOutput out(path);
     try {
-        openvdb::io::File file(out.temp_path().string());
-        file.write(openvdb::GridCPtrVec{grid.copyGrid()});  // a shallow copy sharing the tree
-        file.close();
+        VdbStreamWriter().write_to(out.stream(), openvdb::GridCPtrVec{grid.copyGrid()});  // a shallow copy sharing the tree
     } catch (const openvdb::Exception& e) {
         throw Error(path.string() + ": cannot write the .vdb file (" + e.what() + ")");
     }
