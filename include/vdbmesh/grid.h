@@ -63,6 +63,11 @@ openvdb::FloatGrid::Ptr read_vdb(const std::filesystem::path& path);
 /// The isovalue stored on a converted grid, if any.
 std::optional<double> stored_isovalue(const openvdb::FloatGrid& grid);
 
+/// The isovalues a converted grid's active band was built for: [iso, iso] (kMetaIsovalue) or
+/// the stored kMetaIsoRange; none when the grid records neither. At any other isovalue the
+/// surface may cross cells that the band left out, so meshing there gives a wrong surface.
+std::optional<std::pair<double, double>> band_isovalues(const openvdb::FloatGrid& grid);
+
 /// The scanned box stored on a converted grid (kMetaScanMin/Max, index space, inclusive), if any.
 std::optional<openvdb::CoordBBox> stored_scan_box(const openvdb::FloatGrid& grid);
 

@@ -5,6 +5,7 @@
 #include "vdb_file.h"
 
 #include <string>
+#include <utility>
 
 #include "vdbmesh/checked_output.h"
 #include "vdbmesh/error.h"
@@ -69,6 +70,13 @@ openvdb::FloatGrid::Ptr read_vdb(const std::filesystem::path& path) {
 std::optional<double> stored_isovalue(const openvdb::FloatGrid& grid) {
     if (auto value = grid.getMetadata<openvdb::DoubleMetadata>(kMetaIsovalue)) return value->value();
     if (auto value = grid.getMetadata<openvdb::FloatMetadata>(kMetaIsovalue)) return value->value();
+    return std::nullopt;
+}
+
+std::optional<std::pair<double, double>> band_isovalues(const openvdb::FloatGrid& grid) {
+    if (const std::optional<double> iso = stored_isovalue(grid)) return std::make_pair(*iso, *iso);
+    if (auto range = grid.getMetadata<openvdb::Vec2DMetadata>(kMetaIsoRange))
+        return std::make_pair(range->value()[0], range->value()[1]);
     return std::nullopt;
 }
 
