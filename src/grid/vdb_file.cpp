@@ -10,6 +10,7 @@
 #include "vdbmesh/checked_output.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdb_probe.h"
 
 namespace vdbmesh {
 
@@ -33,6 +34,7 @@ openvdb::GridPtrVecPtr read_vdb_grids(const std::filesystem::path& path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
         throw FormatError(path.string(), "file", "an existing .vdb file", "nothing readable at that path");
+    probe_vdb_in_child(path);
     try {
         openvdb::io::File file(path.string());
         file.open(/*delayLoad=*/false);
