@@ -38,6 +38,9 @@ inline constexpr const char* kMetaScanMin = "vdbmesh_scan_min";
 inline constexpr const char* kMetaScanMax = "vdbmesh_scan_max";
 /// With ConvertOptions::iso_range, the range (Vec2d) instead of kMetaIsovalue.
 inline constexpr const char* kMetaIsoRange = "vdbmesh_iso_range";
+/// Written by write_vdb(): a checksum (hex string) over the grid's tree, transform and other
+/// vdbmesh_* metadata; reading a file whose grid carries it checks it.
+inline constexpr const char* kMetaChecksum = "vdbmesh_checksum";
 
 /// Streams @a source (a VolumeReader, or an array in memory) into a sparse float grid, a few slices at a time (TBB-parallel).
 /// Active voxels: the corners of every cell whose samples straddle the isovalue (a value

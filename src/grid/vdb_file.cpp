@@ -4,9 +4,13 @@
 
 #include "vdb_file.h"
 
+#include <cstdint>
+#include <iomanip>
+#include <sstream>
 #include <string>
 #include <utility>
 
+#include "grid_checksum.h"
 #include "vdbmesh/checked_output.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
@@ -25,6 +29,26 @@ public:
     }
 };
 
+std::string hex(std::uint64_t value) {
+    std::ostringstream text;
+    text << std::hex << std::setw(16) << std::setfill('0') << value;
+    return text.str();
+}
+
+/// Throws FormatError when a float grid of @a path carries a checksum that its content no longer matches.
+void verify_checksums(const std::filesystem::path& path, const openvdb::GridPtrVec& grids) {
+    for (const openvdb::GridBase::Ptr& grid : grids) {
+        const auto floats = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
+        const auto stored = grid->getMetadata<openvdb::StringMetadata>(kMetaChecksum);
+        if (!floats || !stored) continue;
+        const std::string actual = hex(detail::grid_checksum(*floats));
+        if (stored->value() != actual)
+            throw FormatError(path.string(), std::string(kMetaChecksum) + " of grid \"" + grid->getName() + "\"",
+                              stored->value() + " (written by vdbmesh)",
+                              actual + ": the file was changed or damaged after it was written");
+    }
+}
+
 }  // namespace
 
 namespace detail {
@@ -35,15 +59,17 @@ openvdb::GridPtrVecPtr read_vdb_grids(const std::filesystem::path& path) {
     if (!std::filesystem::is_regular_file(path, ec))
         throw FormatError(path.string(), "file", "an existing .vdb file", "nothing readable at that path");
     probe_vdb_in_child(path);
+    openvdb::GridPtrVecPtr grids;
     try {
         openvdb::io::File file(path.string());
         file.open(/*delayLoad=*/false);
-        openvdb::GridPtrVecPtr grids = file.getGrids();
+        grids = file.getGrids();
         file.close();
-        return grids;
     } catch (const std::exception& e) {  // OpenVDB throws its own exceptions, std::bad_alloc on absurd sizes ...
         throw FormatError(path.string(), std::string("not a readable .vdb file (") + e.what() + ")");
     }
+    verify_checksums(path, *grids);
+    return grids;
 }
 
 }  // namespace detail
@@ -52,7 +78,10 @@ void write_vdb(const openvdb::FloatGrid& grid, const std::filesystem::path& path
     openvdb::initialize();
     CheckedOutput out(path);
     try {
-        VdbStreamWriter().write_to(out.stream(), openvdb::GridCPtrVec{grid.copyGrid()});  // a shallow copy sharing the tree
+        openvdb::MetaMap metadata(grid);
+        metadata.insertMeta(kMetaChecksum, openvdb::StringMetadata(hex(detail::grid_checksum(grid))));
+        // A shallow copy sharing the tree, with the checksum added to its metadata.
+        VdbStreamWriter().write_to(out.stream(), openvdb::GridCPtrVec{grid.copyGridReplacingMetadata(metadata)});
     } catch (const openvdb::Exception& e) {
         throw Error(path.string() + ": cannot write the .vdb file (" + e.what() + ")");
     }

@@ -83,5 +83,24 @@ TEST(UntrustedVdbTest, TruncatedFilesAreFormatErrors) {
     }
 }
 
+TEST(UntrustedVdbTest, AGridChangedAfterWritingFailsItsChecksum) {
+    ScratchDir dir;
+    const auto grid = openvdb::FloatGrid::create(-1.0f);
+    grid->tree().setValue(openvdb::Coord(1, 2, 3), 5.0f);
+    grid->tree().setValue(openvdb::Coord(40, 2, 3), 7.0f);
+    write_vdb(*grid, dir / "ours.vdb");
+    EXPECT_EQ(read_vdb(dir / "ours.vdb")->tree().getValue(openvdb::Coord(40, 2, 3)), 7.0f);
+    // Another program changes one value and keeps our metadata, checksum included.
+    openvdb::io::File in((dir / "ours.vdb").string());
+    in.open();
+    const auto changed = openvdb::gridPtrCast<openvdb::FloatGrid>(in.getGrids()->front());
+    in.close();
+    ASSERT_TRUE(changed->getMetadata<openvdb::StringMetadata>(kMetaChecksum));
+    changed->tree().setValue(openvdb::Coord(40, 2, 3), 7.5f);
+    openvdb::io::File((dir / "changed.vdb").string()).write({changed});
+    EXPECT_THROW(read_vdb(dir / "changed.vdb"), FormatError);
+    EXPECT_THROW(describe_vdb_file(dir / "changed.vdb"), FormatError);
+}
+
 }  // namespace
 }  // namespace vdbmesh
