@@ -4,10 +4,12 @@
 
 #include <iostream>
 #include <memory>
+#include <utility>
 
 #include "cli.h"
 #include "commands.h"
 #include "common_options.h"
+#include "load_grid.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/volume_stats.h"
@@ -64,6 +66,7 @@ int run_convert(const ConvertCommandOptions& o) {
     Progress progress("converting", o.common.quiet);
     options.progress = [&](double f) { progress(f); };
     const openvdb::FloatGrid::Ptr grid = convert_to_grid(*reader, options);
+    if (grid->activeVoxelCount() == 0) throw no_surface_error(o.inputs.front(), *grid, options.iso_range.value_or(std::make_pair(options.iso, options.iso)), o.output);
     write_vdb(*grid, output);
     if (!o.common.quiet)
         std::cout << "wrote " << o.output << ": " << grid->activeVoxelCount() << " active voxels in "

@@ -40,7 +40,7 @@ struct MeshCommandOptions {
     std::string output;
     std::optional<double> iso;
     std::string method = "dmc";
-    std::string inside = "above";
+    std::optional<std::string> inside;  ///< default: above, below for a level set
     MeshOptions mesh;
     bool ascii = false;
     bool normals = false;
@@ -63,6 +63,8 @@ openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& pr
     convert.progress = [&](double fraction) { progress(0.5 * fraction); };
     const GridInput loaded = load_grid(options.inputs, options.iso, options.read, "mesh", convert);
     options.mesh.iso = loaded.iso;
+    options.mesh.inside = options.inside ? kSides.at(lowercase(*options.inside))
+                                         : (loaded.level_set ? Inside::below : Inside::above);
     return loaded.grid;
 }
 
@@ -100,7 +102,6 @@ int run_mesh(MeshCommandOptions& options) {
     }
     // Both words were checked (IsMember, any case).
     options.mesh.method = kMethods.at(lowercase(options.method));
-    options.mesh.inside = kSides.at(lowercase(options.inside));
     const ThreadLimit limit(options.common);
     const auto start = std::chrono::steady_clock::now();
     Progress progress("meshing", options.common.quiet);
@@ -111,6 +112,8 @@ int run_mesh(MeshCommandOptions& options) {
     MeshResult result = mesh_grid(*grid, options.mesh);
     result.mesh = process_mesh(std::move(result.mesh), options.processing, processing);
     const Mesh& mesh = result.mesh;
+    if (mesh.triangles.empty())
+        throw no_surface_error(options.inputs.front(), *grid, {options.mesh.iso, options.mesh.iso}, options.output);
     std::optional<MeshAnalysis> verified;
     if (options.verify) verified = analyze_mesh(mesh);
     const bool defective = verified && !verified->is_clean();
@@ -151,9 +154,9 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
-    command.add_option("--inside", options->inside, "Which side of the isovalue is the object: above|below")
-        ->check(CLI::IsMember(kSides, CLI::ignore_case))
-        ->capture_default_str();
+    command.add_option("--inside", options->inside,
+                       "Which side of the isovalue is the object: above|below (default: above; below for a level set)")
+        ->check(CLI::IsMember(kSides, CLI::ignore_case));
     command.add_flag("--open-boundary", options->mesh.open_boundary,
                      "Leave the surface open where it meets the edge of the scan");
     command.add_flag("--ascii", options->ascii, "ASCII STL or PLY instead of binary");

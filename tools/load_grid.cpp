@@ -6,6 +6,8 @@
 #include <cctype>
 #include <chrono>
 #include <filesystem>
+#include <iomanip>
+#include <sstream>
 
 #include "vdbmesh/error.h"
 
@@ -17,6 +19,29 @@ std::string lowercase_extension(const std::string& path) {
                    [](unsigned char c) { return char(std::tolower(c)); });
     return extension;
 }
+
+namespace {
+
+std::string number_text(double value) {
+    std::ostringstream text;
+    text << std::setprecision(10) << value;
+    return text.str();
+}
+
+/// "600" or "50..150".
+std::string isovalues_text(double low, double high) {
+    return low == high ? number_text(low) : number_text(low) + ".." + number_text(high);
+}
+
+void require_iso_in_band(const std::string& input, const openvdb::FloatGrid& grid, double iso) {
+    const auto band = band_isovalues(grid);
+    if (!band || (iso >= band->first && iso <= band->second)) return;
+    throw Error(input + ": --iso " + number_text(iso) + " lies outside the isovalues its active band was built for (" +
+                isovalues_text(band->first, band->second) + "), so the surface there would be wrong; convert the scan again at that isovalue "
+                "(or with --iso-range)");
+}
+
+}  // namespace
 
 std::unique_ptr<VolumeReader> open_scan(const std::vector<std::string>& inputs, const ReadFlags& read) {
     return open_volume(inputs.front(), read.to_read_options({inputs.begin() + 1, inputs.end()}));
@@ -37,9 +62,12 @@ GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double
     if (lowercase_extension(input) == ".vdb") {
         if (inputs.size() > 1) throw UsageError("a .vdb input takes no further input files");
         loaded.grid = read_vdb(input);
-        const std::optional<double> chosen = iso ? iso : stored_isovalue(*loaded.grid);
+        loaded.level_set = loaded.grid->getGridClass() == openvdb::GRID_LEVEL_SET;
+        const std::optional<double> stored = loaded.level_set ? std::optional<double>(0.0) : stored_isovalue(*loaded.grid);
+        const std::optional<double> chosen = iso ? iso : stored;
         if (!chosen) throw UsageError("--iso: required, " + input + " stores no isovalue");
         loaded.iso = *chosen;
+        require_iso_in_band(input, *loaded.grid, loaded.iso);
         return loaded;
     }
     if (!iso) throw UsageError("--iso: required to " + purpose + " a scan");
@@ -48,6 +76,15 @@ GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double
     auto reader = open_scan(inputs, read);
     loaded.grid = convert_timed(*reader, convert, loaded.convert_seconds);
     return loaded;
+}
+
+Error no_surface_error(const std::string& input, const openvdb::FloatGrid& grid, std::pair<double, double> isovalues,
+                       const std::string& output) {
+    const auto low = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMin);
+    const auto high = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMax);
+    const std::string values =
+        low && high ? " (its values range from " + number_text(low->value()) + " to " + number_text(high->value()) + ")" : "";
+    return Error(input + ": no surface at iso " + isovalues_text(isovalues.first, isovalues.second) + values + "; " + output + " not written");
 }
 
 }  // namespace vdbmesh::cli

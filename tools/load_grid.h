@@ -5,9 +5,11 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common_options.h"
+#include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/read.h"
 
@@ -24,13 +26,21 @@ struct GridInput {
     openvdb::FloatGrid::Ptr grid;
     double iso = 0;
     std::optional<double> convert_seconds;  ///< none for a .vdb input
+    bool level_set = false;                 ///< a .vdb level set: iso 0 by default, inside below
 };
 
-/// A .vdb (lowercase_extension()) as stored, at @a iso or else its stored isovalue; or a
-/// scan converted with @a convert at @a iso (required). @a purpose ("mesh", "compare on")
-/// completes the UsageError text when --iso is missing.
+/// A .vdb (lowercase_extension()) as stored, at @a iso or else its stored isovalue (0 for a
+/// level set); or a scan converted with @a convert at @a iso (required). @a purpose ("mesh",
+/// "compare on") completes the UsageError text when --iso is missing. Throws Error when @a iso
+/// lies outside the isovalues a .vdb's band was built for (band_isovalues()).
 GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double> iso, const ReadFlags& read,
                     const std::string& purpose, ConvertOptions convert);
+
+/// The error for a grid of @a input with no surface at @a isovalues (low, high; equal for one
+/// isovalue) outside the values or in a constant volume: it names the stored value range when
+/// known, and says @a output was not written.
+Error no_surface_error(const std::string& input, const openvdb::FloatGrid& grid, std::pair<double, double> isovalues,
+                       const std::string& output);
 
 /// convert_to_grid(), timed into @a seconds.
 openvdb::FloatGrid::Ptr convert_timed(VolumeReader& reader, const ConvertOptions& convert,

@@ -1,20 +1,12 @@
 #include "write_text_file.h"
 
-#include <fstream>
-
-#include "vdbmesh/atomic_file.h"
-#include "vdbmesh/error.h"
+#include "vdbmesh/checked_output.h"
 
 namespace vdbmesh::cli {
 
 void write_text_file(const std::string& path, const std::string& text) {
-    AtomicFile file(path);
-    {
-        std::ofstream out(file.temp_path(), std::ios::binary);
-        out << text;
-        out.close();
-        if (!out) throw Error(path + ": cannot write");
-    }
+    CheckedOutput file(path);
+    file.stream() << text;
     file.commit();
 }
 

@@ -38,6 +38,9 @@ inline constexpr const char* kMetaScanMin = "vdbmesh_scan_min";
 inline constexpr const char* kMetaScanMax = "vdbmesh_scan_max";
 /// With ConvertOptions::iso_range, the range (Vec2d) instead of kMetaIsovalue.
 inline constexpr const char* kMetaIsoRange = "vdbmesh_iso_range";
+/// Written by write_vdb(): a checksum (hex string) over the grid's tree, transform and other
+/// vdbmesh_* metadata; reading a file whose grid carries it checks it.
+inline constexpr const char* kMetaChecksum = "vdbmesh_checksum";
 
 /// Streams @a source (a VolumeReader, or an array in memory) into a sparse float grid, a few slices at a time (TBB-parallel).
 /// Active voxels: the corners of every cell whose samples straddle the isovalue (a value
@@ -62,6 +65,11 @@ openvdb::FloatGrid::Ptr read_vdb(const std::filesystem::path& path);
 
 /// The isovalue stored on a converted grid, if any.
 std::optional<double> stored_isovalue(const openvdb::FloatGrid& grid);
+
+/// The isovalues a converted grid's active band was built for: [iso, iso] (kMetaIsovalue) or
+/// the stored kMetaIsoRange; none when the grid records neither. At any other isovalue the
+/// surface may cross cells that the band left out, so meshing there gives a wrong surface.
+std::optional<std::pair<double, double>> band_isovalues(const openvdb::FloatGrid& grid);
 
 /// The scanned box stored on a converted grid (kMetaScanMin/Max, index space, inclusive), if any.
 std::optional<openvdb::CoordBBox> stored_scan_box(const openvdb::FloatGrid& grid);

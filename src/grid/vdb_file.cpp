@@ -1,16 +1,55 @@
 // .vdb files in and out through OpenVDB's io::File (the format is OpenVDB's own, see
-// openvdb/io/Archive.h). Writes go through AtomicFile; every OpenVDB exception becomes a
+// openvdb/io/Archive.h). Writes go through CheckedOutput; every OpenVDB exception becomes a
 // FormatError or Error naming the file.
 
 #include "vdb_file.h"
 
+#include <cstdint>
+#include <iomanip>
+#include <sstream>
 #include <string>
+#include <utility>
 
-#include "vdbmesh/atomic_file.h"
+#include "grid_checksum.h"
+#include "vdbmesh/checked_output.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdb_probe.h"
 
 namespace vdbmesh {
+
+namespace {
+
+/// OpenVDB's archive writer aimed at a stream of ours: io::File writes the same bytes through
+/// a stream of its own whose failures it never reports.
+class VdbStreamWriter : public openvdb::io::Archive {
+public:
+    void write_to(std::ostream& out, const openvdb::GridCPtrVec& grids) const {
+        Archive::write(out, grids, /*seekable=*/true);
+    }
+};
+
+std::string hex(std::uint64_t value) {
+    std::ostringstream text;
+    text << std::hex << std::setw(16) << std::setfill('0') << value;
+    return text.str();
+}
+
+/// Throws FormatError when a float grid of @a path carries a checksum that its content no longer matches.
+void verify_checksums(const std::filesystem::path& path, const openvdb::GridPtrVec& grids) {
+    for (const openvdb::GridBase::Ptr& grid : grids) {
+        const auto floats = openvdb::gridPtrCast<openvdb::FloatGrid>(grid);
+        const auto stored = grid->getMetadata<openvdb::StringMetadata>(kMetaChecksum);
+        if (!floats || !stored) continue;
+        const std::string actual = hex(detail::grid_checksum(*floats));
+        if (stored->value() != actual)
+            throw FormatError(path.string(), std::string(kMetaChecksum) + " of grid \"" + grid->getName() + "\"",
+                              stored->value() + " (written by vdbmesh)",
+                              actual + ": the file was changed or damaged after it was written");
+    }
+}
+
+}  // namespace
 
 namespace detail {
 
@@ -19,26 +58,30 @@ openvdb::GridPtrVecPtr read_vdb_grids(const std::filesystem::path& path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
         throw FormatError(path.string(), "file", "an existing .vdb file", "nothing readable at that path");
+    probe_vdb_in_child(path);
+    openvdb::GridPtrVecPtr grids;
     try {
         openvdb::io::File file(path.string());
         file.open(/*delayLoad=*/false);
-        openvdb::GridPtrVecPtr grids = file.getGrids();
+        grids = file.getGrids();
         file.close();
-        return grids;
     } catch (const std::exception& e) {  // OpenVDB throws its own exceptions, std::bad_alloc on absurd sizes ...
         throw FormatError(path.string(), std::string("not a readable .vdb file (") + e.what() + ")");
     }
+    verify_checksums(path, *grids);
+    return grids;
 }
 
 }  // namespace detail
 
 void write_vdb(const openvdb::FloatGrid& grid, const std::filesystem::path& path) {
     openvdb::initialize();
-    AtomicFile out(path);
+    CheckedOutput out(path);
     try {
-        openvdb::io::File file(out.temp_path().string());
-        file.write(openvdb::GridCPtrVec{grid.copyGrid()});  // a shallow copy sharing the tree
-        file.close();
+        openvdb::MetaMap metadata(grid);
+        metadata.insertMeta(kMetaChecksum, openvdb::StringMetadata(hex(detail::grid_checksum(grid))));
+        // A shallow copy sharing the tree, with the checksum added to its metadata.
+        VdbStreamWriter().write_to(out.stream(), openvdb::GridCPtrVec{grid.copyGridReplacingMetadata(metadata)});
     } catch (const openvdb::Exception& e) {
         throw Error(path.string() + ": cannot write the .vdb file (" + e.what() + ")");
     }
@@ -58,6 +101,13 @@ openvdb::FloatGrid::Ptr read_vdb(const std::filesystem::path& path) {
 std::optional<double> stored_isovalue(const openvdb::FloatGrid& grid) {
     if (auto value = grid.getMetadata<openvdb::DoubleMetadata>(kMetaIsovalue)) return value->value();
     if (auto value = grid.getMetadata<openvdb::FloatMetadata>(kMetaIsovalue)) return value->value();
+    return std::nullopt;
+}
+
+std::optional<std::pair<double, double>> band_isovalues(const openvdb::FloatGrid& grid) {
+    if (const std::optional<double> iso = stored_isovalue(grid)) return std::make_pair(*iso, *iso);
+    if (auto range = grid.getMetadata<openvdb::Vec2DMetadata>(kMetaIsoRange))
+        return std::make_pair(range->value()[0], range->value()[1]);
     return std::nullopt;
 }
 

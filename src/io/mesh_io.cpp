@@ -2,12 +2,10 @@
 // (read_stl.cpp, read_ply.cpp, read_obj.cpp, write_stl.cpp, write_ply.cpp, write_obj.cpp).
 #include "vdbmesh/mesh_io.h"
 
-#include <fstream>
-
 #include "io/mesh_io_detail.h"
-#include "vdbmesh/parse_util.h"
-#include "vdbmesh/atomic_file.h"
+#include "vdbmesh/checked_output.h"
 #include "vdbmesh/error.h"
+#include "vdbmesh/parse_util.h"
 
 namespace vdbmesh {
 namespace {
@@ -32,17 +30,11 @@ void write_mesh(const Mesh& mesh, const std::filesystem::path& path, const MeshW
             if (v >= mesh.vertices.size()) throw Error(path.string() + ": mesh has a vertex index out of range");
         }
     }
-    AtomicFile file(path);
-    {
-        std::ofstream out(file.temp_path(), std::ios::binary);
-        if (!out) throw Error(path.string() + ": cannot create " + file.temp_path().string());
-        switch (format) {
-            case MeshFormat::kStl: detail::write_stl(mesh, out, options.ascii); break;
-            case MeshFormat::kPly: detail::write_ply(mesh, out, options.ascii, options.normals); break;
-            case MeshFormat::kObj: detail::write_obj(mesh, out, options.normals); break;
-        }
-        out.flush();
-        if (!out) throw Error(path.string() + ": write failed (disk full?)");
+    CheckedOutput file(path);
+    switch (format) {
+        case MeshFormat::kStl: detail::write_stl(mesh, file.stream(), options.ascii); break;
+        case MeshFormat::kPly: detail::write_ply(mesh, file.stream(), options.ascii, options.normals); break;
+        case MeshFormat::kObj: detail::write_obj(mesh, file.stream(), options.normals); break;
     }
     file.commit();
 }

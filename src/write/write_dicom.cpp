@@ -13,12 +13,14 @@
 #include <gdcmTrace.h>
 #include <gdcmWriter.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <mutex>
 #include <numeric>
+#include <sstream>
 #include <vector>
 
 #include "vdbmesh/atomic_file.h"
@@ -204,13 +206,17 @@ public:
     using gdcm::Writer::SetWriteDataSetOnly;
 };
 
-void write_file(const std::filesystem::path& path, gdcm::Writer& writer) {
+/// GDCM writes into memory (it asserts when its stream fails, as on a full disk), then the
+/// bytes go to @a path through a stream we check. Errors name @a shown (the slice in the target folder).
+void write_file(const std::filesystem::path& path, const std::filesystem::path& shown, gdcm::Writer& writer) {
+    std::ostringstream bytes;
+    writer.SetStream(bytes);
+    if (!writer.Write()) throw Error(shown.string() + ": GDCM cannot encode the slice");
     std::ofstream out(path, std::ios::binary);
-    if (!out) throw Error(path.string() + ": cannot create the file");
-    writer.SetStream(out);
-    const bool written = writer.Write();
+    if (!out) throw Error(shown.string() + ": cannot create the file (" + std::strerror(errno) + ")");
+    out << bytes.str();
     out.close();
-    if (!written || !out) throw Error(path.string() + ": cannot write the file (disk full?)");
+    if (!out) throw Error(shown.string() + ": cannot write the file (" + std::strerror(errno) + ")");
 }
 
 /// Turns off GDCM's messages on stderr (the library never prints). Idempotent.
@@ -263,8 +269,8 @@ WriteResult write_dicom_series(const std::filesystem::path& folder, const Volume
                                                                       ? gdcm::TransferSyntax::ExplicitVRBigEndian
                                                                       : gdcm::TransferSyntax::ExplicitVRLittleEndian);
         }
-        write_file(atomic.temp_path() / slice_name(name_index(z, header.dims[2], options.shuffle_names), header.dims[2]),
-                   writer);
+        const std::string name = slice_name(name_index(z, header.dims[2], options.shuffle_names), header.dims[2]);
+        write_file(atomic.temp_path() / name, target / name, writer);
     });
     atomic.commit();
     temporary.release();

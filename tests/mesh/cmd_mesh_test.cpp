@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <openvdb/tools/LevelSetSphere.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string>
 #include <vector>
 
 #include "cli.h"
@@ -184,6 +186,54 @@ TEST(CmdMeshTest, FailuresLeaveNoOutput) {
     // Nothing but the two inputs: no output, no temporary file left behind.
     const auto entries = std::distance(std::filesystem::directory_iterator(scratch.path()), std::filesystem::directory_iterator());
     EXPECT_EQ(entries, 2);
+}
+
+TEST(CmdMeshTest, NoSurfaceAtTheIsovalueIsAnErrorAndKeepsTheOldFile) {
+    ScratchDir scratch;
+    const auto raw = write_ball_raw(scratch);
+    const auto output = scratch / "out.stl";
+    std::ofstream(output) << "old";
+    // Above every sample (below every sample, the whole scan is inside: its box is the surface).
+    EXPECT_EQ(cli::run({"mesh", raw.string(), "--raw-dims", "20,20,20", "--iso", "250", "-o", output.string(), "-q"}),
+              cli::kRuntimeError);
+    std::ifstream in(output);
+    EXPECT_TRUE(std::string(std::istreambuf_iterator<char>(in), {}) == "old");
+    EXPECT_EQ(cli::run({"convert", raw.string(), "--raw-dims", "20,20,20", "--iso", "250", "-o",
+                        (scratch / "out.vdb").string(), "-q"}),
+              cli::kRuntimeError);
+    EXPECT_FALSE(std::filesystem::exists(scratch / "out.vdb"));
+}
+
+TEST(CmdMeshTest, AVdbMeshedOutsideTheIsovaluesOfItsBandIsAnError) {
+    ScratchDir scratch;
+    const auto raw = write_ball_raw(scratch);
+    const auto at_60 = scratch / "at_60.vdb", range = scratch / "range.vdb";
+    ASSERT_EQ(cli::run({"convert", raw.string(), "--raw-dims", "20,20,20", "--iso", "60", "-o", at_60.string(), "-q"}),
+              cli::kSuccess);
+    ASSERT_EQ(cli::run({"convert", raw.string(), "--raw-dims", "20,20,20", "--iso-range", "50,150", "-o", range.string(),
+                        "-q"}),
+              cli::kSuccess);
+    const auto output = scratch / "out.stl";
+    EXPECT_EQ(cli::run({"mesh", at_60.string(), "--iso", "150", "-o", output.string(), "-q"}), cli::kRuntimeError);
+    EXPECT_FALSE(std::filesystem::exists(output));
+    EXPECT_EQ(cli::run({"mesh", range.string(), "--iso", "160", "-o", output.string(), "-q"}), cli::kRuntimeError);
+    EXPECT_EQ(cli::run({"mesh", range.string(), "--iso", "150", "-o", output.string(), "-q"}), cli::kSuccess);
+    EXPECT_EQ(cli::run({"mesh", at_60.string(), "--iso", "60", "-o", output.string(), "-q"}), cli::kSuccess);
+}
+
+TEST(CmdMeshTest, ALevelSetVdbIsMeshedAtZeroWithTheInsideBelow) {
+    ScratchDir scratch;
+    const auto input = scratch / "sphere.vdb";
+    write_vdb(*openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(6.0f, openvdb::Vec3f(0.5f), 1.0f), input);
+    const auto output = scratch / "sphere.stl";
+    ASSERT_EQ(cli::run({"mesh", input.string(), "-o", output.string(), "-q"}), cli::kSuccess);
+    const MeshAnalysis report = analyze_mesh(read_mesh(output));
+    EXPECT_TRUE(report.closed);
+    EXPECT_TRUE(report.outward);
+    EXPECT_NEAR(report.volume, 4.0 / 3.0 * 3.14159 * 6 * 6 * 6, 30.0);
+    // An explicit side still wins: the same surface, inside out.
+    ASSERT_EQ(cli::run({"mesh", input.string(), "--inside", "above", "-o", output.string(), "-q"}), cli::kSuccess);
+    EXPECT_LT(mesh_integrals(read_mesh(output)).volume, 0);
 }
 
 }  // namespace

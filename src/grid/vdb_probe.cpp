@@ -1,0 +1,91 @@
+// The child only opens the file with io::File and reads all grids (no TBB work, which would
+// not be safe after fork()), then reports through a pipe: nothing on success, else the text of
+// the exception. The parent turns a signal, a failed allocation or that text into a FormatError.
+
+#include "vdb_probe.h"
+
+#include <fcntl.h>
+#include <openvdb/openvdb.h>
+#include <signal.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <new>
+#include <string>
+
+#include "vdbmesh/error.h"
+
+namespace vdbmesh::detail {
+
+namespace {
+
+rlim_t memory_limit(std::uintmax_t file_bytes) {
+    const auto physical = static_cast<rlim_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<rlim_t>(::sysconf(_SC_PAGESIZE));
+    const rlim_t wanted = std::max<rlim_t>(rlim_t{2} << 30, static_cast<rlim_t>(file_bytes) * 64);
+    return physical > 0 ? std::min(wanted, physical) : wanted;
+}
+
+[[noreturn]] void read_in_child(const std::filesystem::path& path, rlim_t limit, int report) {
+    const rlimit address_space{limit, limit}, no_core{0, 0};
+    ::setrlimit(RLIMIT_AS, &address_space);
+    ::setrlimit(RLIMIT_CORE, &no_core);
+    const int null = ::open("/dev/null", O_WRONLY);  // glibc's and OpenVDB's own complaints
+    if (null >= 0) ::dup2(null, STDERR_FILENO);
+    std::string failure;
+    try {
+        openvdb::io::File file(path.string());
+        file.open(/*delayLoad=*/false);
+        file.getGrids();
+        file.close();
+    } catch (const std::bad_alloc&) {
+        failure = "reading it needs more than " + std::to_string(limit >> 20) +
+                  " MiB (OpenVDB's reader allocates without bound on a corrupt or truncated file)";
+    } catch (const std::exception& e) {
+        failure = std::string("not a readable .vdb file (") + e.what() + ")";
+    }
+    if (!failure.empty()) (void)!::write(report, failure.data(), failure.size());
+    ::_exit(failure.empty() ? 0 : 1);
+}
+
+std::string read_all(int fd) {
+    std::string text;
+    char buffer[4096];
+    for (ssize_t n; (n = ::read(fd, buffer, sizeof(buffer))) != 0;) {
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) break;
+        text.append(buffer, static_cast<std::size_t>(n));
+    }
+    return text;
+}
+
+}  // namespace
+
+void probe_vdb_in_child(const std::filesystem::path& path) {
+    openvdb::initialize();
+    std::error_code ec;
+    const rlim_t limit = memory_limit(std::filesystem::file_size(path, ec));
+    int report[2];
+    if (::pipe2(report, O_CLOEXEC) != 0) throw Error(path.string() + ": cannot create a pipe to check the .vdb file");
+    const pid_t child = ::fork();
+    if (child == 0) {
+        ::close(report[0]);
+        read_in_child(path, limit, report[1]);
+    }
+    ::close(report[1]);
+    const std::string failure = child > 0 ? read_all(report[0]) : "";
+    ::close(report[0]);
+    if (child < 0) throw Error(path.string() + ": cannot start a process to check the .vdb file");
+    int status = 0;
+    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+    }
+    if (WIFSIGNALED(status))
+        throw FormatError(path.string(), std::string("corrupt .vdb file: OpenVDB's reader crashed on it (") +
+                                             ::strsignal(WTERMSIG(status)) + ")");
+    if (WEXITSTATUS(status) != 0) throw FormatError(path.string(), failure.empty() ? "not a readable .vdb file" : failure);
+}
+
+}  // namespace vdbmesh::detail

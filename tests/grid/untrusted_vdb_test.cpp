@@ -1,0 +1,106 @@
+// Corrupt and truncated .vdb files: OpenVDB's reader crashes or allocates without bound on some
+// of them; reading must instead throw a FormatError naming the file.
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "test_data.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/read.h"
+
+namespace vdbmesh {
+namespace {
+
+using test::ScratchDir;
+
+std::vector<char> read_bytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+}
+
+void write_bytes(const std::filesystem::path& path, const std::vector<char>& bytes) {
+    std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+/// nucleon.dat converted at iso 80, as `vdbmesh convert` writes it.
+std::filesystem::path write_nucleon_vdb(const std::filesystem::path& scan, const ScratchDir& dir) {
+    ConvertOptions options;
+    options.iso = 80;
+    const auto path = dir / "nucleon.vdb";
+    write_vdb(*convert_to_grid(*open_volume(scan), options), path);
+    return path;
+}
+
+/// Reading @a path either works or throws a FormatError naming it; false when it threw anything else.
+bool reads_or_names_the_file(const std::filesystem::path& path) {
+    try {
+        describe_vdb_file(path);
+        return true;
+    } catch (const FormatError& e) {
+        return std::string(e.what()).find(path.string()) == 0;
+    } catch (...) {
+        return false;
+    }
+}
+
+TEST(UntrustedVdbTest, AByteThatCrashedOpenVdbsReaderIsAFormatError) {
+    VDBMESH_SHARED_DATA(scan, "openqvis_nucleon_sim/nucleon.dat");
+    ScratchDir dir;
+    const auto path = write_nucleon_vdb(scan, dir);
+    std::vector<char> bytes = read_bytes(path);
+    ASSERT_GT(bytes.size(), 4270u);
+    bytes[4270] = static_cast<char>(0xDB);  // heap corruption in bloscFromStream: "malloc(): corrupted top size"
+    write_bytes(path, bytes);
+    EXPECT_THROW(describe_vdb_file(path), FormatError);
+    EXPECT_THROW(read_vdb(path), FormatError);
+}
+
+TEST(UntrustedVdbTest, FourByteMutationsNeverCrash) {
+    VDBMESH_SHARED_DATA(scan, "openqvis_nucleon_sim/nucleon.dat");
+    ScratchDir dir;
+    const auto original = read_bytes(write_nucleon_vdb(scan, dir));
+    const auto path = dir / "mutated.vdb";
+    for (std::size_t at = 0; at + 4 <= original.size(); at += original.size() / 41) {
+        std::vector<char> bytes = original;
+        for (std::size_t i = at; i < at + 4; ++i) bytes[i] = static_cast<char>(~bytes[i]);
+        write_bytes(path, bytes);
+        EXPECT_TRUE(reads_or_names_the_file(path)) << "bytes " << at << ".." << at + 3 << " inverted";
+    }
+}
+
+TEST(UntrustedVdbTest, TruncatedFilesAreFormatErrors) {
+    VDBMESH_SHARED_DATA(scan, "openqvis_nucleon_sim/nucleon.dat");
+    ScratchDir dir;
+    const auto original = read_bytes(write_nucleon_vdb(scan, dir));
+    const auto path = dir / "cut.vdb";
+    for (const std::size_t size : {200, 1000, 4000}) {  // 200 bytes: OpenVDB asked for 11-17 GB
+        write_bytes(path, std::vector<char>(original.begin(), original.begin() + static_cast<long>(size)));
+        EXPECT_THROW(read_vdb(path), FormatError) << size << " bytes";
+    }
+}
+
+TEST(UntrustedVdbTest, AGridChangedAfterWritingFailsItsChecksum) {
+    ScratchDir dir;
+    const auto grid = openvdb::FloatGrid::create(-1.0f);
+    grid->tree().setValue(openvdb::Coord(1, 2, 3), 5.0f);
+    grid->tree().setValue(openvdb::Coord(40, 2, 3), 7.0f);
+    write_vdb(*grid, dir / "ours.vdb");
+    EXPECT_EQ(read_vdb(dir / "ours.vdb")->tree().getValue(openvdb::Coord(40, 2, 3)), 7.0f);
+    // Another program changes one value and keeps our metadata, checksum included.
+    openvdb::io::File in((dir / "ours.vdb").string());
+    in.open();
+    const auto changed = openvdb::gridPtrCast<openvdb::FloatGrid>(in.getGrids()->front());
+    in.close();
+    ASSERT_TRUE(changed->getMetadata<openvdb::StringMetadata>(kMetaChecksum));
+    changed->tree().setValue(openvdb::Coord(40, 2, 3), 7.5f);
+    openvdb::io::File((dir / "changed.vdb").string()).write({changed});
+    EXPECT_THROW(read_vdb(dir / "changed.vdb"), FormatError);
+    EXPECT_THROW(describe_vdb_file(dir / "changed.vdb"), FormatError);
+}
+
+}  // namespace
+}  // namespace vdbmesh
