@@ -20,7 +20,9 @@ def test_python_threads_run_while_a_mesh_is_made():
         ticks += 1
         time.sleep(0.001)
     worker.join()
-    # Holding the GIL, the call would let this loop tick only before and after it. Released,
-    # the loop ticks about once a millisecond (or per scheduler slice) all along.
+    # Holding the GIL, the call would let this loop tick only before and after it (at most 2 or
+    # 3 times). Released, the loop ticks about once a millisecond all along: 50 or more in a
+    # call of 0.05 s or longer; on a machine loaded by parallel builds it was seen under 10,
+    # so 5 is the bound.
     assert alone > 0.05, "the mesh is too quick to tell"
-    assert ticks >= 10
+    assert ticks >= 5
