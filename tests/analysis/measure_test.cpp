@@ -16,13 +16,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// The box [0, 1] x [0, 2] x [0, 3] (cube() stretched): 8 vertices, 12 outward triangles.
-Mesh box_123() {
-    Mesh mesh = cube();
-    for (auto& v : mesh.vertices) v = {v[0], 2 * v[1], 3 * v[2]};
-    return mesh;
-}
-
 /// @a outer with @a inner added inside out (a cavity).
 Mesh with_cavity(Mesh outer, const Mesh& inner) {
     const auto base = std::uint32_t(outer.vertices.size());

@@ -16,13 +16,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// The box [0, 1] x [0, 2] x [0, 3].
-Mesh box_123() {
-    Mesh mesh = cube();
-    for (auto& v : mesh.vertices) v = {v[0], 2 * v[1], 3 * v[2]};
-    return mesh;
-}
-
 TEST(SectionMeshTest, BoxGivesItsRectangle) {
     const Section s = section_mesh(box_123(), axis_plane(2, 1.5));
     ASSERT_EQ(s.loops.size(), 1u);

@@ -28,6 +28,13 @@ inline Mesh cube(std::array<float, 3> lo = {0, 0, 0}, float side = 1) {
 }
 
 /// A torus about the z axis (ring radius @a ring, tube radius @a tube) as an n x m grid of quads.
+/// The box [0, 1] x [0, 2] x [0, 3] (cube() stretched): 8 vertices, 12 outward triangles.
+inline Mesh box_123() {
+    Mesh mesh = cube();
+    for (auto& v : mesh.vertices) v = {v[0], 2 * v[1], 3 * v[2]};
+    return mesh;
+}
+
 inline Mesh torus(int n = 16, int m = 8, double ring = 3, double tube = 1) {
     const double pi = 3.14159265358979323846;
     Mesh mesh;
