@@ -32,7 +32,7 @@ namespace vdbmesh::cli {
 namespace {
 
 const std::map<std::string, MeshMethod> kMethods = {
-    {"dmc", MeshMethod::dmc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}};
+    {"dmc", MeshMethod::dmc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}, {"dc", MeshMethod::dc}};
 const std::map<std::string, Inside> kSides = {{"above", Inside::above}, {"below", Inside::below}};
 
 struct MeshCommandOptions {
@@ -73,7 +73,7 @@ openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& pr
 nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const ProcessingReport& processing,
                                     const MeshResult& result, const std::optional<MeshAnalysis>& verified, double seconds) {
     const Mesh& mesh = result.mesh;
-    const bool dmc = options.mesh.method == MeshMethod::dmc, openvdb = options.mesh.method == MeshMethod::openvdb;
+    const bool dmc = options.mesh.method == MeshMethod::dmc || options.mesh.method == MeshMethod::dc, openvdb = options.mesh.method == MeshMethod::openvdb;
     nlohmann::ordered_json j;
     j["output"] = options.output;
     j["method"] = lowercase(options.method);

@@ -18,6 +18,8 @@ enum class MeshMethod {
     dmc,      ///< Dual Marching Cubes on the leaf octrees (Schaefer and Warren 2004), adaptive by --error
     mc,       ///< Marching Cubes on the samples, vertices welded by grid edge
     openvdb,  ///< openvdb::tools::volumeToMesh, quads split along the shorter diagonal
+    dc,       ///< intersection-free Dual Contouring on the leaf octrees (Ju and Udeshi 2006), Marching
+              ///< Cubes in unit cells, adaptive by --error
 };
 
 /// Which side of the isovalue is the object.

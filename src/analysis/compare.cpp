@@ -134,6 +134,8 @@ const char* method_name(MeshMethod method) {
             return "mc";
         case MeshMethod::openvdb:
             return "openvdb";
+        case MeshMethod::dc:
+            return "dc";
     }
     return "unknown";
 }
