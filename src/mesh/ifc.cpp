@@ -25,7 +25,7 @@ bool uniform(const IfcSamples& samples) {
     return std::all_of(samples.inside.begin(), samples.inside.end(), [&](bool in) { return in == samples.inside[0]; });
 }
 
-/// Calls @a visit(samples, block) for every block holding surface, in parallel.
+/// Calls @a visit(samples, accessor, block) for every block holding surface, in parallel.
 template <typename Visit>
 void for_each_surface_block(const openvdb::FloatGrid& grid, const SampleClassifier& classifier,
                             const std::vector<openvdb::Coord>& origins, Visit&& visit) {
@@ -35,7 +35,7 @@ void for_each_surface_block(const openvdb::FloatGrid& grid, const SampleClassifi
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
             samples->origin = origins[b];
             load_ifc_samples(accessor, classifier, *samples);
-            if (!uniform(*samples)) visit(*samples, b);
+            if (!uniform(*samples)) visit(*samples, accessor, b);
         }
     });
 }
@@ -93,14 +93,14 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     IfcCellGrid cells;
     cells.origins = surface_blocks(grid, classifier);
     cells.blocks.resize(cells.origins.size());
-    for_each_surface_block(grid, classifier, cells.origins, [&](const IfcSamples& samples, std::size_t b) {
+    for_each_surface_block(grid, classifier, cells.origins, [&](const IfcSamples& samples, auto&, std::size_t b) {
         build_ifc_cells(samples, options.iso, options.error, cells.blocks[b]);
     });
     clock.lap(report, "octree");
     if (options.progress) options.progress(0.4);
     std::vector<IfcBlockOutput> outputs(cells.origins.size());
-    for_each_surface_block(grid, classifier, cells.origins, [&](const IfcSamples& samples, std::size_t b) {
-        contour_ifc_block(samples, options.iso, cells, b, grid.transform(), outputs[b]);
+    for_each_surface_block(grid, classifier, cells.origins, [&](const IfcSamples& samples, auto& accessor, std::size_t b) {
+        contour_ifc_block(samples, classifier, accessor, cells, b, grid.transform(), outputs[b]);
     });
     clock.lap(report, "contour");
     if (options.progress) options.progress(0.8);

@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "mesh/mc_table.h"
 #include "vdbmesh/error.h"
@@ -78,9 +79,10 @@ double orient(const Point3d& a, const Point3d& b, const Point3d& c, const Point3
 
 class BlockContour {
 public:
-    BlockContour(const IfcSamples& s, double iso, const IfcCellGrid& grid, std::size_t block,
-                 const openvdb::math::Transform& transform, IfcBlockOutput& out)
-        : s_(s), iso_(iso), grid_(grid), block_(block), transform_(transform), out_(out) {}
+    BlockContour(const IfcSamples& s, const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor,
+                 const IfcCellGrid& grid, std::size_t block, const openvdb::math::Transform& transform, IfcBlockOutput& out)
+        : s_(s), classifier_(classifier), accessor_(accessor), iso_(classifier.iso()), grid_(grid), block_(block),
+          transform_(transform), out_(out) {}
 
     void run() {
         const IfcBlockCells& cells = grid_.blocks[block_];
@@ -195,6 +197,53 @@ private:
         Point3d point{};
     };
 
+    /// The midpoint of the two crossed grid edges on the perimeter of the face [lo, hi] (flat
+    /// along @a normal); none unless there are exactly two.
+    std::optional<Point3d> chord_midpoint(const Point3d& lo, const Point3d& hi, int normal) {
+        const int u = (normal + 1) % 3, w = (normal + 2) % 3;
+        Point3d sum = {0, 0, 0};
+        int count = 0;
+        auto visit = [&](openvdb::Coord start, int axis) {
+            const openvdb::Coord end = start.offsetBy(axis == 0, axis == 1, axis == 2);
+            const double f0 = sample(start), f1 = sample(end);
+            if (classifier_.inside(f0) == classifier_.inside(f1)) return;
+            const Point3d p = edge_crossing(to_point(start), f0, to_point(end), f1, iso_);
+            for (int a = 0; a < 3; ++a) sum[a] += p[a];
+            ++count;
+        };
+        const openvdb::Coord corner{int(lo[0]), int(lo[1]), int(lo[2])};
+        const int size_u = int(hi[u] - lo[u]), size_w = int(hi[w] - lo[w]);
+        for (int i = 0; i < size_u; ++i) {
+            openvdb::Coord a = corner, b = corner;
+            a[u] += i;
+            b[u] += i;
+            b[w] += size_w;
+            visit(a, u);
+            visit(b, u);
+        }
+        for (int j = 0; j < size_w; ++j) {
+            openvdb::Coord a = corner, b = corner;
+            a[w] += j;
+            b[w] += j;
+            b[u] += size_u;
+            visit(a, w);
+            visit(b, w);
+        }
+        if (count != 2) return std::nullopt;
+        for (double& c : sum) c *= 0.5;
+        return sum;
+    }
+
+    /// The value meshers use at grid point @a ijk.
+    double sample(const openvdb::Coord& ijk) {
+        const openvdb::Coord local = ijk - s_.origin;
+        if (local.x() >= -1 && local.x() <= kIfcBlock + 1 && local.y() >= -1 && local.y() <= kIfcBlock + 1 &&
+            local.z() >= -1 && local.z() <= kIfcBlock + 1) {
+            return s_.at(local.x(), local.y(), local.z());
+        }
+        return classifier_.sample_value(ijk, accessor_.getValue(ijk));
+    }
+
     /// The face shared by merged cells @a a and @a b, decided the same whichever edge asks.
     FacePlan face_plan(const CellView& a_in, const CellView& b_in) {
         const bool swap = b_in.key() < a_in.key();
@@ -222,6 +271,10 @@ private:
             plan.point[k] = std::clamp(x, lo[k] + kIfcInteriorMargin, hi[k] - kIfcInteriorMargin);
         }
         if (!plan.direct) {
+            // On the chord of the surface's trace across the face, strictly inside the face
+            // and near the surface (the clamped crossing can be a face's width away from it).
+            const auto chord = chord_midpoint(lo, hi, normal);
+            if (chord) plan.point = *chord;
             // Named by the smaller cell (the face is one of its faces) and the side it faces.
             const CellView& owner = a.size <= b.size ? a : b;
             const CellView& other = a.size <= b.size ? b : a;
@@ -337,6 +390,8 @@ private:
     }
 
     const IfcSamples& s_;
+    const SampleClassifier& classifier_;
+    openvdb::FloatGrid::ConstAccessor& accessor_;
     double iso_;
     const IfcCellGrid& grid_;
     std::size_t block_;
@@ -346,9 +401,10 @@ private:
 
 }  // namespace
 
-void contour_ifc_block(const IfcSamples& samples, double iso, const IfcCellGrid& grid, std::size_t block,
+void contour_ifc_block(const IfcSamples& samples, const SampleClassifier& classifier,
+                       openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid, std::size_t block,
                        const openvdb::math::Transform& transform, IfcBlockOutput& out) {
-    BlockContour(samples, iso, grid, block, transform, out).run();
+    BlockContour(samples, classifier, accessor, grid, block, transform, out).run();
 }
 
 }  // namespace vdbmesh::detail

@@ -34,7 +34,8 @@ struct IfcCellGrid {
 /// Triangles of the block at @a samples.origin: Marching Cubes in its unit cells, and the
 /// polygons of the crossed grid edges it owns (minimum sample in the block) that touch a
 /// merged cell.
-void contour_ifc_block(const IfcSamples& samples, double iso, const IfcCellGrid& grid, std::size_t block,
+void contour_ifc_block(const IfcSamples& samples, const SampleClassifier& classifier,
+                       openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid, std::size_t block,
                        const openvdb::math::Transform& transform, IfcBlockOutput& out);
 
 }  // namespace vdbmesh::detail
