@@ -13,12 +13,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numeric>
 
 #include "mesh/ifc_block.h"
 #include "mesh/ifc_qef.h"
 #include "mesh/mc_table.h"
+#include "vdbmesh/geometry.h"
 
 namespace vdbmesh::detail {
 
@@ -299,7 +301,10 @@ private:
             qef.add(qef_[level - 1][cell_index(level - 1, 2 * i + (c & 1), 2 * j + ((c >> 1) & 1), 2 * k + (c >> 2))]);
         }
         const Point3d vertex = solve_in_cell(qef, min, size);
-        if (!within_error(vertex, min, size)) return;
+        if (!within_error(vertex, min, size) || !fan_near_surface(vertex, min, size) ||
+            !surface_near_fan(vertex, min, size)) {
+            return;
+        }
         state_[level][index] = CellState::surface;
         qef_[level][index] = qef;
         vertex_[level][index] = vertex;
@@ -407,6 +412,108 @@ private:
             ok &= std::abs(d) <= error_;
         });
         return ok;
+    }
+
+    /// Whether the vertex, and the midpoints of its spokes to the crossings of the cell's 12
+    /// edges (the fan's triangles run along them), lie within the error of the isosurface, by
+    /// the first-order estimate |f - iso| / |grad f| of the trilinear interpolant. The tangent
+    /// planes alone let a vertex sit off a curved or thin surface.
+    bool fan_near_surface(const Point3d& v, const std::array<int, 3>& min, int size) const {
+        if (surface_distance(v) > error_) return false;
+        for (int axis = 0; axis < 3; ++axis) {
+            const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+            for (int corner = 0; corner < 4; ++corner) {
+                std::array<int, 3> p = min;
+                p[u] += (corner & 1) * size;
+                p[w] += (corner >> 1) * size;
+                for (int k = 0; k < size; ++k, ++p[axis]) {
+                    const int i = edge_index(p[0], p[1], p[2], axis);
+                    if (!crossed_[i]) continue;
+                    Point3d mid;
+                    for (int a = 0; a < 3; ++a) mid[a] = 0.5 * (v[a] + hermite_[i].point[a]);
+                    if (surface_distance(mid) > error_) return false;
+                }
+            }
+        }
+        return true;
+    }
+
+    /// Whether every crossing of the cell's grid edges (the Marching Cubes surface's vertices)
+    /// lies within twice the error of the fan the cell will be: its vertex joined to each
+    /// face's trace, taken as the chord from one edge crossing to the other through its middle.
+    bool surface_near_fan(const Point3d& v, const std::array<int, 3>& min, int size) const {
+        std::array<Triangle3, 12> fan;
+        int triangles = 0;
+        for (int axis = 0; axis < 3; ++axis) {
+            for (int side = 0; side < 2; ++side) {
+                std::array<Point3d, 2> ends;
+                if (face_chord(min, size, axis, side, ends) != 2) continue;
+                const Point3d middle = {0.5 * (ends[0][0] + ends[1][0]), 0.5 * (ends[0][1] + ends[1][1]), 0.5 * (ends[0][2] + ends[1][2])};
+                fan[triangles++] = {v, ends[0], middle};
+                fan[triangles++] = {v, middle, ends[1]};
+            }
+        }
+        const double limit = 4 * error_ * error_;
+        bool near = true;
+        for_each_crossing(min, size, [&](const Hermite& h) {
+            if (!near) return;
+            double best = std::numeric_limits<double>::infinity();
+            for (int t = 0; t < triangles && best > limit; ++t) {
+                const Point3d q = closest_point_on_triangle(h.point, fan[t][0], fan[t][1], fan[t][2]);
+                best = std::min(best, (q[0] - h.point[0]) * (q[0] - h.point[0]) + (q[1] - h.point[1]) * (q[1] - h.point[1]) +
+                                          (q[2] - h.point[2]) * (q[2] - h.point[2]));
+            }
+            near = best <= limit;
+        });
+        return near;
+    }
+
+    /// The crossings on the perimeter of the cell's face normal to @a axis on @a side (0: low,
+    /// 1: high), up to two into @a ends; returns how many there are.
+    int face_chord(const std::array<int, 3>& min, int size, int axis, int side, std::array<Point3d, 2>& ends) const {
+        const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+        int count = 0;
+        for (int along : {u, w}) {
+            const int across = along == u ? w : u;
+            for (int edge_side = 0; edge_side < 2; ++edge_side) {
+                std::array<int, 3> p = min;
+                p[axis] += side * size;
+                p[across] += edge_side * size;
+                for (int k = 0; k < size; ++k, ++p[along]) {
+                    const int i = edge_index(p[0], p[1], p[2], along);
+                    if (!crossed_[i]) continue;
+                    if (count < 2) ends[count] = hermite_[i].point;
+                    ++count;
+                }
+            }
+        }
+        return count;
+    }
+
+    /// First-order distance (voxels) from global index point @a x in the block to the
+    /// isosurface of the trilinear interpolant; 0 where a sample is beyond the scan box.
+    double surface_distance(const Point3d& x) const {
+        std::array<int, 3> cell;
+        std::array<double, 3> t;
+        for (int a = 0; a < 3; ++a) {
+            const double local = x[a] - s_.origin[a];
+            cell[a] = std::clamp(int(std::floor(local)), 0, kIfcBlock - 1);
+            t[a] = local - cell[a];
+        }
+        double f = 0;
+        Point3d g = {0, 0, 0};
+        for (int c = 0; c < 8; ++c) {
+            const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
+            const double value = s_.at(cell[0] + dx, cell[1] + dy, cell[2] + dz);
+            if (!std::isfinite(value)) return 0;
+            const double wx = dx ? t[0] : 1 - t[0], wy = dy ? t[1] : 1 - t[1], wz = dz ? t[2] : 1 - t[2];
+            f += wx * wy * wz * value;
+            g[0] += (dx ? 1 : -1) * wy * wz * value;
+            g[1] += (dy ? 1 : -1) * wx * wz * value;
+            g[2] += (dz ? 1 : -1) * wx * wy * value;
+        }
+        const double length = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        return length > 0 ? std::abs(f - iso_) / length : std::numeric_limits<double>::infinity();
     }
 
     /// Top down: the largest leaves become the block's cells.
