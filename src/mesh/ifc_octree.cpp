@@ -200,9 +200,11 @@ enum class CellState : std::uint8_t {
 
 class BlockOctree {
 public:
-    BlockOctree(const IfcSamples& samples, double iso, double error) : s_(samples), iso_(iso), error_(error) {}
-
-    void build(IfcBlockCells& out) {
+    /// The octree of the block of @a samples into @a out.
+    void build(const IfcSamples& samples, double iso, double error, IfcBlockCells& out) {
+        s_ = &samples;
+        iso_ = iso;
+        error_ = error;
         collect_hermite();
         init_unit_cells();
         for (int level = 1; level <= kIfcMaxLevel; ++level) merge_level(level);
@@ -226,8 +228,8 @@ private:
                     for (int axis = 0; axis < 3; ++axis) {
                         const std::array<int, 3> p = {x, y, z};
                         const int i = edge_index(x, y, z, axis);
-                        crossed_[i] = p[axis] < kIfcBlock && s_.crossed(x, y, z, axis);
-                        if (crossed_[i]) hermite_[i] = edge_hermite(s_, iso_, x, y, z, axis);
+                        crossed_[i] = p[axis] < kIfcBlock && s_->crossed(x, y, z, axis);
+                        if (crossed_[i]) hermite_[i] = edge_hermite(*s_, iso_, x, y, z, axis);
                     }
                 }
             }
@@ -260,7 +262,7 @@ private:
         for (int x = 0; x < kIfcBlock; ++x) {
             for (int y = 0; y < kIfcBlock; ++y) {
                 for (int z = 0; z < kIfcBlock; ++z) {
-                    const unsigned config = s_.config(x, y, z);
+                    const unsigned config = s_->config(x, y, z);
                     const int i = cell_index(0, x, y, z);
                     Qef3& qef = qef_[0][i];
                     for_each_crossing({x, y, z}, 1, [&](const Hermite& h) { qef.add_plane(h.point, h.normal); });
@@ -295,14 +297,14 @@ private:
         }
         const int size = 1 << level;
         const std::array<int, 3> min = {i * size, j * size, k * size};
-        if (!edges_and_faces_simple(min, size) || !surface_is_one_disk(min, size)) return;
         Qef3 qef;
         for (int c = 0; c < 8; ++c) {
             qef.add(qef_[level - 1][cell_index(level - 1, 2 * i + (c & 1), 2 * j + ((c >> 1) & 1), 2 * k + (c >> 2))]);
         }
+        // Cheapest and most often failing first.
         const Point3d vertex = solve_in_cell(qef, min, size);
         if (!within_error(vertex, min, size) || !fan_near_surface(vertex, min, size) ||
-            !surface_near_fan(vertex, min, size)) {
+            !edges_and_faces_simple(min, size) || !surface_is_one_disk(min, size) || !surface_near_fan(vertex, min, size)) {
             return;
         }
         state_[level][index] = CellState::surface;
@@ -317,12 +319,12 @@ private:
                 std::array<int, 3> p = min;
                 p[u] += (corner & 1) * size;
                 p[w] += (corner >> 1) * size;
-                if (sign_changes(s_, p, axis, size) > 1) return false;
+                if (sign_changes(*s_, p, axis, size) > 1) return false;
             }
             for (int side = 0; side < 2; ++side) {
                 std::array<int, 3> origin = min;
                 origin[axis] += side * size;
-                if (!trace_square(s_, origin, axis, size).at_most_one_chain()) return false;
+                if (!trace_square(*s_, origin, axis, size).at_most_one_chain()) return false;
             }
         }
         return true;
@@ -335,8 +337,8 @@ private:
     bool surface_is_one_disk(const std::array<int, 3>& min, int size) const {
         const int n = size + 1;
         auto node = [&](int dx, int dy, int dz, int axis) { return ((dx * n + dy) * n + dz) * 3 + axis; };
-        std::array<int, kEdgeDim * kEdgeDim * kEdgeDim * 3> parent;
-        std::array<bool, kEdgeDim * kEdgeDim * kEdgeDim * 3> crossed{};
+        std::array<int, kEdgeDim * kEdgeDim * kEdgeDim * 3> parent;  // entries below n^3 * 3 set below
+        std::array<bool, kEdgeDim * kEdgeDim * kEdgeDim * 3> crossed;
         int vertices = 0;
         for (int dx = 0; dx < n; ++dx) {
             for (int dy = 0; dy < n; ++dy) {
@@ -345,7 +347,7 @@ private:
                     for (int axis = 0; axis < 3; ++axis) {
                         const int id = node(dx, dy, dz, axis);
                         parent[id] = id;
-                        crossed[id] = d[axis] < size && s_.crossed(min[0] + dx, min[1] + dy, min[2] + dz, axis);
+                        crossed[id] = d[axis] < size && s_->crossed(min[0] + dx, min[1] + dy, min[2] + dz, axis);
                         vertices += crossed[id];
                     }
                 }
@@ -390,7 +392,7 @@ private:
         int pieces = 0;
         for (int x = min[0]; x < min[0] + size; ++x) {
             for (int y = min[1]; y < min[1] + size; ++y) {
-                for (int z = min[2]; z < min[2] + size; ++z) pieces += cell_components[s_.config(x, y, z)];
+                for (int z = min[2]; z < min[2] + size; ++z) pieces += cell_components[s_->config(x, y, z)];
             }
         }
         return vertices - segments + pieces == 1;
@@ -399,8 +401,8 @@ private:
     Point3d solve_in_cell(const Qef3& qef, const std::array<int, 3>& min, int size) const {
         Point3d lo, hi;
         for (int a = 0; a < 3; ++a) {
-            lo[a] = s_.origin[a] + min[a] + kIfcInteriorMargin;
-            hi[a] = s_.origin[a] + min[a] + size - kIfcInteriorMargin;
+            lo[a] = s_->origin[a] + min[a] + kIfcInteriorMargin;
+            hi[a] = s_->origin[a] + min[a] + size - kIfcInteriorMargin;
         }
         return qef.solve(lo, hi);
     }
@@ -496,7 +498,7 @@ private:
         std::array<int, 3> cell;
         std::array<double, 3> t;
         for (int a = 0; a < 3; ++a) {
-            const double local = x[a] - s_.origin[a];
+            const double local = x[a] - s_->origin[a];
             cell[a] = std::clamp(int(std::floor(local)), 0, kIfcBlock - 1);
             t[a] = local - cell[a];
         }
@@ -504,7 +506,7 @@ private:
         Point3d g = {0, 0, 0};
         for (int c = 0; c < 8; ++c) {
             const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
-            const double value = s_.at(cell[0] + dx, cell[1] + dy, cell[2] + dz);
+            const double value = s_->at(cell[0] + dx, cell[1] + dy, cell[2] + dz);
             if (!std::isfinite(value)) return 0;
             const double wx = dx ? t[0] : 1 - t[0], wy = dy ? t[1] : 1 - t[1], wz = dz ? t[2] : 1 - t[2];
             f += wx * wy * wz * value;
@@ -550,9 +552,9 @@ private:
         }
     }
 
-    const IfcSamples& s_;
-    double iso_;
-    double error_;
+    const IfcSamples* s_ = nullptr;
+    double iso_ = 0;
+    double error_ = 0;
     std::array<bool, kEdgeDim * kEdgeDim * kEdgeDim * 3> crossed_{};
     std::array<Hermite, kEdgeDim * kEdgeDim * kEdgeDim * 3> hermite_;
     std::array<std::vector<CellState>, kIfcMaxLevel + 1> state_;
@@ -563,8 +565,10 @@ private:
 }  // namespace
 
 void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells) {
-    // About 120 KB of Hermite data: on the heap, not a worker thread's stack.
-    std::make_unique<BlockOctree>(samples, iso, error)->build(cells);
+    // About 120 KB of Hermite data and the per-level arrays: once per thread, on the heap
+    // (not a worker's stack), reused from block to block.
+    thread_local const std::unique_ptr<BlockOctree> octree = std::make_unique<BlockOctree>();
+    octree->build(samples, iso, error, cells);
 }
 
 }  // namespace vdbmesh::detail

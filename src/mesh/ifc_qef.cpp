@@ -51,7 +51,8 @@ Point3d Qef3::solve(const Point3d& lo, const Point3d& hi) const {
     ata << ata_[0], ata_[1], ata_[2], ata_[1], ata_[3], ata_[4], ata_[2], ata_[4], ata_[5];
     const Eigen::Vector3d mean(point_sum_[0] / count_, point_sum_[1] / count_, point_sum_[2] / count_);
     const Eigen::Vector3d rhs = Eigen::Vector3d(atb_[0], atb_[1], atb_[2]) - ata * mean;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(ata);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+    eigen.computeDirect(ata);  // closed form for 3x3: several times faster than the iterative solver
     const Eigen::Vector3d values = eigen.eigenvalues();
     const double floor = kRelativeEigenvalueFloor * values.cwiseAbs().maxCoeff();
     Eigen::Vector3d step = Eigen::Vector3d::Zero();
