@@ -211,7 +211,7 @@ int run_compare(const CompareCommandOptions& o) {
     const ThreadLimit limit(o.common);
     CompareOptions options;
     options.errors = parse_number_list("--error", o.errors);
-    options.dc_errors = parse_number_list("--dc-error", o.dc_errors);
+    if (!o.dc_errors.empty()) options.dc_errors = parse_number_list("--dc-error", o.dc_errors);
     options.adaptivities = parse_number_list("--adaptivity", o.adaptivities);
     options.inside = o.inside;
     options.accuracy.samples = o.samples;

@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "mesh/ifc_polygons.h"
+#include "mesh/marching_cubes.h"
 #include "mesh/mesh_phases.h"
 #include "mesh/surface_blocks.h"
 #include "vdbmesh/error.h"
@@ -88,6 +89,9 @@ Mesh weld(const std::vector<IfcBlockOutput>& outputs) {
 }  // namespace
 
 Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report) {
+    // No merging at error 0, not even of exactly flat surfaces (the faces of the scan box): the
+    // mesh is Marching Cubes, as documented.
+    if (options.error <= 0) return marching_cubes(grid, options);
     PhaseClock clock;
     const SampleClassifier classifier(grid, options);
     IfcCellGrid cells;
