@@ -12,7 +12,8 @@
 // .vdb file (written last, into a temporary folder).
 //
 // Usage: vdbmesh_bench [--scans bunny,cthead,engine,walnut] [--phantom-sizes 256,512]
-//                      [--errors 0,0.1,0.25,0.5] [--adaptivities 0,0.1,0.25,1] [--threads 1,2]
+//                      [--errors 0,0.1,0.25,0.5] [--dc-errors 0.1,0.25,1] [--adaptivities 0,0.1,0.25,1]
+//                      [--threads 1,2]
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
@@ -62,10 +63,10 @@ struct Scan {
 
 struct Setting {
     MeshMethod method;
-    double value = 0;  ///< error (DMC) or adaptivity (volumeToMesh)
+    double value = 0;  ///< error (DC, DMC) or adaptivity (volumeToMesh)
     std::string label() const {
         std::ostringstream text;
-        text << (method == MeshMethod::dmc ? "dmc e=" : method == MeshMethod::mc ? "mc" : "openvdb a=");
+        text << (method == MeshMethod::dmc ? "dmc e=" : method == MeshMethod::dc ? "dc e=" : method == MeshMethod::mc ? "mc" : "openvdb a=");
         if (method != MeshMethod::mc) text << value;
         return text.str();
     }
@@ -225,12 +226,12 @@ std::string phases_text(const Json& mesher) {
     return text;
 }
 
-/// The volumeToMesh setting a DMC setting is timed against: same position in the lists.
-std::size_t matching_openvdb(const std::vector<Setting>& settings, std::size_t dmc_index) {
+/// The volumeToMesh setting a DC or DMC setting is timed against: same position in the lists.
+std::size_t matching_openvdb(const std::vector<Setting>& settings, std::size_t adaptive_index) {
     std::size_t first_openvdb = 0;
     while (first_openvdb < settings.size() && settings[first_openvdb].method != MeshMethod::openvdb) ++first_openvdb;
     const std::size_t count = settings.size() - first_openvdb;
-    return first_openvdb + std::min(dmc_index, count - 1);
+    return first_openvdb + std::min(adaptive_index, count - 1);
 }
 
 void report(const Scan& scan, const std::vector<Setting>& settings, const std::map<int, Json>& runs, const Json& dense) {
@@ -261,13 +262,13 @@ void report(const Scan& scan, const std::vector<Setting>& settings, const std::m
     std::cout << "\n|---|---|---|---|---|---|---|";
     for (std::size_t i = 1; i < runs.size(); ++i) std::cout << "---|";
     std::cout << "\n";
-    std::size_t dmc_index = 0;
+    std::map<MeshMethod, std::size_t> adaptive_index;  // DC and DMC settings, each in their own order
     for (std::size_t i = 0; i < settings.size(); ++i) {
         const Json& m = r["meshes"][i];
         const double s = m["seconds"].get<double>(), triangles = m["triangles"].get<double>();
         std::string ratio = "";
-        if (settings[i].method == MeshMethod::dmc) {
-            const std::size_t j = matching_openvdb(settings, dmc_index++);
+        if (settings[i].method == MeshMethod::dmc || settings[i].method == MeshMethod::dc) {
+            const std::size_t j = matching_openvdb(settings, adaptive_index[settings[i].method]++);
             ratio = fixed(s / r["meshes"][j]["seconds"].get<double>(), 2) + " (vs " + settings[j].label() + ")";
         } else if (settings[i].method == MeshMethod::mc) {
             ratio = fixed(s / r["meshes"][matching_openvdb(settings, 0)]["seconds"].get<double>(), 2);
@@ -340,6 +341,7 @@ int run(int argc, char** argv) {
     std::map<std::string, std::string> flags = {{"--scans", "bunny,cthead,engine,walnut"},
                                                 {"--phantom-sizes", "256,512"},
                                                 {"--errors", "0,0.1,0.25,0.5"},
+                                                {"--dc-errors", "0.1,0.25,1"},
                                                 {"--adaptivities", "0,0.1,0.25,1"},
                                                 {"--threads", "1,2"}};
     for (int i = 1; i + 1 < argc; i += 2) {
@@ -351,6 +353,7 @@ int run(int argc, char** argv) {
     }
     std::vector<Setting> settings;
     for (double e : numbers(flags["--errors"])) settings.push_back({MeshMethod::dmc, e});
+    for (double e : numbers(flags["--dc-errors"])) settings.push_back({MeshMethod::dc, e});
     settings.push_back({MeshMethod::mc, 0});
     for (double a : numbers(flags["--adaptivities"])) settings.push_back({MeshMethod::openvdb, a});
 

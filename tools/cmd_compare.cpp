@@ -41,6 +41,7 @@ struct CompareCommandOptions {
     std::int64_t size = 64;
     double blur = 5;
     std::string errors = "0,0.1,0.25,0.5", adaptivities = "0,0.1,0.25,1";
+    std::string dc_errors;
     Inside inside = Inside::above;
     std::size_t samples = 100000;
     std::string json, plot;
@@ -191,9 +192,9 @@ Plot make_plot(const std::string& title, const std::vector<MeshComparison>& mesh
     plot.title = title;
     plot.x_label = "triangles (log scale)";
     plot.y_label = "two-sided Hausdorff distance (voxels)";
-    for (MeshMethod method : {MeshMethod::dmc, MeshMethod::mc, MeshMethod::openvdb}) {
+    for (MeshMethod method : {MeshMethod::dmc, MeshMethod::dc, MeshMethod::mc, MeshMethod::openvdb}) {
         PlotSeries series;
-        series.name = method == MeshMethod::openvdb ? "volumeToMesh" : method == MeshMethod::dmc ? "DMC" : "MC";
+        series.name = method == MeshMethod::openvdb ? "volumeToMesh" : method == MeshMethod::dmc ? "DMC" : method == MeshMethod::dc ? "DC" : "MC";
         for (const auto& m : meshes) {
             if (m.method != method) continue;
             std::ostringstream label;
@@ -210,6 +211,7 @@ int run_compare(const CompareCommandOptions& o) {
     const ThreadLimit limit(o.common);
     CompareOptions options;
     options.errors = parse_number_list("--error", o.errors);
+    if (!o.dc_errors.empty()) options.dc_errors = parse_number_list("--dc-error", o.dc_errors);
     options.adaptivities = parse_number_list("--adaptivity", o.adaptivities);
     options.inside = o.inside;
     options.accuracy.samples = o.samples;
@@ -249,6 +251,7 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
     command.add_option("--size", o.size, "--phantom: edge of the cubic volume in voxels")->capture_default_str();
     command.add_option("--blur", o.blur, "--phantom: half-width of the density ramp in voxels")->capture_default_str();
     command.add_option("--error", o.errors, "DMC error tolerances (voxels), one mesh each")->capture_default_str();
+    command.add_option("--dc-error", o.dc_errors, "Intersection-free DC error tolerances (voxels), one mesh each");
     command.add_option("--adaptivity", o.adaptivities, "volumeToMesh adaptivities in [0, 1], one mesh each")
         ->capture_default_str();
     const std::map<std::string, Inside> sides = {{"above", Inside::above}, {"below", Inside::below}};

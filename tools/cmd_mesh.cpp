@@ -32,14 +32,14 @@ namespace vdbmesh::cli {
 namespace {
 
 const std::map<std::string, MeshMethod> kMethods = {
-    {"dmc", MeshMethod::dmc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}};
+    {"dmc", MeshMethod::dmc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}, {"dc", MeshMethod::dc}};
 const std::map<std::string, Inside> kSides = {{"above", Inside::above}, {"below", Inside::below}};
 
 struct MeshCommandOptions {
     std::vector<std::string> inputs;  ///< the input, then the further parts of a split raw scan
     std::string output;
     std::optional<double> iso;
-    std::string method = "dmc";
+    std::string method = "dc";
     std::optional<std::string> inside;  ///< default: above, below for a level set
     MeshOptions mesh;
     bool ascii = false;
@@ -73,7 +73,7 @@ openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& pr
 nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const ProcessingReport& processing,
                                     const MeshResult& result, const std::optional<MeshAnalysis>& verified, double seconds) {
     const Mesh& mesh = result.mesh;
-    const bool dmc = options.mesh.method == MeshMethod::dmc, openvdb = options.mesh.method == MeshMethod::openvdb;
+    const bool dmc = options.mesh.method == MeshMethod::dmc || options.mesh.method == MeshMethod::dc, openvdb = options.mesh.method == MeshMethod::openvdb;
     nlohmann::ordered_json j;
     j["output"] = options.output;
     j["method"] = lowercase(options.method);
@@ -145,10 +145,11 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
         ->required();
     command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj")->required();
     command.add_option("--iso", options->iso, "Isovalue (default for a .vdb: the one stored by convert)");
-    command.add_option("--method", options->method, "Mesher: dmc (Dual Marching Cubes), mc, openvdb (volumeToMesh)")
+    command.add_option("--method", options->method,
+                       "Mesher: dc (intersection-free Dual Contouring, the default), dmc (Dual Marching Cubes), mc, openvdb (volumeToMesh)")
         ->check(CLI::IsMember(kMethods, CLI::ignore_case))
         ->capture_default_str();
-    command.add_option("--error", options->mesh.error, "DMC: tolerated QEF error in voxels (0: no simplification)")
+    command.add_option("--error", options->mesh.error, "dc, dmc: tolerated error in voxels (0: no simplification, Marching Cubes)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")

@@ -34,11 +34,11 @@ inline constexpr CommandEntry kCommands[] = {
     {"info", "Describe a scan or .vdb file and suggest an isovalue", add_info_command},
     {"convert", "Stream a scan into a sparse OpenVDB grid (.vdb)", add_convert_command},
     {"phantom", "Write a synthetic test volume (sphere, cube, torus ...) in any format we read", add_phantom_command},
-    {"mesh", "Mesh a .vdb grid or a scan at an isovalue into STL, PLY or OBJ (DMC, MC or volumeToMesh)", add_mesh_command},
+    {"mesh", "Mesh a .vdb grid or a scan at an isovalue into STL, PLY or OBJ (DC, DMC, MC or volumeToMesh)", add_mesh_command},
     {"check", "Validate a mesh (closed, manifold, oriented, self-intersections) and measure it", add_check_command},
     {"measure", "Area, volume, centroid, inertia, principal axes, genus and components of a mesh or of a scan's surface", add_measure_command},
     {"section", "Cut a closed mesh (or a scan's surface) by planes: nested loops, area, perimeter, moments, SVG", add_section_command},
-    {"compare", "Mesh one grid with DMC, MC and volumeToMesh; time them, validate them, measure them against the true surface", add_compare_command},
+    {"compare", "Mesh one grid with DC, DMC, MC and volumeToMesh; time them, validate them, measure them against the true surface", add_compare_command},
     {"view", "Show a scan (re-meshed live as the isovalue moves) or a mesh in the browser", add_view_command},
 };
 

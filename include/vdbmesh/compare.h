@@ -95,6 +95,7 @@ struct CompareOptions {
     double iso = 0;
     Inside inside = Inside::above;
     std::vector<double> errors{0, 0.1, 0.25, 0.5};         ///< DMC, one mesh each
+    std::vector<double> dc_errors;                         ///< intersection-free DC, one mesh each
     std::vector<double> adaptivities{0, 0.1, 0.25, 1};     ///< volumeToMesh, one mesh each
     bool marching_cubes = true;                            ///< one MC mesh
     AccuracyOptions accuracy;

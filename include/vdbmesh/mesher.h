@@ -15,9 +15,12 @@
 namespace vdbmesh {
 
 enum class MeshMethod {
-    dmc,      ///< Dual Marching Cubes on the leaf octrees (Schaefer and Warren 2004), adaptive by --error
+    dmc,      ///< Dual Marching Cubes on the leaf octrees (Schaefer and Warren 2004), adaptive by --error,
+              ///< clean by a whole-mesh check-and-refine loop
     mc,       ///< Marching Cubes on the samples, vertices welded by grid edge
     openvdb,  ///< openvdb::tools::volumeToMesh, quads split along the shorter diagonal
+    dc,       ///< intersection-free Dual Contouring on the leaf octrees (Ju and Udeshi 2006), Marching
+              ///< Cubes in unit cells, adaptive by --error
 };
 
 /// Which side of the isovalue is the object.
@@ -27,9 +30,9 @@ enum class Inside {
 };
 
 struct MeshOptions {
-    MeshMethod method = MeshMethod::dmc;
+    MeshMethod method = MeshMethod::dc;  ///< the default: clean by construction at any error
     double iso = 0.0;           ///< isovalue, in the grid's value units
-    double error = 0.0;         ///< DMC: QEF error tolerance in voxels (0: no merging, equals MC)
+    double error = 0.0;         ///< dc, dmc: error tolerance in voxels (0: no merging, equals MC)
     double adaptivity = 0.0;    ///< openvdb: volumeToMesh adaptivity in [0, 1]
     Inside inside = Inside::above;
     bool open_boundary = false; ///< leave the surface open where it meets the scan's box

@@ -154,7 +154,7 @@ def test_the_surface_is_closed_where_the_object_meets_the_border():
     assert vdbmesh.check(vertices, faces)["volume"] == pytest.approx(expected, rel=1e-9)
 
 
-@pytest.mark.parametrize("method, options", [("dmc", {"error": 0.25}), ("openvdb", {"adaptivity": 0.5})])
+@pytest.mark.parametrize("method, options", [("dc", {"error": 0.25}), ("dmc", {"error": 0.25}), ("openvdb", {"adaptivity": 0.5})])
 def test_adaptive_meshes_are_clean_and_smaller(method, options):
     volume = sphere_field(64, 20.0)
     full = vdbmesh.mesh(volume, 0.0, method=method)

@@ -39,13 +39,14 @@ def read_volume(path):
     return _vdbmesh.read_volume(_existing_path(path))
 
 
-def mesh(volume_or_path, iso, method="dmc", error=0.0, inside="above", spacing=None, affine=None, adaptivity=0.0):
+def mesh(volume_or_path, iso, method="dc", error=0.0, inside="above", spacing=None, affine=None, adaptivity=0.0):
     """Meshes the isosurface ``iso`` of a volume: a 3D array, or the path of a scan or .vdb file
     (which carries its own geometry: then give neither spacing nor affine).
 
-    method: "dmc" (Dual Marching Cubes, adaptive with ``error`` > 0, in voxels; at 0 it equals
-    Marching Cubes), "mc" (Marching Cubes) or "openvdb" (volumeToMesh, adaptive with
-    ``adaptivity`` in [0, 1]). inside: "above" (values above iso are the object) or "below".
+    method: "dc" (intersection-free Dual Contouring, adaptive with ``error`` > 0, in voxels,
+    closed, manifold and free of self-intersections by construction; at 0 it equals Marching
+    Cubes), "dmc" (Dual Marching Cubes, made clean by a check-and-refine loop), "mc"
+    (Marching Cubes) or "openvdb" (volumeToMesh, adaptive with ``adaptivity`` in [0, 1]). inside: "above" (values above iso are the object) or "below".
     The surface is closed where the object meets the border of the volume.
 
     Returns ``(vertices, faces)``: N x 3 float32 in world units and M x 3 int32.

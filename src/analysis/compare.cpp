@@ -134,6 +134,8 @@ const char* method_name(MeshMethod method) {
             return "mc";
         case MeshMethod::openvdb:
             return "openvdb";
+        case MeshMethod::dc:
+            return "dc";
     }
     return "unknown";
 }
@@ -211,6 +213,7 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
         runs.push_back(run);
     };
     for (double error : options.errors) add_run(MeshMethod::dmc, error, std::nullopt);
+    for (double error : options.dc_errors) add_run(MeshMethod::dc, error, std::nullopt);
     if (options.marching_cubes) add_run(MeshMethod::mc, std::nullopt, std::nullopt);
     for (double adaptivity : options.adaptivities) add_run(MeshMethod::openvdb, std::nullopt, adaptivity);
 

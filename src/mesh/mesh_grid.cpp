@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "mesh/dmc.h"
+#include "mesh/ifc.h"
 #include "mesh/marching_cubes.h"
 #include "mesh/mesh_phases.h"
 #include "mesh/openvdb_mesher.h"
@@ -27,6 +28,9 @@ void check_options(const MeshOptions& options) {
     if (options.open_boundary && options.method == MeshMethod::openvdb) {
         throw UsageError("open boundary: not available with the openvdb method (volumeToMesh meshes the grid's values as they are)");
     }
+    if (options.open_boundary && options.method == MeshMethod::dc) {
+        throw UsageError("open boundary: not available with the dc method (its cells close the surface)");
+    }
 }
 
 Mesh run_mesher(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report) {
@@ -37,6 +41,8 @@ Mesh run_mesher(const openvdb::FloatGrid& grid, const MeshOptions& options, Mesh
             return detail::marching_cubes(grid, options);
         case MeshMethod::openvdb:
             return detail::openvdb_volume_to_mesh(grid, options);
+        case MeshMethod::dc:
+            return detail::intersection_free_contouring(grid, options, report);
     }
     throw UsageError("mesh method: unknown value " + std::to_string(int(options.method)));
 }

@@ -58,19 +58,19 @@ TEST(CmdMeshTest, JsonReportsTheSettingsAndTheWrittenMesh) {
     const nlohmann::json report = nlohmann::json::parse(testing::internal::GetCapturedStdout());
     ASSERT_EQ(status, cli::kSuccess);
     const Mesh written = read_mesh(output);
-    EXPECT_EQ(report["method"], "dmc");
+    EXPECT_EQ(report["method"], "dc");
     EXPECT_EQ(report["error"], 0.25);
     EXPECT_TRUE(report["adaptivity"].is_null());
     EXPECT_EQ(report["triangles"], written.triangles.size());
     EXPECT_EQ(report["vertices"], written.vertices.size());
     EXPECT_GT(report["seconds"].get<double>(), 0.0);
-    // What the mesher did: DMC's phases in order, its rounds, no fallback.
+    // What the mesher did: its phases in order, no check-and-refine round, no fallback.
     ASSERT_TRUE(report["phases"].is_array());
     ASSERT_GE(report["phases"].size(), 2u);
     EXPECT_EQ(report["phases"][0]["name"], "octree");
     EXPECT_EQ(report["phases"][1]["name"], "contour");
     EXPECT_GE(report["phases"][0]["seconds"].get<double>(), 0.0);
-    EXPECT_GE(report["refinement_rounds"].get<int>(), 0);
+    EXPECT_EQ(report["refinement_rounds"].get<int>(), 0);
     EXPECT_TRUE(report["fallbacks"].is_array());
     EXPECT_TRUE(report["fallbacks"].empty());
 }

@@ -53,19 +53,24 @@ TEST_P(PhantomGuaranteesTest, EveryErrorGivesACleanMesh) {
     options.method = MeshMethod::mc;
     const Mesh mc = mesh_grid(*grid, options).mesh;
     EXPECT_TRUE(test::judge_with_cgal(mc).clean()) << "mc: " << test::judge_with_cgal(mc).describe();
-    options.method = MeshMethod::dmc;
-    std::size_t triangles_at_one = 0;
-    for (double error : {0.0, 0.1, 0.25, 0.5, 1.0}) {
-        options.error = error;
-        const Mesh mesh = mesh_grid(*grid, options).mesh;
-        const test::CgalVerdict verdict = test::judge_with_cgal(mesh);
-        EXPECT_TRUE(verdict.clean()) << "dmc --error " << error << ", " << mesh.triangles.size() << " triangles: " << verdict.describe();
-        triangles_at_one = mesh.triangles.size();
+    // DMC (safety net of checks) and intersection-free DC (guarantees by construction) alike.
+    for (MeshMethod method : {MeshMethod::dmc, MeshMethod::dc}) {
+        const char* name = method == MeshMethod::dmc ? "dmc" : "dc";
+        options.method = method;
+        std::size_t triangles_at_one = 0;
+        for (double error : {0.0, 0.1, 0.25, 0.5, 1.0}) {
+            options.error = error;
+            const Mesh mesh = mesh_grid(*grid, options).mesh;
+            const test::CgalVerdict verdict = test::judge_with_cgal(mesh);
+            EXPECT_TRUE(verdict.clean()) << name << " --error " << error << ", " << mesh.triangles.size()
+                                         << " triangles: " << verdict.describe();
+            triangles_at_one = mesh.triangles.size();
+        }
+        std::cout << "[ figures  ] " << GetParam().preset << (GetParam().noisy ? " noisy" : "") << ": " << name
+                  << " --error 1 keeps " << triangles_at_one << " of MC's " << mc.triangles.size() << " triangles\n";
+        EXPECT_LE(double(triangles_at_one), kMaxShareAtErrorOne * double(mc.triangles.size()))
+            << name << " at error 1 must have fewer triangles than Marching Cubes";
     }
-    std::cout << "[ figures  ] " << GetParam().preset << (GetParam().noisy ? " noisy" : "") << ": DMC --error 1 keeps "
-              << triangles_at_one << " of MC's " << mc.triangles.size() << " triangles\n";
-    EXPECT_LE(double(triangles_at_one), kMaxShareAtErrorOne * double(mc.triangles.size()))
-        << "DMC at error 1 must have fewer triangles than Marching Cubes";
 }
 
 INSTANTIATE_TEST_SUITE_P(Phantoms, PhantomGuaranteesTest, ::testing::ValuesIn(all_cases()),

@@ -123,7 +123,7 @@ TEST_F(ViewServerTest, InfoDescribesTheScan) {
 
 TEST_F(ViewServerTest, MeshBuffersAreTheLibrarysMesh) {
     RunningServer server(scan_source());
-    const auto result = server.get("/api/mesh?level=full&method=dmc&iso=0.5&error=0.25");
+    const auto result = server.get("/api/mesh?level=full&method=dc&iso=0.5&error=0.25");
     ASSERT_TRUE(result);
     ASSERT_EQ(result->status, 200);
     MeshOptions options;

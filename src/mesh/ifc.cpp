@@ -1,0 +1,117 @@
+// Intersection-free octree contouring, the driver: per block in parallel, the octree, then
+// the triangles with keyed vertices, then one weld of the keys. Blocks are visited in a fixed
+// order and keys are sorted, so the mesh does not depend on the thread count.
+
+#include "mesh/ifc.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <limits>
+#include <memory>
+
+#include "mesh/ifc_polygons.h"
+#include "mesh/marching_cubes.h"
+#include "mesh/mesh_phases.h"
+#include "mesh/surface_blocks.h"
+#include "vdbmesh/error.h"
+
+namespace vdbmesh::detail {
+
+namespace {
+
+bool uniform(const IfcSamples& samples) {
+    return std::all_of(samples.inside.begin(), samples.inside.end(), [&](bool in) { return in == samples.inside[0]; });
+}
+
+/// Calls @a visit(samples, accessor, block) for every block holding surface, in parallel.
+template <typename Visit>
+void for_each_surface_block(const openvdb::FloatGrid& grid, const SampleClassifier& classifier,
+                            const std::vector<openvdb::Coord>& origins, Visit&& visit) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size()), [&](const auto& range) {
+        auto accessor = grid.getConstAccessor();
+        auto samples = std::make_unique<IfcSamples>();
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+            samples->origin = origins[b];
+            load_ifc_samples(accessor, classifier, *samples);
+            if (!uniform(*samples)) visit(*samples, accessor, b);
+        }
+    });
+}
+
+/// One vertex per key, numbered in key order; vertices no triangle uses are dropped.
+Mesh weld(const std::vector<IfcBlockOutput>& outputs) {
+    std::size_t vertex_count = 0, triangle_count = 0;
+    for (const IfcBlockOutput& out : outputs) {
+        vertex_count += out.vertices.size();
+        triangle_count += out.triangles.size();
+    }
+    std::vector<IfcVertex> vertices;
+    vertices.reserve(vertex_count);
+    std::vector<std::array<std::uint64_t, 3>> triangles;
+    triangles.reserve(triangle_count);
+    for (const IfcBlockOutput& out : outputs) {
+        vertices.insert(vertices.end(), out.vertices.begin(), out.vertices.end());
+        triangles.insert(triangles.end(), out.triangles.begin(), out.triangles.end());
+    }
+    tbb::parallel_sort(vertices.begin(), vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key < b.key; });
+    vertices.erase(std::unique(vertices.begin(), vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key == b.key; }),
+                   vertices.end());
+    if (vertices.size() > std::numeric_limits<std::uint32_t>::max()) throw Error("contouring: more than 2^32 vertices");
+    Mesh mesh;
+    mesh.triangles.resize(triangles.size());
+    std::vector<std::uint8_t> used(vertices.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size()), [&](const auto& range) {
+        for (std::size_t t = range.begin(); t != range.end(); ++t) {
+            for (int k = 0; k < 3; ++k) {
+                const auto it = std::lower_bound(vertices.begin(), vertices.end(), triangles[t][k],
+                                                 [](const IfcVertex& v, std::uint64_t key) { return v.key < key; });
+                if (it == vertices.end() || it->key != triangles[t][k]) throw Error("contouring: a triangle refers to a missing vertex");
+                const std::size_t index = std::size_t(it - vertices.begin());
+                mesh.triangles[t][k] = std::uint32_t(index);
+                used[index] = 1;  // every writer writes 1: no race on the value
+            }
+        }
+    });
+    std::vector<std::uint32_t> new_index(vertices.size());
+    for (std::size_t v = 0; v < vertices.size(); ++v) {
+        new_index[v] = std::uint32_t(mesh.vertices.size());
+        if (used[v]) mesh.vertices.push_back(vertices[v].position);
+    }
+    for (auto& triangle : mesh.triangles) {
+        for (auto& v : triangle) v = new_index[v];
+    }
+    return mesh;
+}
+
+}  // namespace
+
+Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report) {
+    // No merging at error 0, not even of exactly flat surfaces (the faces of the scan box): the
+    // mesh is Marching Cubes, as documented.
+    if (options.error <= 0) return marching_cubes(grid, options);
+    PhaseClock clock;
+    const SampleClassifier classifier(grid, options);
+    IfcCellGrid cells;
+    cells.origins = surface_blocks(grid, classifier);
+    cells.blocks.resize(cells.origins.size());
+    for_each_surface_block(grid, classifier, cells.origins, [&](const IfcSamples& samples, auto&, std::size_t b) {
+        build_ifc_cells(samples, options.iso, options.error, cells.blocks[b]);
+    });
+    clock.lap(report, "octree");
+    if (options.progress) options.progress(0.4);
+    std::vector<IfcBlockOutput> outputs(cells.origins.size());
+    for_each_surface_block(grid, classifier, cells.origins, [&](const IfcSamples& samples, auto& accessor, std::size_t b) {
+        contour_ifc_block(samples, classifier, accessor, cells, b, grid.transform(), outputs[b]);
+    });
+    clock.lap(report, "contour");
+    if (options.progress) options.progress(0.8);
+    Mesh mesh = weld(outputs);
+    clock.lap(report, "weld");
+    if (options.progress) options.progress(1.0);
+    return mesh;
+}
+
+}  // namespace vdbmesh::detail

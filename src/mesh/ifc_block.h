@@ -1,0 +1,78 @@
+#pragma once
+// Private: the intersection-free octree contouring (ifc.cpp) of one 8^3 block of cells. A
+// cell is the cube between 8 samples, as in Marching Cubes. Unit cells stay Marching Cubes
+// cells; cells of 2, 4 and 8 voxels are merged bottom-up where the surface inside is one
+// disk the cell's single vertex can stand for (ifc_octree.cpp), and are contoured dually.
+
+#include <openvdb/openvdb.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "mesh/edge_crossing.h"
+#include "mesh/sample_classifier.h"
+
+namespace vdbmesh::detail {
+
+inline constexpr int kIfcBlock = 8;        ///< cells per block edge, as a leaf node
+inline constexpr int kIfcMaxLevel = 3;     ///< merged cells up to 2^3 = 8 voxels
+inline constexpr int kIfcSampleDim = kIfcBlock + 3;  ///< samples -1..9: cells 0..7 and gradients
+
+/// The samples a block reads, local coordinates in [-1, 9].
+struct IfcSamples {
+    openvdb::Coord origin;
+    std::array<double, kIfcSampleDim * kIfcSampleDim * kIfcSampleDim> value;
+    std::array<bool, kIfcSampleDim * kIfcSampleDim * kIfcSampleDim> inside;
+
+    static int index(int x, int y, int z) { return ((x + 1) * kIfcSampleDim + (y + 1)) * kIfcSampleDim + (z + 1); }
+    bool in(int x, int y, int z) const { return inside[index(x, y, z)]; }
+    double at(int x, int y, int z) const { return value[index(x, y, z)]; }
+    /// Whether the grid edge from local sample (x, y, z) along @a axis is crossed.
+    bool crossed(int x, int y, int z, int axis) const {
+        return in(x, y, z) != in(x + (axis == 0), y + (axis == 1), z + (axis == 2));
+    }
+    /// Marching Cubes configuration of the unit cell at local (x, y, z): bit c for corner c inside.
+    unsigned config(int x, int y, int z) const;
+};
+
+void load_ifc_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier, IfcSamples& samples);
+
+/// The crossing of the crossed edge from local sample (x, y, z) along @a axis (index space,
+/// global) and the surface normal there (unit length, from central differences).
+struct Hermite {
+    Point3d point;
+    Point3d normal;
+};
+Hermite edge_hermite(const IfcSamples& samples, double iso, int x, int y, int z, int axis);
+
+/// A merged cell holding surface: its level (size 2^level), minimum corner (local) and vertex.
+struct IfcCell {
+    std::uint8_t level;
+    std::array<std::uint8_t, 3> min;
+    Point3d vertex;  ///< index space, strictly inside the cell
+};
+
+/// The cells of one block.
+struct IfcBlockCells {
+    /// Per unit cell (local x * 64 + y * 8 + z): the level of the cell holding it (0: a unit
+    /// Marching Cubes cell).
+    std::array<std::uint8_t, kIfcBlock * kIfcBlock * kIfcBlock> level{};
+    /// Per unit cell: index into @a cells of its merged cell, or kNoCell (unit, or merged
+    /// without surface).
+    std::array<std::uint16_t, kIfcBlock * kIfcBlock * kIfcBlock> cell{};
+    std::vector<IfcCell> cells;
+
+    static constexpr std::uint16_t kNoCell = 0xffff;
+    static int unit_index(int x, int y, int z) { return (x * kIfcBlock + y) * kIfcBlock + z; }
+};
+
+/// How far a merged cell's vertex and a face point stay inside their cell or face (voxels):
+/// far above the float rounding of the output, so containment survives it.
+inline constexpr double kIfcInteriorMargin = 1e-2;
+
+/// Builds the cells of one block: merges where the QEF vertex stays within @a error (voxels)
+/// of every surface sample in the cell and the topology tests pass.
+void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells);
+
+}  // namespace vdbmesh::detail

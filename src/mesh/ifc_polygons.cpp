@@ -1,0 +1,410 @@
+// Polygons of intersection-free octree contouring, after Ju and Udeshi, "Intersection-free
+// Contouring on an Octree Grid" (Pacific Graphics 2006), with Marching Cubes in unit cells.
+//
+// Why no two triangles cross. Every merged cell C is cut into pyramids from its vertex v_C
+// (strictly inside C) over its minimal faces, and each pyramid over a face f shared with
+// another merged cell into tetrahedra (v_C, x_f, e) over the minimal edges e of f, where x_f
+// is a point strictly inside f. Unit cells stay whole. Each triangle lies in one of these
+// pieces, or in the union of the pieces around one edge, and pieces meet only on their
+// boundaries, where the triangles share their edges:
+//  - unit cells: Marching Cubes triangles, inside the cube;
+//  - a merged cell C next to a unit cell across unit face f: the triangle (v_C, p_e, p_q) over
+//    the surface's segment on f, inside the pyramid (v_C, f);
+//  - a crossed minimal edge e with a merged cell on some side: the fan around its crossing
+//    p_e: (p_e, v_i, v_i+1) when the segment v_i v_i+1 passes strictly inside their face
+//    (the face test; x_f is that crossing, and the triangle lies in the tetrahedron
+//    (e, v_i, v_i+1)), else (p_e, v_i, m_f), (p_e, m_f, v_i+1) with a face point m_f;
+//  - the same edge with only merged cells around it and every face test passed: the polygon
+//    v_1..v_k without p_e, triangulated from one corner, when the flip of the tetrahedra
+//    (e, v_i, v_i+1) into (e_0 | e_1, v_1, v_j, v_j+1) keeps every orientation (the edge
+//    test): the new tetrahedra then tile the same region, and the triangles are their faces.
+// The tests use a margin far above the float rounding of the output (kIfcInteriorMargin,
+// kOrientationFloor), so what holds in double holds for the written floats.
+
+#include "mesh/ifc_polygons.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "mesh/mc_table.h"
+#include "vdbmesh/error.h"
+
+namespace vdbmesh::detail {
+
+std::ptrdiff_t IfcCellGrid::block_at(const openvdb::Coord& origin) const {
+    const auto it = std::lower_bound(origins.begin(), origins.end(), origin);
+    return it != origins.end() && *it == origin ? it - origins.begin() : -1;
+}
+
+namespace {
+
+/// Six times a tetrahedron's volume (voxels^3) below which a flip is not trusted.
+constexpr double kOrientationFloor = 1e-3;
+
+// ---- Vertex keys: kind (2 bits), payload (5 bits), x, y, z (19 bits each, biased) ----
+constexpr int kCoordBits = 19;
+constexpr std::int64_t kCoordBias = std::int64_t(1) << (kCoordBits - 1);
+
+std::uint64_t make_key(unsigned kind, unsigned payload, const openvdb::Coord& p) {
+    std::uint64_t key = (std::uint64_t(kind) << 62) | (std::uint64_t(payload) << 57);
+    for (int a = 0; a < 3; ++a) {
+        const std::int64_t c = std::int64_t(p[a]) + kCoordBias;
+        if (c < 0 || c >= (std::int64_t(1) << kCoordBits)) throw Error("contouring: grid coordinates beyond +-2^18");
+        key |= std::uint64_t(c) << (kCoordBits * (2 - a));
+    }
+    return key;
+}
+std::uint64_t edge_key(const openvdb::Coord& min_sample, int axis) { return make_key(0, unsigned(axis), min_sample); }
+
+/// A leaf cell of the octree as seen from an edge: a unit Marching Cubes cell or a merged cell.
+struct CellView {
+    openvdb::Coord min;
+    int size = 1;
+    int level = 0;
+    const Point3d* vertex = nullptr;  ///< merged cells
+    bool merged() const { return vertex != nullptr; }
+    bool operator==(const CellView& o) const { return min == o.min && size == o.size; }
+    std::uint64_t key() const { return make_key(1, unsigned(level), min); }
+};
+
+Point3d to_point(const openvdb::Coord& c) { return {double(c.x()), double(c.y()), double(c.z())}; }
+
+double orient(const Point3d& a, const Point3d& b, const Point3d& c, const Point3d& d) {
+    const double b0 = b[0] - a[0], b1 = b[1] - a[1], b2 = b[2] - a[2];
+    const double c0 = c[0] - a[0], c1 = c[1] - a[1], c2 = c[2] - a[2];
+    const double d0 = d[0] - a[0], d1 = d[1] - a[1], d2 = d[2] - a[2];
+    return b0 * (c1 * d2 - c2 * d1) - b1 * (c0 * d2 - c2 * d0) + b2 * (c0 * d1 - c1 * d0);
+}
+
+class BlockContour {
+public:
+    BlockContour(const IfcSamples& s, const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor,
+                 const IfcCellGrid& grid, std::size_t block, const openvdb::math::Transform& transform, IfcBlockOutput& out)
+        : s_(s), classifier_(classifier), accessor_(accessor), iso_(classifier.iso()), grid_(grid), block_(block),
+          transform_(transform), out_(out) {}
+
+    void run() {
+        const IfcBlockCells& cells = grid_.blocks[block_];
+        for (const IfcCell& cell : cells.cells) {
+            const openvdb::Coord min = s_.origin.offsetBy(cell.min[0], cell.min[1], cell.min[2]);
+            add_vertex(make_key(1, cell.level, min), cell.vertex);
+        }
+        for (int x = 0; x < kIfcBlock; ++x) {
+            for (int y = 0; y < kIfcBlock; ++y) {
+                for (int z = 0; z < kIfcBlock; ++z) {
+                    if (cells.level[IfcBlockCells::unit_index(x, y, z)] == 0) marching_cube(x, y, z);
+                    for (int axis = 0; axis < 3; ++axis) {
+                        if (s_.crossed(x, y, z, axis)) crossed_edge(x, y, z, axis);
+                    }
+                }
+            }
+        }
+    }
+
+private:
+    void add_vertex(std::uint64_t key, const Point3d& index_point) {
+        const openvdb::Vec3d w = transform_.indexToWorld(openvdb::Vec3d(index_point[0], index_point[1], index_point[2]));
+        out_.vertices.push_back({key, {float(w[0]), float(w[1]), float(w[2])}});
+    }
+    void add_triangle(std::uint64_t a, std::uint64_t b, std::uint64_t c) { out_.triangles.push_back({a, b, c}); }
+
+    void marching_cube(int x, int y, int z) {
+        const McCase& c = mc_case(s_.config(x, y, z));
+        for (int t = 0; t < c.triangle_count; ++t) {
+            std::array<std::uint64_t, 3> keys;
+            for (int k = 0; k < 3; ++k) {
+                const unsigned c0 = kEdgeCorners[c.triangles[t][k]][0], c1 = kEdgeCorners[c.triangles[t][k]][1];
+                const int axis = (c0 ^ c1) == 1 ? 0 : (c0 ^ c1) == 2 ? 1 : 2;
+                keys[k] = edge_key(s_.origin.offsetBy(x + int(c0 & 1), y + int((c0 >> 1) & 1), z + int(c0 >> 2)), axis);
+            }
+            add_triangle(keys[0], keys[1], keys[2]);
+        }
+    }
+
+    /// The leaf cell holding the unit cell with global minimum corner @a unit.
+    CellView cell_of(const openvdb::Coord& unit) const {
+        const openvdb::Coord origin(unit.x() & ~(kIfcBlock - 1), unit.y() & ~(kIfcBlock - 1), unit.z() & ~(kIfcBlock - 1));
+        CellView view;
+        view.min = unit;
+        const std::ptrdiff_t b = origin == s_.origin ? std::ptrdiff_t(block_) : grid_.block_at(origin);
+        if (b < 0) return view;  // a block without surface: all unit cells
+        const IfcBlockCells& cells = grid_.blocks[std::size_t(b)];
+        const openvdb::Coord local = unit - origin;
+        const int u = IfcBlockCells::unit_index(local.x(), local.y(), local.z());
+        view.level = cells.level[u];
+        view.size = 1 << view.level;
+        view.min = openvdb::Coord(unit.x() & ~(view.size - 1), unit.y() & ~(view.size - 1), unit.z() & ~(view.size - 1));
+        if (cells.cell[u] != IfcBlockCells::kNoCell) view.vertex = &cells.cells[cells.cell[u]].vertex;
+        return view;
+    }
+
+    struct Ring {
+        std::array<CellView, 4> cell;
+        /// Per cell: the quadrant (0..3, counter-clockwise) where it ends going round, so the
+        /// face to the next cell lies between quadrants end and end + 1.
+        std::array<int, 4> end;
+        int count = 0;
+    };
+
+    void crossed_edge(int x, int y, int z, int axis) {
+        const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+        const openvdb::Coord e = s_.origin.offsetBy(x, y, z);
+        const std::uint64_t p_key = edge_key(e, axis);
+        add_vertex(p_key, crossing_point(x, y, z, axis));  // Marching Cubes cells may use it too
+        // Quadrants counter-clockwise round +axis (u x w = axis): (+,+), (-,+), (-,-), (+,-).
+        static constexpr int kDu[4] = {0, -1, -1, 0}, kDw[4] = {0, 0, -1, -1};
+        std::array<CellView, 4> quadrant;
+        bool any_merged = false;
+        for (int q = 0; q < 4; ++q) {
+            openvdb::Coord unit = e;
+            unit[u] += kDu[q];
+            unit[w] += kDw[q];
+            quadrant[q] = cell_of(unit);
+            any_merged |= quadrant[q].merged();
+        }
+        if (!any_merged) return;  // Marching Cubes all round
+        // Counter-clockwise round the outward direction: from the inside end to the outside end.
+        const bool outward_positive = s_.in(x, y, z);
+        Ring ring;
+        for (int step = 0; step < 4; ++step) {
+            const int q = outward_positive ? step : (4 - step) % 4;
+            if (ring.count > 0 && ring.cell[ring.count - 1] == quadrant[q]) {
+                ring.end[ring.count - 1] = q;
+                continue;
+            }
+            ring.cell[ring.count] = quadrant[q];
+            ring.end[ring.count] = q;
+            ++ring.count;
+        }
+        if (ring.count > 1 && ring.cell[ring.count - 1] == ring.cell[0]) --ring.count;  // wrapped round
+        if (ring.count <= 2) return;  // inside a cell or a face: the cells' vertices stand for it
+        if (try_polygon(ring, e, axis)) return;
+        fan(ring, e, axis, outward_positive, p_key);
+    }
+
+    Point3d crossing_point(int x, int y, int z, int axis) const {
+        const Point3d p0 = to_point(s_.origin.offsetBy(x, y, z));
+        Point3d p1 = p0;
+        p1[axis] += 1;
+        return edge_crossing(p0, s_.at(x, y, z), p1, s_.at(x + (axis == 0), y + (axis == 1), z + (axis == 2)), iso_);
+    }
+
+    // ---- faces between two merged cells ----
+    struct FacePlan {
+        bool direct = false;  ///< the segment between the vertices crosses the face inside
+        std::uint64_t key = 0;
+        Point3d point{};
+    };
+
+    /// The midpoint of the two crossed grid edges on the perimeter of the face [lo, hi] (flat
+    /// along @a normal); none unless there are exactly two.
+    std::optional<Point3d> chord_midpoint(const Point3d& lo, const Point3d& hi, int normal) {
+        const int u = (normal + 1) % 3, w = (normal + 2) % 3;
+        Point3d sum = {0, 0, 0};
+        int count = 0;
+        auto visit = [&](openvdb::Coord start, int axis) {
+            const openvdb::Coord end = start.offsetBy(axis == 0, axis == 1, axis == 2);
+            const double f0 = sample(start), f1 = sample(end);
+            if (classifier_.inside(f0) == classifier_.inside(f1)) return;
+            const Point3d p = edge_crossing(to_point(start), f0, to_point(end), f1, iso_);
+            for (int a = 0; a < 3; ++a) sum[a] += p[a];
+            ++count;
+        };
+        const openvdb::Coord corner{int(lo[0]), int(lo[1]), int(lo[2])};
+        const int size_u = int(hi[u] - lo[u]), size_w = int(hi[w] - lo[w]);
+        for (int i = 0; i < size_u; ++i) {
+            openvdb::Coord a = corner, b = corner;
+            a[u] += i;
+            b[u] += i;
+            b[w] += size_w;
+            visit(a, u);
+            visit(b, u);
+        }
+        for (int j = 0; j < size_w; ++j) {
+            openvdb::Coord a = corner, b = corner;
+            a[w] += j;
+            b[w] += j;
+            b[u] += size_u;
+            visit(a, w);
+            visit(b, w);
+        }
+        if (count != 2) return std::nullopt;
+        for (double& c : sum) c *= 0.5;
+        return sum;
+    }
+
+    /// The value meshers use at grid point @a ijk.
+    double sample(const openvdb::Coord& ijk) {
+        const openvdb::Coord local = ijk - s_.origin;
+        if (local.x() >= -1 && local.x() <= kIfcBlock + 1 && local.y() >= -1 && local.y() <= kIfcBlock + 1 &&
+            local.z() >= -1 && local.z() <= kIfcBlock + 1) {
+            return s_.at(local.x(), local.y(), local.z());
+        }
+        return classifier_.sample_value(ijk, accessor_.getValue(ijk));
+    }
+
+    /// The face shared by merged cells @a a and @a b, decided the same whichever edge asks.
+    FacePlan face_plan(const CellView& a_in, const CellView& b_in) {
+        const bool swap = b_in.key() < a_in.key();
+        const CellView& a = swap ? b_in : a_in;
+        const CellView& b = swap ? a_in : b_in;
+        Point3d lo, hi;
+        int normal = 0;
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::max(a.min[k], b.min[k]);
+            hi[k] = std::min(a.min[k] + a.size, b.min[k] + b.size);
+            if (lo[k] == hi[k]) normal = k;
+        }
+        const Point3d& va = *a.vertex;
+        const Point3d& vb = *b.vertex;
+        const double t = (lo[normal] - va[normal]) / (vb[normal] - va[normal]);
+        FacePlan plan;
+        plan.direct = true;
+        for (int k = 0; k < 3; ++k) {
+            if (k == normal) {
+                plan.point[k] = lo[k];
+                continue;
+            }
+            const double x = va[k] + t * (vb[k] - va[k]);
+            if (!(x > lo[k] + kIfcInteriorMargin && x < hi[k] - kIfcInteriorMargin)) plan.direct = false;
+            plan.point[k] = std::clamp(x, lo[k] + kIfcInteriorMargin, hi[k] - kIfcInteriorMargin);
+        }
+        if (!plan.direct) {
+            // On the chord of the surface's trace across the face, strictly inside the face
+            // and near the surface (the clamped crossing can be a face's width away from it).
+            const auto chord = chord_midpoint(lo, hi, normal);
+            if (chord) plan.point = *chord;
+            // Named by the smaller cell (the face is one of its faces) and the side it faces.
+            const CellView& owner = a.size <= b.size ? a : b;
+            const CellView& other = a.size <= b.size ? b : a;
+            const bool positive = other.min[normal] >= owner.min[normal] + owner.size;
+            plan.key = make_key(2, unsigned(owner.level << 3 | (normal * 2 + positive)), owner.min);
+            add_vertex(plan.key, plan.point);
+        }
+        return plan;
+    }
+
+    /// The polygon of the ring's merged cells, without the edge's crossing: every face test
+    /// and the edge test must pass.
+    bool try_polygon(const Ring& ring, const openvdb::Coord& e, int axis) {
+        for (int i = 0; i < ring.count; ++i) {
+            if (!ring.cell[i].merged()) return false;
+        }
+        for (int i = 0; i < ring.count; ++i) {
+            if (!face_plan(ring.cell[i], ring.cell[(i + 1) % ring.count]).direct) return false;
+        }
+        // The minimal edge: the part of the grid line all the ring's cells touch.
+        Point3d e0 = to_point(e), e1 = e0;
+        e0[axis] = -1e300;
+        e1[axis] = 1e300;
+        for (int i = 0; i < ring.count; ++i) {
+            e0[axis] = std::max(e0[axis], double(ring.cell[i].min[axis]));
+            e1[axis] = std::min(e1[axis], double(ring.cell[i].min[axis] + ring.cell[i].size));
+        }
+        std::array<const Point3d*, 4> v;
+        for (int i = 0; i < ring.count; ++i) v[i] = ring.cell[i].vertex;
+        const double sigma = orient(e0, e1, *v[0], *v[1]) > 0 ? 1.0 : -1.0;
+        for (int i = 0; i < ring.count; ++i) {
+            if (sigma * orient(e0, e1, *v[i], *v[(i + 1) % ring.count]) <= kOrientationFloor) return false;
+        }
+        // Fans from corner 0, or (a quadrilateral) from corner 1: the shorter diagonal first.
+        std::array<int, 2> starts = {0, 1};
+        if (ring.count == 4 && squared_distance(*v[1], *v[3]) < squared_distance(*v[0], *v[2])) std::swap(starts[0], starts[1]);
+        const int tries = ring.count == 4 ? 2 : 1;
+        for (int t = 0; t < tries; ++t) {
+            const int s = starts[t];
+            bool valid = true;
+            for (int j = 1; j + 1 < ring.count && valid; ++j) {
+                const Point3d& a = *v[s];
+                const Point3d& b = *v[(s + j) % ring.count];
+                const Point3d& c = *v[(s + j + 1) % ring.count];
+                valid = sigma * orient(e0, a, b, c) > kOrientationFloor && -sigma * orient(e1, a, b, c) > kOrientationFloor;
+            }
+            if (!valid) continue;
+            for (int j = 1; j + 1 < ring.count; ++j) {
+                add_triangle(ring.cell[s].key(), ring.cell[(s + j) % ring.count].key(), ring.cell[(s + j + 1) % ring.count].key());
+            }
+            return true;
+        }
+        return false;
+    }
+
+    static double squared_distance(const Point3d& a, const Point3d& b) {
+        return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+    }
+
+    /// The other crossed edge of the unit face between quadrants @a q and @a q + 1 round edge @a e.
+    std::uint64_t partner_on_unit_face(const openvdb::Coord& e, int axis, int q, bool outward_positive) const {
+        const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+        // Between quadrants q and the next one going round (in the ring's direction).
+        const int next = outward_positive ? (q + 1) % 4 : (q + 3) % 4;
+        static constexpr int kDu[4] = {0, -1, -1, 0}, kDw[4] = {0, 0, -1, -1};
+        // The two quadrants share their offset along the face's in-plane perpendicular axis.
+        const bool same_u = kDu[q] == kDu[next];
+        const int across = same_u ? u : w;  // in the face, perpendicular to the edge
+        const int offset = same_u ? kDu[q] : kDw[q];
+        openvdb::Coord origin = e;
+        origin[across] += offset;
+        // The face's four edges: along axis at origin and origin + across; along across at
+        // origin and origin + axis.
+        std::array<std::pair<openvdb::Coord, int>, 4> edges;
+        edges[0] = {origin, axis};
+        edges[1] = {origin, axis};
+        edges[1].first[across] += 1;
+        edges[2] = {origin, across};
+        edges[3] = {origin, across};
+        edges[3].first[axis] += 1;
+        const std::uint64_t own = edge_key(e, axis);
+        for (const auto& [start, dir] : edges) {
+            const openvdb::Coord local = start - s_.origin;
+            if (!s_.crossed(local.x(), local.y(), local.z(), dir)) continue;
+            const std::uint64_t key = edge_key(start, dir);
+            if (key != own) return key;
+        }
+        throw Error("contouring: a unit face next to a merged cell has one crossed edge");
+    }
+
+    /// The fan round the edge's crossing @a p.
+    void fan(const Ring& ring, const openvdb::Coord& e, int axis, bool outward_positive, std::uint64_t p) {
+        for (int i = 0; i < ring.count; ++i) {
+            const CellView& a = ring.cell[i];
+            const CellView& b = ring.cell[(i + 1) % ring.count];
+            if (a.merged() && b.merged()) {
+                const FacePlan plan = face_plan(a, b);
+                if (plan.direct) {
+                    add_triangle(p, a.key(), b.key());
+                } else {
+                    add_triangle(p, a.key(), plan.key);
+                    add_triangle(p, plan.key, b.key());
+                }
+            } else if (a.merged() || b.merged()) {
+                // The unit cell's face holds the surface's segment p-q; the triangle over it
+                // is made once, from the edge with the smaller key.
+                const std::uint64_t q = partner_on_unit_face(e, axis, ring.end[i], outward_positive);
+                if (q < p) continue;
+                if (a.merged()) add_triangle(p, a.key(), q);
+                else add_triangle(p, q, b.key());
+            }
+        }
+    }
+
+    const IfcSamples& s_;
+    const SampleClassifier& classifier_;
+    openvdb::FloatGrid::ConstAccessor& accessor_;
+    double iso_;
+    const IfcCellGrid& grid_;
+    std::size_t block_;
+    const openvdb::math::Transform& transform_;
+    IfcBlockOutput& out_;
+};
+
+}  // namespace
+
+void contour_ifc_block(const IfcSamples& samples, const SampleClassifier& classifier,
+                       openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid, std::size_t block,
+                       const openvdb::math::Transform& transform, IfcBlockOutput& out) {
+    BlockContour(samples, classifier, accessor, grid, block, transform, out).run();
+}
+
+}  // namespace vdbmesh::detail

@@ -1,0 +1,41 @@
+#pragma once
+// Private: the triangles of intersection-free octree contouring (ifc_polygons.cpp), per block,
+// with their vertices named by keys (a grid edge, a merged cell, a face between two merged
+// cells) so that blocks weld them without coordinates.
+
+#include <openvdb/openvdb.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "mesh/ifc_block.h"
+
+namespace vdbmesh::detail {
+
+struct IfcVertex {
+    std::uint64_t key;
+    std::array<float, 3> position;  ///< world space
+};
+
+struct IfcBlockOutput {
+    std::vector<IfcVertex> vertices;                     ///< may repeat a key (same position)
+    std::vector<std::array<std::uint64_t, 3>> triangles;  ///< counter-clockwise seen from outside
+};
+
+/// The blocks' cells, found by the origin of their block.
+struct IfcCellGrid {
+    std::vector<openvdb::Coord> origins;  ///< sorted
+    std::vector<IfcBlockCells> blocks;    ///< in the same order
+    /// The index of the block at @a origin, or -1.
+    std::ptrdiff_t block_at(const openvdb::Coord& origin) const;
+};
+
+/// Triangles of the block at @a samples.origin: Marching Cubes in its unit cells, and the
+/// polygons of the crossed grid edges it owns (minimum sample in the block) that touch a
+/// merged cell.
+void contour_ifc_block(const IfcSamples& samples, const SampleClassifier& classifier,
+                       openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid, std::size_t block,
+                       const openvdb::math::Transform& transform, IfcBlockOutput& out);
+
+}  // namespace vdbmesh::detail

@@ -1,0 +1,70 @@
+// The 3D QEF's minimiser, by an eigen-decomposition of A^T A around the points' mean.
+
+#include "mesh/ifc_qef.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+
+namespace vdbmesh::detail {
+
+namespace {
+
+/// Eigenvalues below this share of the largest are treated as zero (singular values below
+/// about 0.1 of the largest, as Dual Contouring does), so noise in nearly parallel normals
+/// does not throw the vertex along the surface.
+constexpr double kRelativeEigenvalueFloor = 0.01;
+
+}  // namespace
+
+void Qef3::add_plane(const Point3d& p, const Point3d& n) {
+    const double d = n[0] * p[0] + n[1] * p[1] + n[2] * p[2];
+    ata_[0] += n[0] * n[0];
+    ata_[1] += n[0] * n[1];
+    ata_[2] += n[0] * n[2];
+    ata_[3] += n[1] * n[1];
+    ata_[4] += n[1] * n[2];
+    ata_[5] += n[2] * n[2];
+    for (int a = 0; a < 3; ++a) {
+        atb_[a] += n[a] * d;
+        point_sum_[a] += p[a];
+    }
+    ++count_;
+}
+
+void Qef3::add(const Qef3& other) {
+    for (int i = 0; i < 6; ++i) ata_[i] += other.ata_[i];
+    for (int a = 0; a < 3; ++a) {
+        atb_[a] += other.atb_[a];
+        point_sum_[a] += other.point_sum_[a];
+    }
+    count_ += other.count_;
+}
+
+Point3d Qef3::solve(const Point3d& lo, const Point3d& hi) const {
+    Point3d result;
+    if (count_ == 0) {
+        for (int a = 0; a < 3; ++a) result[a] = 0.5 * (lo[a] + hi[a]);
+        return result;
+    }
+    Eigen::Matrix3d ata;
+    ata << ata_[0], ata_[1], ata_[2], ata_[1], ata_[3], ata_[4], ata_[2], ata_[4], ata_[5];
+    const Eigen::Vector3d mean(point_sum_[0] / count_, point_sum_[1] / count_, point_sum_[2] / count_);
+    const Eigen::Vector3d rhs = Eigen::Vector3d(atb_[0], atb_[1], atb_[2]) - ata * mean;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+    eigen.computeDirect(ata);  // closed form for 3x3: several times faster than the iterative solver
+    const Eigen::Vector3d values = eigen.eigenvalues();
+    const double floor = kRelativeEigenvalueFloor * values.cwiseAbs().maxCoeff();
+    Eigen::Vector3d step = Eigen::Vector3d::Zero();
+    for (int i = 0; i < 3; ++i) {
+        if (values[i] > floor && values[i] > 0) {
+            const Eigen::Vector3d v = eigen.eigenvectors().col(i);
+            step += v * (v.dot(rhs) / values[i]);
+        }
+    }
+    const Eigen::Vector3d x = mean + step;
+    for (int a = 0; a < 3; ++a) result[a] = std::clamp(x[a], lo[a], hi[a]);
+    return result;
+}
+
+}  // namespace vdbmesh::detail

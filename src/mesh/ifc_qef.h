@@ -1,0 +1,30 @@
+#pragma once
+// Private: the 3D quadratic error function of Dual Contouring (Ju, Losasso, Schaefer and Warren
+// 2002): for surface points p_i with unit normals n_i, E(x) = sum (n_i . (x - p_i))^2. Kept as
+// A^T A, A^T b and the points' sum, so the QEFs of children add.
+
+#include <array>
+
+#include "mesh/edge_crossing.h"
+
+namespace vdbmesh::detail {
+
+class Qef3 {
+public:
+    void add_plane(const Point3d& point, const Point3d& normal);
+    void add(const Qef3& other);
+    int count() const { return count_; }
+
+    /// The minimiser nearest the points' mean (a truncated pseudo-inverse: directions the
+    /// normals do not pin down stay at the mean, so flat and ridge cells keep their vertex
+    /// on the surface's middle), clamped into the box [lo, hi].
+    Point3d solve(const Point3d& lo, const Point3d& hi) const;
+
+private:
+    std::array<double, 6> ata_{};  ///< xx, xy, xz, yy, yz, zz
+    std::array<double, 3> atb_{};
+    std::array<double, 3> point_sum_{};
+    int count_ = 0;
+};
+
+}  // namespace vdbmesh::detail
