@@ -103,9 +103,8 @@ public:
         periodic_ = std::abs(p - std::round(p)) < 1e-9 * std::max(1.0, p) && std::round(p) >= 1;
         P_ = periodic_ ? long(std::round(p)) : 0;
         for (int a = 0; a < 3; ++a) {
-            n_[a] = int(std::floor(o.box[a] / h_ + 1e-9));
-            lo_[a] = -int(std::ceil(o.band)) - 1;
-            hi_[a] = n_[a] + int(std::ceil(o.band)) + 1;
+            lo_[a] = int(std::floor(o.box_min[a] / h_)) - int(std::ceil(o.band)) - 1;
+            hi_[a] = int(std::ceil((o.box_min[a] + o.box[a]) / h_)) + int(std::ceil(o.band)) + 1;
         }
         if (clip_) {
             const double cv = clip_->voxelSize()[0];
@@ -144,7 +143,7 @@ public:
         double d = -std::numeric_limits<double>::infinity();
         for (int a = 0; a < 3; ++a) {
             const double x = double(idx[a]) * h_;
-            d = std::max(d, std::max(-x, x - o_.box[a]));
+            d = std::max(d, std::max(o_.box_min[a] - x, x - (o_.box_min[a] + o_.box[a])));
         }
         return d;
     }
@@ -170,7 +169,8 @@ public:
     /// Whether every voxel of the region is at least @a margin inside the box on every axis.
     bool deep_in_box(const Coord3& o, int dim, double margin) const {
         for (int a = 0; a < 3; ++a) {
-            if (double(o[a]) * h_ < margin || o_.box[a] - double(o[a] + dim - 1) * h_ < margin) return false;
+            if (double(o[a]) * h_ - o_.box_min[a] < margin || o_.box_min[a] + o_.box[a] - double(o[a] + dim - 1) * h_ < margin)
+                return false;
         }
         return true;
     }
@@ -190,7 +190,7 @@ public:
     bool uniform_region(const Coord3& o, int dim, SharedTile& tile) const override {
         for (int a = 0; a < 3; ++a) {
             const double far = bg_ + h_;
-            if (double(o[a] + dim - 1) * h_ < -far || double(o[a]) * h_ > o_.box[a] + far) {
+            if (double(o[a] + dim - 1) * h_ < o_.box_min[a] - far || double(o[a]) * h_ > o_.box_min[a] + o_.box[a] + far) {
                 tile = {bg_, false};
                 return true;
             }
@@ -218,7 +218,7 @@ private:
     float bg_;
     bool periodic_;
     long P_;
-    Coord3 n_, lo_, hi_;
+    Coord3 lo_, hi_;
 };
 
 }  // namespace
@@ -250,6 +250,9 @@ void check_lattice_options(const LatticeOptions& o) {
         throw UsageError("--thickness: expected less than the period " + str(o.period) + ", got " + str(*o.thickness));
     }
     if (o.level && !std::isfinite(*o.level)) throw UsageError("--level: expected a finite number");
+    for (double b : o.box_min) {
+        if (!std::isfinite(b)) throw UsageError("--box: expected a finite corner");
+    }
     for (double b : o.box) {
         const double n = b / o.voxel;
         if (n > 1 << 20) throw UsageError("--box / --voxel: expected at most 2^20 voxels per axis, got " + str(n));
