@@ -93,10 +93,12 @@ public:
     /// When the cube of @a dim voxels at @a origin is known to hold one value everywhere,
     /// sets @a tile and returns true (saves evaluating it). Default: unknown.
     virtual bool uniform_region(const Coord3& origin, int dim, SharedTile& tile) const;
-    /// Periodic fields: when the cube of @a dim voxels at @a origin holds exactly the values
-    /// of every other cube given the same @a key (the origin reduced by the period), sets @a key
-    /// and returns true; build_shared_tree() then evaluates one of them. Default: false.
-    virtual bool periodic_key(const Coord3& origin, int dim, Coord3& key) const;
+    /// Periodic fields: the axes (bit a for axis a) along which the cube of @a dim voxels at
+    /// @a origin repeats with the field's period, and in @a key its origin with those
+    /// coordinates reduced by the period (the others as they are). Cubes given the same key
+    /// and axes must hold exactly the same values; build_shared_tree() evaluates one of them.
+    /// Default: 0 (no repetition known).
+    virtual unsigned periodic_key(const Coord3& origin, int dim, Coord3& key) const;
 };
 
 /// Builds the shared tree of @a field bottom-up in parallel, evaluating each distinct

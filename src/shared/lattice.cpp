@@ -46,9 +46,9 @@ double segment_distance(const std::array<double, 3>& p, const std::array<double,
     return std::sqrt(d2);
 }
 
-/// The lattice value (world units) at phases u (each 2 pi x / period, x within the period)
-/// and local positions q (world units within the cell).
-double tpms_or_struts(const LatticeOptions& o, const double u[3], const double q[3]) {
+/// The lattice value (world units) from the sines and cosines of the phases u = 2 pi x / period
+/// (sin u, cos u, sin v, cos v, sin w, cos w) and the positions q (world units within the cell).
+double lattice_from(const LatticeOptions& o, const double sc[6], const double q[3]) {
     if (o.kind == LatticeKind::bcc_struts) {
         const double h = o.period / 2;
         // Fold into the octant of the cell centre towards the corner (h, h, h).
@@ -60,9 +60,7 @@ double tpms_or_struts(const LatticeOptions& o, const double u[3], const double q
         }
         return d - *o.thickness / 2;
     }
-    const double su = std::sin(u[0]), cu = std::cos(u[0]);
-    const double sv = std::sin(u[1]), cv = std::cos(u[1]);
-    const double sw = std::sin(u[2]), cw = std::cos(u[2]);
+    const double su = sc[0], cu = sc[1], sv = sc[2], cv = sc[3], sw = sc[4], cw = sc[5];
     double g = 0, gx = 0, gy = 0, gz = 0;
     switch (o.kind) {
         case LatticeKind::gyroid:
@@ -121,23 +119,6 @@ public:
     double voxel_size() const override { return h_; }
     std::array<Coord3, 2> bounds() const override { return {lo_, hi_}; }
 
-    double lattice_at(long i, long j, long k) const {
-        const long idx[3] = {i, j, k};
-        double u[3], q[3];
-        for (int a = 0; a < 3; ++a) {
-            if (periodic_) {
-                const long r = ((idx[a] % P_) + P_) % P_;
-                u[a] = kTwoPi * (double(r) / double(P_));
-                q[a] = double(r) * h_;
-            } else {
-                const double x = double(idx[a]) * h_;
-                u[a] = kTwoPi * x / o_.period;
-                q[a] = x - std::floor(x / o_.period) * o_.period;
-            }
-        }
-        return tpms_or_struts(o_, u, q);
-    }
-
     double box_value(long i, long j, long k) const {
         const long idx[3] = {i, j, k};
         double d = -std::numeric_limits<double>::infinity();
@@ -148,14 +129,41 @@ public:
         return d;
     }
 
+    /// Per axis, for the 8 samples of a leaf: the phase's sine and cosine and the position in the cell.
+    struct AxisSamples {
+        double s[8], c[8], q[8];
+    };
+    AxisSamples axis_samples(long first) const {
+        AxisSamples a;
+        for (int k = 0; k < 8; ++k) {
+            double u;
+            const long i = first + k;
+            if (periodic_) {
+                const long r = ((i % P_) + P_) % P_;
+                u = kTwoPi * (double(r) / double(P_));
+                a.q[k] = double(r) * h_;
+            } else {
+                const double x = double(i) * h_;
+                u = kTwoPi * x / o_.period;
+                a.q[k] = x - std::floor(x / o_.period) * o_.period;
+            }
+            a.s[k] = std::sin(u);
+            a.c[k] = std::cos(u);
+        }
+        return a;
+    }
+
     void evaluate(const Coord3& origin, SharedLeaf& leaf) const override {
         std::optional<openvdb::FloatGrid::ConstAccessor> clip;
         if (clip_) clip.emplace(clip_->getConstAccessor());
+        const AxisSamples ax = axis_samples(origin[0]), ay = axis_samples(origin[1]), az = axis_samples(origin[2]);
         for (int x = 0; x < 8; ++x)
             for (int y = 0; y < 8; ++y)
                 for (int z = 0; z < 8; ++z) {
                     const long i = origin[0] + x, j = origin[1] + y, k = origin[2] + z;
-                    double v = std::max(lattice_at(i, j, k), box_value(i, j, k));
+                    const double sc[6] = {ax.s[x], ax.c[x], ay.s[y], ay.c[y], az.s[z], az.c[z]};
+                    const double q[3] = {ax.q[x], ay.q[y], az.q[z]};
+                    double v = std::max(lattice_from(o_, sc, q), box_value(i, j, k));
                     if (clip) v = std::max(v, double(clip->getValue(openvdb::Coord(int(i), int(j), int(k)))));
                     const int n = (x * 8 + y) * 8 + z;
                     float f = float(v);
@@ -166,13 +174,9 @@ public:
                 }
     }
 
-    /// Whether every voxel of the region is at least @a margin inside the box on every axis.
-    bool deep_in_box(const Coord3& o, int dim, double margin) const {
-        for (int a = 0; a < 3; ++a) {
-            if (double(o[a]) * h_ - o_.box_min[a] < margin || o_.box_min[a] + o_.box[a] - double(o[a] + dim - 1) * h_ < margin)
-                return false;
-        }
-        return true;
+    /// Whether every voxel of the region is at least @a margin inside the box along @a axis.
+    bool deep_along(const Coord3& o, int dim, double margin, int a) const {
+        return double(o[a]) * h_ - o_.box_min[a] >= margin && o_.box_min[a] + o_.box[a] - double(o[a] + dim - 1) * h_ >= margin;
     }
 
     /// The clip's value over the region when it is one tile (no node below @a dim there).
@@ -203,12 +207,23 @@ public:
         return false;
     }
 
-    bool periodic_key(const Coord3& o, int dim, Coord3& key) const override {
-        if (!periodic_ || !deep_in_box(o, dim, bg_ + h_)) return false;
+    unsigned periodic_key(const Coord3& o, int dim, Coord3& key) const override {
+        // Along an axis where the region is deep inside the box, the box never decides a value
+        // (clamped), so the values repeat with the period along it. A clip must be one inside
+        // tile over the region (then it never decides either).
+        if (!periodic_) return 0;
         float v;
-        if (clip_ && !(clip_tile(o, dim, v) && v <= -bg_)) return false;
-        for (int a = 0; a < 3; ++a) key[a] = int(((long(o[a]) % P_) + P_) % P_);
-        return true;
+        if (clip_ && !(clip_tile(o, dim, v) && v <= -bg_)) return 0;
+        unsigned axes = 0;
+        for (int a = 0; a < 3; ++a) {
+            if (deep_along(o, dim, bg_ + h_, a)) {
+                axes |= 1u << a;
+                key[a] = int(((long(o[a]) % P_) + P_) % P_);
+            } else {
+                key[a] = o[a];
+            }
+        }
+        return axes;
     }
 
 private:
@@ -266,12 +281,14 @@ std::unique_ptr<LeafField> make_lattice_field(const LatticeOptions& options, con
 }
 
 double lattice_value(const LatticeOptions& options, const std::array<double, 3>& p) {
-    double u[3], q[3];
+    double sc[6], q[3];
     for (int a = 0; a < 3; ++a) {
-        u[a] = kTwoPi * p[a] / options.period;
+        const double u = kTwoPi * p[a] / options.period;
+        sc[2 * a] = std::sin(u);
+        sc[2 * a + 1] = std::cos(u);
         q[a] = p[a] - std::floor(p[a] / options.period) * options.period;
     }
-    return tpms_or_struts(options, u, q);
+    return lattice_from(options, sc, q);
 }
 
 }  // namespace vdbmesh

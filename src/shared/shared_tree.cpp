@@ -27,7 +27,7 @@
 namespace vdbmesh {
 
 bool LeafField::uniform_region(const Coord3&, int, SharedTile&) const { return false; }
-bool LeafField::periodic_key(const Coord3&, int, Coord3&) const { return false; }
+unsigned LeafField::periodic_key(const Coord3&, int, Coord3&) const { return 0; }
 
 SharedRef SharedTree::root_ref(const Coord3& origin) const {
     const auto it = std::lower_bound(root.begin(), root.end(), origin,
@@ -53,18 +53,18 @@ bool same_leaf(const SharedLeaf& a, const SharedLeaf& b) {
     return std::memcmp(a.values.data(), b.values.data(), sizeof(a.values)) == 0 && a.active == b.active;
 }
 
-/// A position's group: its periodic key, or the position itself.
+/// A position's group: its periodic key and axes (0: the position itself).
 struct GroupKey {
     Coord3 c;
-    bool periodic;
-    bool operator==(const GroupKey& o) const { return c == o.c && periodic == o.periodic; }
+    unsigned axes;
+    bool operator==(const GroupKey& o) const { return c == o.c && axes == o.axes; }
 };
 struct GroupKeyHash {
     std::size_t operator()(const GroupKey& k) const {
         std::uint64_t h = std::uint64_t(std::uint32_t(k.c[0])) * 0x9e3779b97f4a7c15ull;
         h ^= std::uint64_t(std::uint32_t(k.c[1])) * 0xc2b2ae3d27d4eb4full + (h >> 29);
         h ^= std::uint64_t(std::uint32_t(k.c[2])) * 0x165667b19e3779f9ull + (h >> 31);
-        return std::size_t(h ^ (k.periodic ? 0x5bd1e995 : 0));
+        return std::size_t(h ^ (std::uint64_t(k.axes) * 0x5bd1e995));
     }
 };
 
@@ -122,9 +122,9 @@ struct Level {
             slot.tile = true;
             return slot;
         }
-        GroupKey key{origin, false};
-        if (field.periodic_key(origin, dim, key.c)) key.periodic = true;
-        else key.c = origin;
+        GroupKey key{origin, 0};
+        key.axes = field.periodic_key(origin, dim, key.c) & 7u;
+        if (key.axes == 0) key.c = origin;
         const auto [it, inserted] = groups.emplace(key, std::uint32_t(representatives.size()));
         if (inserted) representatives.push_back(origin);
         slot.group = it->second;
@@ -201,46 +201,49 @@ SharedTree build_shared_tree(const LeafField& field) {
     const std::vector<std::vector<Slot>> slots2 = enumerate(l2, l1, 128, 32);
     const std::vector<std::vector<Slot>> slots1 = enumerate(l1, l0, 8, 16);
 
-    // 2. Leaves: evaluated in parallel, consed in walk order.
-    std::vector<SharedLeaf> evaluated(l0.representatives.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, evaluated.size(), 16), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) field.evaluate(l0.representatives[i], evaluated[i]);
-    });
-    std::vector<std::uint64_t> hashes(evaluated.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, evaluated.size(), 64), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) hashes[i] = hash_leaf(evaluated[i]);
-    });
-    l0.refs.resize(evaluated.size());
+    // 2. Leaves: evaluated in parallel, a batch at a time (bounded memory), consed in walk order.
+    l0.refs.resize(l0.representatives.size());
     {
         std::unordered_multimap<std::uint64_t, std::uint32_t> index;
-        for (std::size_t i = 0; i < evaluated.size(); ++i) {
-            const SharedLeaf& leaf = evaluated[i];
-            const float v0 = leaf.values[0];
-            const bool all_on = std::all_of(leaf.active.begin(), leaf.active.end(), [](std::uint64_t w) { return w == ~std::uint64_t(0); });
-            const bool all_off = std::all_of(leaf.active.begin(), leaf.active.end(), [](std::uint64_t w) { return w == 0; });
-            if ((all_on || all_off) &&
-                std::all_of(leaf.values.begin(), leaf.values.end(), [&](float v) { return std::memcmp(&v, &v0, 4) == 0; })) {
-                l0.refs[i] = tiles.ref({v0, all_on});
-                continue;
-            }
-            bool found = false;
-            const auto range = index.equal_range(hashes[i]);
-            for (auto it = range.first; it != range.second; ++it) {
-                if (same_leaf(tree.leaves[it->second], leaf)) {
-                    l0.refs[i] = it->second;
-                    found = true;
-                    break;
+        constexpr std::size_t kBatch = 1 << 15;
+        std::vector<SharedLeaf> evaluated(std::min(kBatch, l0.representatives.size()));
+        std::vector<std::uint64_t> hashes(evaluated.size());
+        for (std::size_t first = 0; first < l0.representatives.size(); first += kBatch) {
+            const std::size_t count = std::min(kBatch, l0.representatives.size() - first);
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 16), [&](const auto& range) {
+                for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                    field.evaluate(l0.representatives[first + i], evaluated[i]);
+                    hashes[i] = hash_leaf(evaluated[i]);
                 }
-            }
-            if (!found) {
-                l0.refs[i] = SharedRef(tree.leaves.size());
-                index.emplace(hashes[i], l0.refs[i]);
-                tree.leaves.push_back(leaf);
+            });
+            for (std::size_t i = 0; i < count; ++i) {
+                const SharedLeaf& leaf = evaluated[i];
+                SharedRef& ref = l0.refs[first + i];
+                const float v0 = leaf.values[0];
+                const bool all_on = std::all_of(leaf.active.begin(), leaf.active.end(), [](std::uint64_t w) { return w == ~std::uint64_t(0); });
+                const bool all_off = std::all_of(leaf.active.begin(), leaf.active.end(), [](std::uint64_t w) { return w == 0; });
+                if ((all_on || all_off) &&
+                    std::all_of(leaf.values.begin(), leaf.values.end(), [&](float v) { return std::memcmp(&v, &v0, 4) == 0; })) {
+                    ref = tiles.ref({v0, all_on});
+                    continue;
+                }
+                bool found = false;
+                const auto range = index.equal_range(hashes[i]);
+                for (auto it = range.first; it != range.second; ++it) {
+                    if (same_leaf(tree.leaves[it->second], leaf)) {
+                        ref = it->second;
+                        found = true;
+                        break;
+                    }
+                }
+                if (!found) {
+                    ref = SharedRef(tree.leaves.size());
+                    index.emplace(hashes[i], ref);
+                    tree.leaves.push_back(leaf);
+                }
             }
         }
     }
-    evaluated.clear();
-    evaluated.shrink_to_fit();
 
     // 3. Internal nodes, bottom-up.
     auto build_level = [&](const std::vector<std::vector<Slot>>& slots, const Level& child, std::vector<SharedNode>& table) {
