@@ -36,8 +36,9 @@ struct LatticeCommandOptions {
     std::string box, box_min;
     double voxel = 0;
     double band = 3;
-    std::string clip;
+    std::vector<std::string> clip;
     MeshInputOptions clip_input;
+    std::string clip_inside = "above";
     std::string output;
     bool measure = false;
     bool json = false;
@@ -71,13 +72,15 @@ int run_lattice(const LatticeCommandOptions& o) {
     if (o.box.empty() && o.clip.empty()) throw UsageError("--box: expected the lattice's size (x,y,z in world units) or a --clip solid, got neither");
     if (!o.box.empty()) lattice.box = parse_triple("--box", o.box);
     if (!o.box_min.empty()) lattice.box_min = parse_triple("--box-min", o.box_min);
-    check_lattice_options(lattice);
+    if (o.clip.empty() || !o.box.empty()) check_lattice_options(lattice);  // with --clip alone: once its box is known
     const ThreadLimit limit(o.common);
     Progress progress("lattice", o.common.quiet);
 
     std::shared_ptr<openvdb::FloatGrid> clip;
     if (!o.clip.empty()) {
-        const Mesh solid = load_mesh({o.clip}, o.clip_input, "clip with");
+        MeshInputOptions clip_input = o.clip_input;
+        clip_input.inside = o.clip_inside == "below" ? Inside::below : Inside::above;
+        const Mesh solid = load_mesh(o.clip, clip_input, "clip with");
         if (o.box.empty()) {
             // The solid's bounding box.
             std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
@@ -155,12 +158,17 @@ void add_lattice_command(CLI::App& command, CommandResult& result) {
     command.add_option("--box-min", o->box_min, "Minimum corner x,y,z of the box (default 0,0,0)");
     command.add_option("--voxel", o->voxel, "Voxel size (world units)")->required();
     command.add_option("--band", o->band, "Narrow band half-width in voxels")->capture_default_str();
-    command.add_option("--clip", o->clip, "Intersect with this solid: a mesh file, or a .vdb or scan (meshed at --clip-iso)");
+    command.add_option("--clip", o->clip,
+                       "Intersect with this solid: a mesh file, or a .vdb or scan (meshed at --clip-iso; further files: "
+                       "the parts of a split raw scan, read with the --raw-* flags)");
     command.add_option("--clip-iso", o->clip_input.iso, "Isovalue of a --clip .vdb or scan (default: the stored one)");
+    command.add_option("--clip-inside", o->clip_inside, "Which side of --clip-iso is the solid: above (default) or below (a level set)")
+        ->check(CLI::IsMember({"above", "below"}));
     command.add_option("-o,--output", o->output, "Output: .vdb (level set), .stl/.ply/.obj (mesh), .gltf/.glb (instanced mesh)");
     command.add_flag("--measure", o->measure, "Print volume, area, components, voxels, unique_leaves, leaves; write nothing");
     command.add_flag("--json", o->json, "Print the figures as one JSON object on stdout");
     command.add_flag("--ascii", o->ascii, "ASCII STL or PLY");
+    add_read_flags(command, o->clip_input.read);
     add_common_options(command, o->common);
     command.callback([o, &result] { result.status = run_lattice(*o); });
 }
