@@ -15,6 +15,7 @@
 #include "vdbmesh/lattice.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/mesher.h"
+#include "vdbmesh/shared_process.h"
 #include "vdbmesh/shared_tree.h"
 
 namespace vdbmesh::test {
@@ -134,6 +135,31 @@ TEST(LatticeCli, BadInputWritesNothing) {
     EXPECT_EQ(cli::run({"info", out, "--shared"}), cli::kRuntimeError);
     EXPECT_FALSE(std::filesystem::exists(out));
     EXPECT_TRUE(std::filesystem::is_empty(scratch.path()));
+}
+
+TEST(ProcessCli, StepsRunInTheOrderGiven) {
+    const ScratchDir scratch;
+    const std::string in = (scratch / "in.vdb").string(), stop = (scratch / "stop.vdb").string();
+    ASSERT_EQ(cli::run({"lattice", "gyroid", "--period", "2", "--thickness", "0.5", "--box", "3", "--voxel", "0.125", "-o", in, "--quiet"}), 0);
+    ASSERT_EQ(cli::run({"lattice", "schwarz-p", "--period", "2", "--level", "0", "--box", "3", "--voxel", "0.125", "-o", stop, "--quiet"}), 0);
+    const auto grid = read_vdb(in);
+    const auto stop_grid = read_vdb(stop);
+    const std::string a = (scratch / "a.vdb").string(), b = (scratch / "b.vdb").string();
+    ASSERT_EQ(cli::run({"process", in, "--deposit", "0.25", "--etch", "z:0.5", "--stop-layer", stop, "-o", a, "--quiet"}), 0);
+    ASSERT_EQ(cli::run({"process", in, "--etch", "z:0.5", "--deposit", "0.25", "--stop-layer", stop, "-o", b, "--quiet"}), 0);
+    const SharedTree tree = build_shared_tree(*grid);
+    const auto expected_a = to_float_grid(shared_etch(shared_deposit(tree, 0.25), 2, 1, 0.5, stop_grid.get()));
+    const auto expected_b = to_float_grid(shared_deposit(shared_etch(tree, 2, 1, 0.5, stop_grid.get()), 0.25));
+    EXPECT_EQ(read_vdb(a)->activeVoxelCount(), expected_a->activeVoxelCount());
+    EXPECT_EQ(read_vdb(b)->activeVoxelCount(), expected_b->activeVoxelCount());
+    EXPECT_NE(expected_a->activeVoxelCount(), expected_b->activeVoxelCount());
+    // Bad input: nothing written.
+    const std::string c = (scratch / "c.vdb").string();
+    EXPECT_EQ(cli::run({"process", in, "--etch", "w:1", "-o", c}), cli::kUsageError);
+    EXPECT_EQ(cli::run({"process", in, "--deposit", "-1", "-o", c}), cli::kUsageError);
+    EXPECT_EQ(cli::run({"process", in, "-o", c}), cli::kUsageError);
+    EXPECT_EQ(cli::run({"process", in, "--deposit", "1", "-o", (scratch / "c.stl").string()}), cli::kUsageError);
+    EXPECT_FALSE(std::filesystem::exists(c));
 }
 
 TEST(LatticeCli, GyroidClippedToTheBunnyIsCleanForCgal) {
