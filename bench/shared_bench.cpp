@@ -3,6 +3,9 @@
 //                               distinct leaves vs OpenVDB's leaves; memoised Marching Cubes
 //                               (flat and instanced) vs mesh_grid(mc) of the expanded grid,
 //                               same triangles after sorting
+//   vdbmesh_shared_bench deposit  deposition of 3 voxels: a stepped wafer phantom (exact offset,
+//                               OpenVDB's LevelSetFilter::offset, times) and a periodic gyroid
+//                               256^3 (shared against plain, times)
 //   vdbmesh_shared_bench 4096   the same gyroid at 4096^3 (period 512, thickness 32 voxels):
 //                               built and measured (volume, area, components), time and peak
 //                               memory; against the 512^3 figures scaled by 8^3 and 8^2; a plain
@@ -11,10 +14,13 @@
 // stdout. Not a test: it prints timings.
 
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/Interpolation.h>
+#include <openvdb/tools/LevelSetFilter.h>
 #include <sys/resource.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <cstring>
 #include <iostream>
@@ -24,6 +30,7 @@
 
 #include "vdbmesh/lattice.h"
 #include "vdbmesh/mesher.h"
+#include "vdbmesh/shared_process.h"
 #include "vdbmesh/shared_tree.h"
 
 using namespace vdbmesh;
@@ -177,6 +184,104 @@ Json figures_4096() {
     return j;
 }
 
+/// A stepped wafer: a substrate and three steps, repeated @a copies times along x.
+struct Wafer final : LeafField {
+    int copies = 1;
+    explicit Wafer(int n) : copies(n) {}
+    static double box_sdf(const double p[3], const double lo[3], const double hi[3]) {
+        double outside = 0, inside = -1e300;
+        for (int a = 0; a < 3; ++a) {
+            const double d = std::max(lo[a] - p[a], p[a] - hi[a]);
+            outside += std::max(d, 0.0) * std::max(d, 0.0);
+            inside = std::max(inside, d);
+        }
+        return inside > 0 ? std::sqrt(outside) : inside;
+    }
+    double sdf(const double p[3]) const {
+        double d = 1e300;
+        for (int c = 0; c < copies; ++c) {
+            const double x0 = 96.0 * c;
+            const double boxes[4][2][3] = {{{x0, 0, 0}, {x0 + 96, 96, 8}}, {{x0 + 16, 0, 8}, {x0 + 80, 96, 14}},
+                                           {{x0 + 32, 0, 14}, {x0 + 64, 96, 20}}, {{x0 + 44, 0, 20}, {x0 + 52, 96, 26}}};
+            for (const auto& b : boxes) d = std::min(d, box_sdf(p, b[0], b[1]));
+        }
+        return d;
+    }
+    float background() const override { return 3.0f; }
+    double voxel_size() const override { return 1.0; }
+    std::array<Coord3, 2> bounds() const override { return {Coord3{-16, -16, -16}, Coord3{96 * copies + 16, 112, 48}}; }
+    void evaluate(const Coord3& o, SharedLeaf& leaf) const override {
+        for (int i = 0; i < 512; ++i) {
+            const double p[3] = {double(o[0] + (i >> 6)), double(o[1] + ((i >> 3) & 7)), double(o[2] + (i & 7))};
+            const float v = float(std::clamp(sdf(p), -3.0, 3.0));
+            leaf.values[i] = v;
+            leaf.set_active(i, v > -3.0f && v < 3.0f);
+        }
+    }
+};
+
+Json figures_deposit() {
+    Json j;
+    j["part"] = "deposition of 3 voxels";
+    j["load_before"] = load_average();
+    MeshOptions mc;
+    mc.method = MeshMethod::mc;
+    mc.inside = Inside::below;
+    {
+        const Wafer wafer(4);
+        const SharedTree in = build_shared_tree(wafer);
+        const auto grid = to_float_grid(in);
+        auto t = std::chrono::steady_clock::now();
+        const SharedTree out = shared_deposit(in, 3.0);
+        j["wafer_shared_s"] = seconds_since(t);
+        const auto deposited = to_float_grid(out);
+        t = std::chrono::steady_clock::now();
+        const auto plain = plain_deposit(*grid, 3.0);
+        j["wafer_plain_s"] = seconds_since(t);
+        j["wafer_same_as_plain"] = plain->activeVoxelCount() == deposited->activeVoxelCount();
+        auto theirs = grid->deepCopy();
+        t = std::chrono::steady_clock::now();
+        openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*theirs);
+        filter.offset(-3.0f);
+        j["wafer_openvdb_offset_s"] = seconds_since(t);
+        double worst = 0, their_worst = 0, disagreement = 0;
+        for (const auto& v : mesh_grid(*deposited, mc).mesh.vertices) {
+            const double p[3] = {v[0], v[1], v[2]};
+            worst = std::max(worst, std::abs(wafer.sdf(p) - 3.0));
+        }
+        openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> ours(*deposited);
+        for (const auto& v : mesh_grid(*theirs, mc).mesh.vertices) {
+            const double p[3] = {v[0], v[1], v[2]};
+            their_worst = std::max(their_worst, std::abs(wafer.sdf(p) - 3.0));
+            disagreement = std::max(disagreement, std::abs(double(ours.wsSample(openvdb::Vec3d(v[0], v[1], v[2])))));
+        }
+        j["wafer_offset_error_voxels"] = worst;
+        j["wafer_openvdb_offset_error_voxels"] = their_worst;
+        j["wafer_ours_at_openvdb_surface_voxels"] = disagreement;
+        j["wafer_unique_leaves"] = in.leaves.size();
+        j["wafer_leaves"] = grid->tree().leafCount();
+    }
+    {
+        const SharedTree in = build_shared_tree(*make_lattice_field(gyroid(256, 64, 4)));
+        const auto grid = to_float_grid(in);
+        auto t = std::chrono::steady_clock::now();
+        const SharedTree out = shared_deposit(in, 3.0);
+        j["gyroid256_shared_s"] = seconds_since(t);
+        t = std::chrono::steady_clock::now();
+        const auto plain = plain_deposit(*grid, 3.0);
+        j["gyroid256_plain_s"] = seconds_since(t);
+        auto theirs = grid->deepCopy();
+        t = std::chrono::steady_clock::now();
+        openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*theirs);
+        filter.offset(-3.0f);
+        j["gyroid256_openvdb_offset_s"] = seconds_since(t);
+        j["gyroid256_same_as_plain"] = plain->activeVoxelCount() == to_float_grid(out)->activeVoxelCount();
+        j["gyroid256_unique_leaves_after"] = out.leaves.size();
+    }
+    j["load_after"] = load_average();
+    return j;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -184,8 +289,9 @@ int main(int argc, char** argv) {
     const std::string part = argc > 1 ? argv[1] : "";
     if (part == "512") std::cout << figures_512().dump() << std::endl;
     else if (part == "4096") std::cout << figures_4096().dump() << std::endl;
+    else if (part == "deposit") std::cout << figures_deposit().dump() << std::endl;
     else {
-        std::cerr << "usage: vdbmesh_shared_bench 512|4096\n";
+        std::cerr << "usage: vdbmesh_shared_bench 512|4096|deposit\n";
         return 2;
     }
     return 0;
