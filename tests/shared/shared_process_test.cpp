@@ -8,7 +8,10 @@
 #include <openvdb/tools/LevelSetFilter.h>
 #include <openvdb/tools/LevelSetSphere.h>
 
+#include <tbb/global_control.h>
+
 #include <cmath>
+#include <cstring>
 
 #include "shared_test_util.h"
 #include "vdbmesh/lattice.h"
@@ -86,6 +89,20 @@ TEST(SharedProcess, CsgIsPlainCsg) {
             expect_same_grid(*to_float_grid(shared), *plain_csg(*grid, *sphere, op));
         }
     }
+}
+
+TEST(SharedProcess, SameTreeForAnyThreadCount) {
+    const SharedTree in = build_shared_tree(*make_lattice_field(periodic_gyroid()));
+    auto run = [&](int threads) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        return shared_etch(shared_deposit(in, 0.25), 2, 1, 0.5, nullptr);
+    };
+    const SharedTree one = run(1), two = run(2);
+    ASSERT_EQ(one.leaves.size(), two.leaves.size());
+    for (std::size_t i = 0; i < one.leaves.size(); ++i) EXPECT_EQ(std::memcmp(&one.leaves[i], &two.leaves[i], sizeof(SharedLeaf)), 0);
+    ASSERT_EQ(one.root.size(), two.root.size());
+    EXPECT_EQ(one.nodes1.size(), two.nodes1.size());
+    for (std::size_t i = 0; i < one.nodes1.size(); ++i) EXPECT_EQ(one.nodes1[i].children, two.nodes1[i].children);
 }
 
 TEST(SharedProcess, PeriodicDepositionComputesDistinctNeighbourhoodsOnly) {

@@ -127,6 +127,30 @@ TEST(SharedTree, SameTreeForAnyThreadCount) {
     EXPECT_TRUE(same_tree(a, b));
 }
 
+TEST(SharedOps, SameResultsForAnyThreadCount) {
+    const SharedTree tree = build_shared_tree(*random_grid(5));
+    const SharedTree lattice = build_shared_tree(*make_lattice_field(small_gyroid()));
+    struct Results {
+        Mesh mesh;
+        double volume, area;
+        std::uint64_t components;
+        std::size_t parts;
+    };
+    auto run = [&](int threads, const SharedTree& t) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        return Results{shared_marching_cubes(t), shared_volume(t), shared_area(t), shared_components(t), shared_marching_cubes_instanced(t).parts.size()};
+    };
+    for (const SharedTree* t : {&tree, &lattice}) {
+        const Results one = run(1, *t), two = run(2, *t);
+        EXPECT_EQ(one.mesh.vertices, two.mesh.vertices);
+        EXPECT_EQ(one.mesh.triangles, two.mesh.triangles);
+        EXPECT_EQ(one.volume, two.volume);
+        EXPECT_EQ(one.area, two.area);
+        EXPECT_EQ(one.components, two.components);
+        EXPECT_EQ(one.parts, two.parts);
+    }
+}
+
 TEST(SharedOps, CountAndVolumeMatchPlain) {
     for (unsigned seed : {1u, 2u}) {
         const auto grid = random_grid(seed);
