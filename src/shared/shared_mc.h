@@ -24,6 +24,7 @@ inline constexpr std::uint32_t kMcOwnVertex = 1u << 31;
 struct BlockMc {
     std::vector<std::uint16_t> edges;  ///< owned crossing edges ((x * 8 + y) * 8 + z) * 3 + axis, sorted
     std::vector<double> t;             ///< their crossing parameters
+    std::vector<std::uint16_t> index_of;  ///< per edge code (8 * 8 * 8 * 3): its index in edges, when it crosses
     std::vector<std::array<std::uint32_t, 3>> triangles;  ///< corners as kMcOwnVertex / neighbour refs
     double area = 0;                                       ///< in index units
     std::vector<std::array<float, 3>> part_vertices;       ///< every corner, index space from the block origin

@@ -116,6 +116,7 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key) {
                     out.edges.push_back(code);
                     out.t.push_back(crossing(x, y, z, axis));
                 }
+    out.index_of.assign(own.begin(), own.end());
     // Local part: every edge the triangles use, own or not, in index space from the origin.
     std::vector<std::int32_t> part_index(S * S * S * 3, -1);
     auto local_point = [&](int x, int y, int z, int axis) {
@@ -345,10 +346,12 @@ Mesh shared_marching_cubes(const SharedTree& tree) {
                     neighbour[d] = block_index({pb.origin[0] + 8 * int(d & 1), pb.origin[1] + 8 * int((d >> 1) & 1), pb.origin[2] + 8 * int(d >> 2)});
                     resolved[d] = true;
                 }
-                const auto& edges = blocks[neighbour[d]].mc->edges;
-                const auto it = std::lower_bound(edges.begin(), edges.end(), std::uint16_t(ref & 0xffffu));
-                if (it == edges.end() || *it != (ref & 0xffffu)) throw Error("shared marching cubes: a triangle refers to a missing vertex");
-                return std::uint32_t(first_vertex[neighbour[d]] + std::size_t(it - edges.begin()));
+                const detail::BlockMc& other = *blocks[neighbour[d]].mc;
+                const std::uint16_t index = other.index_of[ref & 0xffffu];
+                if (index >= other.edges.size() || other.edges[index] != (ref & 0xffffu)) {
+                    throw Error("shared marching cubes: a triangle refers to a missing vertex");
+                }
+                return std::uint32_t(first_vertex[neighbour[d]] + index);
             };
             for (std::size_t t = 0; t < mc.triangles.size(); ++t) {
                 auto& tri = mesh.triangles[first_triangle[b] + t];
