@@ -167,7 +167,7 @@ TEST(LatticeCli, GyroidClippedToTheBunnyIsCleanForCgal) {
     VDBMESH_SHARED_DATA(part2, "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part2of2.raw.gz");
     const ScratchDir scratch;
     const std::string out = (scratch / "implant.stl").string();
-    const nlohmann::json figures = run_json({"lattice", "gyroid", "--period", "40", "--thickness", "8", "--voxel", "3", "--clip",
+    const nlohmann::json figures = run_json({"lattice", "gyroid", "--period", "30", "--thickness", "6", "--voxel", "2", "--clip",
                                              part1.string(), part2.string(), "--raw-dims", "512,512,361", "--raw-type", "i16",
                                              "--raw-endian", "big", "--clip-iso", "1200.5", "-o", out, "--quiet"});
     const Mesh mesh = read_mesh(out);
