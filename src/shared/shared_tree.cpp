@@ -184,22 +184,25 @@ SharedTree build_shared_tree(const LeafField& field) {
     Level l2, l1, l0;
     std::vector<Slot> top_slots;
     for (const Coord3& o : top) top_slots.push_back(l2.classify(field, o, 4096, bounds));
-    // Children slots of each representative, in walk order.
+    // The children of each representative, in walk order, as candidate nodes: a tile's ref,
+    // or (tile bit clear) the index of the child's group, replaced by its ref once built.
     auto enumerate = [&](const Level& parent, Level& child, int child_dim, int n) {
-        std::vector<std::vector<Slot>> slots(parent.representatives.size());
+        std::vector<SharedNode> candidates(parent.representatives.size());
         for (std::size_t g = 0; g < parent.representatives.size(); ++g) {
             const Coord3& o = parent.representatives[g];
-            slots[g].reserve(std::size_t(n) * n * n);
+            auto& children = candidates[g].children;
+            children.reserve(std::size_t(n) * n * n);
             for (int x = 0; x < n; ++x)
                 for (int y = 0; y < n; ++y)
-                    for (int z = 0; z < n; ++z)
-                        slots[g].push_back(child.classify(field, {o[0] + x * child_dim, o[1] + y * child_dim, o[2] + z * child_dim},
-                                                          child_dim, bounds));
+                    for (int z = 0; z < n; ++z) {
+                        const Slot slot = child.classify(field, {o[0] + x * child_dim, o[1] + y * child_dim, o[2] + z * child_dim}, child_dim, bounds);
+                        children.push_back(slot.tile ? tiles.ref(slot.value) : slot.group);
+                    }
         }
-        return slots;
+        return candidates;
     };
-    const std::vector<std::vector<Slot>> slots2 = enumerate(l2, l1, 128, 32);
-    const std::vector<std::vector<Slot>> slots1 = enumerate(l1, l0, 8, 16);
+    std::vector<SharedNode> candidates2 = enumerate(l2, l1, 128, 32);
+    std::vector<SharedNode> candidates1 = enumerate(l1, l0, 8, 16);
 
     // 2. Leaves: evaluated in parallel, a batch at a time (bounded memory), consed in walk order.
     l0.refs.resize(l0.representatives.size());
@@ -246,27 +249,19 @@ SharedTree build_shared_tree(const LeafField& field) {
     }
 
     // 3. Internal nodes, bottom-up.
-    auto build_level = [&](const std::vector<std::vector<Slot>>& slots, const Level& child, std::vector<SharedNode>& table) {
-        std::vector<SharedNode> candidates(slots.size());
-        // Tiles of the slots first (serially: the tile table grows).
-        std::vector<std::vector<SharedRef>> tile_refs(slots.size());
-        for (std::size_t g = 0; g < slots.size(); ++g) {
-            candidates[g].children.resize(slots[g].size());
-            for (std::size_t c = 0; c < slots[g].size(); ++c) {
-                if (slots[g][c].tile) candidates[g].children[c] = tiles.ref(slots[g][c].value);
-            }
-        }
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, slots.size()), [&](const auto& range) {
+    auto build_level = [&](std::vector<SharedNode>& candidates, const Level& child, std::vector<SharedNode>& table) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size()), [&](const auto& range) {
             for (std::size_t g = range.begin(); g != range.end(); ++g) {
-                for (std::size_t c = 0; c < slots[g].size(); ++c) {
-                    if (!slots[g][c].tile) candidates[g].children[c] = child.refs[slots[g][c].group];
+                for (SharedRef& r : candidates[g].children) {
+                    if (!is_tile(r)) r = child.refs[r];
                 }
             }
         });
         return cons_nodes(candidates, table, tiles);
     };
-    l1.refs = build_level(slots1, l0, tree.nodes1);
-    l2.refs = build_level(slots2, l1, tree.nodes2);
+    l1.refs = build_level(candidates1, l0, tree.nodes1);
+    candidates1 = {};
+    l2.refs = build_level(candidates2, l1, tree.nodes2);
     for (std::size_t i = 0; i < top.size(); ++i) {
         const SharedRef ref = top_slots[i].tile ? tiles.ref(top_slots[i].value) : l2.refs[top_slots[i].group];
         if (ref != tile_ref(0)) tree.root.push_back({top[i], ref});
