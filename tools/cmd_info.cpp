@@ -17,6 +17,7 @@
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/read.h"
+#include "vdbmesh/shared_tree.h"
 #include "vdbmesh/volume_stats.h"
 
 namespace vdbmesh::cli {
@@ -27,6 +28,7 @@ using Json = nlohmann::ordered_json;
 struct InfoOptions {
     std::vector<std::string> inputs;
     bool json = false;
+    bool shared = false;
     ReadFlags read;
     CommonOptions common;
 };
@@ -141,6 +143,34 @@ void print_vdb(const Json& j, std::ostream& out) {
     }
 }
 
+/// --shared: the grid read_vdb() picks, as a shared tree: nodes stored against represented.
+Json shared_json(const std::string& file) {
+    const openvdb::FloatGrid::Ptr grid = read_vdb(file);
+    const SharedStats s = shared_stats(build_shared_tree(*grid));
+    Json j;
+    const char* names[3] = {"leaves", "nodes_16", "nodes_32"};
+    for (int level = 0; level < 3; ++level) {
+        j[names[level]] = {{"stored", s.stored[level]}, {"represented", s.represented[level]}};
+    }
+    j["tiles"] = s.tiles;
+    j["root_entries"] = s.root_entries;
+    j["shared_bytes"] = s.shared_bytes;
+    j["unshared_bytes"] = s.expanded_bytes;
+    j["active_voxels"] = s.active_voxels;
+    return j;
+}
+
+void print_shared(const Json& j, std::ostream& out) {
+    out << "shared tree     stored / represented\n";
+    for (const char* name : {"leaves", "nodes_16", "nodes_32"}) {
+        out << "  " << std::left << std::setw(14) << name << j[name]["stored"].get<std::uint64_t>() << " / "
+            << j[name]["represented"].get<std::uint64_t>() << "\n";
+    }
+    out << "  " << std::left << std::setw(14) << "tiles" << j["tiles"].get<std::uint64_t>() << "\n";
+    out << "  " << std::left << std::setw(14) << "memory" << j["shared_bytes"].get<std::uint64_t>() << " bytes shared, "
+        << j["unshared_bytes"].get<std::uint64_t>() << " unshared\n";
+}
+
 bool is_vdb(const InfoOptions& o) {
     return o.read.raw_dims.empty() && std::filesystem::path(o.inputs.front()).extension() == ".vdb";
 }
@@ -149,11 +179,16 @@ int run_info(const InfoOptions& o) {
     const ThreadLimit limit(o.common);
     if (is_vdb(o)) {
         if (o.inputs.size() > 1) throw UsageError("info: a .vdb file takes no further parts");
-        const Json j = vdb_json(o.inputs.front(), describe_vdb_file(o.inputs.front()));
+        Json j = vdb_json(o.inputs.front(), describe_vdb_file(o.inputs.front()));
+        if (o.shared) j["shared"] = shared_json(o.inputs.front());
         if (o.json) std::cout << j.dump() << "\n";
-        else print_vdb(j, std::cout);
+        else {
+            print_vdb(j, std::cout);
+            if (o.shared) print_shared(j["shared"], std::cout);
+        }
         return kSuccess;
     }
+    if (o.shared) throw UsageError("--shared: expected a .vdb file, got \"" + o.inputs.front() + "\"");
     auto reader = open_scan(o.inputs, o.read);
     Progress progress("reading", o.common.quiet);
     const VolumeStats stats = compute_volume_stats(*reader, [&](double f) { progress(f); });
@@ -170,6 +205,7 @@ void add_info_command(CLI::App& command, CommandResult& result) {
     command.add_option("file", o.inputs, "Scan or .vdb file; further files are the next parts of a split raw scan")
         ->required();
     command.add_flag("--json", o.json, "Print one JSON object instead of text");
+    command.add_flag("--shared", o.shared, "A .vdb: distinct nodes stored against nodes represented, per level (shared tree)");
     add_read_flags(command, o.read);
     add_common_options(command, o.common);
     command.callback([options, &result] { result.status = run_info(*options); });

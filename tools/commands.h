@@ -28,6 +28,8 @@ void add_compare_command(CLI::App& command, CommandResult& result);
 void add_view_command(CLI::App& command, CommandResult& result);
 void add_measure_command(CLI::App& command, CommandResult& result);
 void add_section_command(CLI::App& command, CommandResult& result);
+void add_lattice_command(CLI::App& command, CommandResult& result);
+void add_process_command(CLI::App& command, CommandResult& result);
 
 /// All subcommands, in the order --help lists them.
 inline constexpr CommandEntry kCommands[] = {
@@ -39,6 +41,8 @@ inline constexpr CommandEntry kCommands[] = {
     {"measure", "Area, volume, centroid, inertia, principal axes, genus and components of a mesh or of a scan's surface", add_measure_command},
     {"section", "Cut a closed mesh (or a scan's surface) by planes: nested loops, area, perimeter, moments, SVG", add_section_command},
     {"compare", "Mesh one grid with DC, DMC, MC and volumeToMesh; time them, validate them, measure them against the true surface", add_compare_command},
+    {"lattice", "Build a periodic lattice (gyroid, Schwarz P, diamond, bcc struts) as a shared tree; write .vdb, a mesh or instanced glTF, or --measure it", add_lattice_command},
+    {"process", "Process steps on a level set in order (--deposit D, --etch z:D down to a --stop-layer), on the shared tree", add_process_command},
     {"view", "Show a scan (re-meshed live as the isovalue moves) or a mesh in the browser", add_view_command},
 };
 

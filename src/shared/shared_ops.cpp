@@ -1,0 +1,401 @@
+// Operations on the shared tree with result matching (result_cache.h), and their plain
+// references on a FloatGrid.
+//
+// Per-node operations (active voxels, volume) read only the node: one result per distinct
+// node id, bottom-up. Neighbourhood operations (Marching Cubes, its area) read a node and the 7
+// nodes after it (+x, +y, +z and their combinations: a cell's samples reach one voxel past its
+// block), so their results are cached under the 8 refs; a level-L neighbourhood splits into
+// the neighbourhoods of its children, each found among the 8 parents' children.
+
+#include <openvdb/openvdb.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "shared/result_cache.h"
+#include "shared/shared_mc.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/mc_case.h"
+#include "vdbmesh/shared_tree.h"
+
+namespace vdbmesh {
+
+namespace detail {
+
+namespace {
+
+double inside_fraction(float value, double voxel) { return std::clamp(0.5 - double(value) / voxel, 0.0, 1.0); }
+
+const std::vector<SharedRef>& children_of(const SharedTree& tree, int level, SharedRef ref) {
+    return level == 2 ? tree.nodes2[ref].children : tree.nodes1[ref].children;
+}
+
+}  // namespace
+
+Key8 child_key(const SharedTree& tree, int level, const Key8& parent, int cx, int cy, int cz) {
+    const int n = kSharedChildren[level];
+    Key8 key;
+    for (int d = 0; d < 8; ++d) {
+        int q[3] = {cx + (d & 1), cy + ((d >> 1) & 1), cz + (d >> 2)};
+        int which = 0;
+        for (int a = 0; a < 3; ++a) {
+            if (q[a] == n) {
+                q[a] = 0;
+                which |= 1 << a;
+            }
+        }
+        const SharedRef p = parent[which];
+        key[d] = is_tile(p) ? p : children_of(tree, level, p)[(q[0] * n + q[1]) * n + q[2]];
+    }
+    return key;
+}
+
+bool quiet_key(const SharedTree& tree, const Key8& key) {
+    if (!is_tile(key[0])) return false;
+    const bool inside = tree.tiles[key[0] & ~kSharedTile].value < 0;
+    for (SharedRef r : key) {
+        if (!is_tile(r) || (tree.tiles[r & ~kSharedTile].value < 0) != inside) return false;
+    }
+    return true;
+}
+
+std::vector<std::pair<Coord3, Key8>> root_neighbourhoods(const SharedTree& tree) {
+    std::set<Coord3> positions;
+    for (const SharedRootEntry& e : tree.root) {
+        for (int d = 0; d < 8; ++d) {
+            positions.insert({e.origin[0] - 4096 * (d & 1), e.origin[1] - 4096 * ((d >> 1) & 1), e.origin[2] - 4096 * (d >> 2)});
+        }
+    }
+    std::vector<std::pair<Coord3, Key8>> out;
+    for (const Coord3& p : positions) {
+        Key8 key;
+        for (int d = 0; d < 8; ++d) {
+            key[d] = tree.root_ref({p[0] + 4096 * (d & 1), p[1] + 4096 * ((d >> 1) & 1), p[2] + 4096 * (d >> 2)});
+        }
+        if (!quiet_key(tree, key)) out.push_back({p, key});
+    }
+    return out;
+}
+
+BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key) {
+    // The 9^3 samples the block's cells read.
+    constexpr int S = 9;
+    std::array<double, S * S * S> value;
+    std::array<bool, S * S * S> inside;
+    auto index = [](int x, int y, int z) { return (x * S + y) * S + z; };
+    for (int x = 0; x < S; ++x)
+        for (int y = 0; y < S; ++y)
+            for (int z = 0; z < S; ++z) {
+                const int d = (x == 8) | ((y == 8) << 1) | ((z == 8) << 2);
+                const SharedRef r = key[d];
+                const float v = is_tile(r) ? tree.tiles[r & ~kSharedTile].value
+                                           : tree.leaves[r].values[((x & 7) * 8 + (y & 7)) * 8 + (z & 7)];
+                value[index(x, y, z)] = double(v);
+                inside[index(x, y, z)] = double(v) < 0.0;
+            }
+    BlockMc out;
+    auto crossing = [&](int x, int y, int z, int axis) {
+        const double f0 = value[index(x, y, z)];
+        const double f1 = value[index(x + (axis == 0), y + (axis == 1), z + (axis == 2))];
+        return std::clamp((0.0 - f0) / (f1 - f0), kMcCrossingMargin, 1.0 - kMcCrossingMargin);
+    };
+    std::array<std::uint16_t, 8 * 8 * 8 * 3> own{};
+    for (int x = 0; x < 8; ++x)
+        for (int y = 0; y < 8; ++y)
+            for (int z = 0; z < 8; ++z)
+                for (int axis = 0; axis < 3; ++axis) {
+                    const int i0 = index(x, y, z), i1 = index(x + (axis == 0), y + (axis == 1), z + (axis == 2));
+                    if (inside[i0] == inside[i1]) continue;
+                    const std::uint16_t code = std::uint16_t(((x * 8 + y) * 8 + z) * 3 + axis);
+                    own[code] = std::uint16_t(out.edges.size());
+                    out.edges.push_back(code);
+                    out.t.push_back(crossing(x, y, z, axis));
+                }
+    out.index_of.assign(own.begin(), own.end());
+    // Local part: every edge the triangles use, own or not, in index space from the origin.
+    std::vector<std::int32_t> part_index(S * S * S * 3, -1);
+    auto local_point = [&](int x, int y, int z, int axis) {
+        std::array<double, 3> p = {double(x), double(y), double(z)};
+        p[axis] += crossing(x, y, z, axis);
+        return p;
+    };
+    for (int x = 0; x < 8; ++x)
+        for (int y = 0; y < 8; ++y)
+            for (int z = 0; z < 8; ++z) {
+                unsigned config = 0;
+                for (unsigned c = 0; c < 8; ++c) config |= unsigned(inside[index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))]) << c;
+                const McCase& cell_case = mc_case(config);
+                for (int t = 0; t < cell_case.triangle_count; ++t) {
+                    std::array<std::uint32_t, 3> refs;
+                    std::array<std::uint32_t, 3> local;
+                    std::array<std::array<double, 3>, 3> p;
+                    for (int k = 0; k < 3; ++k) {
+                        const int edge = cell_case.triangles[t][k];
+                        const unsigned c0 = kEdgeCorners[edge][0], c1 = kEdgeCorners[edge][1];
+                        const int axis = (c0 ^ c1) == 1 ? 0 : (c0 ^ c1) == 2 ? 1 : 2;
+                        int v[3] = {x + int(c0 & 1), y + int((c0 >> 1) & 1), z + int(c0 >> 2)};
+                        const int slot = index(v[0], v[1], v[2]) * 3 + axis;
+                        if (part_index[slot] < 0) {
+                            part_index[slot] = std::int32_t(out.part_vertices.size());
+                            const auto q = local_point(v[0], v[1], v[2], axis);
+                            out.part_vertices.push_back({float(q[0]), float(q[1]), float(q[2])});
+                        }
+                        local[k] = std::uint32_t(part_index[slot]);
+                        p[k] = local_point(v[0], v[1], v[2], axis);
+                        unsigned block = 0;
+                        for (int a = 0; a < 3; ++a) {
+                            if (v[a] == 8) {
+                                v[a] = 0;
+                                block |= 1u << a;
+                            }
+                        }
+                        const std::uint16_t code = std::uint16_t(((v[0] * 8 + v[1]) * 8 + v[2]) * 3 + axis);
+                        refs[k] = block == 0 ? kMcOwnVertex | own[code] : (block << 16) | code;
+                    }
+                    out.triangles.push_back(refs);
+                    out.part_triangles.push_back(local);
+                    const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+                    const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+                    const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+                    out.area += 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+                }
+            }
+    return out;
+}
+
+}  // namespace detail
+
+using detail::Key8;
+
+std::uint64_t shared_active_voxels(const SharedTree& tree) { return shared_stats(tree).active_voxels; }
+
+double shared_volume(const SharedTree& tree) {
+    const double h = tree.voxel_size;
+    // One result per distinct node, bottom-up (the cache is the per-level table itself).
+    std::vector<double> leaf_volume(tree.leaves.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tree.leaves.size(), 64), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            double sum = 0;
+            for (float v : tree.leaves[i].values) sum += detail::inside_fraction(v, h);
+            leaf_volume[i] = sum;
+        }
+    });
+    auto tile_volume = [&](SharedRef r, double voxels) { return detail::inside_fraction(tree.tiles[r & ~kSharedTile].value, h) * voxels; };
+    std::vector<double> v1(tree.nodes1.size()), v2(tree.nodes2.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tree.nodes1.size()), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            double sum = 0;
+            for (SharedRef r : tree.nodes1[i].children) sum += is_tile(r) ? tile_volume(r, 512.0) : leaf_volume[r];
+            v1[i] = sum;
+        }
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tree.nodes2.size()), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            double sum = 0;
+            for (SharedRef r : tree.nodes2[i].children) sum += is_tile(r) ? tile_volume(r, 128.0 * 128 * 128) : v1[r];
+            v2[i] = sum;
+        }
+    });
+    double sum = 0;
+    for (const SharedRootEntry& e : tree.root) sum += is_tile(e.ref) ? tile_volume(e.ref, 4096.0 * 4096 * 4096) : v2[e.ref];
+    return sum * h * h * h;
+}
+
+namespace {
+
+/// The caches of one Marching Cubes run: leaf-level block results, and per level 1 and 2 the
+/// area of a neighbourhood, and per level 1 the list of its surface blocks.
+struct McCaches {
+    detail::ResultCache<8, detail::BlockMc> blocks;
+    detail::ResultCache<8, double> area1, area2;
+    struct BlockRef {
+        std::uint32_t offset;  ///< leaf position in the level-1 node: (x * 16 + y) * 16 + z
+        const detail::BlockMc* mc;
+    };
+    detail::ResultCache<8, std::vector<BlockRef>> list1;
+};
+
+const detail::BlockMc& block_of(const SharedTree& tree, McCaches& caches, const Key8& key) {
+    return caches.blocks.get(key, [&] { return detail::block_marching_cubes(tree, key); });
+}
+
+double area_of(const SharedTree& tree, McCaches& caches, int level, const Key8& key) {
+    if (detail::quiet_key(tree, key)) return 0.0;
+    if (level == 0) return block_of(tree, caches, key).area;
+    auto& cache = level == 1 ? caches.area1 : caches.area2;
+    return cache.get(key, [&] {
+        const int n = kSharedChildren[level];
+        double sum = 0;
+        for (int x = 0; x < n; ++x)
+            for (int y = 0; y < n; ++y)
+                for (int z = 0; z < n; ++z) sum += area_of(tree, caches, level - 1, detail::child_key(tree, level, key, x, y, z));
+        return sum;
+    });
+}
+
+const std::vector<McCaches::BlockRef>& blocks_of_level1(const SharedTree& tree, McCaches& caches, const Key8& key) {
+    return caches.list1.get(key, [&] {
+        std::vector<McCaches::BlockRef> list;
+        for (int x = 0; x < 16; ++x)
+            for (int y = 0; y < 16; ++y)
+                for (int z = 0; z < 16; ++z) {
+                    const Key8 k = detail::child_key(tree, 1, key, x, y, z);
+                    if (detail::quiet_key(tree, k)) continue;
+                    const detail::BlockMc& mc = block_of(tree, caches, k);
+                    if (!mc.edges.empty() || !mc.triangles.empty()) list.push_back({std::uint32_t((x * 16 + y) * 16 + z), &mc});
+                }
+        return list;
+    });
+}
+
+struct PlacedBlock {
+    Coord3 origin;
+    const detail::BlockMc* mc;
+};
+
+/// Every surface block of the tree with its cached result, sorted by origin.
+std::vector<PlacedBlock> surface_blocks(const SharedTree& tree, McCaches& caches) {
+    std::vector<std::pair<Coord3, Key8>> level1;  // neighbourhoods of level-1 positions
+    for (const auto& [origin, key] : detail::root_neighbourhoods(tree)) {
+        for (int x = 0; x < 32; ++x)
+            for (int y = 0; y < 32; ++y)
+                for (int z = 0; z < 32; ++z) {
+                    const Key8 k = detail::child_key(tree, 2, key, x, y, z);
+                    if (!detail::quiet_key(tree, k)) level1.push_back({{origin[0] + x * 128, origin[1] + y * 128, origin[2] + z * 128}, k});
+                }
+    }
+    std::vector<const std::vector<McCaches::BlockRef>*> lists(level1.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, level1.size()), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) lists[i] = &blocks_of_level1(tree, caches, level1[i].second);
+    });
+    std::vector<PlacedBlock> blocks;
+    for (std::size_t i = 0; i < level1.size(); ++i) {
+        const Coord3& o = level1[i].first;
+        for (const auto& b : *lists[i]) {
+            blocks.push_back({{o[0] + int(b.offset >> 8) * 8, o[1] + int((b.offset >> 4) & 15) * 8, o[2] + int(b.offset & 15) * 8}, b.mc});
+        }
+    }
+    tbb::parallel_sort(blocks.begin(), blocks.end(), [](const PlacedBlock& a, const PlacedBlock& b) { return a.origin < b.origin; });
+    return blocks;
+}
+
+}  // namespace
+
+double shared_area(const SharedTree& tree) {
+    McCaches caches;
+    const auto roots = detail::root_neighbourhoods(tree);
+    std::vector<double> area(roots.size());
+    for (std::size_t i = 0; i < roots.size(); ++i) {
+        // Level-2 neighbourhoods are split here so that their children run in parallel.
+        const Key8& key = roots[i].second;
+        std::vector<double> slab(32);
+        tbb::parallel_for(0, 32, [&](int x) {
+            double sum = 0;
+            for (int y = 0; y < 32; ++y)
+                for (int z = 0; z < 32; ++z) sum += area_of(tree, caches, 1, detail::child_key(tree, 2, key, x, y, z));
+            slab[x] = sum;
+        });
+        for (double s : slab) area[i] += s;
+    }
+    double sum = 0;
+    for (double a : area) sum += a;
+    return sum * tree.voxel_size * tree.voxel_size;
+}
+
+Mesh shared_marching_cubes(const SharedTree& tree) {
+    McCaches caches;
+    const std::vector<PlacedBlock> blocks = surface_blocks(tree, caches);
+    std::vector<std::size_t> first_vertex(blocks.size() + 1, 0), first_triangle(blocks.size() + 1, 0);
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+        first_vertex[b + 1] = first_vertex[b] + blocks[b].mc->edges.size();
+        first_triangle[b + 1] = first_triangle[b] + blocks[b].mc->triangles.size();
+    }
+    if (first_vertex.back() > std::numeric_limits<std::uint32_t>::max()) throw Error("shared marching cubes: more than 2^32 vertices");
+    const openvdb::math::Transform::Ptr transform = openvdb::math::Transform::createLinearTransform(tree.voxel_size);
+    Mesh mesh;
+    mesh.vertices.resize(first_vertex.back());
+    mesh.triangles.resize(first_triangle.back());
+    auto block_index = [&](const Coord3& origin) {
+        const auto it = std::lower_bound(blocks.begin(), blocks.end(), origin, [](const PlacedBlock& a, const Coord3& o) { return a.origin < o; });
+        if (it == blocks.end() || it->origin != origin) throw Error("shared marching cubes: a triangle refers to a missing block");
+        return std::size_t(it - blocks.begin());
+    };
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 32), [&](const auto& range) {
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+            const PlacedBlock& pb = blocks[b];
+            const detail::BlockMc& mc = *pb.mc;
+            for (std::size_t e = 0; e < mc.edges.size(); ++e) {
+                const unsigned code = mc.edges[e];
+                const int axis = int(code % 3), cell = int(code / 3);
+                double p[3] = {double(pb.origin[0] + (cell >> 6)), double(pb.origin[1] + ((cell >> 3) & 7)), double(pb.origin[2] + (cell & 7))};
+                p[axis] = p[axis] + mc.t[e] * 1.0;
+                const openvdb::Vec3d w = transform->indexToWorld(openvdb::Vec3d(p[0], p[1], p[2]));
+                mesh.vertices[first_vertex[b] + e] = {float(w[0]), float(w[1]), float(w[2])};
+            }
+            std::array<std::size_t, 8> neighbour{};
+            std::array<bool, 8> resolved{};
+            auto vertex_index = [&](std::uint32_t ref) {
+                if (ref & detail::kMcOwnVertex) return std::uint32_t(first_vertex[b] + (ref & 0xffffu));
+                const unsigned d = ref >> 16;
+                if (!resolved[d]) {
+                    neighbour[d] = block_index({pb.origin[0] + 8 * int(d & 1), pb.origin[1] + 8 * int((d >> 1) & 1), pb.origin[2] + 8 * int(d >> 2)});
+                    resolved[d] = true;
+                }
+                const detail::BlockMc& other = *blocks[neighbour[d]].mc;
+                const std::uint16_t index = other.index_of[ref & 0xffffu];
+                if (index >= other.edges.size() || other.edges[index] != (ref & 0xffffu)) {
+                    throw Error("shared marching cubes: a triangle refers to a missing vertex");
+                }
+                return std::uint32_t(first_vertex[neighbour[d]] + index);
+            };
+            for (std::size_t t = 0; t < mc.triangles.size(); ++t) {
+                auto& tri = mesh.triangles[first_triangle[b] + t];
+                for (int k = 0; k < 3; ++k) tri[k] = vertex_index(mc.triangles[t][k]);
+            }
+        }
+    });
+    return mesh;
+}
+
+InstancedMesh shared_marching_cubes_instanced(const SharedTree& tree) {
+    McCaches caches;
+    const std::vector<PlacedBlock> blocks = surface_blocks(tree, caches);
+    InstancedMesh out;
+    std::unordered_map<const detail::BlockMc*, std::uint32_t> part_of;
+    const double h = tree.voxel_size;
+    for (const PlacedBlock& b : blocks) {
+        if (b.mc->triangles.empty()) continue;
+        const auto [it, inserted] = part_of.emplace(b.mc, std::uint32_t(out.parts.size()));
+        if (inserted) {
+            Mesh part;
+            part.vertices.reserve(b.mc->part_vertices.size());
+            for (const auto& v : b.mc->part_vertices) part.vertices.push_back({float(v[0] * h), float(v[1] * h), float(v[2] * h)});
+            part.triangles = b.mc->part_triangles;
+            out.parts.push_back(std::move(part));
+        }
+        out.instances.push_back({it->second, {b.origin[0] * h, b.origin[1] * h, b.origin[2] * h}});
+    }
+    return out;
+}
+
+// ---- Plain references --------------------------------------------------------------------------
+
+std::uint64_t plain_active_voxels(const openvdb::FloatGrid& grid) { return grid.tree().activeVoxelCount(); }
+
+double plain_volume(const openvdb::FloatGrid& grid) {
+    const double h = grid.voxelSize()[0];
+    double sum = 0;
+    for (auto it = grid.tree().cbeginValueAll(); it; ++it) {
+        sum += detail::inside_fraction(*it, h) * double(it.getVoxelCount());
+    }
+    const double bg = detail::inside_fraction(grid.background(), h);
+    if (bg != 0.0) throw UsageError("plain volume: the background is inside (infinite volume)");
+    return sum * h * h * h;
+}
+
+}  // namespace vdbmesh

@@ -1,0 +1,176 @@
+// `vdbmesh lattice KIND --period P (--thickness T | --level L) --box X,Y,Z --voxel V
+//  [--clip SOLID] (-o OUT | --measure) [--json]`: a periodic lattice (gyroid, Schwarz P, diamond,
+// body-centred struts) built as a shared tree (include/vdbmesh/shared_tree.h, issue 14), so that
+// each distinct leaf is evaluated and stored once. Sizes are in world units.
+//  - -o x.vdb: the expanded level set; -o x.stl/.ply/.obj: its Marching Cubes surface, memoised
+//    per leaf neighbourhood; -o x.gltf/.glb: the same surface instanced (distinct block meshes
+//    and their translations, EXT_mesh_gpu_instancing), for surfaces too large to write flat.
+//  - --measure: volume, area, components, voxels, unique and represented leaves, nothing written.
+// --clip intersects the lattice with a solid: a mesh file, or a .vdb / scan meshed as `measure` does.
+
+#include <chrono>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli.h"
+#include "commands.h"
+#include "common_options.h"
+#include "gltf_instanced.h"
+#include "load_grid.h"
+#include "load_mesh.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/lattice.h"
+#include "vdbmesh/mesh_io.h"
+#include "vdbmesh/shared_tree.h"
+
+namespace vdbmesh::cli {
+namespace {
+
+struct LatticeCommandOptions {
+    std::string kind;
+    double period = 0;
+    std::optional<double> thickness, level;
+    std::string box, box_min;
+    double voxel = 0;
+    double band = 3;
+    std::vector<std::string> clip;
+    MeshInputOptions clip_input;
+    std::string clip_inside = "above";
+    std::string output;
+    bool measure = false;
+    bool json = false;
+    bool ascii = false;
+    CommonOptions common;
+};
+
+std::array<double, 3> parse_triple(const std::string& flag, const std::string& text) {
+    const std::vector<double> v = parse_number_list(flag, text);
+    if (v.size() == 1) return {v[0], v[0], v[0]};
+    if (v.size() != 3) throw UsageError(flag + ": expected one number or three (x,y,z), got \"" + text + "\"");
+    return {v[0], v[1], v[2]};
+}
+
+int run_lattice(const LatticeCommandOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    LatticeOptions lattice;
+    lattice.kind = parse_lattice_kind(o.kind);
+    lattice.period = o.period;
+    lattice.thickness = o.thickness;
+    lattice.level = o.level;
+    lattice.voxel = o.voxel;
+    lattice.band = o.band;
+    const std::string extension = lowercase_extension(o.output);
+    if (o.output.empty() && !o.measure) throw UsageError("lattice: expected -o FILE or --measure, got neither");
+    if (!o.output.empty() && o.measure) throw UsageError("lattice: --measure writes nothing; expected no -o, got \"" + o.output + "\"");
+    if (!o.output.empty() && extension != ".vdb" && extension != ".stl" && extension != ".ply" && extension != ".obj" &&
+        extension != ".gltf" && extension != ".glb") {
+        throw UsageError("-o: expected a .vdb, .stl, .ply, .obj, .gltf or .glb file, got \"" + o.output + "\"");
+    }
+    if (o.box.empty() && o.clip.empty()) throw UsageError("--box: expected the lattice's size (x,y,z in world units) or a --clip solid, got neither");
+    if (!o.box.empty()) lattice.box = parse_triple("--box", o.box);
+    if (!o.box_min.empty()) lattice.box_min = parse_triple("--box-min", o.box_min);
+    if (o.clip.empty() || !o.box.empty()) check_lattice_options(lattice);  // with --clip alone: once its box is known
+    const ThreadLimit limit(o.common);
+    Progress progress("lattice", o.common.quiet);
+
+    std::shared_ptr<openvdb::FloatGrid> clip;
+    if (!o.clip.empty()) {
+        MeshInputOptions clip_input = o.clip_input;
+        clip_input.inside = o.clip_inside == "below" ? Inside::below : Inside::above;
+        const Mesh solid = load_mesh(o.clip, clip_input, "clip with");
+        if (o.box.empty()) {
+            // The solid's bounding box.
+            std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+            for (const auto& v : solid.vertices)
+                for (int a = 0; a < 3; ++a) {
+                    lo[a] = std::min(lo[a], double(v[a]));
+                    hi[a] = std::max(hi[a], double(v[a]));
+                }
+            for (int a = 0; a < 3; ++a) {
+                lattice.box_min[a] = lo[a] - o.voxel;
+                lattice.box[a] = hi[a] - lo[a] + 2 * o.voxel;
+            }
+            check_lattice_options(lattice);
+        }
+        clip = clip_level_set(solid, o.voxel, o.band);
+    }
+    progress(0.1);
+    const auto field = make_lattice_field(lattice, clip.get());
+    const SharedTree tree = build_shared_tree(*field);
+    progress(0.5);
+    const SharedStats stats = shared_stats(tree);
+    nlohmann::ordered_json j;
+    j["kind"] = o.kind;
+    j["voxels_per_axis"] = {std::llround(lattice.box[0] / o.voxel), std::llround(lattice.box[1] / o.voxel), std::llround(lattice.box[2] / o.voxel)};
+    if (o.measure) {
+        j["volume"] = shared_volume(tree);
+        j["area"] = shared_area(tree);
+        j["components"] = shared_components(tree);
+        j["voxels"] = stats.active_voxels;
+        j["unique_leaves"] = stats.stored[0];
+        j["leaves"] = stats.represented[0];
+    } else if (extension == ".vdb") {
+        const auto grid = to_float_grid(tree);
+        grid->setName("lattice");
+        write_vdb(*grid, o.output);
+        j["voxels"] = stats.active_voxels;
+        j["unique_leaves"] = stats.stored[0];
+        j["leaves"] = stats.represented[0];
+    } else if (extension == ".gltf" || extension == ".glb") {
+        const InstancedMesh mesh = shared_marching_cubes_instanced(tree);
+        if (mesh.instances.empty()) throw Error("lattice: the lattice has no surface in the box; " + o.output + " not written");
+        write_instanced_gltf(mesh, o.output);
+        j["parts"] = mesh.parts.size();
+        j["instances"] = mesh.instances.size();
+    } else {
+        const Mesh mesh = shared_marching_cubes(tree);
+        if (mesh.triangles.empty()) throw Error("lattice: the lattice has no surface in the box; " + o.output + " not written");
+        write_mesh(mesh, o.output, MeshWriteOptions{o.ascii, false});
+        j["triangles"] = mesh.triangles.size();
+        j["vertices"] = mesh.vertices.size();
+    }
+    progress(1.0);
+    j["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (o.json) {
+        std::cout << j.dump() << "\n";
+    } else if (o.measure) {
+        std::cout << "volume " << j["volume"] << "\narea " << j["area"] << "\ncomponents " << j["components"] << "\nvoxels "
+                  << j["voxels"] << "\nunique_leaves " << j["unique_leaves"] << "\nleaves " << j["leaves"] << "\n";
+    } else if (!o.common.quiet) {
+        std::cerr << "vdbmesh lattice: " << stats.stored[0] << " distinct leaves of " << stats.represented[0] << ", "
+                  << j["seconds"].get<double>() << " s -> " << o.output << "\n";
+    }
+    return 0;
+}
+
+}  // namespace
+
+void add_lattice_command(CLI::App& command, CommandResult& result) {
+    auto o = std::make_shared<LatticeCommandOptions>();
+    command.add_option("KIND", o->kind, "gyroid, schwarz-p, diamond or bcc (body-centred struts)")->required();
+    command.add_option("--period", o->period, "Cell size (world units)")->required();
+    command.add_option("--thickness", o->thickness, "Sheet thickness (TPMS) or strut diameter (bcc), world units");
+    command.add_option("--level", o->level, "Solid TPMS: the region where the function is below this level");
+    command.add_option("--box", o->box, "Size x,y,z (or one number) in world units; default with --clip: the solid's box");
+    command.add_option("--box-min", o->box_min, "Minimum corner x,y,z of the box (default 0,0,0)");
+    command.add_option("--voxel", o->voxel, "Voxel size (world units)")->required();
+    command.add_option("--band", o->band, "Narrow band half-width in voxels")->capture_default_str();
+    command.add_option("--clip", o->clip,
+                       "Intersect with this solid: a mesh file, or a .vdb or scan (meshed at --clip-iso; further files: "
+                       "the parts of a split raw scan, read with the --raw-* flags)");
+    command.add_option("--clip-iso", o->clip_input.iso, "Isovalue of a --clip .vdb or scan (default: the stored one)");
+    command.add_option("--clip-inside", o->clip_inside, "Which side of --clip-iso is the solid: above (default) or below (a level set)")
+        ->check(CLI::IsMember({"above", "below"}));
+    command.add_option("-o,--output", o->output, "Output: .vdb (level set), .stl/.ply/.obj (mesh), .gltf/.glb (instanced mesh)");
+    command.add_flag("--measure", o->measure, "Print volume, area, components, voxels, unique_leaves, leaves; write nothing");
+    command.add_flag("--json", o->json, "Print the figures as one JSON object on stdout");
+    command.add_flag("--ascii", o->ascii, "ASCII STL or PLY");
+    add_read_flags(command, o->clip_input.read);
+    add_common_options(command, o->common);
+    command.callback([o, &result] { result.status = run_lattice(*o); });
+}
+
+}  // namespace vdbmesh::cli
