@@ -119,6 +119,25 @@ const std::array<std::uint8_t, 256>& mc_component_counts() {
     return counts;
 }
 
+/// Joins, in the union-find @a parent, the crossed ones among a unit face's four edges (node
+/// ids), as the surface's segment across the face does; returns how many are crossed (4: an
+/// ambiguous face, left unjoined).
+template <typename Crossed, typename Parent>
+int join_face_crossings(const std::array<int, 4>& edges, const Crossed& crossed, Parent& parent) {
+    auto find = [&](int i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    int first = -1, count = 0;
+    for (int e : edges) {
+        if (!crossed[e]) continue;
+        ++count;
+        if (first < 0) first = e;
+        else if (count == 2) parent[find(e)] = find(first);
+    }
+    return count;
+}
+
 /// The surface's trace on a square of unit faces.
 struct FaceTrace {
     int boundary_crossings = 0;  ///< crossed grid edges on the square's perimeter
@@ -168,14 +187,7 @@ FaceTrace trace_square(const IfcSamples& s, const std::array<int, 3>& origin, in
         for (int j = 0; j < size; ++j) {
             const std::array<int, 4> edges = {i * (size + 1) + j, i * (size + 1) + j + 1, u_edges + i * size + j,
                                               u_edges + (i + 1) * size + j};
-            int first = -1, count = 0;
-            for (int e : edges) {
-                if (!crossed[e]) continue;
-                ++count;
-                if (first < 0) first = e;
-                else parent[find(e)] = find(first);
-            }
-            if (count == 4) {
+            if (join_face_crossings(edges, crossed, parent) == 4) {
                 trace.ambiguous = true;
                 return trace;
             }
@@ -312,15 +324,26 @@ private:
         vertex_[level][index] = vertex;
     }
 
-    bool edges_and_faces_simple(const std::array<int, 3>& min, int size) const {
+    /// Calls @a visit(start, axis) for the start (local sample) and axis of each of the 12
+    /// edges of the cell at @a min of @a size.
+    template <typename Visit>
+    static void for_each_cell_edge(const std::array<int, 3>& min, int size, Visit&& visit) {
         for (int axis = 0; axis < 3; ++axis) {
             const int u = (axis + 1) % 3, w = (axis + 2) % 3;
             for (int corner = 0; corner < 4; ++corner) {
                 std::array<int, 3> p = min;
                 p[u] += (corner & 1) * size;
                 p[w] += (corner >> 1) * size;
-                if (sign_changes(*s_, p, axis, size) > 1) return false;
+                visit(p, axis);
             }
+        }
+    }
+
+    bool edges_and_faces_simple(const std::array<int, 3>& min, int size) const {
+        bool simple = true;
+        for_each_cell_edge(min, size, [&](const std::array<int, 3>& p, int axis) { simple &= sign_changes(*s_, p, axis, size) <= 1; });
+        if (!simple) return false;
+        for (int axis = 0; axis < 3; ++axis) {
             for (int side = 0; side < 2; ++side) {
                 std::array<int, 3> origin = min;
                 origin[axis] += side * size;
@@ -372,13 +395,7 @@ private:
                         ++dw[w];
                         const std::array<int, 4> edges = {node(d[0], d[1], d[2], u), node(dw[0], dw[1], dw[2], u),
                                                           node(d[0], d[1], d[2], w), node(du[0], du[1], du[2], w)};
-                        int first = -1, count = 0;
-                        for (int e : edges) {
-                            if (!crossed[e]) continue;
-                            ++count;
-                            if (first < 0) first = e;
-                            else parent[find(e)] = find(first);
-                        }
+                        const int count = join_face_crossings(edges, crossed, parent);
                         if (count == 4) return false;
                         segments += count / 2;
                     }
@@ -422,22 +439,17 @@ private:
     /// planes alone let a vertex sit off a curved or thin surface.
     bool fan_near_surface(const Point3d& v, const std::array<int, 3>& min, int size) const {
         if (surface_distance(v) > error_) return false;
-        for (int axis = 0; axis < 3; ++axis) {
-            const int u = (axis + 1) % 3, w = (axis + 2) % 3;
-            for (int corner = 0; corner < 4; ++corner) {
-                std::array<int, 3> p = min;
-                p[u] += (corner & 1) * size;
-                p[w] += (corner >> 1) * size;
-                for (int k = 0; k < size; ++k, ++p[axis]) {
-                    const int i = edge_index(p[0], p[1], p[2], axis);
-                    if (!crossed_[i]) continue;
-                    Point3d mid;
-                    for (int a = 0; a < 3; ++a) mid[a] = 0.5 * (v[a] + hermite_[i].point[a]);
-                    if (surface_distance(mid) > error_) return false;
-                }
+        bool near = true;
+        for_each_cell_edge(min, size, [&](std::array<int, 3> p, int axis) {
+            for (int k = 0; k < size && near; ++k, ++p[axis]) {
+                const int i = edge_index(p[0], p[1], p[2], axis);
+                if (!crossed_[i]) continue;
+                Point3d mid;
+                for (int a = 0; a < 3; ++a) mid[a] = 0.5 * (v[a] + hermite_[i].point[a]);
+                near = surface_distance(mid) <= error_;
             }
-        }
-        return true;
+        });
+        return near;
     }
 
     /// Whether every crossing of the cell's grid edges (the Marching Cubes surface's vertices)

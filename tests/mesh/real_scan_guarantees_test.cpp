@@ -108,14 +108,9 @@ std::string describe(const MeshAnalysis& r) {
     return out.str();
 }
 
-class RealScanGuaranteesTest : public ::testing::TestWithParam<RealScan> {
-protected:
-    // The two cores the suite is budgeted for; the meshes do not depend on it.
-    tbb::global_control threads_{tbb::global_control::max_allowed_parallelism, 2};
-};
-
-TEST_P(RealScanGuaranteesTest, DmcAndMcMeshesAreClean) {
-    const RealScan& scan = GetParam();
+/// The scan converted at its isovalue into @a grid (left empty when the data is missing and
+/// the test skips; a failure when VDBMESH_REQUIRE_DATA=1).
+void convert_scan(const RealScan& scan, openvdb::FloatGrid::Ptr& grid) {
     std::vector<std::filesystem::path> paths;
     for (const std::string& input : scan.inputs) {
         VDBMESH_SHARED_DATA(path, input);
@@ -124,7 +119,20 @@ TEST_P(RealScanGuaranteesTest, DmcAndMcMeshesAreClean) {
     const auto reader = open_volume(paths.front(), read_options(scan, paths));
     ConvertOptions convert;
     convert.iso = scan.iso;
-    const openvdb::FloatGrid::Ptr grid = convert_to_grid(*reader, convert);
+    grid = convert_to_grid(*reader, convert);
+}
+
+class RealScanGuaranteesTest : public ::testing::TestWithParam<RealScan> {
+protected:
+    // The two cores the suite is budgeted for; the meshes do not depend on it.
+    tbb::global_control threads_{tbb::global_control::max_allowed_parallelism, 2};
+};
+
+TEST_P(RealScanGuaranteesTest, DmcAndMcMeshesAreClean) {
+    const RealScan& scan = GetParam();
+    openvdb::FloatGrid::Ptr grid;
+    ASSERT_NO_FATAL_FAILURE(convert_scan(scan, grid));
+    if (!grid) return;  // skipped: the shared data is missing
 
     std::vector<MeshAnalysis> reports;
     std::vector<Mesh> meshes;
@@ -168,15 +176,9 @@ TEST_P(RealScanGuaranteesTest, DmcAndMcMeshesAreClean) {
 // surface) and, at error 0, is Marching Cubes.
 TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
     const RealScan& scan = GetParam();
-    std::vector<std::filesystem::path> paths;
-    for (const std::string& input : scan.inputs) {
-        VDBMESH_SHARED_DATA(path, input);
-        paths.push_back(path);
-    }
-    const auto reader = open_volume(paths.front(), read_options(scan, paths));
-    ConvertOptions convert;
-    convert.iso = scan.iso;
-    const openvdb::FloatGrid::Ptr grid = convert_to_grid(*reader, convert);
+    openvdb::FloatGrid::Ptr grid;
+    ASSERT_NO_FATAL_FAILURE(convert_scan(scan, grid));
+    if (!grid) return;  // skipped: the shared data is missing
     MeshOptions options;
     options.iso = scan.iso;
     options.method = MeshMethod::mc;
