@@ -147,7 +147,7 @@ Json convert_and_mesh(const Scan& scan, const std::vector<Setting>& settings, in
         MeshOptions options;
         options.method = s.method;
         options.iso = scan.iso;
-        (s.method == MeshMethod::dmc ? options.error : options.adaptivity) = s.value;
+        (s.method == MeshMethod::openvdb ? options.adaptivity : options.error) = s.value;
         // The better of two runs: the first mesher timed would otherwise also pay for the
         // process's first touch of the memory its mesh needs, which later ones reuse.
         double best = std::numeric_limits<double>::infinity();
