@@ -1,0 +1,121 @@
+// vdbmesh_points_bench: point clouds to surfaces (issue 13). The Stanford bunny range scans
+// reconstructed and measured against bun_zipper.ply (every reference vertex to our surface,
+// in % of the reference's bounding-box diagonal), judged by analyze_mesh(); the same with
+// --decimate 0.3; the torus scaling (1e5 and 1e6 points). One JSON object on stdout.
+//
+// Usage: vdbmesh_points_bench [bunny] [decimate] [torus] [--voxel V]   (default: all)
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <random>
+#include <string>
+
+#include "shared_data_dir.h"
+#include "vdbmesh/analysis.h"
+#include "vdbmesh/geometry.h"
+#include "vdbmesh/mesh_io.h"
+#include "vdbmesh/points.h"
+
+namespace vdbmesh::bench {
+namespace {
+
+using Json = nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+struct Accuracy {
+    double max = 0, mean = 0, diagonal = 0;
+};
+
+/// Every vertex of @a reference to the surface @a mesh, in % of the reference's box diagonal.
+Accuracy accuracy(const Mesh& reference, const Mesh& mesh) {
+    std::vector<std::uint32_t> all(mesh.triangles.size());
+    std::iota(all.begin(), all.end(), 0u);
+    const detail::TriangleBvh bvh(mesh, all);
+    std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const auto& v : reference.vertices)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], double(v[a])), hi[a] = std::max(hi[a], double(v[a]));
+    Accuracy r;
+    r.diagonal = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    std::vector<double> d(reference.vertices.size());
+    for (std::size_t i = 0; i < d.size(); ++i) {
+        const auto& v = reference.vertices[i];
+        d[i] = std::sqrt(bvh.closest_point(detail::Point3{v[0], v[1], v[2]}).distance_squared);
+    }
+    double sum = 0;
+    for (double x : d) sum += x, r.max = std::max(r.max, x);
+    r.mean = 100.0 * sum / double(d.size()) / r.diagonal;
+    r.max = 100.0 * r.max / r.diagonal;
+    return r;
+}
+
+Json run_bunny(double voxel, double decimate, const Mesh& reference) {
+    const auto conf = test::shared_data_dir() / "pointcloud_stanford_bunny_scans" / "data" / "bun.conf";
+    const auto start = Clock::now();
+    PointCloud cloud = read_points(conf);
+    const double read_seconds = seconds_since(start);
+    ReconstructOptions options;
+    options.sample.voxel = voxel;
+    options.decimate = decimate;
+    const Reconstruction rec = reconstruct(std::move(cloud), options);
+    const double seconds = seconds_since(start);
+    const MeshAnalysis analysis = analyze_mesh(rec.mesh);
+    const Accuracy acc = accuracy(reference, rec.mesh);
+    Json j;
+    j["decimate"] = decimate;
+    j["voxel"] = rec.report.voxel;
+    j["input_points"] = rec.report.input_points;
+    j["outliers"] = rec.report.outliers;
+    j["used_points"] = rec.report.used_points;
+    j["leaves"] = rec.report.leaves;
+    j["triangles"] = rec.mesh.triangles.size();
+    j["dropped_components"] = rec.report.dropped_components;
+    j["clean"] = analysis.is_clean();
+    j["closed"] = analysis.closed;
+    j["self_intersecting_pairs"] = analysis.self_intersecting_pairs;
+    j["seconds"] = seconds;
+    j["read_seconds"] = read_seconds;
+    Json phases;
+    for (const auto& [name, s] : rec.report.phases) phases[name] = s;
+    j["phases"] = phases;
+    j["max_percent_of_diagonal"] = acc.max;
+    j["mean_percent_of_diagonal"] = acc.mean;
+    j["reference_diagonal"] = acc.diagonal;
+    return j;
+}
+
+}  // namespace
+}  // namespace vdbmesh::bench
+
+int main(int argc, char** argv) {
+    using namespace vdbmesh;
+    using namespace vdbmesh::bench;
+    std::vector<std::string> parts;
+    double voxel = 0.0005;
+    for (int i = 1; i < argc; ++i) {
+        if (!std::strcmp(argv[i], "--voxel") && i + 1 < argc) voxel = std::stod(argv[++i]);
+        else parts.emplace_back(argv[i]);
+    }
+    auto want = [&](const std::string& p) { return parts.empty() || std::find(parts.begin(), parts.end(), p) != parts.end(); };
+    Json out;
+    try {
+        const auto zipper = test::shared_data_dir() / "pointcloud_stanford_bunny_scans" / "reconstruction" / "bun_zipper.ply";
+        if (want("bunny") || want("decimate")) {
+            const Mesh reference = read_mesh(zipper);
+            if (want("bunny")) out["bunny"] = run_bunny(voxel, 0.0, reference);
+            if (want("decimate")) out["bunny_decimate_0.3"] = run_bunny(voxel, 0.3, reference);
+        }
+    } catch (const std::exception& e) {
+        std::cerr << "vdbmesh_points_bench: " << e.what() << "\n";
+        return 1;
+    }
+    std::cout << out.dump(2) << "\n";
+    return 0;
+}
