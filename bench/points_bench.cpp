@@ -64,9 +64,11 @@ Json run_bunny(double voxel, double decimate, const Mesh& reference) {
     ReconstructOptions options;
     options.sample.voxel = voxel;
     options.decimate = decimate;
+    if (std::getenv("KEEP_ALL")) options.min_component = 0;
     const Reconstruction rec = reconstruct(std::move(cloud), options);
     const double seconds = seconds_since(start);
     const MeshAnalysis analysis = analyze_mesh(rec.mesh);
+    if (const char* dump = std::getenv("DUMP_MESH")) write_mesh(rec.mesh, dump, MeshWriteOptions{true, false});
     const Accuracy acc = accuracy(reference, rec.mesh);
     Json j;
     j["decimate"] = decimate;
@@ -77,9 +79,16 @@ Json run_bunny(double voxel, double decimate, const Mesh& reference) {
     j["leaves"] = rec.report.leaves;
     j["triangles"] = rec.mesh.triangles.size();
     j["dropped_components"] = rec.report.dropped_components;
+    j["fallbacks"] = rec.report.mesh_fallbacks;
     j["clean"] = analysis.is_clean();
     j["closed"] = analysis.closed;
     j["self_intersecting_pairs"] = analysis.self_intersecting_pairs;
+    j["boundary_edges"] = analysis.boundary_edges;
+    j["nonmanifold_edges"] = analysis.nonmanifold_edges;
+    j["nonmanifold_vertices"] = analysis.nonmanifold_vertices;
+    j["misoriented_edges"] = analysis.misoriented_edges;
+    j["degenerate_faces"] = analysis.degenerate_faces;
+    j["volume"] = analysis.volume;
     j["seconds"] = seconds;
     j["read_seconds"] = read_seconds;
     Json phases;

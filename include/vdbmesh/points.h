@@ -75,7 +75,7 @@ struct DecimateOptions {
 PointCloud decimate_points(const PointCloud& cloud, const DecimateOptions& options);
 
 struct RbfOptions {
-    int leaf_min = 40;            ///< N1: leaves hold N1 to 2*N1 points (plus the overlap)
+    int leaf_min = 30;            ///< N1: leaves hold N1 to 2*N1 points (plus the overlap)
     double overlap = 0.05;        ///< the overlap of two siblings, a fraction of the parent's extent
     double off_surface = 0.0;     ///< Carr's off-surface distance; 0: half the median point spacing
 };
@@ -95,6 +95,7 @@ public:
     Vec3d box_max() const;
     std::size_t leaves() const;
     double spacing() const;                ///< the median nearest-neighbour distance of the cloud
+    double distance_to_points(const Vec3d& p) const;  ///< to the nearest point of the cloud
 
 private:
     struct Impl;
@@ -104,6 +105,9 @@ private:
 struct SampleOptions {
     double voxel = 0.0;    ///< 0: a 1/256 of the longest side of the points' box
     double band = 3.0;     ///< half-width in voxels of the band sampled exactly
+    /// The field is trusted only this far from the points (gaps narrower than twice this are
+    /// closed); beyond, inside or outside by flood fill. 0: 6% of the longest side of the points' box.
+    double reach = 0.0;
     std::function<void(double)> progress;
 };
 
@@ -129,6 +133,7 @@ struct ReconstructReport {
     std::size_t input_points = 0, outliers = 0, used_points = 0, leaves = 0;
     double voxel = 0;
     std::size_t dropped_components = 0;
+    std::vector<std::string> mesh_fallbacks;  ///< MeshReport::fallbacks of DMC
     std::vector<std::pair<std::string, double>> phases;  ///< name, seconds
 };
 

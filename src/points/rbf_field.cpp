@@ -29,9 +29,9 @@ struct Node {
 
 struct Leaf {
     Vec3d centre{0, 0, 0};
-    double scale = 1;                   // local coordinates: (x - centre) / scale
-    std::vector<Eigen::Vector3d> nodes; // local
-    Eigen::VectorXd lambda;             // weights, then 4 polynomial coefficients
+    double scale = 1;                     // local coordinates: (x - centre) / scale
+    std::vector<double> x, y, z, lambda;  // the RBF centres (local) and their weights
+    double poly[4] = {0, 0, 0, 0};        // a0 + a . x
 };
 
 /// 0 at t <= 0, 1 at t >= 1, C1 in between; s(t) + s(1 - t) = 1.
@@ -48,18 +48,32 @@ struct RbfField::Impl {
     std::vector<Leaf> leaves;
     Vec3d lo, hi;
     double spacing = 0;
+    std::vector<Vec3d> points;
+    std::unique_ptr<points_detail::KdTree> tree;
 
     double leaf_value(const Leaf& leaf, const Vec3d& p) const {
-        const Eigen::Vector3d x((p[0] - leaf.centre[0]) / leaf.scale, (p[1] - leaf.centre[1]) / leaf.scale,
-                                (p[2] - leaf.centre[2]) / leaf.scale);
-        const std::size_t n = leaf.nodes.size();
-        double s = 0;
-        for (std::size_t j = 0; j < n; ++j) {
-            const double r = (x - leaf.nodes[j]).norm();
-            s += leaf.lambda[Eigen::Index(j)] * r * r * r;
+        const double inv = 1.0 / leaf.scale;
+        const double px = (p[0] - leaf.centre[0]) * inv, py = (p[1] - leaf.centre[1]) * inv, pz = (p[2] - leaf.centre[2]) * inv;
+        const std::size_t n = leaf.x.size();
+        const double* X = leaf.x.data();
+        const double* Y = leaf.y.data();
+        const double* Z = leaf.z.data();
+        const double* L = leaf.lambda.data();
+        double s0 = 0, s1 = 0;  // two partial sums, always in this order
+        std::size_t j = 0;
+        for (; j + 1 < n; j += 2) {
+            const double ax = px - X[j], ay = py - Y[j], az = pz - Z[j];
+            const double bx = px - X[j + 1], by = py - Y[j + 1], bz = pz - Z[j + 1];
+            const double ra = ax * ax + ay * ay + az * az, rb = bx * bx + by * by + bz * bz;
+            s0 += L[j] * ra * std::sqrt(ra);
+            s1 += L[j + 1] * rb * std::sqrt(rb);
         }
-        s += leaf.lambda[Eigen::Index(n)] + leaf.lambda[Eigen::Index(n + 1)] * x.x() +
-             leaf.lambda[Eigen::Index(n + 2)] * x.y() + leaf.lambda[Eigen::Index(n + 3)] * x.z();
+        if (j < n) {
+            const double ax = px - X[j], ay = py - Y[j], az = pz - Z[j];
+            const double ra = ax * ax + ay * ay + az * az;
+            s0 += L[j] * ra * std::sqrt(ra);
+        }
+        const double s = s0 + s1 + leaf.poly[0] + leaf.poly[1] * px + leaf.poly[2] * py + leaf.poly[3] * pz;
         return s * leaf.scale;
     }
 
@@ -91,8 +105,10 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
     const std::vector<Vec3d>& N = cloud.normals;
 
     // The median nearest-neighbour distance (over an even subset).
+    m.points = P;
+    m.tree = std::make_unique<points_detail::KdTree>(m.points);
     {
-        const points_detail::KdTree tree(P);
+        const points_detail::KdTree& tree = *m.tree;
         const std::size_t step = std::max<std::size_t>(1, n / 20000);
         std::vector<double> d;
         std::vector<std::size_t> idx;
@@ -133,35 +149,48 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
         Pending job = std::move(stack.back());
         stack.pop_back();
         Node nd = m.nodes[std::size_t(job.node)];
-        int axis = 0;
-        for (int a = 1; a < 3; ++a)
-            if (nd.hi[a] - nd.lo[a] > nd.hi[axis] - nd.lo[axis]) axis = a;
-        const double extent = nd.hi[axis] - nd.lo[axis];
-        if (job.index.size() <= max_leaf || extent < 4 * m.spacing) {
+        if (job.index.size() <= max_leaf) {
             m.nodes[std::size_t(job.node)].leaf = int(leaf_points.size());
             leaf_points.emplace_back(job.node, std::move(job.index));
             continue;
         }
+        // The longest axis of the points' box (the cell's own box may be mostly empty).
+        Vec3d plo = P[job.index[0]], phi = plo;
+        for (std::uint32_t i : job.index)
+            for (int a = 0; a < 3; ++a) plo[a] = std::min(plo[a], P[i][a]), phi[a] = std::max(phi[a], P[i][a]);
+        int axis = 0;
+        for (int a = 1; a < 3; ++a)
+            if (phi[a] - plo[a] > phi[axis] - plo[axis]) axis = a;
+        const double extent = phi[axis] - plo[axis];
         std::vector<double> c(job.index.size());
         for (std::size_t i = 0; i < c.size(); ++i) c[i] = P[job.index[i]][std::size_t(axis)];
         std::nth_element(c.begin(), c.begin() + long(c.size() / 2), c.end());
-        double split = c[c.size() / 2];
-        const double half = std::max(options.overlap * extent, 1.5 * m.spacing);
-        split = std::clamp(split, nd.lo[axis] + 2 * half, nd.hi[axis] - 2 * half);
-        Node left{nd.lo, nd.hi}, right{nd.lo, nd.hi};
-        left.hi[std::size_t(axis)] = split + half;
-        right.lo[std::size_t(axis)] = split - half;
+        const double median = c[c.size() / 2];
+        double half = std::max(options.overlap * extent, 0.5 * m.spacing);
+        double split = median;
         std::vector<std::uint32_t> li, ri;
-        for (std::uint32_t i : job.index) {
-            const double x = P[i][std::size_t(axis)];
-            if (x <= split + half) li.push_back(i);
-            if (x >= split - half) ri.push_back(i);
+        bool ok = false;
+        for (int attempt = 0; attempt < 6 && !ok; ++attempt, half *= 0.5) {
+            split = std::clamp(median, nd.lo[axis] + 2 * half, nd.hi[axis] - 2 * half);
+            li.clear();
+            ri.clear();
+            for (std::uint32_t i : job.index) {
+                const double x = P[i][std::size_t(axis)];
+                if (x <= split + half) li.push_back(i);
+                if (x >= split - half) ri.push_back(i);
+            }
+            // Both sides must shrink (the overlap may not hold most points).
+            ok = li.size() <= job.index.size() * 3 / 4 && ri.size() <= job.index.size() * 3 / 4;
+            if (ok) break;
         }
-        if (li.size() == job.index.size() || ri.size() == job.index.size()) {  // cannot separate
+        if (!ok) {
             m.nodes[std::size_t(job.node)].leaf = int(leaf_points.size());
             leaf_points.emplace_back(job.node, std::move(job.index));
             continue;
         }
+        Node left{nd.lo, nd.hi}, right{nd.lo, nd.hi};
+        left.hi[std::size_t(axis)] = split + half;
+        right.lo[std::size_t(axis)] = split - half;
         Node& parent = m.nodes[std::size_t(job.node)];
         parent.axis = axis;
         parent.split = split;
@@ -179,7 +208,13 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
     m.leaves.resize(leaf_points.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaf_points.size(), 4), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t li = r.begin(); li < r.end(); ++li) {
-            const std::vector<std::uint32_t>& idx = leaf_points[li].second;
+            std::vector<std::uint32_t> idx = leaf_points[li].second;
+            const std::size_t cap = 4 * std::size_t(options.leaf_min);  // a bounded solve, whatever the leaf
+            if (idx.size() > cap) {
+                std::vector<std::uint32_t> thin;
+                for (std::size_t i = 0; i < cap; ++i) thin.push_back(idx[i * idx.size() / cap]);
+                idx.swap(thin);
+            }
             const Node& nd = m.nodes[std::size_t(leaf_points[li].first)];
             Leaf& leaf = m.leaves[li];
             for (int a = 0; a < 3; ++a) leaf.centre[a] = 0.5 * (nd.lo[a] + nd.hi[a]);
@@ -216,9 +251,15 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
                 for (int a = 0; a < 3; ++a) A(i, c + 1 + a) = A(c + 1 + a, i) = centres[std::size_t(i)][a];
                 b[i] = target[std::size_t(i)];
             }
-            leaf.lambda = A.partialPivLu().solve(b);
-            if (!leaf.lambda.allFinite()) leaf.lambda = A.completeOrthogonalDecomposition().solve(b);
-            leaf.nodes = std::move(centres);
+            Eigen::VectorXd lambda = A.partialPivLu().solve(b);
+            if (!lambda.allFinite()) lambda = A.completeOrthogonalDecomposition().solve(b);
+            for (Eigen::Index i = 0; i < c; ++i) {
+                leaf.x.push_back(centres[std::size_t(i)].x());
+                leaf.y.push_back(centres[std::size_t(i)].y());
+                leaf.z.push_back(centres[std::size_t(i)].z());
+                leaf.lambda.push_back(lambda[i]);
+            }
+            for (int a = 0; a < 4; ++a) leaf.poly[a] = lambda[c + a];
         }
     });
 }
@@ -240,5 +281,11 @@ Vec3d RbfField::box_min() const { return impl_->lo; }
 Vec3d RbfField::box_max() const { return impl_->hi; }
 std::size_t RbfField::leaves() const { return impl_->leaves.size(); }
 double RbfField::spacing() const { return impl_->spacing; }
+
+double RbfField::distance_to_points(const Vec3d& p) const {
+    double d2 = 0;
+    impl_->tree->nearest(p, &d2);
+    return std::sqrt(d2);
+}
 
 }  // namespace vdbmesh

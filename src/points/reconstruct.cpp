@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <numeric>
 
@@ -115,37 +117,83 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
     const double h = options.voxel > 0 ? options.voxel : longest / 1.2 / 256.0;
     if (!(options.band >= 1)) throw UsageError("sample: the band must be at least 1 voxel");
     const double background = options.band * h;
-    const double lipschitz = 2.0;  // the blended field's slope is about 1 near the surface
+    const double lipschitz = 1.5;  // the blended field's slope is about 1 near the surface
+    const double reach = options.reach > 0 ? options.reach : 0.06 * longest / 1.2;
     auto grid = openvdb::FloatGrid::create(float(background));
     grid->setTransform(openvdb::math::Transform::createLinearTransform(h));
     grid->setGridClass(openvdb::GRID_LEVEL_SET);
-    openvdb::Coord cmin, cmax;
+    // The blocks (8^3 voxels, OpenVDB's leaf nodes) covering the field's box.
+    std::array<int, 3> first, count;
     for (int a = 0; a < 3; ++a) {
-        cmin[a] = int(std::ceil(lo[a] / h)) & ~7;
-        cmax[a] = int(std::floor(hi[a] / h));
+        first[a] = int(std::floor(lo[a] / h / 8.0));
+        count[a] = int(std::floor(hi[a] / h / 8.0)) - first[a] + 1;
     }
-    std::vector<openvdb::Coord> blocks;
-    for (int x = cmin[0]; x <= cmax[0]; x += 8)
-        for (int y = cmin[1]; y <= cmax[1]; y += 8)
-            for (int z = cmin[2]; z <= cmax[2]; z += 8) blocks.emplace_back(x, y, z);
-    using Leaf = openvdb::FloatTree::LeafNodeType;
-    std::vector<std::unique_ptr<Leaf>> leaves(blocks.size());
-    std::vector<signed char> tile(blocks.size(), 0);  // -1 inside tile, +1 outside, 0 leaf
-    auto inside_box = [&](const Vec3d& p) {
-        for (int a = 0; a < 3; ++a)
-            if (p[a] < lo[a] || p[a] > hi[a]) return false;
-        return true;
+    const std::size_t nblocks = std::size_t(count[0]) * std::size_t(count[1]) * std::size_t(count[2]);
+    auto block_index = [&](int x, int y, int z) { return (std::size_t(x) * std::size_t(count[1]) + std::size_t(y)) * std::size_t(count[2]) + std::size_t(z); };
+    auto origin_of = [&](std::size_t b) {
+        const int z = int(b % std::size_t(count[2])), y = int(b / std::size_t(count[2]) % std::size_t(count[1])),
+                  x = int(b / (std::size_t(count[1]) * std::size_t(count[2])));
+        return openvdb::Coord((first[0] + x) * 8, (first[1] + y) * 8, (first[2] + z) * 8);
     };
-    std::atomic<std::size_t> done{0};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    const double block_radius = 3.5 * std::sqrt(3.0) * h;
+    // Near blocks (within reach of the points): the field decides. 0 far, 1 near.
+    std::vector<signed char> near(nblocks, 0);
+    std::vector<float> coarse(nblocks, 0.0f);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks, 64), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
-            const openvdb::Coord o = blocks[b];
+            const openvdb::Coord o = origin_of(b);
             const Vec3d centre{(o[0] + 3.5) * h, (o[1] + 3.5) * h, (o[2] + 3.5) * h};
-            const double f = field.value(centre);
-            if (std::abs(f) > lipschitz * 3.5 * std::sqrt(3.0) * h + background) {
-                tile[b] = f < 0 ? -1 : 1;
+            if (field.distance_to_points(centre) > reach + block_radius) continue;
+            near[b] = 1;
+            coarse[b] = float(field.value(centre));
+        }
+    });
+    // Far blocks: connected groups (6-neighbours) take the sign most of the near blocks around
+    // them have; a group touching the box's side is outside.
+    std::vector<signed char> sign(nblocks, 0);  // far: -1 inside, +1 outside
+    {
+        std::vector<int> label(nblocks, -1);
+        std::vector<std::size_t> queue;
+        for (std::size_t seed = 0; seed < nblocks; ++seed) {
+            if (near[seed] || label[seed] >= 0) continue;
+            queue.assign(1, seed);
+            label[seed] = int(seed);
+            bool boundary = false;
+            long vote = 0;
+            for (std::size_t q = 0; q < queue.size(); ++q) {
+                const std::size_t b = queue[q];
+                const int z = int(b % std::size_t(count[2])), y = int(b / std::size_t(count[2]) % std::size_t(count[1])),
+                          x = int(b / (std::size_t(count[1]) * std::size_t(count[2])));
+                const int nbr[6][3] = {{x - 1, y, z}, {x + 1, y, z}, {x, y - 1, z}, {x, y + 1, z}, {x, y, z - 1}, {x, y, z + 1}};
+                for (const auto& c : nbr) {
+                    if (c[0] < 0 || c[1] < 0 || c[2] < 0 || c[0] >= count[0] || c[1] >= count[1] || c[2] >= count[2]) {
+                        boundary = true;
+                        continue;
+                    }
+                    const std::size_t m = block_index(c[0], c[1], c[2]);
+                    if (near[m]) {
+                        vote += coarse[m] < 0 ? -1 : 1;
+                    } else if (label[m] < 0) {
+                        label[m] = int(seed);
+                        queue.push_back(m);
+                    }
+                }
+            }
+            const signed char s = (boundary || vote >= 0) ? 1 : -1;
+            for (std::size_t b : queue) sign[b] = s;
+        }
+    }
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    std::vector<std::unique_ptr<Leaf>> leaves(nblocks);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks, 16), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b < r.end(); ++b) {
+            if (!near[b]) continue;
+            const double f = coarse[b];
+            if (std::abs(f) > lipschitz * block_radius + background) {
+                sign[b] = f < 0 ? -1 : 1;
                 continue;
             }
+            const openvdb::Coord o = origin_of(b);
             auto leaf = std::make_unique<Leaf>(o, float(background), false);
             bool any = false;
             for (int sx = 0; sx < 8; sx += 4)
@@ -164,13 +212,13 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
                             for (int y = 0; y < 4; ++y)
                                 for (int z = 0; z < 4; ++z) {
                                     const openvdb::Coord ijk(o[0] + sx + x, o[1] + sy + y, o[2] + sz + z);
-                                    const Vec3d p{ijk[0] * h, ijk[1] * h, ijk[2] * h};
-                                    double v = inside_box(p) ? field.value(p) : background;
+                                    double v = field.value(Vec3d{ijk[0] * h, ijk[1] * h, ijk[2] * h});
                                     const bool on = std::abs(v) < background;
                                     v = std::clamp(v, -background, background);
-                                    leaf->setValueOnly(openvdb::Coord(sx + x, sy + y, sz + z), float(v));
+                                    const openvdb::Coord local(sx + x, sy + y, sz + z);
+                                    leaf->setValueOnly(local, float(v));
                                     if (on) {
-                                        leaf->setValueOn(openvdb::Coord(sx + x, sy + y, sz + z));
+                                        leaf->setValueOn(local);
                                         any = true;
                                     }
                                 }
@@ -178,21 +226,23 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
             if (any) {
                 leaves[b] = std::move(leaf);
             } else {
-                tile[b] = f < 0 ? -1 : 1;
+                sign[b] = f < 0 ? -1 : 1;
             }
-            const std::size_t d = ++done;
-            (void)d;
         }
     });
     openvdb::FloatTree& tree = grid->tree();
-    for (std::size_t b = 0; b < blocks.size(); ++b) {
+    // Near blocks without a surface become constant leaves, not tiles: mesh_grid() left
+    // boundary edges where inside level-1 tiles met leaves of this grid (seen on the bunny).
+    const bool dense = true;
+    for (std::size_t b = 0; b < nblocks; ++b) {
         if (leaves[b]) {
             tree.addLeaf(leaves[b].release());
-        } else if (tile[b] < 0) {
-            tree.addTile(1, blocks[b], -float(background), false);
+        } else if (dense && near[b]) {
+            tree.addLeaf(new Leaf(origin_of(b), sign[b] < 0 ? -float(background) : float(background), false));
+        } else if (sign[b] < 0) {
+            tree.addTile(1, origin_of(b), -float(background), false);
         }
     }
-    tree.prune();
     return grid;
 }
 
@@ -250,7 +300,9 @@ Reconstruction reconstruct(PointCloud cloud, const ReconstructOptions& options) 
     mesh.iso = 0;
     mesh.inside = Inside::below;
     mesh.error = options.dmc_error;
-    result.mesh = mesh_grid(*result.grid, mesh).mesh;
+    MeshResult meshed = mesh_grid(*result.grid, mesh);
+    result.mesh = std::move(meshed.mesh);
+    report.mesh_fallbacks = meshed.report.fallbacks;
     phase("mesh");
     if (options.min_component > 0) report.dropped_components = drop_small_components(result.mesh, options.min_component);
     progress(1.0);
