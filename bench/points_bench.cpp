@@ -65,6 +65,10 @@ Json run_bunny(double voxel, double decimate, const Mesh& reference) {
     options.sample.voxel = voxel;
     options.decimate = decimate;
     if (std::getenv("KEEP_ALL")) options.min_component = 0;
+    if (const char* c = std::getenv("CLUSTER")) options.cluster = std::stod(c);
+    if (const char* c = std::getenv("BAND")) options.sample.band = std::stod(c);
+    if (const char* c = std::getenv("OFF_EVERY")) options.rbf.off_every = std::stoi(c);
+    if (const char* c = std::getenv("LEAF")) options.rbf.leaf_min = std::stoi(c);
     const Reconstruction rec = reconstruct(std::move(cloud), options);
     const double seconds = seconds_since(start);
     const MeshAnalysis analysis = analyze_mesh(rec.mesh);

@@ -78,6 +78,7 @@ struct RbfOptions {
     int leaf_min = 30;            ///< N1: leaves hold N1 to 2*N1 points (plus the overlap)
     double overlap = 0.05;        ///< the overlap of two siblings, a fraction of the parent's extent
     double off_surface = 0.0;     ///< Carr's off-surface distance; 0: half the median point spacing
+    int off_every = 2;            ///< an off-surface constraint at every this many points (alternately outside and inside)
 };
 
 /// The partition-of-unity RBF field of a cloud with normals: negative inside, roughly a

@@ -233,9 +233,10 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
                                      (p[2] - leaf.centre[2]) / leaf.scale);
                 target.push_back(0.0);
             }
-            for (std::size_t i = 0; i < k; ++i) {
+            const std::size_t every = std::size_t(std::max(1, options.off_every));
+            for (std::size_t i = 0; i < k; i += every) {
                 const Vec3d& q = N[idx[i]];
-                const double s = (i % 2 == 0) ? d : -d;
+                const double s = ((i / every) % 2 == 0) ? d : -d;
                 centres.push_back(centres[i] + s * Eigen::Vector3d(q[0], q[1], q[2]));
                 target.push_back(s);
             }

@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -138,12 +139,14 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
     const double block_radius = 3.5 * std::sqrt(3.0) * h;
     // Near blocks (within reach of the points): the field decides. 0 far, 1 near.
     std::vector<signed char> near(nblocks, 0);
+    std::atomic<std::size_t> stat_near{0}, stat_leaf{0}, stat_voxel{0};
     std::vector<float> coarse(nblocks, 0.0f);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks, 64), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
             const openvdb::Coord o = origin_of(b);
             const Vec3d centre{(o[0] + 3.5) * h, (o[1] + 3.5) * h, (o[2] + 3.5) * h};
             if (field.distance_to_points(centre) > reach + block_radius) continue;
+            ++stat_near;
             near[b] = 1;
             coarse[b] = float(field.value(centre));
         }
@@ -195,6 +198,7 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
             }
             const openvdb::Coord o = origin_of(b);
             auto leaf = std::make_unique<Leaf>(o, float(background), false);
+            ++stat_leaf;
             bool any = false;
             for (int sx = 0; sx < 8; sx += 4)
                 for (int sy = 0; sy < 8; sy += 4)
@@ -208,19 +212,33 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
                                     for (int z = 0; z < 4; ++z) leaf->setValueOnly(openvdb::Coord(sx + x, sy + y, sz + z), v);
                             continue;
                         }
-                        for (int x = 0; x < 4; ++x)
-                            for (int y = 0; y < 4; ++y)
-                                for (int z = 0; z < 4; ++z) {
-                                    const openvdb::Coord ijk(o[0] + sx + x, o[1] + sy + y, o[2] + sz + z);
-                                    double v = field.value(Vec3d{ijk[0] * h, ijk[1] * h, ijk[2] * h});
-                                    const bool on = std::abs(v) < background;
-                                    v = std::clamp(v, -background, background);
-                                    const openvdb::Coord local(sx + x, sy + y, sz + z);
-                                    leaf->setValueOnly(local, float(v));
-                                    if (on) {
-                                        leaf->setValueOn(local);
-                                        any = true;
+                        // 2^3 cells: their centre decides whether their voxels need values.
+                        for (int cx = 0; cx < 4; cx += 2)
+                            for (int cy = 0; cy < 4; cy += 2)
+                                for (int cz = 0; cz < 4; cz += 2) {
+                                    const int bx = sx + cx, by = sy + cy, bz = sz + cz;
+                                    const double e = field.value(Vec3d{(o[0] + bx + 0.5) * h, (o[1] + by + 0.5) * h, (o[2] + bz + 0.5) * h});
+                                    if (std::abs(e) > lipschitz * 0.5 * std::sqrt(3.0) * h + background) {
+                                        const float v = e < 0 ? -float(background) : float(background);
+                                        for (int x = 0; x < 2; ++x)
+                                            for (int y = 0; y < 2; ++y)
+                                                for (int z = 0; z < 2; ++z) leaf->setValueOnly(openvdb::Coord(bx + x, by + y, bz + z), v);
+                                        continue;
                                     }
+                                    for (int x = 0; x < 2; ++x)
+                                        for (int y = 0; y < 2; ++y)
+                                            for (int z = 0; z < 2; ++z) {
+                                                const openvdb::Coord local(bx + x, by + y, bz + z);
+                                                ++stat_voxel;
+                                                double v = field.value(Vec3d{(o[0] + local[0]) * h, (o[1] + local[1]) * h, (o[2] + local[2]) * h});
+                                                const bool on = std::abs(v) < background;
+                                                v = std::clamp(v, -background, background);
+                                                leaf->setValueOnly(local, float(v));
+                                                if (on) {
+                                                    leaf->setValueOn(local);
+                                                    any = true;
+                                                }
+                                            }
                                 }
                     }
             if (any) {
@@ -243,6 +261,8 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
             tree.addTile(1, origin_of(b), -float(background), false);
         }
     }
+    if (std::getenv("VDBMESH_POINTS_DEBUG"))
+        fprintf(stderr, "blocks %zu near %zu leaf %zu voxels %zu\n", nblocks, std::size_t(stat_near), std::size_t(stat_leaf), std::size_t(stat_voxel));
     return grid;
 }
 
