@@ -28,6 +28,9 @@ void add_compare_command(CLI::App& command, CommandResult& result);
 void add_view_command(CLI::App& command, CommandResult& result);
 void add_measure_command(CLI::App& command, CommandResult& result);
 void add_section_command(CLI::App& command, CommandResult& result);
+void add_reconstruct_command(CLI::App& command, CommandResult& result);
+void add_similarity_command(CLI::App& command, CommandResult& result);
+void add_classify_command(CLI::App& command, CommandResult& result);
 
 /// All subcommands, in the order --help lists them.
 inline constexpr CommandEntry kCommands[] = {
@@ -38,6 +41,9 @@ inline constexpr CommandEntry kCommands[] = {
     {"check", "Validate a mesh (closed, manifold, oriented, self-intersections) and measure it", add_check_command},
     {"measure", "Area, volume, centroid, inertia, principal axes, genus and components of a mesh or of a scan's surface", add_measure_command},
     {"section", "Cut a closed mesh (or a scan's surface) by planes: nested loops, area, perimeter, moments, SVG", add_section_command},
+    {"reconstruct", "Points (.xyz, .ply, a .conf range-scan set) to a closed surface or a signed field (.vdb) by partition-of-unity RBF", add_reconstruct_command},
+    {"similarity", "How alike two solids given by points are, and the scale, rotation and translation between them", add_similarity_command},
+    {"classify", "The class (NAME=reference points) whose solid is most like a sample's", add_classify_command},
     {"compare", "Mesh one grid with DMC, MC and volumeToMesh; time them, validate them, measure them against the true surface", add_compare_command},
     {"view", "Show a scan (re-meshed live as the isovalue moves) or a mesh in the browser", add_view_command},
 };
