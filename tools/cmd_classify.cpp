@@ -35,14 +35,15 @@ void run_classify(ClassifyCommandOptions& o) {
         classes.emplace_back(c.substr(0, eq), c.substr(eq + 1));
     }
     const ThreadLimit limit(o.common);
-    const PointCloud sample = load_solid(o.sample, o.solid, nullptr);
+    std::unique_ptr<RbfField> sample_field;
+    const PointCloud sample = load_solid(o.sample, o.solid, &sample_field);
     nlohmann::ordered_json list = nlohmann::ordered_json::array();
     std::string best;
     double best_energy = std::numeric_limits<double>::infinity();
     for (const auto& [name, path] : classes) {
         std::unique_ptr<RbfField> field;
         const PointCloud ref = load_solid(path, o.solid, &field);
-        const SimilarityResult r = compare_to(sample, ref, *field, o.sim);
+        const SimilarityResult r = compare_solids(sample, *sample_field, ref, *field, o.sim);
         nlohmann::ordered_json j = similarity_json(r);
         j["class"] = name;
         j["reference"] = path;

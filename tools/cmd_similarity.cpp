@@ -17,6 +17,8 @@ namespace vdbmesh::cli {
 nlohmann::ordered_json similarity_json(const SimilarityResult& r) {
     nlohmann::ordered_json j;
     j["energy"] = r.energy;
+    j["forward_energy"] = r.forward_energy;
+    j["reverse_energy"] = r.reverse_energy;
     j["coarse_energy"] = r.coarse_energy;
     j["iterations"] = r.iterations;
     j["scale"] = r.transform.scale;
@@ -45,15 +47,15 @@ struct SimilarityCommandOptions {
 
 void run_similarity(SimilarityCommandOptions& o) {
     const ThreadLimit limit(o.common);
-    const PointCloud a = load_solid(o.a, o.solid, nullptr);
-    std::unique_ptr<RbfField> field;
+    std::unique_ptr<RbfField> field_a, field;
+    const PointCloud a = load_solid(o.a, o.solid, &field_a);
     const PointCloud b = load_solid(o.b, o.solid, &field);
-    const SimilarityResult r = compare_to(a, b, *field, o.sim);
+    const SimilarityResult r = compare_solids(a, *field_a, b, *field, o.sim);
     if (o.json) {
         std::cout << similarity_json(r).dump() << "\n";
         return;
     }
-    std::cout << std::setprecision(9) << "energy      " << r.energy << "  (mean squared field value / size^2; 0: the same solid)\n"
+    std::cout << std::setprecision(9) << "energy      " << r.energy << "  (mean squared field value / size^2, both ways; 0: the same solid)\n"
               << "scale       " << r.transform.scale << "\n"
               << "rotation    " << r.transform.rotation[0] << " " << r.transform.rotation[1] << " " << r.transform.rotation[2] << "\n"
               << "            " << r.transform.rotation[3] << " " << r.transform.rotation[4] << " " << r.transform.rotation[5] << "\n"

@@ -159,6 +159,7 @@ struct SimilarityResult {
     double energy = 0;        ///< mean squared field value / size^2 after alignment: 0 for the same solid
     Similarity transform;     ///< maps the sample's points onto the reference solid
     double coarse_energy = 0; ///< the same before the Levenberg-Marquardt refinement
+    double forward_energy = 0, reverse_energy = 0;  ///< compare_solids(): each direction (energy is their mean)
     int iterations = 0;
 };
 
@@ -174,5 +175,11 @@ struct SimilarityOptions {
 /// the sum of squared field values of the transformed sample points.
 SimilarityResult compare_to(const PointCloud& sample, const PointCloud& reference_cloud, const RbfField& reference,
                             const SimilarityOptions& options = {});
+
+/// The symmetric similarity: compare_to() of @a a against @a b, then the energy of b's points
+/// taken back by the inverse transform in a's field; energy is the mean of the two directions
+/// (a sample cannot look alike by covering only part of the reference).
+SimilarityResult compare_solids(const PointCloud& a, const RbfField& field_a, const PointCloud& b, const RbfField& field_b,
+                                const SimilarityOptions& options = {});
 
 }  // namespace vdbmesh

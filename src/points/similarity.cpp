@@ -69,11 +69,20 @@ double energy(const RbfField& field, const std::vector<Eigen::Vector3d>& points,
 }
 
 /// Levenberg-Marquardt on (log scale, rotation increment, translation).
+/// The scale may move from the coarse estimate (the ratio of RMS sizes) only at a cost:
+/// without it every sample would shrink onto one spot of the reference's surface.
+constexpr double kScaleWeight = 0.1;
+
 Pose refine(const RbfField& field, const std::vector<Eigen::Vector3d>& points, Pose pose, double size, int iterations,
             bool allow_scale, int& used) {
     const std::size_t n = points.size();
+    const double scale0 = pose.log_scale;
+    auto cost = [&](const Pose& p) {
+        const double d = p.log_scale - scale0;
+        return energy(field, points, p, size) + kScaleWeight * kScaleWeight * d * d;
+    };
     double lambda = 1e-3;
-    double current = energy(field, points, pose, size);
+    double current = cost(pose);
     for (used = 0; used < iterations; ++used) {
         std::vector<Eigen::Matrix<double, 7, 1>> rows(n);
         std::vector<double> res(n);
@@ -96,8 +105,12 @@ Pose refine(const RbfField& field, const std::vector<Eigen::Vector3d>& points, P
         Eigen::Matrix<double, 7, 7> JtJ = Eigen::Matrix<double, 7, 7>::Zero();
         Eigen::Matrix<double, 7, 1> Jtr = Eigen::Matrix<double, 7, 1>::Zero();
         for (std::size_t i = 0; i < n; ++i) {
-            JtJ += rows[i] * rows[i].transpose();
-            Jtr += rows[i] * res[i];
+            JtJ += rows[i] * rows[i].transpose() / double(n);
+            Jtr += rows[i] * res[i] / double(n);
+        }
+        if (allow_scale) {  // the scale's residual kScaleWeight * (log s - log s0)
+            JtJ(0, 0) += kScaleWeight * kScaleWeight;
+            Jtr[0] += kScaleWeight * kScaleWeight * (pose.log_scale - scale0);
         }
         bool improved = false;
         for (int attempt = 0; attempt < 8; ++attempt) {
@@ -110,7 +123,7 @@ Pose refine(const RbfField& field, const std::vector<Eigen::Vector3d>& points, P
             // y = s R x + t: rotating about the current transformed origin keeps t, and the
             // first-order model above assumed exactly that.
             next.translation += step.segment<3>(4);
-            const double e = energy(field, points, next, size);
+            const double e = cost(next);
             if (std::isfinite(e) && e < current) {
                 pose = next;
                 const double gain = current - e;
@@ -179,6 +192,29 @@ SimilarityResult compare_to(const PointCloud& sample, const PointCloud& referenc
         }
     }
     return best;
+}
+
+SimilarityResult compare_solids(const PointCloud& a, const RbfField& field_a, const PointCloud& b, const RbfField& field_b,
+                                const SimilarityOptions& options) {
+    SimilarityResult r = compare_to(a, b, field_b, options);
+    // The reverse energy: b's points taken onto a by the inverse transform, in a's field.
+    const Similarity& t = r.transform;
+    const Frame fa = frame_of(a.points);
+    const std::size_t n = b.points.size();
+    const std::size_t m = std::min(n, std::max<std::size_t>(options.max_points, 16));
+    std::vector<Eigen::Vector3d> pts;
+    for (std::size_t i = 0; i < m; ++i) pts.emplace_back(b.points[i * n / m][0], b.points[i * n / m][1], b.points[i * n / m][2]);
+    Eigen::Matrix3d R;
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) R(i, k) = t.rotation[std::size_t(3 * i + k)];
+    Pose inverse;
+    inverse.log_scale = -std::log(t.scale);
+    inverse.rotation = R.transpose();
+    inverse.translation = -(1.0 / t.scale) * (R.transpose() * Eigen::Vector3d(t.translation[0], t.translation[1], t.translation[2]));
+    r.reverse_energy = energy(field_a, pts, inverse, fa.size);
+    r.forward_energy = r.energy;
+    r.energy = 0.5 * (r.forward_energy + r.reverse_energy);
+    return r;
 }
 
 }  // namespace vdbmesh

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "cli.h"
 #include "point_shapes.h"
@@ -73,7 +74,8 @@ TEST(CmdClassify, PicksTheRightClass) {
     testing::internal::CaptureStdout();
     ASSERT_EQ(run({"similarity", (dir / "sample.xyz").string(), (dir / "cube.xyz").string(), "--json", "--points", "400"}), kSuccess);
     const std::string json = testing::internal::GetCapturedStdout();
-    EXPECT_NE(json.find("\"scale\":0.5"), std::string::npos) << json;
+    const nlohmann::json j = nlohmann::json::parse(json);
+    EXPECT_NEAR(j["scale"].get<double>(), 0.5, 0.005) << json;
 }
 
 }  // namespace

@@ -86,11 +86,14 @@ TEST(Classify, PhantomShapesFromTransformedNoisyPartialCopies) {
     for (std::size_t truth = 0; truth < shapes.size(); ++truth) {
         for (std::uint64_t trial = 0; trial < 2; ++trial) {
             const Copy copy = transformed_copy(test::sample_shape(shapes[truth], 3000, 1000 + 10 * truth + trial), 77 + 13 * truth + trial);
+            PointCloud sample = copy.cloud;
+            estimate_normals(sample);
+            const RbfField sample_field(sample);
             std::size_t best = 0;
             double best_energy = 1e300;
             std::string energies;
             for (std::size_t k = 0; k < shapes.size(); ++k) {
-                const double e = compare_to(copy.cloud, refs[k], *fields[k], o).energy;
+                const double e = compare_solids(sample, sample_field, refs[k], *fields[k], o).energy;
                 energies += shapes[k] + "=" + std::to_string(e) + " ";
                 if (e < best_energy) best_energy = e, best = k;
             }
