@@ -4,6 +4,7 @@
 // --decimate 0.3; the torus scaling (1e5 and 1e6 points). One JSON object on stdout.
 //
 // Usage: vdbmesh_points_bench [bunny] [decimate] [torus] [--voxel V]   (default: all)
+// The environment variables KEEP_ALL, CLUSTER, BAND, OFF_EVERY, LEAF override options (experiments).
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
@@ -104,6 +105,40 @@ Json run_bunny(double voxel, double decimate, const Mesh& reference) {
     return j;
 }
 
+/// @a count points on the torus R = 1, r = 0.4 (uniform by area), no normals.
+PointCloud torus_points(std::size_t count, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> angle(0, 2 * M_PI), w(0, 1.4);
+    PointCloud c;
+    c.points.reserve(count);
+    while (c.points.size() < count) {
+        const double a = angle(rng), b = angle(rng);
+        if (w(rng) > 1 + 0.4 * std::cos(b)) continue;
+        c.points.push_back({(1 + 0.4 * std::cos(b)) * std::cos(a), (1 + 0.4 * std::cos(b)) * std::sin(a), 0.4 * std::sin(b)});
+    }
+    return c;
+}
+
+Json run_torus(std::size_t count, double cluster) {
+    ReconstructOptions options;
+    options.sample.voxel = 2.8 / 256;
+    options.cluster = cluster;
+    PointCloud cloud = torus_points(count, 5);
+    const auto start = Clock::now();
+    const Reconstruction rec = reconstruct(std::move(cloud), options);
+    Json j;
+    j["points"] = count;
+    j["cluster"] = cluster;
+    j["used_points"] = rec.report.used_points;
+    j["leaves"] = rec.report.leaves;
+    j["triangles"] = rec.mesh.triangles.size();
+    j["seconds"] = seconds_since(start);
+    Json phases;
+    for (const auto& [name, sec] : rec.report.phases) phases[name] = sec;
+    j["phases"] = phases;
+    return j;
+}
+
 }  // namespace
 }  // namespace vdbmesh::bench
 
@@ -124,6 +159,17 @@ int main(int argc, char** argv) {
             const Mesh reference = read_mesh(zipper);
             if (want("bunny")) out["bunny"] = run_bunny(voxel, 0.0, reference);
             if (want("decimate")) out["bunny_decimate_0.3"] = run_bunny(voxel, 0.3, reference);
+        }
+        if (want("torus")) {
+            // The default pipeline (points averaged per voxel first) and the RBF on every point.
+            for (const double cluster : {0.0, -1.0}) {
+                const Json small = run_torus(100000, cluster), large = run_torus(1000000, cluster);
+                Json t;
+                t["1e5"] = small;
+                t["1e6"] = large;
+                t["ratio"] = large["seconds"].get<double>() / small["seconds"].get<double>();
+                out[cluster < 0 ? "torus_every_point" : "torus_default"] = t;
+            }
         }
     } catch (const std::exception& e) {
         std::cerr << "vdbmesh_points_bench: " << e.what() << "\n";
