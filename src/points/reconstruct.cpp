@@ -109,6 +109,47 @@ std::size_t drop_small_components(Mesh& mesh, double fraction) {
     return dropped;
 }
 
+/// Reorders the points along a Morton (Z-order) curve of a 2^21 grid over their box, so that
+/// neighbours in space are neighbours in memory (the k-d tree queries and the spanning tree).
+void sort_spatially(PointCloud& cloud) {
+    const std::size_t n = cloud.points.size();
+    Vec3d lo = cloud.points[0], hi = lo;
+    for (const Vec3d& p : cloud.points)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+    const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-300});
+    auto spread = [](std::uint64_t v) {
+        v &= 0x1fffff;
+        v = (v | v << 32) & 0x1f00000000ffffULL;
+        v = (v | v << 16) & 0x1f0000ff0000ffULL;
+        v = (v | v << 8) & 0x100f00f00f00f00fULL;
+        v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+        v = (v | v << 2) & 0x1249249249249249ULL;
+        return v;
+    };
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        std::uint64_t code = 0;
+        for (int a = 0; a < 3; ++a) {
+            const auto q = std::uint64_t(std::clamp((cloud.points[i][a] - lo[a]) / extent, 0.0, 1.0) * 2097151.0);
+            code |= spread(q) << a;
+        }
+        keys[i] = {code, std::uint32_t(i)};
+    }
+    std::sort(keys.begin(), keys.end());
+    PointCloud out;
+    out.scan_view = cloud.scan_view;
+    out.points.resize(n);
+    if (cloud.has_normals()) out.normals.resize(n);
+    if (!cloud.scan.empty()) out.scan.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t j = keys[i].second;
+        out.points[i] = cloud.points[j];
+        if (cloud.has_normals()) out.normals[i] = cloud.normals[j];
+        if (!cloud.scan.empty()) out.scan[i] = cloud.scan[j];
+    }
+    cloud = std::move(out);
+}
+
 }  // namespace
 
 std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const SampleOptions& options) {
@@ -280,6 +321,8 @@ Reconstruction reconstruct(PointCloud cloud, const ReconstructOptions& options) 
     };
     report.input_points = cloud.points.size();
     if (cloud.points.size() < 10) throw Error("reconstruct: need at least 10 points, got " + std::to_string(cloud.points.size()));
+    sort_spatially(cloud);
+    phase("sort");
     report.outliers = remove_outliers(cloud, 8, options.outlier_factor);
     phase("outliers");
     progress(0.05);
