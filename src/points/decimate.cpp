@@ -41,7 +41,7 @@ PointCloud decimate_points(const PointCloud& input, const DecimateOptions& optio
     double mean_variation = 0;
     for (double v : variation) mean_variation += v;
     mean_variation /= double(n);
-    const double eps = 0.05 * mean_variation + 1e-12;
+    const double eps = mean_variation + 1e-12;  // density matters as much as a mean variation
     std::vector<double> importance(n);
     for (std::size_t i = 0; i < n; ++i) {
         const double density = std::pow(mean_spacing / std::max(spacing[i], 1e-300), 2.0);

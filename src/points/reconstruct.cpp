@@ -335,11 +335,6 @@ Reconstruction reconstruct(PointCloud cloud, const ReconstructOptions& options) 
     const double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
     const double voxel = options.sample.voxel > 0 ? options.sample.voxel : longest / 256.0;
     report.voxel = voxel;
-    if (options.cluster >= 0) {
-        const double cell = options.cluster > 0 ? options.cluster : voxel;
-        cloud = cluster_points(cloud, cell);
-        phase("cluster");
-    }
     if (options.decimate > 0) {
         DecimateOptions d;
         d.fraction = options.decimate;
@@ -347,6 +342,11 @@ Reconstruction reconstruct(PointCloud cloud, const ReconstructOptions& options) 
         d.neighbours = options.normals.neighbours;
         cloud = decimate_points(cloud, d);
         phase("decimate");
+    }
+    if (options.cluster >= 0) {
+        const double cell = options.cluster > 0 ? options.cluster : voxel;
+        cloud = cluster_points(cloud, cell);
+        phase("cluster");
     }
     report.used_points = cloud.points.size();
     progress(0.25);
