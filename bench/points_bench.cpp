@@ -23,6 +23,9 @@
 #include "vdbmesh/geometry.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/points.h"
+#ifdef VDBMESH_BENCH_CGAL_POISSON
+#include "poisson_anchor.h"
+#endif
 
 namespace vdbmesh::bench {
 namespace {
@@ -139,6 +142,32 @@ Json run_torus(std::size_t count, double cluster) {
     return j;
 }
 
+#ifdef VDBMESH_BENCH_CGAL_POISSON
+/// CGAL's Poisson on the same scans with the same normals (PCA, towards each scanner).
+Json run_poisson(const Mesh& reference) {
+    const auto conf = test::shared_data_dir() / "pointcloud_stanford_bunny_scans" / "data" / "bun.conf";
+    const auto start = Clock::now();
+    PointCloud cloud = read_points(conf);
+    remove_outliers(cloud, 8, 4.0);
+    estimate_normals(cloud);
+    const double normals_seconds = seconds_since(start);
+    const Mesh mesh = cgal_poisson(cloud);
+    const double seconds = seconds_since(start);
+    const MeshAnalysis analysis = analyze_mesh(mesh);
+    const Accuracy acc = accuracy(reference, mesh);
+    Json j;
+    j["method"] = "CGAL::poisson_surface_reconstruction_delaunay, normals by vdbmesh (PCA k=16, towards each scanner)";
+    j["triangles"] = mesh.triangles.size();
+    j["clean"] = analysis.is_clean();
+    j["closed"] = analysis.closed;
+    j["seconds"] = seconds;
+    j["normals_seconds"] = normals_seconds;
+    j["max_percent_of_diagonal"] = acc.max;
+    j["mean_percent_of_diagonal"] = acc.mean;
+    return j;
+}
+#endif
+
 }  // namespace
 }  // namespace vdbmesh::bench
 
@@ -159,6 +188,12 @@ int main(int argc, char** argv) {
             const Mesh reference = read_mesh(zipper);
             if (want("bunny")) out["bunny"] = run_bunny(voxel, 0.0, reference);
             if (want("decimate")) out["bunny_decimate_0.3"] = run_bunny(voxel, 0.3, reference);
+#ifdef VDBMESH_BENCH_CGAL_POISSON
+            if (want("bunny")) {
+                out["cgal_poisson"] = run_poisson(reference);
+                out["time_ratio_vs_cgal_poisson"] = out["bunny"]["seconds"].get<double>() / out["cgal_poisson"]["seconds"].get<double>();
+            }
+#endif
         }
         if (want("torus")) {
             // The default pipeline (points averaged per voxel first) and the RBF on every point.
