@@ -5,11 +5,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <numeric>
 
@@ -180,14 +177,12 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
     const double block_radius = 3.5 * std::sqrt(3.0) * h;
     // Near blocks (within reach of the points): the field decides. 0 far, 1 near.
     std::vector<signed char> near(nblocks, 0);
-    std::atomic<std::size_t> stat_near{0}, stat_leaf{0}, stat_voxel{0};
     std::vector<float> coarse(nblocks, 0.0f);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks, 64), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
             const openvdb::Coord o = origin_of(b);
             const Vec3d centre{(o[0] + 3.5) * h, (o[1] + 3.5) * h, (o[2] + 3.5) * h};
             if (field.distance_to_points(centre) > reach + block_radius) continue;
-            ++stat_near;
             near[b] = 1;
             coarse[b] = float(field.value(centre));
         }
@@ -239,7 +234,6 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
             }
             const openvdb::Coord o = origin_of(b);
             auto leaf = std::make_unique<Leaf>(o, float(background), false);
-            ++stat_leaf;
             bool any = false;
             for (int sx = 0; sx < 8; sx += 4)
                 for (int sy = 0; sy < 8; sy += 4)
@@ -270,7 +264,6 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
                                         for (int y = 0; y < 2; ++y)
                                             for (int z = 0; z < 2; ++z) {
                                                 const openvdb::Coord local(bx + x, by + y, bz + z);
-                                                ++stat_voxel;
                                                 double v = field.value(Vec3d{(o[0] + local[0]) * h, (o[1] + local[1]) * h, (o[2] + local[2]) * h});
                                                 const bool on = std::abs(v) < background;
                                                 v = std::clamp(v, -background, background);
@@ -292,18 +285,15 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
     openvdb::FloatTree& tree = grid->tree();
     // Near blocks without a surface become constant leaves, not tiles: mesh_grid() left
     // boundary edges where inside level-1 tiles met leaves of this grid (seen on the bunny).
-    const bool dense = true;
     for (std::size_t b = 0; b < nblocks; ++b) {
         if (leaves[b]) {
             tree.addLeaf(leaves[b].release());
-        } else if (dense && near[b]) {
+        } else if (near[b]) {
             tree.addLeaf(new Leaf(origin_of(b), sign[b] < 0 ? -float(background) : float(background), false));
         } else if (sign[b] < 0) {
             tree.addTile(1, origin_of(b), -float(background), false);
         }
     }
-    if (std::getenv("VDBMESH_POINTS_DEBUG"))
-        fprintf(stderr, "blocks %zu near %zu leaf %zu voxels %zu\n", nblocks, std::size_t(stat_near), std::size_t(stat_leaf), std::size_t(stat_voxel));
     return grid;
 }
 
