@@ -11,9 +11,11 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <algorithm>
 #include <numeric>
 #include <random>
 #include <string>
@@ -58,6 +60,35 @@ Accuracy accuracy(const Mesh& reference, const Mesh& mesh) {
     r.mean = 100.0 * sum / double(d.size()) / r.diagonal;
     r.max = 100.0 * r.max / r.diagonal;
     return r;
+}
+
+/// Our surface's vertices to @a reference: the largest, the mean and the 99th percentile, in %
+/// of @a diagonal (bun_zipper has open holes under the bunny, which we close: the largest
+/// distances are there).
+Json reverse_accuracy(const Mesh& mesh, const Mesh& reference, double diagonal) {
+    std::vector<std::uint32_t> all(reference.triangles.size());
+    std::iota(all.begin(), all.end(), 0u);
+    const detail::TriangleBvh bvh(reference, all);
+    std::vector<double> d(mesh.vertices.size());
+    for (std::size_t i = 0; i < d.size(); ++i) {
+        const auto& v = mesh.vertices[i];
+        d[i] = 100.0 * std::sqrt(bvh.closest_point(detail::Point3{v[0], v[1], v[2]}).distance_squared) / diagonal;
+    }
+    if (const char* dump = std::getenv("DUMP_FAR")) {
+        FILE* f = std::fopen(dump, "a");
+        std::fprintf(f, "# mesh\n");
+        for (std::size_t i = 0; i < d.size(); ++i)
+            if (d[i] > 1.0) std::fprintf(f, "%g %g %g %g\n", mesh.vertices[i][0], mesh.vertices[i][1], mesh.vertices[i][2], d[i]);
+        std::fclose(f);
+    }
+    double sum = 0;
+    for (double x : d) sum += x;
+    std::sort(d.begin(), d.end());
+    Json j;
+    j["max_percent"] = d.empty() ? 0.0 : d.back();
+    j["mean_percent"] = d.empty() ? 0.0 : sum / double(d.size());
+    j["p99_percent"] = d.empty() ? 0.0 : d[d.size() * 99 / 100];
+    return j;
 }
 
 Json run_bunny(double voxel, double decimate, const Mesh& reference) {
@@ -105,6 +136,7 @@ Json run_bunny(double voxel, double decimate, const Mesh& reference) {
     j["max_percent_of_diagonal"] = acc.max;
     j["mean_percent_of_diagonal"] = acc.mean;
     j["reference_diagonal"] = acc.diagonal;
+    j["ours_to_reference"] = reverse_accuracy(rec.mesh, reference, acc.diagonal);
     return j;
 }
 
@@ -149,6 +181,7 @@ Json run_poisson(const Mesh& reference) {
     const auto start = Clock::now();
     PointCloud cloud = read_points(conf);
     remove_outliers(cloud, 8, 4.0);
+    remove_small_clusters(cloud);
     estimate_normals(cloud);
     const double normals_seconds = seconds_since(start);
     const Mesh mesh = cgal_poisson(cloud);
@@ -164,6 +197,7 @@ Json run_poisson(const Mesh& reference) {
     j["normals_seconds"] = normals_seconds;
     j["max_percent_of_diagonal"] = acc.max;
     j["mean_percent_of_diagonal"] = acc.mean;
+    j["ours_to_reference"] = reverse_accuracy(mesh, reference, acc.diagonal);
     return j;
 }
 #endif
@@ -184,7 +218,19 @@ int main(int argc, char** argv) {
     Json out;
     try {
         const auto zipper = test::shared_data_dir() / "pointcloud_stanford_bunny_scans" / "reconstruction" / "bun_zipper.ply";
-        if (want("bunny") || want("decimate")) {
+        if (want("line")) {
+        PointCloud cloud = read_points(test::shared_data_dir() / "pointcloud_stanford_bunny_scans" / "data" / "bun.conf");
+        remove_outliers(cloud, 8, 4.0);
+        std::cout << "clusters removed " << remove_small_clusters(cloud) << "\n";
+        estimate_normals(cloud);
+        const RbfField field(cloud);
+        for (double x = -0.12; x < -0.05; x += 0.002) {
+            const Vec3d p{x, 0.1, 0.0};
+            std::cout << x << " f " << field.value(p) << " d " << field.distance_to_points(p) << "\n";
+        }
+        return 0;
+    }
+    if (want("bunny") || want("decimate")) {
             const Mesh reference = read_mesh(zipper);
             if (want("bunny")) out["bunny"] = run_bunny(voxel, 0.0, reference);
             if (want("decimate")) out["bunny_decimate_0.3"] = run_bunny(voxel, 0.3, reference);

@@ -60,6 +60,11 @@ void estimate_normals(PointCloud& cloud, const NormalOptions& options = {});
 /// the median of that mean by more than @a factor times the median. Returns how many were dropped.
 std::size_t remove_outliers(PointCloud& cloud, int neighbours = 8, double factor = 4.0);
 
+/// Drops clusters of stray points: the components of the graph linking each point to those of
+/// its k nearest neighbours closer than @a radius_factor times the median nearest-neighbour
+/// distance, when they hold fewer than @a min_fraction of all points. Returns how many went.
+std::size_t remove_small_clusters(PointCloud& cloud, double min_fraction = 0.01, int neighbours = 8, double radius_factor = 6.0);
+
 struct DecimateOptions {
     double fraction = 0.0;      ///< the fraction of points to remove, in [0, 1)
     std::uint64_t seed = 1;     ///< the same seed and input give the same result
@@ -78,11 +83,17 @@ struct RbfOptions {
     int leaf_min = 30;            ///< N1: leaves hold N1 to 2*N1 points (plus the overlap)
     double overlap = 0.05;        ///< the overlap of two siblings, a fraction of the parent's extent
     double off_surface = 0.0;     ///< Carr's off-surface distance; 0: half the median point spacing
+    /// Within this distance of the points the field is the blended local fits; beyond twice
+    /// it, Hoppe's signed distance to the nearest point's tangent plane; blended in between.
+    /// 0: 4 times the median point spacing.
+    double trust = 0.0;
     int off_every = 2;            ///< an off-surface constraint at every this many points (alternately outside and inside)
 };
 
 /// The partition-of-unity RBF field of a cloud with normals: negative inside, roughly a
-/// signed distance near the surface.
+/// signed distance near the surface; away from the points (RbfOptions::trust) it becomes
+/// Hoppe's signed tangent-plane distance, so that the local fits' extrapolation cannot make
+/// spurious solids.
 class RbfField {
 public:
     RbfField(const PointCloud& cloud, const RbfOptions& options = {});
@@ -120,6 +131,7 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
 struct ReconstructOptions {
     NormalOptions normals;
     double outlier_factor = 4.0;  ///< remove_outliers(); 0: keep every point
+    double min_cluster = 0.01;    ///< remove_small_clusters() fraction; 0: keep every cluster
     double cluster = 0.0;         ///< average the points per cell of this side first; 0: the voxel; < 0: no clustering
     double decimate = 0.0;        ///< decimate_points() fraction; 0: none
     std::uint64_t seed = 1;

@@ -72,6 +72,31 @@ void estimate_normals(PointCloud& cloud, const NormalOptions& options) {
             normals[i] = normal;
         }
     });
+    if (scans) {
+        // Points seen at a grazing angle get an unreliable sign from the view direction: two
+        // rounds of neighbour voting (from the previous round's normals, so any thread count
+        // gives the same result) flip those that disagree with most of their neighbours.
+        for (int round = 0; round < 2; ++round) {
+            std::vector<Vec3d> next = normals;
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+                std::vector<std::size_t> index;
+                std::vector<double> dist2;
+                for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                    tree.knn(cloud.points[i], k + 1, index, dist2);
+                    int agree = 0, disagree = 0;
+                    for (std::size_t j : index) {
+                        if (j == i) continue;
+                        const double d = normals[i][0] * normals[j][0] + normals[i][1] * normals[j][1] + normals[i][2] * normals[j][2];
+                        if (d > 0.2) ++agree;
+                        if (d < -0.2) ++disagree;
+                    }
+                    if (disagree > agree)
+                        for (double& c : next[i]) c = -c;
+                }
+            });
+            normals.swap(next);
+        }
+    }
     if (!scans) {
         // Prim's algorithm over the symmetric k-nearest graph, weight 1 - |n_i . n_j|; each
         // component starts at its highest point, oriented up. Deterministic: ties by index.
@@ -141,6 +166,53 @@ std::size_t remove_outliers(PointCloud& cloud, int neighbours, double factor) {
     std::size_t kept = 0;
     for (std::size_t i = 0; i < n; ++i) kept += (keep[i] = mean[i] <= limit);
     if (kept == n) return 0;
+    points_detail::keep_points(cloud, keep);
+    return n - kept;
+}
+
+std::size_t remove_small_clusters(PointCloud& cloud, double min_fraction, int neighbours, double radius_factor) {
+    const std::size_t n = cloud.points.size();
+    if (min_fraction <= 0 || n < 16) return 0;
+    const KdTree tree(cloud.points);
+    const std::size_t k = std::size_t(neighbours);
+    std::vector<std::uint32_t> graph(n * k, std::uint32_t(-1));
+    std::vector<double> nearest(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<std::size_t> index;
+        std::vector<double> dist2;
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            tree.knn(cloud.points[i], k + 1, index, dist2);
+            nearest[i] = dist2.size() > 1 ? std::sqrt(dist2[1]) : 0.0;
+            for (std::size_t m = 1; m < index.size(); ++m) graph[i * k + m - 1] = std::uint32_t(index[m]);
+        }
+    });
+    std::vector<double> sorted = nearest;
+    std::nth_element(sorted.begin(), sorted.begin() + long(n / 2), sorted.end());
+    const double radius = radius_factor * sorted[n / 2];
+    std::vector<std::uint32_t> parent(n);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t m = 0; m < k; ++m) {
+            const std::uint32_t j = graph[i * k + m];
+            if (j == std::uint32_t(-1)) continue;
+            const Vec3d& a = cloud.points[i];
+            const Vec3d& b = cloud.points[j];
+            const double d2 = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+            if (d2 > radius * radius) continue;
+            const std::uint32_t x = find(std::uint32_t(i)), y = find(j);
+            if (x != y) parent[std::max(x, y)] = std::min(x, y);  // deterministic roots
+        }
+    std::vector<std::size_t> size(n, 0);
+    for (std::size_t i = 0; i < n; ++i) ++size[find(std::uint32_t(i))];
+    const double limit = min_fraction * double(n);
+    std::vector<char> keep(n);
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < n; ++i) kept += (keep[i] = double(size[find(std::uint32_t(i))]) >= limit);
+    if (kept == n || kept == 0) return 0;
     points_detail::keep_points(cloud, keep);
     return n - kept;
 }

@@ -48,8 +48,9 @@ struct RbfField::Impl {
     std::vector<Leaf> leaves;
     Vec3d lo, hi;
     double spacing = 0;
-    std::vector<Vec3d> points;
+    std::vector<Vec3d> points, normals;
     std::unique_ptr<points_detail::KdTree> tree;
+    double trust = 0;  // beyond this distance from the points the field blends into Hoppe's
 
     double leaf_value(const Leaf& leaf, const Vec3d& p) const {
         const double inv = 1.0 / leaf.scale;
@@ -106,6 +107,7 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
 
     // The median nearest-neighbour distance (over an even subset).
     m.points = P;
+    m.normals = N;
     m.tree = std::make_unique<points_detail::KdTree>(m.points);
     {
         const points_detail::KdTree& tree = *m.tree;
@@ -130,6 +132,7 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
     for (int a = 0; a < 3; ++a) lo[a] -= margin, hi[a] += margin;
     m.lo = lo, m.hi = hi;
     const double off = options.off_surface > 0 ? options.off_surface : 0.5 * m.spacing;
+    m.trust = options.trust > 0 ? options.trust : 4.0 * m.spacing;
 
     // The partition (serial, deterministic).
     struct Pending {
@@ -265,7 +268,29 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
     });
 }
 
-double RbfField::value(const Vec3d& p) const { return impl_->value(0, p, 1.0); }
+double RbfField::value(const Vec3d& p) const {
+    const Impl& m = *impl_;
+    double d2 = 0;
+    m.tree->nearest(p, &d2);
+    const double d = std::sqrt(d2);
+    const double f = d < 2 * m.trust ? m.value(0, p, 1.0) : 0.0;
+    if (d <= m.trust) return f;
+    // Away from the points: Hoppe's signed distance to the tangent planes, averaged over the
+    // 8 nearest points (the local fits only extrapolate there, and may change sign).
+    std::vector<std::size_t> index;
+    std::vector<double> dist2;
+    m.tree->knn(p, 8, index, dist2);
+    double g = 0;
+    for (std::size_t i : index) {
+        const Vec3d& q = m.points[i];
+        const Vec3d& n = m.normals[i];
+        g += (p[0] - q[0]) * n[0] + (p[1] - q[1]) * n[1] + (p[2] - q[2]) * n[2];
+    }
+    g /= double(index.size());
+    if (d >= 2 * m.trust) return g;
+    const double w = smooth_step((d - m.trust) / m.trust);
+    return (1 - w) * f + w * g;
+}
 
 Vec3d RbfField::gradient(const Vec3d& p) const {
     const double h = 0.25 * impl_->spacing;

@@ -314,6 +314,7 @@ Reconstruction reconstruct(PointCloud cloud, const ReconstructOptions& options) 
     sort_spatially(cloud);
     phase("sort");
     report.outliers = remove_outliers(cloud, 8, options.outlier_factor);
+    report.outliers += remove_small_clusters(cloud, options.min_cluster);
     phase("outliers");
     progress(0.05);
     estimate_normals(cloud, options.normals);
