@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <numeric>
 
@@ -54,7 +55,7 @@ PointCloud cluster_points(const PointCloud& cloud, double cell) {
 
 /// Connected components of a mesh by shared vertices; drops those with |volume| below
 /// @a fraction of the largest. Returns how many were dropped.
-std::size_t drop_small_components(Mesh& mesh, double fraction) {
+std::size_t drop_small_components(Mesh& mesh, double fraction, const std::function<bool(const Vec3d&)>& near_points) {
     const std::size_t nv = mesh.vertices.size();
     std::vector<std::uint32_t> parent(nv);
     std::iota(parent.begin(), parent.end(), 0u);
@@ -68,6 +69,13 @@ std::size_t drop_small_components(Mesh& mesh, double fraction) {
         parent[find(c)] = find(a);
     }
     std::map<std::uint32_t, double> volume;
+    std::map<std::uint32_t, std::pair<std::size_t, std::size_t>> support;  // vertices near the points, all
+    for (std::size_t v = 0; v < nv; ++v) {
+        auto& s = support[find(std::uint32_t(v))];
+        const auto& p = mesh.vertices[v];
+        s.first += near_points({p[0], p[1], p[2]});
+        ++s.second;
+    }
     for (const auto& t : mesh.triangles) {
         const auto& p = mesh.vertices[t[0]];
         const auto& q = mesh.vertices[t[1]];
@@ -77,13 +85,15 @@ std::size_t drop_small_components(Mesh& mesh, double fraction) {
                           double(p[2]) * (double(q[0]) * r[1] - double(q[1]) * r[0])) / 6.0;
         volume[find(t[0])] += v;
     }
-    if (volume.size() <= 1) return 0;
+    if (volume.empty()) return 0;
     double largest = 0;
     for (const auto& [root, v] : volume) largest = std::max(largest, std::abs(v));
     std::size_t dropped = 0;
     std::map<std::uint32_t, bool> keep;
     for (const auto& [root, v] : volume) {
-        keep[root] = std::abs(v) >= fraction * largest;
+        // Small, or mostly away from the points (cavities the field made inside the solid).
+        const auto& sup = support[root];
+        keep[root] = std::abs(v) >= fraction * largest && 2 * sup.first >= sup.second;
         dropped += !keep[root];
     }
     if (!dropped) return 0;
@@ -358,7 +368,12 @@ Reconstruction reconstruct(PointCloud cloud, const ReconstructOptions& options) 
     result.mesh = std::move(meshed.mesh);
     report.mesh_fallbacks = meshed.report.fallbacks;
     phase("mesh");
-    if (options.min_component > 0) report.dropped_components = drop_small_components(result.mesh, options.min_component);
+    if (options.min_component > 0) {
+        const double near = 8.0 * field.spacing();
+        report.dropped_components = drop_small_components(result.mesh, options.min_component, [&](const Vec3d& p) {
+            return field.distance_to_points(p) <= near;
+        });
+    }
     progress(1.0);
     return result;
 }
