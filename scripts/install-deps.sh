@@ -7,6 +7,7 @@ packages=(
   libboost-dev libboost-iostreams-dev   # OpenVDB's CMake module fails without them
   libeigen3-dev zlib1g-dev libgdcm-dev libcli11-dev nlohmann-json3-dev libgtest-dev
   libcgal-dev   # test-only: the independent judge of the mesh guarantees (tests/common/cgal_judge.cpp)
+  libnanoflann-dev                      # the k-d tree of the points stage (src/points, header-only)
   libcpp-httplib-dev                    # the server of `vdbmesh view`
   chromium chromium-driver              # the browser test of its page (headless, WebGL through SwiftShader)
   pybind11-dev python3-dev python3-numpy python3-pytest   # the Python module and its tests

@@ -1,0 +1,238 @@
+// Normals by PCA over the k nearest neighbours, oriented towards the scanner or over a
+// minimum spanning tree (Hoppe et al. 1992); isolated points removed.
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <queue>
+
+#include "kdtree.h"
+#include "points_internal.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/points.h"
+
+namespace vdbmesh {
+
+namespace points_detail {
+
+PcaResult pca_normal(const std::vector<Vec3d>& points, const std::vector<std::size_t>& index) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (std::size_t i : index) mean += Eigen::Vector3d(points[i][0], points[i][1], points[i][2]);
+    mean /= double(index.size());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (std::size_t i : index) {
+        const Eigen::Vector3d d = Eigen::Vector3d(points[i][0], points[i][1], points[i][2]) - mean;
+        cov += d * d.transpose();
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+    solver.computeDirect(cov);
+    const Eigen::Vector3d n = solver.eigenvectors().col(0).normalized();
+    const Eigen::Vector3d l = solver.eigenvalues().cwiseMax(0.0);
+    const double sum = l.sum();
+    PcaResult r;
+    r.normal = {n.x(), n.y(), n.z()};
+    r.variation = sum > 0 ? l[0] / sum : 0.0;
+    return r;
+}
+
+}  // namespace points_detail
+
+using points_detail::KdTree;
+
+void estimate_normals(PointCloud& cloud, const NormalOptions& options) {
+    if (cloud.has_normals()) return;
+    if (options.neighbours < 3) throw UsageError("normals: expected at least 3 neighbours, got " + std::to_string(options.neighbours));
+    const std::size_t n = cloud.points.size();
+    if (n < 3) throw Error("normals: need at least 3 points, got " + std::to_string(n));
+    const KdTree tree(cloud.points);
+    const std::size_t k = std::size_t(options.neighbours);
+    std::vector<Vec3d> normals(n);
+    const bool scans = !cloud.scan.empty() && !cloud.scan_view.empty();
+    std::vector<std::uint32_t> graph;  // k neighbours per point (MST orientation only)
+    if (!scans) graph.assign(n * k, std::uint32_t(-1));
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<std::size_t> index;
+        std::vector<double> dist2;
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            tree.knn(cloud.points[i], k + 1, index, dist2);
+            Vec3d normal = points_detail::pca_normal(cloud.points, index).normal;
+            if (scans) {
+                const Vec3d& v = cloud.scan_view[cloud.scan[i]];
+                if (normal[0] * v[0] + normal[1] * v[1] + normal[2] * v[2] < 0)
+                    for (double& c : normal) c = -c;
+            } else {
+                std::size_t m = 0;
+                for (std::size_t j : index)
+                    if (j != i && m < k) graph[i * k + m++] = std::uint32_t(j);
+            }
+            normals[i] = normal;
+        }
+    });
+    if (scans) {
+        // Points seen at a grazing angle get an unreliable sign from the view direction: two
+        // rounds of neighbour voting (from the previous round's normals, so any thread count
+        // gives the same result) flip those that disagree with most of their neighbours.
+        for (int round = 0; round < 2; ++round) {
+            std::vector<Vec3d> next = normals;
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+                std::vector<std::size_t> index;
+                std::vector<double> dist2;
+                for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                    tree.knn(cloud.points[i], k + 1, index, dist2);
+                    int agree = 0, disagree = 0;
+                    for (std::size_t j : index) {
+                        if (j == i) continue;
+                        const double d = normals[i][0] * normals[j][0] + normals[i][1] * normals[j][1] + normals[i][2] * normals[j][2];
+                        if (d > 0.2) ++agree;
+                        if (d < -0.2) ++disagree;
+                    }
+                    if (disagree > agree)
+                        for (double& c : next[i]) c = -c;
+                }
+            });
+            normals.swap(next);
+        }
+    }
+    if (!scans) {
+        // Prim's algorithm over the symmetric k-nearest graph, weight 1 - |n_i . n_j|; each
+        // component starts at its highest point, oriented up. Deterministic: ties by index.
+        std::vector<std::vector<std::uint32_t>> adjacency(n);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t m = 0; m < k; ++m) {
+                const std::uint32_t j = graph[i * k + m];
+                if (j == std::uint32_t(-1)) continue;
+                adjacency[i].push_back(j);
+                adjacency[j].push_back(std::uint32_t(i));
+            }
+        graph.clear();
+        std::vector<std::size_t> order(n);
+        std::iota(order.begin(), order.end(), 0);
+        std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+            if (cloud.points[a][2] != cloud.points[b][2]) return cloud.points[a][2] > cloud.points[b][2];
+            return a < b;
+        });
+        std::vector<char> done(n, 0);
+        using Entry = std::tuple<double, std::uint32_t, std::uint32_t>;  // weight, to, from
+        std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+        auto dot = [&](std::size_t a, std::size_t b) {
+            return normals[a][0] * normals[b][0] + normals[a][1] * normals[b][1] + normals[a][2] * normals[b][2];
+        };
+        for (std::size_t start : order) {
+            if (done[start]) continue;
+            if (normals[start][2] < 0)
+                for (double& c : normals[start]) c = -c;
+            done[start] = 1;
+            for (std::uint32_t j : adjacency[start])
+                if (!done[j]) queue.emplace(1.0 - std::abs(dot(start, j)), j, std::uint32_t(start));
+            while (!queue.empty()) {
+                const auto [w, j, from] = queue.top();
+                queue.pop();
+                if (done[j]) continue;
+                done[j] = 1;
+                if (dot(from, j) < 0)
+                    for (double& c : normals[j]) c = -c;
+                for (std::uint32_t m : adjacency[j])
+                    if (!done[m]) queue.emplace(1.0 - std::abs(dot(j, m)), m, j);
+            }
+        }
+    }
+    cloud.normals = std::move(normals);
+}
+
+std::size_t remove_outliers(PointCloud& cloud, int neighbours, double factor) {
+    const std::size_t n = cloud.points.size();
+    if (factor <= 0 || n < std::size_t(neighbours) + 2) return 0;
+    const KdTree tree(cloud.points);
+    std::vector<double> mean(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<std::size_t> index;
+        std::vector<double> dist2;
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            tree.knn(cloud.points[i], std::size_t(neighbours) + 1, index, dist2);
+            double s = 0;
+            for (double d : dist2) s += std::sqrt(d);
+            mean[i] = s / double(neighbours);
+        }
+    });
+    std::vector<double> sorted = mean;
+    std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
+    const double median = sorted[n / 2];
+    const double limit = median * (1.0 + factor);
+    std::vector<char> keep(n);
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < n; ++i) kept += (keep[i] = mean[i] <= limit);
+    if (kept == n) return 0;
+    points_detail::keep_points(cloud, keep);
+    return n - kept;
+}
+
+std::size_t remove_small_clusters(PointCloud& cloud, double min_fraction, int neighbours, double radius_factor) {
+    const std::size_t n = cloud.points.size();
+    if (min_fraction <= 0 || n < 16) return 0;
+    const KdTree tree(cloud.points);
+    const std::size_t k = std::size_t(neighbours);
+    std::vector<std::uint32_t> graph(n * k, std::uint32_t(-1));
+    std::vector<double> nearest(n);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<std::size_t> index;
+        std::vector<double> dist2;
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            tree.knn(cloud.points[i], k + 1, index, dist2);
+            nearest[i] = dist2.size() > 1 ? std::sqrt(dist2[1]) : 0.0;
+            for (std::size_t m = 1; m < index.size(); ++m) graph[i * k + m - 1] = std::uint32_t(index[m]);
+        }
+    });
+    std::vector<double> sorted = nearest;
+    std::nth_element(sorted.begin(), sorted.begin() + long(n / 2), sorted.end());
+    const double radius = radius_factor * sorted[n / 2];
+    std::vector<std::uint32_t> parent(n);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t m = 0; m < k; ++m) {
+            const std::uint32_t j = graph[i * k + m];
+            if (j == std::uint32_t(-1)) continue;
+            const Vec3d& a = cloud.points[i];
+            const Vec3d& b = cloud.points[j];
+            const double d2 = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+            if (d2 > radius * radius) continue;
+            const std::uint32_t x = find(std::uint32_t(i)), y = find(j);
+            if (x != y) parent[std::max(x, y)] = std::min(x, y);  // deterministic roots
+        }
+    std::vector<std::size_t> size(n, 0);
+    for (std::size_t i = 0; i < n; ++i) ++size[find(std::uint32_t(i))];
+    const double limit = min_fraction * double(n);
+    std::vector<char> keep(n);
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < n; ++i) kept += (keep[i] = double(size[find(std::uint32_t(i))]) >= limit);
+    if (kept == n || kept == 0) return 0;
+    points_detail::keep_points(cloud, keep);
+    return n - kept;
+}
+
+namespace points_detail {
+
+void keep_points(PointCloud& cloud, const std::vector<char>& keep) {
+    std::size_t o = 0;
+    for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+        if (!keep[i]) continue;
+        cloud.points[o] = cloud.points[i];
+        if (cloud.has_normals()) cloud.normals[o] = cloud.normals[i];
+        if (!cloud.scan.empty()) cloud.scan[o] = cloud.scan[i];
+        ++o;
+    }
+    cloud.points.resize(o);
+    if (cloud.has_normals()) cloud.normals.resize(o);
+    if (!cloud.scan.empty()) cloud.scan.resize(o);
+}
+
+}  // namespace points_detail
+
+}  // namespace vdbmesh

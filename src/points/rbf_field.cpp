@@ -1,0 +1,317 @@
+// The partition-of-unity RBF field: an overlapping binary partition (median split on the
+// longest axis), a polyharmonic r^3 + linear RBF per leaf with Carr's off-surface
+// constraints, blended by smooth weights that form a partition of unity.
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "kdtree.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/points.h"
+
+namespace vdbmesh {
+
+namespace {
+
+struct Node {
+    Vec3d lo, hi;
+    int axis = -1;        // split axis; -1 for a leaf
+    double split = 0;     // the median
+    double half = 0;      // half the overlap: the children blend over [split - half, split + half]
+    int child[2] = {-1, -1};
+    int leaf = -1;
+};
+
+struct Leaf {
+    Vec3d centre{0, 0, 0};
+    double scale = 1;                     // local coordinates: (x - centre) / scale
+    std::vector<double> x, y, z, lambda;  // the RBF centres (local) and their weights
+    double poly[4] = {0, 0, 0, 0};        // a0 + a . x
+};
+
+/// 0 at t <= 0, 1 at t >= 1, C1 in between; s(t) + s(1 - t) = 1.
+inline double smooth_step(double t) {
+    if (t <= 0) return 0;
+    if (t >= 1) return 1;
+    return t * t * (3 - 2 * t);
+}
+
+}  // namespace
+
+struct RbfField::Impl {
+    std::vector<Node> nodes;
+    std::vector<Leaf> leaves;
+    Vec3d lo, hi;
+    double spacing = 0;
+    std::vector<Vec3d> points, normals;
+    std::unique_ptr<points_detail::KdTree> tree;
+    double trust = 0;  // beyond this distance from the points the field blends into Hoppe's
+
+    double leaf_value(const Leaf& leaf, const Vec3d& p) const {
+        const double inv = 1.0 / leaf.scale;
+        const double px = (p[0] - leaf.centre[0]) * inv, py = (p[1] - leaf.centre[1]) * inv, pz = (p[2] - leaf.centre[2]) * inv;
+        const std::size_t n = leaf.x.size();
+        const double* X = leaf.x.data();
+        const double* Y = leaf.y.data();
+        const double* Z = leaf.z.data();
+        const double* L = leaf.lambda.data();
+        double s0 = 0, s1 = 0;  // two partial sums, always in this order
+        std::size_t j = 0;
+        for (; j + 1 < n; j += 2) {
+            const double ax = px - X[j], ay = py - Y[j], az = pz - Z[j];
+            const double bx = px - X[j + 1], by = py - Y[j + 1], bz = pz - Z[j + 1];
+            const double ra = ax * ax + ay * ay + az * az, rb = bx * bx + by * by + bz * bz;
+            s0 += L[j] * ra * std::sqrt(ra);
+            s1 += L[j + 1] * rb * std::sqrt(rb);
+        }
+        if (j < n) {
+            const double ax = px - X[j], ay = py - Y[j], az = pz - Z[j];
+            const double ra = ax * ax + ay * ay + az * az;
+            s0 += L[j] * ra * std::sqrt(ra);
+        }
+        const double s = s0 + s1 + leaf.poly[0] + leaf.poly[1] * px + leaf.poly[2] * py + leaf.poly[3] * pz;
+        return s * leaf.scale;
+    }
+
+    // Depth-first, left before right: the same order of the sum for every point.
+    double value(int node, const Vec3d& p, double weight) const {
+        const Node& nd = nodes[std::size_t(node)];
+        if (nd.leaf >= 0) return weight * leaf_value(leaves[std::size_t(nd.leaf)], p);
+        const double t = (p[std::size_t(nd.axis)] - (nd.split - nd.half)) / (2 * nd.half);
+        const double right = smooth_step(t);
+        double s = 0;
+        if (right < 1) s += value(nd.child[0], p, weight * (1 - right));
+        if (right > 0) s += value(nd.child[1], p, weight * right);
+        return s;
+    }
+};
+
+RbfField::~RbfField() = default;
+RbfField::RbfField(RbfField&&) noexcept = default;
+RbfField& RbfField::operator=(RbfField&&) noexcept = default;
+
+RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(std::make_unique<Impl>()) {
+    const std::size_t n = cloud.points.size();
+    if (!cloud.has_normals() || cloud.normals.size() != n) throw UsageError("RBF field: the points need normals");
+    if (n < 4) throw Error("RBF field: need at least 4 points, got " + std::to_string(n));
+    if (options.leaf_min < 4) throw UsageError("RBF field: leaf_min must be at least 4");
+    if (!(options.overlap > 0 && options.overlap < 0.5)) throw UsageError("RBF field: overlap must be in (0, 0.5)");
+    Impl& m = *impl_;
+    const std::vector<Vec3d>& P = cloud.points;
+    const std::vector<Vec3d>& N = cloud.normals;
+
+    // The median nearest-neighbour distance (over an even subset).
+    m.points = P;
+    m.normals = N;
+    m.tree = std::make_unique<points_detail::KdTree>(m.points);
+    {
+        const points_detail::KdTree& tree = *m.tree;
+        const std::size_t step = std::max<std::size_t>(1, n / 20000);
+        std::vector<double> d;
+        std::vector<std::size_t> idx;
+        std::vector<double> d2;
+        for (std::size_t i = 0; i < n; i += step) {
+            tree.knn(P[i], 2, idx, d2);
+            if (d2.size() == 2) d.push_back(std::sqrt(d2[1]));
+        }
+        std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
+        m.spacing = d.empty() ? 0 : d[d.size() / 2];
+    }
+    Vec3d lo = P[0], hi = P[0];
+    for (const Vec3d& p : P)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+    double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    if (!(longest > 0)) throw Error("RBF field: the points are all at one place");
+    if (!(m.spacing > 0)) m.spacing = longest * 1e-3;
+    const double margin = 0.1 * longest;
+    for (int a = 0; a < 3; ++a) lo[a] -= margin, hi[a] += margin;
+    m.lo = lo, m.hi = hi;
+    const double off = options.off_surface > 0 ? options.off_surface : 0.5 * m.spacing;
+    m.trust = options.trust > 0 ? options.trust : 4.0 * m.spacing;
+
+    // The partition (serial, deterministic).
+    struct Pending {
+        int node;
+        std::vector<std::uint32_t> index;
+    };
+    std::vector<Pending> stack;
+    std::vector<std::pair<int, std::vector<std::uint32_t>>> leaf_points;
+    m.nodes.push_back(Node{lo, hi});
+    {
+        std::vector<std::uint32_t> all(n);
+        std::iota(all.begin(), all.end(), 0u);
+        stack.push_back({0, std::move(all)});
+    }
+    const std::size_t max_leaf = 2 * std::size_t(options.leaf_min);
+    while (!stack.empty()) {
+        Pending job = std::move(stack.back());
+        stack.pop_back();
+        Node nd = m.nodes[std::size_t(job.node)];
+        if (job.index.size() <= max_leaf) {
+            m.nodes[std::size_t(job.node)].leaf = int(leaf_points.size());
+            leaf_points.emplace_back(job.node, std::move(job.index));
+            continue;
+        }
+        // The longest axis of the points' box (the cell's own box may be mostly empty).
+        Vec3d plo = P[job.index[0]], phi = plo;
+        for (std::uint32_t i : job.index)
+            for (int a = 0; a < 3; ++a) plo[a] = std::min(plo[a], P[i][a]), phi[a] = std::max(phi[a], P[i][a]);
+        int axis = 0;
+        for (int a = 1; a < 3; ++a)
+            if (phi[a] - plo[a] > phi[axis] - plo[axis]) axis = a;
+        const double extent = phi[axis] - plo[axis];
+        std::vector<double> c(job.index.size());
+        for (std::size_t i = 0; i < c.size(); ++i) c[i] = P[job.index[i]][std::size_t(axis)];
+        std::nth_element(c.begin(), c.begin() + long(c.size() / 2), c.end());
+        const double median = c[c.size() / 2];
+        double half = std::max(options.overlap * extent, 0.5 * m.spacing);
+        double split = median;
+        std::vector<std::uint32_t> li, ri;
+        bool ok = false;
+        for (int attempt = 0; attempt < 6 && !ok; ++attempt, half *= 0.5) {
+            split = std::clamp(median, nd.lo[axis] + 2 * half, nd.hi[axis] - 2 * half);
+            li.clear();
+            ri.clear();
+            for (std::uint32_t i : job.index) {
+                const double x = P[i][std::size_t(axis)];
+                if (x <= split + half) li.push_back(i);
+                if (x >= split - half) ri.push_back(i);
+            }
+            // Both sides must shrink (the overlap may not hold most points).
+            ok = li.size() <= job.index.size() * 3 / 4 && ri.size() <= job.index.size() * 3 / 4;
+            if (ok) break;
+        }
+        if (!ok) {
+            m.nodes[std::size_t(job.node)].leaf = int(leaf_points.size());
+            leaf_points.emplace_back(job.node, std::move(job.index));
+            continue;
+        }
+        Node left{nd.lo, nd.hi}, right{nd.lo, nd.hi};
+        left.hi[std::size_t(axis)] = split + half;
+        right.lo[std::size_t(axis)] = split - half;
+        Node& parent = m.nodes[std::size_t(job.node)];
+        parent.axis = axis;
+        parent.split = split;
+        parent.half = half;
+        const int l = int(m.nodes.size());
+        m.nodes.push_back(left);
+        m.nodes.push_back(right);
+        m.nodes[std::size_t(job.node)].child[0] = l;
+        m.nodes[std::size_t(job.node)].child[1] = l + 1;
+        stack.push_back({l + 1, std::move(ri)});
+        stack.push_back({l, std::move(li)});
+    }
+
+    // The local fits, in parallel (each leaf independent).
+    m.leaves.resize(leaf_points.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaf_points.size(), 4), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t li = r.begin(); li < r.end(); ++li) {
+            std::vector<std::uint32_t> idx = leaf_points[li].second;
+            const std::size_t cap = 4 * std::size_t(options.leaf_min);  // a bounded solve, whatever the leaf
+            if (idx.size() > cap) {
+                std::vector<std::uint32_t> thin;
+                for (std::size_t i = 0; i < cap; ++i) thin.push_back(idx[i * idx.size() / cap]);
+                idx.swap(thin);
+            }
+            const Node& nd = m.nodes[std::size_t(leaf_points[li].first)];
+            Leaf& leaf = m.leaves[li];
+            for (int a = 0; a < 3; ++a) leaf.centre[a] = 0.5 * (nd.lo[a] + nd.hi[a]);
+            leaf.scale = 0.5 * std::max({nd.hi[0] - nd.lo[0], nd.hi[1] - nd.lo[1], nd.hi[2] - nd.lo[2]});
+            // On-surface constraints for every point; off-surface ones (+off and -off along
+            // the normal, alternately) for every point too.
+            const std::size_t k = idx.size();
+            std::vector<Eigen::Vector3d> centres;
+            std::vector<double> target;
+            centres.reserve(2 * k);
+            target.reserve(2 * k);
+            const double d = off / leaf.scale;
+            for (std::size_t i = 0; i < k; ++i) {
+                const Vec3d& p = P[idx[i]];
+                centres.emplace_back((p[0] - leaf.centre[0]) / leaf.scale, (p[1] - leaf.centre[1]) / leaf.scale,
+                                     (p[2] - leaf.centre[2]) / leaf.scale);
+                target.push_back(0.0);
+            }
+            const std::size_t every = std::size_t(std::max(1, options.off_every));
+            for (std::size_t i = 0; i < k; i += every) {
+                const Vec3d& q = N[idx[i]];
+                const double s = ((i / every) % 2 == 0) ? d : -d;
+                centres.push_back(centres[i] + s * Eigen::Vector3d(q[0], q[1], q[2]));
+                target.push_back(s);
+            }
+            const Eigen::Index c = Eigen::Index(centres.size());
+            Eigen::MatrixXd A = Eigen::MatrixXd::Zero(c + 4, c + 4);
+            Eigen::VectorXd b = Eigen::VectorXd::Zero(c + 4);
+            for (Eigen::Index i = 0; i < c; ++i) {
+                for (Eigen::Index j = 0; j < i; ++j) {
+                    const double rr = (centres[std::size_t(i)] - centres[std::size_t(j)]).norm();
+                    A(i, j) = A(j, i) = rr * rr * rr;
+                }
+                A(i, c) = A(c, i) = 1;
+                for (int a = 0; a < 3; ++a) A(i, c + 1 + a) = A(c + 1 + a, i) = centres[std::size_t(i)][a];
+                b[i] = target[std::size_t(i)];
+            }
+            Eigen::VectorXd lambda = A.partialPivLu().solve(b);
+            if (!lambda.allFinite()) lambda = A.completeOrthogonalDecomposition().solve(b);
+            for (Eigen::Index i = 0; i < c; ++i) {
+                leaf.x.push_back(centres[std::size_t(i)].x());
+                leaf.y.push_back(centres[std::size_t(i)].y());
+                leaf.z.push_back(centres[std::size_t(i)].z());
+                leaf.lambda.push_back(lambda[i]);
+            }
+            for (int a = 0; a < 4; ++a) leaf.poly[a] = lambda[c + a];
+        }
+    });
+}
+
+double RbfField::value(const Vec3d& p) const {
+    const Impl& m = *impl_;
+    double d2 = 0;
+    m.tree->nearest(p, &d2);
+    const double d = std::sqrt(d2);
+    const double f = d < 2 * m.trust ? m.value(0, p, 1.0) : 0.0;
+    if (d <= m.trust) return f;
+    // Away from the points: Hoppe's signed distance to the tangent planes, averaged over the
+    // 8 nearest points (the local fits only extrapolate there, and may change sign).
+    std::vector<std::size_t> index;
+    std::vector<double> dist2;
+    m.tree->knn(p, 8, index, dist2);
+    double g = 0;
+    for (std::size_t i : index) {
+        const Vec3d& q = m.points[i];
+        const Vec3d& n = m.normals[i];
+        g += (p[0] - q[0]) * n[0] + (p[1] - q[1]) * n[1] + (p[2] - q[2]) * n[2];
+    }
+    g /= double(index.size());
+    if (d >= 2 * m.trust) return g;
+    const double w = smooth_step((d - m.trust) / m.trust);
+    return (1 - w) * f + w * g;
+}
+
+Vec3d RbfField::gradient(const Vec3d& p) const {
+    const double h = 0.25 * impl_->spacing;
+    Vec3d g;
+    for (int a = 0; a < 3; ++a) {
+        Vec3d q = p, r = p;
+        q[a] += h, r[a] -= h;
+        g[a] = (value(q) - value(r)) / (2 * h);
+    }
+    return g;
+}
+
+Vec3d RbfField::box_min() const { return impl_->lo; }
+Vec3d RbfField::box_max() const { return impl_->hi; }
+std::size_t RbfField::leaves() const { return impl_->leaves.size(); }
+double RbfField::spacing() const { return impl_->spacing; }
+
+double RbfField::distance_to_points(const Vec3d& p) const {
+    double d2 = 0;
+    impl_->tree->nearest(p, &d2);
+    return std::sqrt(d2);
+}
+
+}  // namespace vdbmesh

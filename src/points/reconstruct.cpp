@@ -1,0 +1,388 @@
+// Sampling the RBF field into a sparse grid and the whole reconstruction pipeline.
+
+#include <openvdb/openvdb.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <numeric>
+
+#include "points_internal.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/mesher.h"
+#include "vdbmesh/points.h"
+
+namespace vdbmesh {
+
+namespace {
+
+/// Averages the points (and normals) that fall in one cell of a grid of side @a cell.
+/// Deterministic: cells in key order, points in input order.
+PointCloud cluster_points(const PointCloud& cloud, double cell) {
+    using Key = std::array<std::int64_t, 3>;
+    std::vector<std::pair<Key, std::uint32_t>> keyed(cloud.points.size());
+    for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+        Key k;
+        for (int a = 0; a < 3; ++a) k[a] = std::int64_t(std::floor(cloud.points[i][a] / cell));
+        keyed[i] = {k, std::uint32_t(i)};
+    }
+    std::sort(keyed.begin(), keyed.end());
+    PointCloud out;
+    for (std::size_t i = 0; i < keyed.size();) {
+        std::size_t j = i;
+        Vec3d p{0, 0, 0}, nsum{0, 0, 0};
+        while (j < keyed.size() && keyed[j].first == keyed[i].first) {
+            const std::uint32_t m = keyed[j].second;
+            for (int a = 0; a < 3; ++a) p[a] += cloud.points[m][a], nsum[a] += cloud.normals[m][a];
+            ++j;
+        }
+        const double count = double(j - i);
+        for (double& c : p) c /= count;
+        const double len = std::sqrt(nsum[0] * nsum[0] + nsum[1] * nsum[1] + nsum[2] * nsum[2]);
+        if (len > 1e-9 * count) {  // normals that cancel out: drop the cell
+            for (double& c : nsum) c /= len;
+            out.points.push_back(p);
+            out.normals.push_back(nsum);
+        }
+        i = j;
+    }
+    return out;
+}
+
+/// Connected components of a mesh by shared vertices; drops those with |volume| below
+/// @a fraction of the largest. Returns how many were dropped.
+std::size_t drop_small_components(Mesh& mesh, double fraction, const std::function<bool(const Vec3d&)>& near_points) {
+    const std::size_t nv = mesh.vertices.size();
+    std::vector<std::uint32_t> parent(nv);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](std::uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (const auto& t : mesh.triangles) {
+        const std::uint32_t a = find(t[0]), b = find(t[1]), c = find(t[2]);
+        parent[b] = a;
+        parent[find(c)] = find(a);
+    }
+    std::map<std::uint32_t, double> volume;
+    std::map<std::uint32_t, std::pair<std::size_t, std::size_t>> support;  // vertices near the points, all
+    for (std::size_t v = 0; v < nv; ++v) {
+        auto& s = support[find(std::uint32_t(v))];
+        const auto& p = mesh.vertices[v];
+        s.first += near_points({p[0], p[1], p[2]});
+        ++s.second;
+    }
+    for (const auto& t : mesh.triangles) {
+        const auto& p = mesh.vertices[t[0]];
+        const auto& q = mesh.vertices[t[1]];
+        const auto& r = mesh.vertices[t[2]];
+        const double v = (double(p[0]) * (double(q[1]) * r[2] - double(q[2]) * r[1]) -
+                          double(p[1]) * (double(q[0]) * r[2] - double(q[2]) * r[0]) +
+                          double(p[2]) * (double(q[0]) * r[1] - double(q[1]) * r[0])) / 6.0;
+        volume[find(t[0])] += v;
+    }
+    if (volume.empty()) return 0;
+    double largest = 0;
+    for (const auto& [root, v] : volume) largest = std::max(largest, std::abs(v));
+    std::size_t dropped = 0;
+    std::map<std::uint32_t, bool> keep;
+    for (const auto& [root, v] : volume) {
+        // Small, or mostly away from the points (cavities the field made inside the solid).
+        const auto& sup = support[root];
+        keep[root] = std::abs(v) >= fraction * largest && 2 * sup.first >= sup.second;
+        dropped += !keep[root];
+    }
+    if (!dropped) return 0;
+    std::vector<std::uint32_t> remap(nv, std::uint32_t(-1));
+    Mesh out;
+    for (const auto& t : mesh.triangles) {
+        if (!keep[find(t[0])]) continue;
+        std::array<std::uint32_t, 3> u;
+        for (int k = 0; k < 3; ++k) {
+            if (remap[t[k]] == std::uint32_t(-1)) {
+                remap[t[k]] = std::uint32_t(out.vertices.size());
+                out.vertices.push_back(mesh.vertices[t[k]]);
+            }
+            u[k] = remap[t[k]];
+        }
+        out.triangles.push_back(u);
+    }
+    mesh.vertices = std::move(out.vertices);
+    mesh.triangles = std::move(out.triangles);
+    return dropped;
+}
+
+/// Reorders the points along a Morton (Z-order) curve of a 2^21 grid over their box, so that
+/// neighbours in space are neighbours in memory (the k-d tree queries and the spanning tree).
+void sort_spatially(PointCloud& cloud) {
+    const std::size_t n = cloud.points.size();
+    Vec3d lo = cloud.points[0], hi = lo;
+    for (const Vec3d& p : cloud.points)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+    const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-300});
+    auto spread = [](std::uint64_t v) {
+        v &= 0x1fffff;
+        v = (v | v << 32) & 0x1f00000000ffffULL;
+        v = (v | v << 16) & 0x1f0000ff0000ffULL;
+        v = (v | v << 8) & 0x100f00f00f00f00fULL;
+        v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+        v = (v | v << 2) & 0x1249249249249249ULL;
+        return v;
+    };
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        std::uint64_t code = 0;
+        for (int a = 0; a < 3; ++a) {
+            const auto q = std::uint64_t(std::clamp((cloud.points[i][a] - lo[a]) / extent, 0.0, 1.0) * 2097151.0);
+            code |= spread(q) << a;
+        }
+        keys[i] = {code, std::uint32_t(i)};
+    }
+    std::sort(keys.begin(), keys.end());
+    PointCloud out;
+    out.scan_view = cloud.scan_view;
+    out.points.resize(n);
+    if (cloud.has_normals()) out.normals.resize(n);
+    if (!cloud.scan.empty()) out.scan.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t j = keys[i].second;
+        out.points[i] = cloud.points[j];
+        if (cloud.has_normals()) out.normals[i] = cloud.normals[j];
+        if (!cloud.scan.empty()) out.scan[i] = cloud.scan[j];
+    }
+    cloud = std::move(out);
+}
+
+}  // namespace
+
+std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const SampleOptions& options) {
+    openvdb::initialize();
+    const Vec3d lo = field.box_min(), hi = field.box_max();
+    const double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    const double h = options.voxel > 0 ? options.voxel : longest / 1.2 / 256.0;
+    if (!(options.band >= 1)) throw UsageError("sample: the band must be at least 1 voxel");
+    const double background = options.band * h;
+    const double lipschitz = 1.5;  // the blended field's slope is about 1 near the surface
+    const double reach = options.reach > 0 ? options.reach : 0.06 * longest / 1.2;
+    auto grid = openvdb::FloatGrid::create(float(background));
+    grid->setTransform(openvdb::math::Transform::createLinearTransform(h));
+    grid->setGridClass(openvdb::GRID_LEVEL_SET);
+    // The blocks (8^3 voxels, OpenVDB's leaf nodes) covering the field's box.
+    std::array<int, 3> first, count;
+    for (int a = 0; a < 3; ++a) {
+        first[a] = int(std::floor(lo[a] / h / 8.0));
+        count[a] = int(std::floor(hi[a] / h / 8.0)) - first[a] + 1;
+    }
+    const std::size_t nblocks = std::size_t(count[0]) * std::size_t(count[1]) * std::size_t(count[2]);
+    auto block_index = [&](int x, int y, int z) { return (std::size_t(x) * std::size_t(count[1]) + std::size_t(y)) * std::size_t(count[2]) + std::size_t(z); };
+    auto origin_of = [&](std::size_t b) {
+        const int z = int(b % std::size_t(count[2])), y = int(b / std::size_t(count[2]) % std::size_t(count[1])),
+                  x = int(b / (std::size_t(count[1]) * std::size_t(count[2])));
+        return openvdb::Coord((first[0] + x) * 8, (first[1] + y) * 8, (first[2] + z) * 8);
+    };
+    const double block_radius = 3.5 * std::sqrt(3.0) * h;
+    // Near blocks (within reach of the points): the field decides. 0 far, 1 near.
+    std::vector<signed char> near(nblocks, 0);
+    std::vector<float> coarse(nblocks, 0.0f);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks, 64), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b < r.end(); ++b) {
+            const openvdb::Coord o = origin_of(b);
+            const Vec3d centre{(o[0] + 3.5) * h, (o[1] + 3.5) * h, (o[2] + 3.5) * h};
+            if (field.distance_to_points(centre) > reach + block_radius) continue;
+            near[b] = 1;
+            coarse[b] = float(field.value(centre));
+        }
+    });
+    // Far blocks: connected groups (6-neighbours) take the sign most of the near blocks around
+    // them have; a group touching the box's side is outside.
+    std::vector<signed char> sign(nblocks, 0);  // far: -1 inside, +1 outside
+    {
+        std::vector<int> label(nblocks, -1);
+        std::vector<std::size_t> queue;
+        for (std::size_t seed = 0; seed < nblocks; ++seed) {
+            if (near[seed] || label[seed] >= 0) continue;
+            queue.assign(1, seed);
+            label[seed] = int(seed);
+            bool boundary = false;
+            long vote = 0;
+            for (std::size_t q = 0; q < queue.size(); ++q) {
+                const std::size_t b = queue[q];
+                const int z = int(b % std::size_t(count[2])), y = int(b / std::size_t(count[2]) % std::size_t(count[1])),
+                          x = int(b / (std::size_t(count[1]) * std::size_t(count[2])));
+                const int nbr[6][3] = {{x - 1, y, z}, {x + 1, y, z}, {x, y - 1, z}, {x, y + 1, z}, {x, y, z - 1}, {x, y, z + 1}};
+                for (const auto& c : nbr) {
+                    if (c[0] < 0 || c[1] < 0 || c[2] < 0 || c[0] >= count[0] || c[1] >= count[1] || c[2] >= count[2]) {
+                        boundary = true;
+                        continue;
+                    }
+                    const std::size_t m = block_index(c[0], c[1], c[2]);
+                    if (near[m]) {
+                        vote += coarse[m] < 0 ? -1 : 1;
+                    } else if (label[m] < 0) {
+                        label[m] = int(seed);
+                        queue.push_back(m);
+                    }
+                }
+            }
+            const signed char s = (boundary || vote >= 0) ? 1 : -1;
+            for (std::size_t b : queue) sign[b] = s;
+        }
+    }
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    std::vector<std::unique_ptr<Leaf>> leaves(nblocks);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks, 16), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b < r.end(); ++b) {
+            if (!near[b]) continue;
+            const double f = coarse[b];
+            if (std::abs(f) > lipschitz * block_radius + background) {
+                sign[b] = f < 0 ? -1 : 1;
+                continue;
+            }
+            const openvdb::Coord o = origin_of(b);
+            auto leaf = std::make_unique<Leaf>(o, float(background), false);
+            bool any = false;
+            for (int sx = 0; sx < 8; sx += 4)
+                for (int sy = 0; sy < 8; sy += 4)
+                    for (int sz = 0; sz < 8; sz += 4) {
+                        const Vec3d c{(o[0] + sx + 1.5) * h, (o[1] + sy + 1.5) * h, (o[2] + sz + 1.5) * h};
+                        const double g = field.value(c);
+                        if (std::abs(g) > lipschitz * 1.5 * std::sqrt(3.0) * h + background) {
+                            const float v = g < 0 ? -float(background) : float(background);
+                            for (int x = 0; x < 4; ++x)
+                                for (int y = 0; y < 4; ++y)
+                                    for (int z = 0; z < 4; ++z) leaf->setValueOnly(openvdb::Coord(sx + x, sy + y, sz + z), v);
+                            continue;
+                        }
+                        // 2^3 cells: their centre decides whether their voxels need values.
+                        for (int cx = 0; cx < 4; cx += 2)
+                            for (int cy = 0; cy < 4; cy += 2)
+                                for (int cz = 0; cz < 4; cz += 2) {
+                                    const int bx = sx + cx, by = sy + cy, bz = sz + cz;
+                                    const double e = field.value(Vec3d{(o[0] + bx + 0.5) * h, (o[1] + by + 0.5) * h, (o[2] + bz + 0.5) * h});
+                                    if (std::abs(e) > lipschitz * 0.5 * std::sqrt(3.0) * h + background) {
+                                        const float v = e < 0 ? -float(background) : float(background);
+                                        for (int x = 0; x < 2; ++x)
+                                            for (int y = 0; y < 2; ++y)
+                                                for (int z = 0; z < 2; ++z) leaf->setValueOnly(openvdb::Coord(bx + x, by + y, bz + z), v);
+                                        continue;
+                                    }
+                                    for (int x = 0; x < 2; ++x)
+                                        for (int y = 0; y < 2; ++y)
+                                            for (int z = 0; z < 2; ++z) {
+                                                const openvdb::Coord local(bx + x, by + y, bz + z);
+                                                double v = field.value(Vec3d{(o[0] + local[0]) * h, (o[1] + local[1]) * h, (o[2] + local[2]) * h});
+                                                const bool on = std::abs(v) < background;
+                                                v = std::clamp(v, -background, background);
+                                                leaf->setValueOnly(local, float(v));
+                                                if (on) {
+                                                    leaf->setValueOn(local);
+                                                    any = true;
+                                                }
+                                            }
+                                }
+                    }
+            if (any) {
+                leaves[b] = std::move(leaf);
+            } else {
+                sign[b] = f < 0 ? -1 : 1;
+            }
+        }
+    });
+    openvdb::FloatTree& tree = grid->tree();
+    // Near blocks without a surface become constant leaves, not tiles: mesh_grid() left
+    // boundary edges where inside level-1 tiles met leaves of this grid (seen on the bunny).
+    for (std::size_t b = 0; b < nblocks; ++b) {
+        if (leaves[b]) {
+            tree.addLeaf(leaves[b].release());
+        } else if (near[b]) {
+            tree.addLeaf(new Leaf(origin_of(b), sign[b] < 0 ? -float(background) : float(background), false));
+        } else if (sign[b] < 0) {
+            tree.addTile(1, origin_of(b), -float(background), false);
+        }
+    }
+    return grid;
+}
+
+Reconstruction reconstruct(PointCloud cloud, const ReconstructOptions& options) {
+    Reconstruction result;
+    ReconstructReport& report = result.report;
+    auto clock = std::chrono::steady_clock::now();
+    auto phase = [&](const std::string& name) {
+        const auto now = std::chrono::steady_clock::now();
+        report.phases.emplace_back(name, std::chrono::duration<double>(now - clock).count());
+        clock = now;
+    };
+    auto progress = [&](double f) {
+        if (options.progress) options.progress(f);
+    };
+    report.input_points = cloud.points.size();
+    if (cloud.points.size() < 10) throw Error("reconstruct: need at least 10 points, got " + std::to_string(cloud.points.size()));
+    sort_spatially(cloud);
+    phase("sort");
+    report.outliers = remove_outliers(cloud, 8, options.outlier_factor);
+    report.outliers += remove_small_clusters(cloud, options.min_cluster);
+    phase("outliers");
+    progress(0.05);
+    estimate_normals(cloud, options.normals);
+    phase("normals");
+    progress(0.15);
+    Vec3d lo = cloud.points[0], hi = cloud.points[0];
+    for (const Vec3d& p : cloud.points)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+    const double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
+    const double voxel = options.sample.voxel > 0 ? options.sample.voxel : longest / 256.0;
+    report.voxel = voxel;
+    if (options.decimate > 0) {
+        DecimateOptions d;
+        d.fraction = options.decimate;
+        d.seed = options.seed;
+        d.neighbours = options.normals.neighbours;
+        cloud = decimate_points(cloud, d);
+        phase("decimate");
+    }
+    if (options.cluster >= 0) {
+        const double cell = options.cluster > 0 ? options.cluster : voxel;
+        cloud = cluster_points(cloud, cell);
+        phase("cluster");
+    }
+    report.used_points = cloud.points.size();
+    progress(0.25);
+    const RbfField field(cloud, options.rbf);
+    report.leaves = field.leaves();
+    phase("fit");
+    progress(0.45);
+    SampleOptions sample = options.sample;
+    sample.voxel = voxel;
+    result.grid = sample_field(field, sample);
+    phase("sample");
+    progress(0.75);
+    MeshOptions mesh;
+    mesh.iso = 0;
+    mesh.inside = Inside::below;
+    mesh.error = options.dmc_error;
+    MeshResult meshed = mesh_grid(*result.grid, mesh);
+    result.mesh = std::move(meshed.mesh);
+    report.mesh_fallbacks = meshed.report.fallbacks;
+    phase("mesh");
+    if (options.min_component > 0) {
+        const double near = 8.0 * field.spacing();
+        report.dropped_components = drop_small_components(result.mesh, options.min_component, [&](const Vec3d& p) {
+            return field.distance_to_points(p) <= near;
+        });
+    }
+    progress(1.0);
+    return result;
+}
+
+Vec3d Similarity::apply(const Vec3d& x) const {
+    Vec3d y;
+    for (int r = 0; r < 3; ++r)
+        y[r] = scale * (rotation[3 * r] * x[0] + rotation[3 * r + 1] * x[1] + rotation[3 * r + 2] * x[2]) + translation[r];
+    return y;
+}
+
+}  // namespace vdbmesh

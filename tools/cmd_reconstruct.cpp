@@ -1,0 +1,101 @@
+// `vdbmesh reconstruct POINTS -o OUT`: points (.xyz/.pts, .ply, a .conf range-scan set) to a
+// closed surface (.stl/.ply/.obj) or to the sampled field (.vdb), by the partition-of-unity
+// RBF of include/vdbmesh/points.h meshed with DMC.
+
+#include <chrono>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "cli.h"
+#include "commands.h"
+#include "common_options.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/mesh_io.h"
+#include "vdbmesh/parse_util.h"
+#include "vdbmesh/points.h"
+
+namespace vdbmesh::cli {
+
+namespace {
+
+struct ReconstructCommandOptions {
+    std::string input, output;
+    ReconstructOptions rec;
+    bool json = false;
+    bool ascii = false;
+    CommonOptions common;
+};
+
+int run_reconstruct(ReconstructCommandOptions& o) {
+    const std::string ext = detail::to_lower(std::filesystem::path(o.output).extension().string());
+    if (ext != ".stl" && ext != ".ply" && ext != ".obj" && ext != ".vdb")
+        throw UsageError("-o: expected a .stl, .ply, .obj or .vdb file, got \"" + o.output + "\"");
+    const ThreadLimit limit(o.common);
+    const auto start = std::chrono::steady_clock::now();
+    Progress progress("reconstructing", o.common.quiet);
+    o.rec.progress = [&](double f) { progress(f); };
+    const Reconstruction rec = reconstruct(read_points(o.input), o.rec);
+    if (rec.mesh.triangles.empty()) throw Error(o.input + ": the reconstructed field has no surface; " + o.output + " not written");
+    if (ext == ".vdb") {
+        write_vdb(*rec.grid, o.output);
+    } else {
+        write_mesh(rec.mesh, o.output, MeshWriteOptions{o.ascii, false});
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const ReconstructReport& r = rec.report;
+    if (o.json) {
+        nlohmann::ordered_json j;
+        j["input"] = o.input;
+        j["output"] = o.output;
+        j["input_points"] = r.input_points;
+        j["outliers"] = r.outliers;
+        j["used_points"] = r.used_points;
+        j["leaves"] = r.leaves;
+        j["voxel"] = r.voxel;
+        j["triangles"] = rec.mesh.triangles.size();
+        j["vertices"] = rec.mesh.vertices.size();
+        j["dropped_components"] = r.dropped_components;
+        nlohmann::ordered_json phases = nlohmann::ordered_json::object();
+        for (const auto& [name, s] : r.phases) phases[name] = s;
+        j["phases"] = phases;
+        j["seconds"] = seconds;
+        std::cout << j.dump() << "\n";
+    } else if (!o.common.quiet) {
+        std::cerr << "vdbmesh reconstruct: " << r.input_points << " points (" << r.outliers << " outliers, "
+                  << r.used_points << " used, " << r.leaves << " leaves), voxel " << r.voxel << ": "
+                  << rec.mesh.triangles.size() << " triangles, " << seconds << " s -> " << o.output << "\n";
+    }
+    return kSuccess;
+}
+
+}  // namespace
+
+void add_reconstruct_command(CLI::App& command, CommandResult& result) {
+    auto o = std::make_shared<ReconstructCommandOptions>();
+    command.add_option("INPUT", o->input, "Points: .xyz/.pts (x y z [nx ny nz]), .ply, or a .conf range-scan set")->required();
+    command.add_option("-o,--output", o->output, "The surface (.stl, .ply, .obj) or the sampled field (.vdb, negative inside)")->required();
+    command.add_option("--voxel", o->rec.sample.voxel, "Voxel size of the sampled field (0: the points' longest side / 256)")
+        ->check(CLI::NonNegativeNumber);
+    command.add_option("--decimate", o->rec.decimate, "Adaptive decimation: the fraction of points to remove first, in [0, 1)")
+        ->check(CLI::Range(0.0, 0.99));
+    command.add_option("--seed", o->rec.seed, "Seed of the decimation (the same seed repeats the result)");
+    command.add_option("--neighbours", o->rec.normals.neighbours, "k of the PCA normals (when the points have none)")
+        ->check(CLI::Range(3, 200));
+    command.add_option("--leaf", o->rec.rbf.leaf_min, "N1: the partition's leaves hold N1 to 2*N1 points")->check(CLI::Range(8, 500));
+    command.add_option("--overlap", o->rec.rbf.overlap, "Overlap of sibling cells, a fraction of the parent's extent")
+        ->check(CLI::Range(0.001, 0.45));
+    command.add_option("--cluster", o->rec.cluster, "Average the points per cell of this size first (0: the voxel; -1: no averaging)");
+    command.add_option("--outliers", o->rec.outlier_factor, "Drop points whose neighbour distance exceeds the median by this factor (0: keep all)")
+        ->check(CLI::NonNegativeNumber);
+    command.add_option("--min-component", o->rec.min_component,
+                       "Drop surface components smaller in volume than this fraction of the largest (0: keep all)")
+        ->check(CLI::Range(0.0, 1.0));
+    command.add_flag("--ascii", o->ascii, "ASCII STL or PLY");
+    command.add_flag("--json", o->json, "Figures as one JSON object on stdout");
+    add_common_options(command, o->common);
+    command.callback([o, &result] { result.status = run_reconstruct(*o); });
+}
+
+}  // namespace vdbmesh::cli
