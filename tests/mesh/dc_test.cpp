@@ -144,6 +144,26 @@ TEST(DcTest, TiltedCubeIsClean) {
     }
 }
 
+// Inside tiles next to leaves (as a level set or a converted scan has them): the surface runs
+// through the leaves and along the tiles' faces where they meet the background.
+TEST(DcTest, InsideTilesNextToLeavesGiveAClosedSurface) {
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    openvdb::FloatTree& tree = grid->tree();
+    tree.addTile(1, openvdb::Coord(16, 0, 0), 1.0f, true);   // an inside 8^3 tile
+    tree.addTile(1, openvdb::Coord(16, 8, 0), 1.0f, false);  // and an inactive one above it
+    auto accessor = grid->getAccessor();
+    for (int x = 0; x < 16; ++x) {  // leaves west of the tiles: a ramp crossing 0.5 at x = 9.5
+        for (int y = 0; y < 16; ++y) {
+            for (int z = 0; z < 8; ++z) accessor.setValueOn(openvdb::Coord(x, y, z), float(std::clamp((x - 9.0) / 1.0, 0.0, 1.0)));
+        }
+    }
+    for (double error : {0.0, 0.25, 1.0}) {
+        const Mesh mesh = mesh_grid(*grid, dc_options(error)).mesh;
+        const test::CgalVerdict verdict = test::judge_with_cgal(mesh);
+        EXPECT_TRUE(verdict.clean()) << "error " << error << ": " << verdict.describe();
+    }
+}
+
 TEST(DcTest, SameBytesWithOneOrTwoThreads) {
     const auto grid = dense_grid(32, smooth_noise(32, 7));
     Mesh one, two;
