@@ -146,6 +146,10 @@ struct ClosestPoint {
 /// Detection, 2005, section 5.1.5).
 Point3 closest_point_on_triangle(const Point3& p, const Point3& a, const Point3& b, const Point3& c);
 
+/// Spreads the low 21 bits of @a v so that two zero bits separate each: interleaving three
+/// such values gives a point's Morton (Z-order) code.
+std::uint64_t spread_bits(std::uint64_t v);
+
 /// A binary tree over the triangles sorted along a Morton (Z-order) curve of their box centres,
 /// each node splitting its range where the highest differing Morton bit changes (a linear BVH:
 /// T. Karras, "Maximizing parallelism in the construction of BVHs, octrees, and k-d trees",

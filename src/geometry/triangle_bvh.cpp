@@ -24,7 +24,8 @@ Box merge(const Box& a, const Box& b) {
     return box;
 }
 
-/// Spreads the low 21 bits of @a v so that two zero bits separate each.
+}  // namespace
+
 std::uint64_t spread_bits(std::uint64_t v) {
     v &= 0x1fffff;
     v = (v | v << 32) & 0x1f00000000ffffULL;
@@ -34,6 +35,8 @@ std::uint64_t spread_bits(std::uint64_t v) {
     v = (v | v << 2) & 0x1249249249249249ULL;
     return v;
 }
+
+namespace {
 
 /// Squared distance from p to the box (0 inside).
 double box_distance_squared(const Point3& p, const Box& box) {

@@ -12,6 +12,7 @@
 #include <numeric>
 
 #include "points_internal.h"
+#include "vdbmesh/geometry.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/points.h"
@@ -124,21 +125,12 @@ void sort_spatially(PointCloud& cloud) {
     for (const Vec3d& p : cloud.points)
         for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
     const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-300});
-    auto spread = [](std::uint64_t v) {
-        v &= 0x1fffff;
-        v = (v | v << 32) & 0x1f00000000ffffULL;
-        v = (v | v << 16) & 0x1f0000ff0000ffULL;
-        v = (v | v << 8) & 0x100f00f00f00f00fULL;
-        v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
-        v = (v | v << 2) & 0x1249249249249249ULL;
-        return v;
-    };
     std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(n);
     for (std::size_t i = 0; i < n; ++i) {
         std::uint64_t code = 0;
         for (int a = 0; a < 3; ++a) {
             const auto q = std::uint64_t(std::clamp((cloud.points[i][a] - lo[a]) / extent, 0.0, 1.0) * 2097151.0);
-            code |= spread(q) << a;
+            code |= detail::spread_bits(q) << a;
         }
         keys[i] = {code, std::uint32_t(i)};
     }

@@ -11,6 +11,7 @@
 #include "cgal_judge.h"
 #include "cli.h"
 #include "test_data.h"
+#include "vdbmesh/analysis.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/lattice.h"
 #include "vdbmesh/mesh_io.h"
@@ -34,20 +35,6 @@ nlohmann::json run_json(std::vector<std::string> args, int expected = 0) {
     return status == 0 ? nlohmann::json::parse(out) : nlohmann::json();
 }
 
-double mesh_area(const Mesh& mesh) {
-    double sum = 0;
-    for (const auto& t : mesh.triangles) {
-        const auto& a = mesh.vertices[t[0]];
-        const auto& b = mesh.vertices[t[1]];
-        const auto& c = mesh.vertices[t[2]];
-        const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
-        const double e2[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-        const double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2], z = e1[0] * e2[1] - e1[1] * e2[0];
-        sum += 0.5 * std::sqrt(x * x + y * y + z * z);
-    }
-    return sum;
-}
-
 TEST(LatticeCli, MeasureMatchesPlainFiguresOfTheWrittenGrid) {
     const ScratchDir scratch;
     auto args = gyroid_args();
@@ -68,7 +55,7 @@ TEST(LatticeCli, MeasureMatchesPlainFiguresOfTheWrittenGrid) {
     mc.method = MeshMethod::mc;
     mc.inside = Inside::below;
     const Mesh plain = mesh_grid(*grid, mc).mesh;
-    EXPECT_NEAR(mesh_area(plain), m["area"].get<double>(), 1e-5 * m["area"].get<double>());
+    EXPECT_NEAR(mesh_integrals(plain).area, m["area"].get<double>(), 1e-5 * m["area"].get<double>());
     // info --shared reads it back as the same shared tree.
     const nlohmann::json info = run_json({"info", (scratch / "g.vdb").string(), "--shared"});
     EXPECT_EQ(info["shared"]["leaves"]["stored"], m["unique_leaves"]);

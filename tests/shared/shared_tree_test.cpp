@@ -11,6 +11,7 @@
 
 #include "same_triangles.h"
 #include "shared_test_util.h"
+#include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/lattice.h"
@@ -19,20 +20,6 @@
 
 namespace vdbmesh {
 namespace {
-
-double mesh_area(const Mesh& mesh) {
-    double sum = 0;
-    for (const auto& t : mesh.triangles) {
-        const auto& a = mesh.vertices[t[0]];
-        const auto& b = mesh.vertices[t[1]];
-        const auto& c = mesh.vertices[t[2]];
-        const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
-        const double e2[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-        const double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2], z = e1[0] * e2[1] - e1[1] * e2[0];
-        sum += 0.5 * std::sqrt(x * x + y * y + z * z);
-    }
-    return sum;
-}
 
 Mesh plain_mc(const openvdb::FloatGrid& grid) {
     MeshOptions options;
@@ -182,7 +169,7 @@ TEST(SharedOps, MarchingCubesIsPlainMarchingCubes) {
         EXPECT_EQ(shared.triangles.size(), plain.triangles.size());
         EXPECT_EQ(shared.vertices.size(), plain.vertices.size());
         EXPECT_TRUE(test::same_triangles(shared, plain));
-        const double area = mesh_area(plain);
+        const double area = mesh_integrals(plain).area;
         EXPECT_NEAR(shared_area(tree), area, 1e-5 * area);
         // The instanced form places the same number of triangles.
         const InstancedMesh inst = shared_marching_cubes_instanced(tree);
