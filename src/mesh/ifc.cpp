@@ -1,6 +1,7 @@
-// Intersection-free octree contouring, the driver: per block in parallel, the octree, then
-// the triangles with keyed vertices, then one weld of the keys. Blocks are visited in a fixed
-// order and keys are sorted, so the mesh does not depend on the thread count.
+// Intersection-free octree contouring, the driver: per block in parallel, the octree; per
+// lower internal node in parallel, the cells across blocks; per block, the triangles with
+// keyed vertices; then one weld of the keys. Blocks and nodes are visited in a fixed order
+// and keys are sorted, so the mesh does not depend on the thread count.
 
 #include "mesh/ifc.h"
 
@@ -101,6 +102,8 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
         build_ifc_cells(samples, options.iso, options.error, cells.blocks[b]);
     });
     clock.lap(report, "octree");
+    merge_ifc_coarse_cells(grid, classifier, options.error, cells);
+    clock.lap(report, "coarse");
     if (options.progress) options.progress(0.4);
     std::vector<IfcBlockOutput> outputs(cells.origins.size());
     for_each_surface_block(grid, classifier, cells.origins, [&](const IfcSamples& samples, auto& accessor, std::size_t b) {

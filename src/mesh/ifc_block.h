@@ -11,12 +11,14 @@
 #include <vector>
 
 #include "mesh/edge_crossing.h"
+#include "mesh/ifc_qef.h"
 #include "mesh/sample_classifier.h"
 
 namespace vdbmesh::detail {
 
 inline constexpr int kIfcBlock = 8;        ///< cells per block edge, as a leaf node
-inline constexpr int kIfcMaxLevel = 3;     ///< merged cells up to 2^3 = 8 voxels
+inline constexpr int kIfcMaxLevel = 3;     ///< merged cells within a block: up to 2^3 = 8 voxels
+inline constexpr int kIfcCoarseMaxLevel = 7;  ///< across blocks: up to a lower internal node, 128 voxels
 inline constexpr int kIfcSampleDim = kIfcBlock + 3;  ///< samples -1..9: cells 0..7 and gradients
 
 /// The samples a block reads, local coordinates in [-1, 9].
@@ -46,11 +48,12 @@ struct Hermite {
 };
 Hermite edge_hermite(const IfcSamples& samples, double iso, int x, int y, int z, int axis);
 
-/// A merged cell holding surface: its level (size 2^level), minimum corner (local) and vertex.
+/// A merged cell holding surface: its level (size 2^level), minimum corner and vertex (index
+/// space). A cell larger than a block is copied into each block it covers.
 struct IfcCell {
     std::uint8_t level;
-    std::array<std::uint8_t, 3> min;
-    Point3d vertex;  ///< index space, strictly inside the cell
+    openvdb::Coord min;
+    Point3d vertex;  ///< strictly inside the cell
 };
 
 /// The cells of one block.
@@ -62,9 +65,21 @@ struct IfcBlockCells {
     /// without surface).
     std::array<std::uint16_t, kIfcBlock * kIfcBlock * kIfcBlock> cell{};
     std::vector<IfcCell> cells;
+    /// Whether the whole block is one leaf (one merged cell, or no surface), and the QEF of
+    /// its surface: what merging across blocks starts from. A block never built holds no surface.
+    bool root_leaf = true;
+    Qef3 root_qef;
 
     static constexpr std::uint16_t kNoCell = 0xffff;
     static int unit_index(int x, int y, int z) { return (x * kIfcBlock + y) * kIfcBlock + z; }
+};
+
+/// The blocks' cells, found by the origin of their block.
+struct IfcCellGrid {
+    std::vector<openvdb::Coord> origins;  ///< sorted
+    std::vector<IfcBlockCells> blocks;    ///< in the same order
+    /// The index of the block at @a origin, or -1.
+    std::ptrdiff_t block_at(const openvdb::Coord& origin) const;
 };
 
 /// How far a merged cell's vertex and a face point stay inside their cell or face (voxels):
@@ -74,5 +89,10 @@ inline constexpr double kIfcInteriorMargin = 1e-2;
 /// Builds the cells of one block: merges where the QEF vertex stays within @a error (voxels)
 /// of every surface sample in the cell and the topology tests pass.
 void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells);
+
+/// Merges on across blocks, bottom-up under each lower internal node (cells of 16 to 128
+/// voxels, in parallel per node), where every child is a leaf, the surface inside is one
+/// disk and the cell's fan stays within the error; the merged cells replace the blocks' own.
+void merge_ifc_coarse_cells(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, double error, IfcCellGrid& cells);
 
 }  // namespace vdbmesh::detail

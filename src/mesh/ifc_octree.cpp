@@ -18,6 +18,7 @@
 #include <numeric>
 
 #include "mesh/ifc_block.h"
+#include "mesh/ifc_fan.h"
 #include "mesh/ifc_qef.h"
 #include "mesh/mc_table.h"
 #include "vdbmesh/geometry.h"
@@ -453,32 +454,17 @@ private:
     }
 
     /// Whether every crossing of the cell's grid edges (the Marching Cubes surface's vertices)
-    /// lies within twice the error of the fan the cell will be: its vertex joined to each
-    /// face's trace, taken as the chord from one edge crossing to the other through its middle.
+    /// lies within twice the error of the fan the cell will be.
     bool surface_near_fan(const Point3d& v, const std::array<int, 3>& min, int size) const {
-        std::array<Triangle3, 12> fan;
-        int triangles = 0;
+        IfcFan fan(v);
         for (int axis = 0; axis < 3; ++axis) {
             for (int side = 0; side < 2; ++side) {
                 std::array<Point3d, 2> ends;
-                if (face_chord(min, size, axis, side, ends) != 2) continue;
-                const Point3d middle = {0.5 * (ends[0][0] + ends[1][0]), 0.5 * (ends[0][1] + ends[1][1]), 0.5 * (ends[0][2] + ends[1][2])};
-                fan[triangles++] = {v, ends[0], middle};
-                fan[triangles++] = {v, middle, ends[1]};
+                if (face_chord(min, size, axis, side, ends) == 2) fan.add_chord(ends[0], ends[1]);
             }
         }
-        const double limit = 4 * error_ * error_;
         bool near = true;
-        for_each_crossing(min, size, [&](const Hermite& h) {
-            if (!near) return;
-            double best = std::numeric_limits<double>::infinity();
-            for (int t = 0; t < triangles && best > limit; ++t) {
-                const Point3d q = closest_point_on_triangle(h.point, fan[t][0], fan[t][1], fan[t][2]);
-                best = std::min(best, (q[0] - h.point[0]) * (q[0] - h.point[0]) + (q[1] - h.point[1]) * (q[1] - h.point[1]) +
-                                          (q[2] - h.point[2]) * (q[2] - h.point[2]));
-            }
-            near = best <= limit;
-        });
+        for_each_crossing(min, size, [&](const Hermite& h) { near = near && fan.near(h.point, 2 * error_); });
         return near;
     }
 
@@ -514,20 +500,9 @@ private:
             cell[a] = std::clamp(int(std::floor(local)), 0, kIfcBlock - 1);
             t[a] = local - cell[a];
         }
-        double f = 0;
-        Point3d g = {0, 0, 0};
-        for (int c = 0; c < 8; ++c) {
-            const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
-            const double value = s_->at(cell[0] + dx, cell[1] + dy, cell[2] + dz);
-            if (!std::isfinite(value)) return 0;
-            const double wx = dx ? t[0] : 1 - t[0], wy = dy ? t[1] : 1 - t[1], wz = dz ? t[2] : 1 - t[2];
-            f += wx * wy * wz * value;
-            g[0] += (dx ? 1 : -1) * wy * wz * value;
-            g[1] += (dy ? 1 : -1) * wx * wz * value;
-            g[2] += (dz ? 1 : -1) * wx * wy * value;
-        }
-        const double length = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-        return length > 0 ? std::abs(f - iso_) / length : std::numeric_limits<double>::infinity();
+        std::array<double, 8> values;
+        for (int c = 0; c < 8; ++c) values[c] = s_->at(cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2));
+        return trilinear_surface_distance(values, t, iso_);
     }
 
     /// Top down: the largest leaves become the block's cells.
@@ -546,8 +521,7 @@ private:
                         std::uint16_t id = IfcBlockCells::kNoCell;
                         if (state == CellState::surface) {
                             id = std::uint16_t(out.cells.size());
-                            out.cells.push_back({std::uint8_t(level),
-                                                 {std::uint8_t(i * size), std::uint8_t(j * size), std::uint8_t(k * size)},
+                            out.cells.push_back({std::uint8_t(level), s_->origin.offsetBy(i * size, j * size, k * size),
                                                  vertex_[level][cell_index(level, i, j, k)]});
                         }
                         for (int x = i * size; x < (i + 1) * size; ++x) {
@@ -562,6 +536,8 @@ private:
                 }
             }
         }
+        out.root_leaf = state_[kIfcMaxLevel][0] != CellState::inner;
+        out.root_qef = qef_[kIfcMaxLevel][0];
     }
 
     const IfcSamples* s_ = nullptr;

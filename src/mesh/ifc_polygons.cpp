@@ -86,10 +86,7 @@ public:
 
     void run() {
         const IfcBlockCells& cells = grid_.blocks[block_];
-        for (const IfcCell& cell : cells.cells) {
-            const openvdb::Coord min = s_.origin.offsetBy(cell.min[0], cell.min[1], cell.min[2]);
-            add_vertex(make_key(1, cell.level, min), cell.vertex);
-        }
+        for (const IfcCell& cell : cells.cells) add_vertex(make_key(1, cell.level, cell.min), cell.vertex);
         for (int x = 0; x < kIfcBlock; ++x) {
             for (int y = 0; y < kIfcBlock; ++y) {
                 for (int z = 0; z < kIfcBlock; ++z) {
@@ -275,11 +272,12 @@ private:
             // and near the surface (the clamped crossing can be a face's width away from it).
             const auto chord = chord_midpoint(lo, hi, normal);
             if (chord) plan.point = *chord;
-            // Named by the smaller cell (the face is one of its faces) and the side it faces.
+            // Named by the smaller cell (the face is one of its faces: leaves do not nest, so
+            // its minimum corner names it) and the side it faces.
             const CellView& owner = a.size <= b.size ? a : b;
             const CellView& other = a.size <= b.size ? b : a;
             const bool positive = other.min[normal] >= owner.min[normal] + owner.size;
-            plan.key = make_key(2, unsigned(owner.level << 3 | (normal * 2 + positive)), owner.min);
+            plan.key = make_key(2, unsigned(normal * 2 + positive), owner.min);
             add_vertex(plan.key, plan.point);
         }
         return plan;

@@ -23,14 +23,6 @@ struct IfcBlockOutput {
     std::vector<std::array<std::uint64_t, 3>> triangles;  ///< counter-clockwise seen from outside
 };
 
-/// The blocks' cells, found by the origin of their block.
-struct IfcCellGrid {
-    std::vector<openvdb::Coord> origins;  ///< sorted
-    std::vector<IfcBlockCells> blocks;    ///< in the same order
-    /// The index of the block at @a origin, or -1.
-    std::ptrdiff_t block_at(const openvdb::Coord& origin) const;
-};
-
 /// Triangles of the block at @a samples.origin: Marching Cubes in its unit cells, and the
 /// polygons of the crossed grid edges it owns (minimum sample in the block) that touch a
 /// merged cell.

@@ -29,6 +29,7 @@ void Qef3::add_plane(const Point3d& p, const Point3d& n) {
         atb_[a] += n[a] * d;
         point_sum_[a] += p[a];
     }
+    btb_ += d * d;
     ++count_;
 }
 
@@ -38,7 +39,16 @@ void Qef3::add(const Qef3& other) {
         atb_[a] += other.atb_[a];
         point_sum_[a] += other.point_sum_[a];
     }
+    btb_ += other.btb_;
     count_ += other.count_;
+}
+
+double Qef3::residual(const Point3d& x) const {
+    const double axx = ata_[0] * x[0] + ata_[1] * x[1] + ata_[2] * x[2];
+    const double axy = ata_[1] * x[0] + ata_[3] * x[1] + ata_[4] * x[2];
+    const double axz = ata_[2] * x[0] + ata_[4] * x[1] + ata_[5] * x[2];
+    const double xtax = x[0] * axx + x[1] * axy + x[2] * axz;
+    return std::max(0.0, xtax - 2 * (x[0] * atb_[0] + x[1] * atb_[1] + x[2] * atb_[2]) + btb_);
 }
 
 Point3d Qef3::solve(const Point3d& lo, const Point3d& hi) const {

@@ -1,7 +1,7 @@
 #pragma once
 // Private: the 3D quadratic error function of Dual Contouring (Ju, Losasso, Schaefer and Warren
 // 2002): for surface points p_i with unit normals n_i, E(x) = sum (n_i . (x - p_i))^2. Kept as
-// A^T A, A^T b and the points' sum, so the QEFs of children add.
+// A^T A, A^T b, b^T b and the points' sum, so the QEFs of children add.
 
 #include <array>
 
@@ -14,6 +14,8 @@ public:
     void add_plane(const Point3d& point, const Point3d& normal);
     void add(const Qef3& other);
     int count() const { return count_; }
+    /// E(x): the sum of the squared distances from @a x to the planes.
+    double residual(const Point3d& x) const;
 
     /// The minimiser nearest the points' mean (a truncated pseudo-inverse: directions the
     /// normals do not pin down stay at the mean, so flat and ridge cells keep their vertex
@@ -24,6 +26,7 @@ private:
     std::array<double, 6> ata_{};  ///< xx, xy, xz, yy, yz, zz
     std::array<double, 3> atb_{};
     std::array<double, 3> point_sum_{};
+    double btb_ = 0;
     int count_ = 0;
 };
 

@@ -5,6 +5,7 @@
 // features, and a smooth ball where cells merge most.
 
 #include <gtest/gtest.h>
+#include <openvdb/tools/LevelSetSphere.h>
 #include <tbb/task_arena.h>
 
 #include <cmath>
@@ -108,6 +109,44 @@ TEST(DcTest, SmoothBallMergesAndStaysClean) {
     }
 }
 
+// A large sphere (a level set: a narrow band, inside tiles) is smooth at the scale of a
+// block, so cells merge on across blocks: merging capped at 8^3 leaves about 1/64 of MC's
+// triangles at best.
+TEST(DcTest, CellsMergeAcrossBlocksOnALargeSphere) {
+    const double radius = 320;
+    const openvdb::Vec3f centre(400.3f, 401.7f, 399.1f);
+    const auto grid = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(float(radius), centre, 1.0f, 3.0f);
+    MeshOptions options = dc_options(0.25, 0.0);
+    options.inside = Inside::below;
+    const MeshResult result = mesh_grid(*grid, options);
+    MeshOptions mc_options = options;
+    mc_options.method = MeshMethod::mc;
+    const Mesh mc = mesh_grid(*grid, mc_options).mesh;
+    const test::CgalVerdict verdict = test::judge_with_cgal(result.mesh);
+    EXPECT_TRUE(verdict.clean()) << verdict.describe();
+    std::cout << "[ figures  ] sphere r 320, dc --error 0.25: " << result.mesh.triangles.size() << " of MC's " << mc.triangles.size()
+              << " triangles\n";
+    EXPECT_LE(result.mesh.triangles.size() * 100, mc.triangles.size());
+    // Within 0.5 voxel of the exact sphere (issue 9's figure), at a lattice of points on
+    // every triangle.
+    double worst = 0;
+    for (const auto& t : result.mesh.triangles) {
+        for (int i = 0; i <= 6; ++i) {
+            for (int j = 0; i + j <= 6; ++j) {
+                openvdb::Vec3d p(0.0);
+                for (int k = 0; k < 3; ++k) {
+                    const auto& a = result.mesh.vertices[t[0]];
+                    const auto& b = result.mesh.vertices[t[1]];
+                    const auto& c = result.mesh.vertices[t[2]];
+                    p[k] = a[k] + i / 6.0 * (b[k] - a[k]) + j / 6.0 * (c[k] - a[k]);
+                }
+                worst = std::max(worst, std::abs((p - openvdb::Vec3d(centre)).length() - radius));
+            }
+        }
+    }
+    EXPECT_LE(worst, 0.5);
+}
+
 // Noise at several isovalues gives the configurations the local tests exist for: ambiguous
 // faces next to merged cells, sheets one voxel thin, specks inside a cell, tunnels.
 TEST(DcTest, NoiseIsCleanAndKeepsEveryComponentAtEveryError) {
@@ -176,10 +215,11 @@ TEST(DcTest, SameBytesWithOneOrTwoThreads) {
 TEST(DcTest, ReportsItsPhasesAndRefusesAnOpenBoundary) {
     const auto grid = dense_grid(24, ball(11.5, 7.2));
     const MeshResult result = mesh_grid(*grid, dc_options(0.25));
-    ASSERT_EQ(result.report.phases.size(), 3u);
+    ASSERT_EQ(result.report.phases.size(), 4u);
     EXPECT_EQ(result.report.phases[0].name, "octree");
-    EXPECT_EQ(result.report.phases[1].name, "contour");
-    EXPECT_EQ(result.report.phases[2].name, "weld");
+    EXPECT_EQ(result.report.phases[1].name, "coarse");
+    EXPECT_EQ(result.report.phases[2].name, "contour");
+    EXPECT_EQ(result.report.phases[3].name, "weld");
     MeshOptions open = dc_options(0.25);
     open.open_boundary = true;
     EXPECT_THROW(mesh_grid(*grid, open), UsageError);

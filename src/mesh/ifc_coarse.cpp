@@ -1,0 +1,392 @@
+// Merging across blocks for intersection-free contouring: cells of 16 to 128 voxels, built
+// bottom-up under each lower internal node of the tree, nodes in parallel.
+//
+// Every child of a candidate cell is a leaf merged whole before (a block's single cell, or a
+// coarse cell): it holds one disk or nothing, each of its edges changes sign at most once and
+// each of its faces carries at most one chain. So the surface of the union is known from the
+// signs at the children's 27 corners alone:
+//  - an edge of the cell changes sign at most once: its three samples change at most once;
+//  - a face carries at most one chain: the chains of its four quarters (one on each quarter
+//    whose corners differ), joined at the crossings of its four inner half edges, make one
+//    path or nothing, and no loop;
+//  - the inside is one disk: the children's disks, joined along the chains of the 12 inner
+//    quarter faces and at the crossings of the 6 inner half edges, are connected, and by
+//    inclusion-exclusion chi = disks - chains on inner faces + crossings on inner half edges
+//    is 1.
+// Accuracy cannot be tested on every crossing in a cell of up to 128^3 voxels; it is tested,
+// through the grid, on samples that scale with the cell:
+//  - the RMS distance from the vertex to the tangent planes of the cell's crossings (the
+//    summed QEF) is within the error;
+//  - the fan (ifc_fan.h), on a lattice of 8 steps per triangle side, lies within the error of
+//    the trilinear isosurface (first-order estimate);
+//  - the crossings of the grid lines a quarter of the cell apart lie within twice the error
+//    of the fan, and the children's vertices (within the error of the surface) within it.
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numeric>
+
+#include "mesh/ifc_block.h"
+#include "mesh/ifc_fan.h"
+
+namespace vdbmesh::detail {
+
+namespace {
+
+using LowerNode = openvdb::FloatTree::RootNodeType::ChildNodeType::ChildNodeType;
+constexpr int kNodeDim = int(LowerNode::DIM);
+static_assert(kNodeDim == kIfcBlock << (kIfcCoarseMaxLevel - kIfcMaxLevel), "cells up to a lower internal node");
+constexpr int kBlocksPerNode = kNodeDim / kIfcBlock;
+
+/// Lattice steps per fan triangle side for the fan-to-surface test.
+constexpr int kFanLatticeSteps = 8;
+/// Grid lines a cell's size / kLineDivisions apart carry the crossings of the surface-to-fan test.
+constexpr int kLineDivisions = 4;
+
+enum class State : std::uint8_t { inner, empty, surface };
+
+struct Cell {
+    State state = State::empty;
+    Qef3 qef;
+    Point3d vertex{};
+};
+
+/// Signs at the 27 corners of a candidate cell's children, indexed [x][y][z] in 0..2.
+using Signs = std::array<std::array<std::array<bool, 3>, 3>, 3>;
+
+/// The sign at the point with coordinate @a a along @a axis, @a u along (axis + 1) % 3 and
+/// @a w along (axis + 2) % 3.
+bool sign_at(const Signs& s, int axis, int a, int u, int w) {
+    std::array<int, 3> p{};
+    p[axis] = a;
+    p[(axis + 1) % 3] = u;
+    p[(axis + 2) % 3] = w;
+    return s[p[0]][p[1]][p[2]];
+}
+
+/// The surface's trace on the face of the children's lattice normal to @a axis at plane @a a
+/// (0, 1, 2), from its 3 x 3 signs.
+struct QuarterTrace {
+    std::array<bool, 4> chain{};  ///< per quarter (qu + 2 qw): whether a chain crosses it
+    int boundary_crossings = 0;
+    int components = 0;
+    bool ambiguous = false;  ///< a quarter whose four edges all change sign
+    bool at_most_one_chain() const { return !ambiguous && boundary_crossings <= 2 && components * 2 == boundary_crossings; }
+};
+
+QuarterTrace trace_face(const Signs& s, int axis, int a) {
+    auto sign = [&](int u, int w) { return sign_at(s, axis, a, u, w); };
+    QuarterTrace trace;
+    for (int q = 0; q < 4; ++q) {
+        const int u = q & 1, w = q >> 1;
+        const int changes = (sign(u, w) != sign(u + 1, w)) + (sign(u, w + 1) != sign(u + 1, w + 1)) +
+                            (sign(u, w) != sign(u, w + 1)) + (sign(u + 1, w) != sign(u + 1, w + 1));
+        trace.ambiguous |= changes == 4;
+        trace.chain[q] = changes == 2;
+    }
+    // Perimeter half edges: along u at w = 0 and 2, along w at u = 0 and 2.
+    for (int k = 0; k < 2; ++k) {
+        for (int side : {0, 2}) {
+            trace.boundary_crossings += (sign(k, side) != sign(k + 1, side)) + (sign(side, k) != sign(side, k + 1));
+        }
+    }
+    // Inner half edges join the two quarters beside them.
+    std::array<int, 4> parent = {0, 1, 2, 3};
+    auto find = [&](int i) {
+        while (parent[i] != i) i = parent[i];
+        return i;
+    };
+    if (sign(1, 1) != sign(0, 1)) parent[find(2)] = find(0);  // quarters (0,0) and (0,1)
+    if (sign(1, 1) != sign(2, 1)) parent[find(3)] = find(1);
+    if (sign(1, 1) != sign(1, 0)) parent[find(1)] = find(0);
+    if (sign(1, 1) != sign(1, 2)) parent[find(3)] = find(2);
+    for (int q = 0; q < 4; ++q) trace.components += trace.chain[q] && find(q) == q;
+    return trace;
+}
+
+/// Whether the union of the children's surfaces is one disk meeting each edge of the cell at
+/// most once and each face in at most one chain.
+bool union_is_one_disk(const Signs& s, const std::array<bool, 8>& surface) {
+    for (int axis = 0; axis < 3; ++axis) {
+        for (int u : {0, 2}) {
+            for (int w : {0, 2}) {
+                if ((sign_at(s, axis, 0, u, w) != sign_at(s, axis, 1, u, w)) + (sign_at(s, axis, 1, u, w) != sign_at(s, axis, 2, u, w)) > 1) {
+                    return false;
+                }
+            }
+        }
+        if (!trace_face(s, axis, 0).at_most_one_chain() || !trace_face(s, axis, 2).at_most_one_chain()) return false;
+    }
+    std::array<int, 8> parent;
+    std::iota(parent.begin(), parent.end(), 0);
+    auto find = [&](int i) {
+        while (parent[i] != i) i = parent[i];
+        return i;
+    };
+    auto child = [](int axis, int a, int u, int w) {
+        std::array<int, 3> p{};
+        p[axis] = a;
+        p[(axis + 1) % 3] = u;
+        p[(axis + 2) % 3] = w;
+        return p[0] | p[1] << 1 | p[2] << 2;
+    };
+    int chi = 0;
+    for (int c = 0; c < 8; ++c) chi += surface[c];
+    for (int axis = 0; axis < 3; ++axis) {
+        const QuarterTrace inner = trace_face(s, axis, 1);
+        if (inner.ambiguous) return false;
+        for (int q = 0; q < 4; ++q) {
+            if (!inner.chain[q]) continue;
+            --chi;
+            parent[find(child(axis, 0, q & 1, q >> 1))] = find(child(axis, 1, q & 1, q >> 1));
+        }
+        // The inner half edges along this axis, from the centre to either side: the four
+        // children round each share its crossing.
+        for (int a : {0, 1}) {
+            if (s[1][1][1] == sign_at(s, axis, 2 * a, 1, 1)) continue;
+            ++chi;
+            for (int q = 1; q < 4; ++q) parent[find(child(axis, a, q & 1, q >> 1))] = find(child(axis, a, 0, 0));
+        }
+    }
+    int components = 0;
+    for (int c = 0; c < 8; ++c) components += surface[c] && find(c) == c;
+    return components == 1 && chi == 1;
+}
+
+class NodeMerger {
+public:
+    NodeMerger(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier, double error,
+               IfcCellGrid& grid, const openvdb::Coord& origin)
+        : accessor_(accessor), classifier_(classifier), iso_(classifier.iso()), error_(error), grid_(grid), origin_(origin) {}
+
+    void run(const std::vector<std::size_t>& blocks) {
+        init_blocks(blocks);
+        for (int level = kIfcMaxLevel + 1; level <= kIfcCoarseMaxLevel; ++level) {
+            const int n = per_axis(level);
+            cells_[level].assign(std::size_t(n * n * n), Cell());
+            for (int i = 0; i < n; ++i) {
+                for (int j = 0; j < n; ++j) {
+                    for (int k = 0; k < n; ++k) merge_cell(level, i, j, k);
+                }
+            }
+        }
+        assign();
+    }
+
+private:
+    static int per_axis(int level) { return kNodeDim >> level; }
+    static int index(int level, int i, int j, int k) { return (i * per_axis(level) + j) * per_axis(level) + k; }
+
+    void init_blocks(const std::vector<std::size_t>& blocks) {
+        block_index_.fill(-1);
+        cells_[kIfcMaxLevel].assign(std::size_t(kBlocksPerNode * kBlocksPerNode * kBlocksPerNode), Cell());
+        for (std::size_t b : blocks) {
+            const openvdb::Coord local = grid_.origins[b] - origin_;
+            const int i = index(kIfcMaxLevel, local.x() / kIfcBlock, local.y() / kIfcBlock, local.z() / kIfcBlock);
+            block_index_[std::size_t(i)] = std::ptrdiff_t(b);
+            const IfcBlockCells& block = grid_.blocks[b];
+            Cell& cell = cells_[kIfcMaxLevel][std::size_t(i)];
+            if (!block.root_leaf) cell.state = State::inner;
+            else if (!block.cells.empty()) cell = {State::surface, block.root_qef, block.cells.front().vertex};
+        }
+    }
+
+    void merge_cell(int level, int i, int j, int k) {
+        std::array<bool, 8> surface{};
+        std::array<const Cell*, 8> child;
+        for (int c = 0; c < 8; ++c) {
+            child[c] = &cells_[level - 1][std::size_t(index(level - 1, 2 * i + (c & 1), 2 * j + ((c >> 1) & 1), 2 * k + (c >> 2)))];
+            if (child[c]->state == State::inner) {
+                cells_[level][std::size_t(index(level, i, j, k))].state = State::inner;
+                return;
+            }
+            surface[c] = child[c]->state == State::surface;
+        }
+        if (std::none_of(surface.begin(), surface.end(), [](bool b) { return b; })) return;  // empty
+        const int size = 1 << level;
+        const openvdb::Coord min = origin_.offsetBy(i * size, j * size, k * size);
+        Cell& cell = cells_[level][std::size_t(index(level, i, j, k))];
+        cell.state = State::inner;
+        Signs signs;
+        for (int x = 0; x < 3; ++x) {
+            for (int y = 0; y < 3; ++y) {
+                for (int z = 0; z < 3; ++z) signs[x][y][z] = inside(min.offsetBy(x * size / 2, y * size / 2, z * size / 2));
+            }
+        }
+        if (!union_is_one_disk(signs, surface)) return;
+        Qef3 qef;
+        for (int c = 0; c < 8; ++c) {
+            if (surface[c]) qef.add(child[c]->qef);
+        }
+        Point3d lo, hi;
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = min[a] + kIfcInteriorMargin;
+            hi[a] = min[a] + size - kIfcInteriorMargin;
+        }
+        const Point3d vertex = qef.solve(lo, hi);
+        if (qef.residual(vertex) > qef.count() * error_ * error_) return;
+        const IfcFan fan = make_fan(vertex, min, size);
+        if (!fan_near_surface(fan)) return;
+        for (int c = 0; c < 8; ++c) {
+            if (surface[c] && !fan.near(child[c]->vertex, error_)) return;
+        }
+        if (!lines_near_fan(fan, min, size)) return;
+        cell = {State::surface, qef, vertex};
+    }
+
+    double value(const openvdb::Coord& ijk) { return classifier_.sample_value(ijk, accessor_.getValue(ijk)); }
+    bool inside(const openvdb::Coord& ijk) { return classifier_.inside(value(ijk)); }
+
+    /// Calls @a visit(point) at each crossing of the grid line of @a steps unit edges from
+    /// @a start along @a axis.
+    template <typename Visit>
+    bool for_each_line_crossing(openvdb::Coord start, int axis, int steps, Visit&& visit) {
+        double f0 = value(start);
+        for (int k = 0; k < steps; ++k) {
+            openvdb::Coord next = start;
+            next[axis] += 1;
+            const double f1 = value(next);
+            if (classifier_.inside(f0) != classifier_.inside(f1)) {
+                const Point3d p0 = {double(start.x()), double(start.y()), double(start.z())};
+                Point3d p1 = p0;
+                p1[axis] += 1;
+                if (!visit(edge_crossing(p0, f0, p1, f1, iso_))) return false;
+            }
+            start = next;
+            f0 = f1;
+        }
+        return true;
+    }
+
+    /// The fan over the chords of the cell's faces: each face's two perimeter crossings.
+    IfcFan make_fan(const Point3d& vertex, const openvdb::Coord& min, int size) {
+        IfcFan fan(vertex);
+        for (int axis = 0; axis < 3; ++axis) {
+            const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+            for (int side = 0; side < 2; ++side) {
+                std::array<Point3d, 2> ends;
+                int count = 0;
+                for (int along : {u, w}) {
+                    const int across = along == u ? w : u;
+                    for (int edge_side = 0; edge_side < 2; ++edge_side) {
+                        openvdb::Coord start = min;
+                        start[axis] += side * size;
+                        start[across] += edge_side * size;
+                        for_each_line_crossing(start, along, size, [&](const Point3d& p) {
+                            if (count < 2) ends[count] = p;
+                            ++count;
+                            return true;
+                        });
+                    }
+                }
+                if (count == 2) fan.add_chord(ends[0], ends[1]);
+            }
+        }
+        return fan;
+    }
+
+    bool fan_near_surface(const IfcFan& fan) {
+        return fan.sample(kFanLatticeSteps, [&](const Point3d& p) { return surface_distance(p) <= error_; });
+    }
+
+    bool lines_near_fan(const IfcFan& fan, const openvdb::Coord& min, int size) {
+        const int spacing = size / kLineDivisions;
+        for (int axis = 0; axis < 3; ++axis) {
+            for (int i = 0; i <= kLineDivisions; ++i) {
+                for (int j = 0; j <= kLineDivisions; ++j) {
+                    openvdb::Coord start = min;
+                    start[(axis + 1) % 3] += i * spacing;
+                    start[(axis + 2) % 3] += j * spacing;
+                    if (!for_each_line_crossing(start, axis, size, [&](const Point3d& p) { return fan.near(p, 2 * error_); })) {
+                        return false;
+                    }
+                }
+            }
+        }
+        return true;
+    }
+
+    double surface_distance(const Point3d& x) {
+        const openvdb::Coord cell(int(std::floor(x[0])), int(std::floor(x[1])), int(std::floor(x[2])));
+        const std::array<double, 3> t = {x[0] - cell.x(), x[1] - cell.y(), x[2] - cell.z()};
+        std::array<double, 8> values;
+        for (int c = 0; c < 8; ++c) values[c] = value(cell.offsetBy(c & 1, (c >> 1) & 1, c >> 2));
+        return trilinear_surface_distance(values, t, iso_);
+    }
+
+    /// Top down: each coarse leaf holding surface replaces the cells of the blocks it covers.
+    void assign() {
+        std::array<bool, kBlocksPerNode * kBlocksPerNode * kBlocksPerNode> covered{};
+        for (int level = kIfcCoarseMaxLevel; level > kIfcMaxLevel; --level) {
+            const int n = per_axis(level), blocks = 1 << (level - kIfcMaxLevel);
+            for (int i = 0; i < n; ++i) {
+                for (int j = 0; j < n; ++j) {
+                    for (int k = 0; k < n; ++k) {
+                        const Cell& cell = cells_[level][std::size_t(index(level, i, j, k))];
+                        if (cell.state != State::surface || covered[std::size_t(index(kIfcMaxLevel, i * blocks, j * blocks, k * blocks))]) continue;
+                        const int size = 1 << level;
+                        const IfcCell merged{std::uint8_t(level), origin_.offsetBy(i * size, j * size, k * size), cell.vertex};
+                        for (int x = i * blocks; x < (i + 1) * blocks; ++x) {
+                            for (int y = j * blocks; y < (j + 1) * blocks; ++y) {
+                                for (int z = k * blocks; z < (k + 1) * blocks; ++z) {
+                                    const std::size_t b = std::size_t(index(kIfcMaxLevel, x, y, z));
+                                    covered[b] = true;
+                                    if (block_index_[b] >= 0) replace_cells(grid_.blocks[std::size_t(block_index_[b])], merged);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    static void replace_cells(IfcBlockCells& block, const IfcCell& merged) {
+        block.level.fill(merged.level);
+        block.cell.fill(0);
+        block.cells.assign(1, merged);
+    }
+
+    openvdb::FloatGrid::ConstAccessor& accessor_;
+    const SampleClassifier& classifier_;
+    double iso_;
+    double error_;
+    IfcCellGrid& grid_;
+    openvdb::Coord origin_;
+    std::array<std::ptrdiff_t, kBlocksPerNode * kBlocksPerNode * kBlocksPerNode> block_index_;
+    std::array<std::vector<Cell>, kIfcCoarseMaxLevel + 1> cells_;
+};
+
+}  // namespace
+
+void merge_ifc_coarse_cells(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, double error, IfcCellGrid& cells) {
+    // The blocks of each lower internal node, nodes in the order of their origins.
+    std::vector<std::pair<openvdb::Coord, std::size_t>> by_node(cells.origins.size());
+    for (std::size_t b = 0; b < cells.origins.size(); ++b) {
+        const openvdb::Coord& o = cells.origins[b];
+        by_node[b] = {openvdb::Coord(o.x() & ~(kNodeDim - 1), o.y() & ~(kNodeDim - 1), o.z() & ~(kNodeDim - 1)), b};
+    }
+    std::sort(by_node.begin(), by_node.end());
+    std::vector<std::size_t> node_starts;
+    for (std::size_t i = 0; i < by_node.size(); ++i) {
+        if (i == 0 || by_node[i].first != by_node[i - 1].first) node_starts.push_back(i);
+    }
+    node_starts.push_back(by_node.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, node_starts.size() - 1), [&](const auto& range) {
+        auto accessor = grid.getConstAccessor();
+        std::vector<std::size_t> blocks;
+        for (std::size_t n = range.begin(); n != range.end(); ++n) {
+            blocks.clear();
+            for (std::size_t i = node_starts[n]; i < node_starts[n + 1]; ++i) blocks.push_back(by_node[i].second);
+            // About 0.6 MB of per-level cells: on the heap, not a worker's stack.
+            auto merger = std::make_unique<NodeMerger>(accessor, classifier, error, cells, by_node[node_starts[n]].first);
+            merger->run(blocks);
+        }
+    });
+}
+
+}  // namespace vdbmesh::detail

@@ -1,0 +1,50 @@
+#pragma once
+// Private: the accuracy tests a merged cell of intersection-free contouring must pass, shared
+// by the merges within a block (ifc_octree.cpp) and across blocks (ifc_coarse.cpp).
+
+#include <array>
+
+#include "mesh/edge_crossing.h"
+#include "vdbmesh/geometry.h"
+
+namespace vdbmesh::detail {
+
+/// The fan a merged cell will be, as far as its accuracy is concerned: its vertex joined to
+/// each face's trace, the trace taken as the chord between its two ends through its middle.
+class IfcFan {
+public:
+    explicit IfcFan(const Point3d& vertex) : vertex_(vertex) {}
+    /// Adds the two triangles over the chord from @a a to @a b on one face.
+    void add_chord(const Point3d& a, const Point3d& b);
+    /// Whether @a p lies within @a distance of some triangle of the fan.
+    bool near(const Point3d& p, double distance) const;
+    /// Calls @a visit(point) at the points of a lattice of @a divisions steps per side on each
+    /// triangle, its corners included; stops when @a visit returns false, and returns false then.
+    template <typename Visit>
+    bool sample(int divisions, Visit&& visit) const {
+        for (int t = 0; t < count_; ++t) {
+            const Triangle3& tri = triangles_[t];
+            for (int i = 0; i <= divisions; ++i) {
+                for (int j = 0; i + j <= divisions; ++j) {
+                    const double a = double(i) / divisions, b = double(j) / divisions;
+                    Point3d p;
+                    for (int k = 0; k < 3; ++k) p[k] = tri[0][k] + a * (tri[1][k] - tri[0][k]) + b * (tri[2][k] - tri[0][k]);
+                    if (!visit(p)) return false;
+                }
+            }
+        }
+        return true;
+    }
+
+private:
+    Point3d vertex_;
+    std::array<Triangle3, 12> triangles_;
+    int count_ = 0;
+};
+
+/// First-order distance |f - iso| / |grad f| (voxels) of the trilinear interpolant of the 8
+/// corner values of a unit cell (corner c at (c & 1, (c >> 1) & 1, c >> 2)) at the local
+/// position @a t in [0, 1]^3; 0 where a value is not finite (beyond the scan box).
+double trilinear_surface_distance(const std::array<double, 8>& corner_values, const std::array<double, 3>& t, double iso);
+
+}  // namespace vdbmesh::detail
