@@ -2,17 +2,8 @@
 // bottom-up under each lower internal node of the tree, nodes in parallel.
 //
 // Every child of a candidate cell is a leaf merged whole before (a block's single cell, or a
-// coarse cell): it holds one disk or nothing, each of its edges changes sign at most once and
-// each of its faces carries at most one chain. So the surface of the union is known from the
-// signs at the children's 27 corners alone:
-//  - an edge of the cell changes sign at most once: its three samples change at most once;
-//  - a face carries at most one chain: the chains of its four quarters (one on each quarter
-//    whose corners differ), joined at the crossings of its four inner half edges, make one
-//    path or nothing, and no loop;
-//  - the inside is one disk: the children's disks, joined along the chains of the 12 inner
-//    quarter faces and at the crossings of the 6 inner half edges, are connected, and by
-//    inclusion-exclusion chi = disks - chains on inner faces + crossings on inner half edges
-//    is 1.
+// coarse cell), so the topology of the union follows from the children's 27 corner signs
+// (ifc_topology.h).
 // Accuracy cannot be tested on every crossing in a cell of up to 128^3 voxels; it is tested,
 // through the grid, on samples that scale with the cell:
 //  - the RMS distance from the vertex to the tangent planes of the cell's crossings (the
@@ -32,6 +23,7 @@
 
 #include "mesh/ifc_block.h"
 #include "mesh/ifc_fan.h"
+#include "mesh/ifc_topology.h"
 
 namespace vdbmesh::detail {
 
@@ -54,108 +46,6 @@ struct Cell {
     Qef3 qef;
     Point3d vertex{};
 };
-
-/// Signs at the 27 corners of a candidate cell's children, indexed [x][y][z] in 0..2.
-using Signs = std::array<std::array<std::array<bool, 3>, 3>, 3>;
-
-/// The sign at the point with coordinate @a a along @a axis, @a u along (axis + 1) % 3 and
-/// @a w along (axis + 2) % 3.
-bool sign_at(const Signs& s, int axis, int a, int u, int w) {
-    std::array<int, 3> p{};
-    p[axis] = a;
-    p[(axis + 1) % 3] = u;
-    p[(axis + 2) % 3] = w;
-    return s[p[0]][p[1]][p[2]];
-}
-
-/// The surface's trace on the face of the children's lattice normal to @a axis at plane @a a
-/// (0, 1, 2), from its 3 x 3 signs.
-struct QuarterTrace {
-    std::array<bool, 4> chain{};  ///< per quarter (qu + 2 qw): whether a chain crosses it
-    int boundary_crossings = 0;
-    int components = 0;
-    bool ambiguous = false;  ///< a quarter whose four edges all change sign
-    bool at_most_one_chain() const { return !ambiguous && boundary_crossings <= 2 && components * 2 == boundary_crossings; }
-};
-
-QuarterTrace trace_face(const Signs& s, int axis, int a) {
-    auto sign = [&](int u, int w) { return sign_at(s, axis, a, u, w); };
-    QuarterTrace trace;
-    for (int q = 0; q < 4; ++q) {
-        const int u = q & 1, w = q >> 1;
-        const int changes = (sign(u, w) != sign(u + 1, w)) + (sign(u, w + 1) != sign(u + 1, w + 1)) +
-                            (sign(u, w) != sign(u, w + 1)) + (sign(u + 1, w) != sign(u + 1, w + 1));
-        trace.ambiguous |= changes == 4;
-        trace.chain[q] = changes == 2;
-    }
-    // Perimeter half edges: along u at w = 0 and 2, along w at u = 0 and 2.
-    for (int k = 0; k < 2; ++k) {
-        for (int side : {0, 2}) {
-            trace.boundary_crossings += (sign(k, side) != sign(k + 1, side)) + (sign(side, k) != sign(side, k + 1));
-        }
-    }
-    // Inner half edges join the two quarters beside them.
-    std::array<int, 4> parent = {0, 1, 2, 3};
-    auto find = [&](int i) {
-        while (parent[i] != i) i = parent[i];
-        return i;
-    };
-    if (sign(1, 1) != sign(0, 1)) parent[find(2)] = find(0);  // quarters (0,0) and (0,1)
-    if (sign(1, 1) != sign(2, 1)) parent[find(3)] = find(1);
-    if (sign(1, 1) != sign(1, 0)) parent[find(1)] = find(0);
-    if (sign(1, 1) != sign(1, 2)) parent[find(3)] = find(2);
-    for (int q = 0; q < 4; ++q) trace.components += trace.chain[q] && find(q) == q;
-    return trace;
-}
-
-/// Whether the union of the children's surfaces is one disk meeting each edge of the cell at
-/// most once and each face in at most one chain.
-bool union_is_one_disk(const Signs& s, const std::array<bool, 8>& surface) {
-    for (int axis = 0; axis < 3; ++axis) {
-        for (int u : {0, 2}) {
-            for (int w : {0, 2}) {
-                if ((sign_at(s, axis, 0, u, w) != sign_at(s, axis, 1, u, w)) + (sign_at(s, axis, 1, u, w) != sign_at(s, axis, 2, u, w)) > 1) {
-                    return false;
-                }
-            }
-        }
-        if (!trace_face(s, axis, 0).at_most_one_chain() || !trace_face(s, axis, 2).at_most_one_chain()) return false;
-    }
-    std::array<int, 8> parent;
-    std::iota(parent.begin(), parent.end(), 0);
-    auto find = [&](int i) {
-        while (parent[i] != i) i = parent[i];
-        return i;
-    };
-    auto child = [](int axis, int a, int u, int w) {
-        std::array<int, 3> p{};
-        p[axis] = a;
-        p[(axis + 1) % 3] = u;
-        p[(axis + 2) % 3] = w;
-        return p[0] | p[1] << 1 | p[2] << 2;
-    };
-    int chi = 0;
-    for (int c = 0; c < 8; ++c) chi += surface[c];
-    for (int axis = 0; axis < 3; ++axis) {
-        const QuarterTrace inner = trace_face(s, axis, 1);
-        if (inner.ambiguous) return false;
-        for (int q = 0; q < 4; ++q) {
-            if (!inner.chain[q]) continue;
-            --chi;
-            parent[find(child(axis, 0, q & 1, q >> 1))] = find(child(axis, 1, q & 1, q >> 1));
-        }
-        // The inner half edges along this axis, from the centre to either side: the four
-        // children round each share its crossing.
-        for (int a : {0, 1}) {
-            if (s[1][1][1] == sign_at(s, axis, 2 * a, 1, 1)) continue;
-            ++chi;
-            for (int q = 1; q < 4; ++q) parent[find(child(axis, a, q & 1, q >> 1))] = find(child(axis, a, 0, 0));
-        }
-    }
-    int components = 0;
-    for (int c = 0; c < 8; ++c) components += surface[c] && find(c) == c;
-    return components == 1 && chi == 1;
-}
 
 class NodeMerger {
 public:
@@ -211,12 +101,8 @@ private:
         const openvdb::Coord min = origin_.offsetBy(i * size, j * size, k * size);
         Cell& cell = cells_[level][std::size_t(index(level, i, j, k))];
         cell.state = State::inner;
-        Signs signs;
-        for (int x = 0; x < 3; ++x) {
-            for (int y = 0; y < 3; ++y) {
-                for (int z = 0; z < 3; ++z) signs[x][y][z] = inside(min.offsetBy(x * size / 2, y * size / 2, z * size / 2));
-            }
-        }
+        const ChildCornerSigns signs =
+            child_corner_signs([&](int x, int y, int z) { return inside(min.offsetBy(x * size / 2, y * size / 2, z * size / 2)); });
         if (!union_is_one_disk(signs, surface)) return;
         Qef3 qef;
         for (int c = 0; c < 8; ++c) {

@@ -1,15 +1,17 @@
-// The octree of one block for intersection-free contouring: unit cells merge into cells of 2,
-// 4 and 8 voxels, bottom-up, when
-//  - every child is a leaf (a unit cell, or a cell merged before),
-//  - each of the 12 edges of the merged cell changes sign at most once along its samples, and
-//    on each of its 6 faces the surface traces at most one open chain (no loop, no ambiguous
+// The octree of one block for intersection-free contouring, top down: the block, else each of
+// its cells of 4 voxels, else each of their cells of 2, stays whole (one vertex) when
+//  - each of the 12 edges of the cell changes sign at most once along its samples, and on
+//    each of its 6 faces the surface traces at most one open chain (no loop, no ambiguous
 //    unit face): so one crossing per minimal edge and one segment per minimal face stand for
 //    it (Ju, Losasso, Schaefer and Warren 2002 test the same at the cell's corners),
 //  - the Marching Cubes surface inside is one disk (connected, Euler characteristic 1, no
 //    ambiguous unit face): its boundary is the single cycle on the cell's faces, which the
 //    fan round the cell's vertex reproduces,
 //  - the QEF vertex lies within the error of the tangent plane of every surface sample in
-//    the cell (so the fan stays near the surface).
+//    the cell, and the fan and the surface lie within the error of each other.
+// Every test looks at the whole cell, not at its children, so a cell may stay whole where a
+// child alone could not (its fan need not match the child's part of the surface): top down
+// is as safe as bottom up, finds the larger cells, and tests a smooth block once.
 
 #include <algorithm>
 #include <cmath>
@@ -20,6 +22,7 @@
 #include "mesh/ifc_block.h"
 #include "mesh/ifc_fan.h"
 #include "mesh/ifc_qef.h"
+#include "mesh/ifc_topology.h"
 #include "mesh/mc_table.h"
 #include "vdbmesh/geometry.h"
 
@@ -32,13 +35,25 @@ unsigned IfcSamples::config(int x, int y, int z) const {
 }
 
 void load_ifc_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier, IfcSamples& samples) {
-    for (int x = -1; x < kIfcSampleDim - 1; ++x) {
-        for (int y = -1; y < kIfcSampleDim - 1; ++y) {
-            for (int z = -1; z < kIfcSampleDim - 1; ++z) {
-                const openvdb::Coord ijk = samples.origin.offsetBy(x, y, z);
-                const int i = IfcSamples::index(x, y, z);
-                samples.value[i] = classifier.sample_value(ijk, accessor.getValue(ijk));
-                samples.inside[i] = classifier.inside(samples.value[i]);
+    // The window spans up to 27 leaves: each is read from its buffer, or where there is no
+    // leaf, as the one value of its tile (or the background); both as getValue() would.
+    static constexpr int kSpanMin[3] = {-1, 0, kIfcBlock}, kSpanMax[3] = {0, kIfcBlock, kIfcSampleDim - 1};
+    for (int rx = 0; rx < 3; ++rx) {
+        for (int ry = 0; ry < 3; ++ry) {
+            for (int rz = 0; rz < 3; ++rz) {
+                const openvdb::Coord corner = samples.origin.offsetBy(kSpanMin[rx], kSpanMin[ry], kSpanMin[rz]);
+                const auto* leaf = accessor.probeConstLeaf(corner);
+                const float tile = leaf ? 0.0f : accessor.getValue(corner);
+                for (int x = kSpanMin[rx]; x < kSpanMax[rx]; ++x) {
+                    for (int y = kSpanMin[ry]; y < kSpanMax[ry]; ++y) {
+                        for (int z = kSpanMin[rz]; z < kSpanMax[rz]; ++z) {
+                            const openvdb::Coord ijk = samples.origin.offsetBy(x, y, z);
+                            const int i = IfcSamples::index(x, y, z);
+                            samples.value[i] = classifier.sample_value(ijk, leaf ? leaf->getValue(ijk) : tile);
+                            samples.inside[i] = classifier.inside(samples.value[i]);
+                        }
+                    }
+                }
             }
         }
     }
@@ -90,10 +105,12 @@ Hermite edge_hermite(const IfcSamples& s, double iso, int x, int y, int z, int a
 
 namespace {
 
-/// Number of connected components of each Marching Cubes case (triangles sharing a cell edge).
-const std::array<std::uint8_t, 256>& mc_component_counts() {
-    static const std::array<std::uint8_t, 256> counts = [] {
-        std::array<std::uint8_t, 256> result{};
+/// Per Marching Cubes case: whether the cell may be a leaf child in the 27-sign topology test
+/// (ifc_topology.h): no surface, or one component (a disk; triangles joined by shared cell
+/// edges) and no ambiguous face (one chain per face).
+const std::array<bool, 256>& simple_unit_cells() {
+    static const std::array<bool, 256> simple = [] {
+        std::array<bool, 256> result{};
         for (unsigned config = 0; config < 256; ++config) {
             const McCase& c = mc_case(config);
             std::array<int, 12> edge_owner;
@@ -113,96 +130,19 @@ const std::array<std::uint8_t, 256>& mc_component_counts() {
             }
             int components = 0;
             for (int t = 0; t < c.triangle_count; ++t) components += find(t) == t;
-            result[config] = std::uint8_t(components);
+            bool ambiguous = false;
+            for (int axis = 0; axis < 3; ++axis) {
+                const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+                for (int side = 0; side < 2; ++side) {
+                    auto in = [&](int du, int dw) { return (config >> (side << axis | du << u | dw << w)) & 1; };
+                    ambiguous |= in(0, 0) == in(1, 1) && in(1, 0) == in(0, 1) && in(0, 0) != in(1, 0);
+                }
+            }
+            result[config] = components == 0 || (components == 1 && !ambiguous);
         }
         return result;
     }();
-    return counts;
-}
-
-/// Joins, in the union-find @a parent, the crossed ones among a unit face's four edges (node
-/// ids), as the surface's segment across the face does; returns how many are crossed (4: an
-/// ambiguous face, left unjoined).
-template <typename Crossed, typename Parent>
-int join_face_crossings(const std::array<int, 4>& edges, const Crossed& crossed, Parent& parent) {
-    auto find = [&](int i) {
-        while (parent[i] != i) i = parent[i] = parent[parent[i]];
-        return i;
-    };
-    int first = -1, count = 0;
-    for (int e : edges) {
-        if (!crossed[e]) continue;
-        ++count;
-        if (first < 0) first = e;
-        else if (count == 2) parent[find(e)] = find(first);
-    }
-    return count;
-}
-
-/// The surface's trace on a square of unit faces.
-struct FaceTrace {
-    int boundary_crossings = 0;  ///< crossed grid edges on the square's perimeter
-    int components = 0;          ///< connected pieces (chains and loops)
-    bool ambiguous = false;      ///< some unit face has all 4 edges crossed
-    /// One open chain or nothing, no loop, no ambiguous face.
-    bool at_most_one_chain() const { return !ambiguous && boundary_crossings <= 2 && components * 2 == boundary_crossings; }
-};
-
-/// The trace on the square of @a size unit faces at local sample @a origin, normal to @a axis.
-FaceTrace trace_square(const IfcSamples& s, const std::array<int, 3>& origin, int axis, int size) {
-    const int u = (axis + 1) % 3, w = (axis + 2) % 3;
-    const int u_edges = size * (size + 1);
-    std::array<int, 2 * kIfcBlock * (kIfcBlock + 1)> parent;
-    std::array<bool, 2 * kIfcBlock * (kIfcBlock + 1)> crossed{};
-    auto point = [&](int i, int j) {
-        std::array<int, 3> p = origin;
-        p[u] += i;
-        p[w] += j;
-        return p;
-    };
-    // Node ids: u-edges (i, j) -> i * (size + 1) + j, w-edges (i, j) -> u_edges + i * size + j.
-    FaceTrace trace;
-    for (int i = 0; i < size; ++i) {
-        for (int j = 0; j <= size; ++j) {
-            const auto p = point(i, j);
-            const int id = i * (size + 1) + j;
-            crossed[id] = s.crossed(p[0], p[1], p[2], u);
-            parent[id] = id;
-            if (crossed[id] && (j == 0 || j == size)) ++trace.boundary_crossings;
-        }
-    }
-    for (int i = 0; i <= size; ++i) {
-        for (int j = 0; j < size; ++j) {
-            const auto p = point(i, j);
-            const int id = u_edges + i * size + j;
-            crossed[id] = s.crossed(p[0], p[1], p[2], w);
-            parent[id] = id;
-            if (crossed[id] && (i == 0 || i == size)) ++trace.boundary_crossings;
-        }
-    }
-    auto find = [&](int i) {
-        while (parent[i] != i) i = parent[i] = parent[parent[i]];
-        return i;
-    };
-    for (int i = 0; i < size; ++i) {
-        for (int j = 0; j < size; ++j) {
-            const std::array<int, 4> edges = {i * (size + 1) + j, i * (size + 1) + j + 1, u_edges + i * size + j,
-                                              u_edges + (i + 1) * size + j};
-            if (join_face_crossings(edges, crossed, parent) == 4) {
-                trace.ambiguous = true;
-                return trace;
-            }
-        }
-    }
-    for (int id = 0; id < 2 * u_edges; ++id) trace.components += crossed[id] && find(id) == id;
-    return trace;
-}
-
-/// Sign changes along the samples of the grid line from local sample @a start, @a size steps along @a axis.
-int sign_changes(const IfcSamples& s, std::array<int, 3> p, int axis, int size) {
-    int changes = 0;
-    for (int k = 0; k < size; ++k, ++p[axis]) changes += s.crossed(p[0], p[1], p[2], axis);
-    return changes;
+    return simple;
 }
 
 enum class CellState : std::uint8_t {
@@ -220,7 +160,8 @@ public:
         error_ = error;
         collect_hermite();
         init_unit_cells();
-        for (int level = 1; level <= kIfcMaxLevel; ++level) merge_level(level);
+        sum_levels();
+        refine(kIfcMaxLevel, 0, 0, 0);
         assign(out);
     }
 
@@ -235,6 +176,7 @@ private:
 
     /// Hermite data of the crossed edges of the block's cells (samples 0..8).
     void collect_hermite() {
+        crossings_.clear();
         for (int x = 0; x <= kIfcBlock; ++x) {
             for (int y = 0; y <= kIfcBlock; ++y) {
                 for (int z = 0; z <= kIfcBlock; ++z) {
@@ -242,16 +184,27 @@ private:
                         const std::array<int, 3> p = {x, y, z};
                         const int i = edge_index(x, y, z, axis);
                         crossed_[i] = p[axis] < kIfcBlock && s_->crossed(x, y, z, axis);
-                        if (crossed_[i]) hermite_[i] = edge_hermite(*s_, iso_, x, y, z, axis);
+                        if (!crossed_[i]) continue;
+                        hermite_[i] = edge_hermite(*s_, iso_, x, y, z, axis);
+                        crossings_.push_back({std::uint8_t(x), std::uint8_t(y), std::uint8_t(z), std::uint8_t(axis)});
                     }
                 }
             }
         }
     }
 
-    /// Calls @a visit(hermite) for every crossed edge of the cell at local @a min of @a size.
-    template <typename Visit>
-    void for_each_crossing(const std::array<int, 3>& min, int size, Visit&& visit) const {
+    /// Whether @a test(hermite) holds for every crossed edge of the cell at local @a min of
+    /// @a size; stops at the first that fails.
+    template <typename Test>
+    bool all_crossings(const std::array<int, 3>& min, int size, Test&& test) const {
+        if (size >= 4) {  // large cells: the block's list of crossings is shorter than the cell's edges
+            for (const auto& c : crossings_) {
+                bool in = true;
+                for (int a = 0; a < 3; ++a) in &= c[a] >= min[a] && c[a] < min[a] + size + (a != c[3]);
+                if (in && !test(hermite_[edge_index(c[0], c[1], c[2], c[3])])) return false;
+            }
+            return true;
+        }
         for (int x = min[0]; x <= min[0] + size; ++x) {
             for (int y = min[1]; y <= min[1] + size; ++y) {
                 for (int z = min[2]; z <= min[2] + size; ++z) {
@@ -259,11 +212,17 @@ private:
                     for (int axis = 0; axis < 3; ++axis) {
                         if (p[axis] == min[axis] + size) continue;
                         const int i = edge_index(x, y, z, axis);
-                        if (crossed_[i]) visit(hermite_[i]);
+                        if (crossed_[i] && !test(hermite_[i])) return false;
                     }
                 }
             }
         }
+        return true;
+    }
+
+    ChildCornerSigns corner_signs(const std::array<int, 3>& min, int size) const {
+        const int half = size / 2;
+        return child_corner_signs([&](int x, int y, int z) { return s_->in(min[0] + x * half, min[1] + y * half, min[2] + z * half); });
     }
 
     void init_unit_cells() {
@@ -272,57 +231,83 @@ private:
             state_[level].assign(std::size_t(n * n * n), CellState::inner);
             qef_[level].assign(std::size_t(n * n * n), Qef3());
         }
+        // A unit cell holds surface iff one of its edges is crossed; each crossing's plane
+        // goes to the (up to 4) unit cells round its edge.
+        std::fill(state_[0].begin(), state_[0].end(), CellState::empty);
+        for (const auto& c : crossings_) {
+            const int axis = c[3], u = (axis + 1) % 3, w = (axis + 2) % 3;
+            const Hermite& h = hermite_[edge_index(c[0], c[1], c[2], axis)];
+            for (int q = 0; q < 4; ++q) {
+                std::array<int, 3> cell = {c[0], c[1], c[2]};
+                cell[u] -= q & 1;
+                cell[w] -= q >> 1;
+                if (cell[u] < 0 || cell[u] >= kIfcBlock || cell[w] < 0 || cell[w] >= kIfcBlock) continue;
+                const int i = cell_index(0, cell[0], cell[1], cell[2]);
+                qef_[0][i].add_plane(h.point, h.normal);
+                state_[0][i] = CellState::surface;
+            }
+        }
+    }
+
+    /// The QEFs, states and topology of the cells of 2, 4 and 8 voxels from their children's:
+    /// a cell holds surface (for now; refine() decides) when a child does, and is simple (one
+    /// disk, one crossing per edge, one chain per face) when its children are and their 27
+    /// corner signs say so.
+    void sum_levels() {
+        const auto& simple_units = simple_unit_cells();
         for (int x = 0; x < kIfcBlock; ++x) {
             for (int y = 0; y < kIfcBlock; ++y) {
-                for (int z = 0; z < kIfcBlock; ++z) {
-                    const unsigned config = s_->config(x, y, z);
-                    const int i = cell_index(0, x, y, z);
-                    Qef3& qef = qef_[0][i];
-                    for_each_crossing({x, y, z}, 1, [&](const Hermite& h) { qef.add_plane(h.point, h.normal); });
-                    if (config == 0 || config == 255) state_[0][i] = CellState::empty;
-                    else state_[0][i] = CellState::surface;
+                for (int z = 0; z < kIfcBlock; ++z) simple_[0][cell_index(0, x, y, z)] = simple_units[s_->config(x, y, z)];
+            }
+        }
+        for (int level = 1; level <= kIfcMaxLevel; ++level) {
+            const int n = cells_per_axis(level);
+            for (int i = 0; i < n; ++i) {
+                for (int j = 0; j < n; ++j) {
+                    for (int k = 0; k < n; ++k) {
+                        const int index = cell_index(level, i, j, k);
+                        std::array<bool, 8> surface;
+                        bool children_simple = true;
+                        for (int c = 0; c < 8; ++c) {
+                            const int child = cell_index(level - 1, 2 * i + (c & 1), 2 * j + ((c >> 1) & 1), 2 * k + (c >> 2));
+                            qef_[level][index].add(qef_[level - 1][child]);
+                            surface[c] = state_[level - 1][child] == CellState::surface;
+                            children_simple &= simple_[level - 1][child];
+                        }
+                        const bool any_surface = std::any_of(surface.begin(), surface.end(), [](bool b) { return b; });
+                        state_[level][index] = any_surface ? CellState::surface : CellState::empty;
+                        const int size = 1 << level;
+                        simple_[level][index] =
+                            children_simple && (!any_surface || union_is_one_disk(corner_signs({i * size, j * size, k * size}, size), surface));
+                    }
                 }
             }
         }
     }
 
-    void merge_level(int level) {
-        const int n = cells_per_axis(level);
-        for (int i = 0; i < n; ++i) {
-            for (int j = 0; j < n; ++j) {
-                for (int k = 0; k < n; ++k) merge_cell(level, i, j, k);
-            }
-        }
+    /// Top down: the cell stays whole when it holds no surface or passes the merge tests,
+    /// else its children are refined.
+    void refine(int level, int i, int j, int k) {
+        if (level == 0) return;
+        const int index = cell_index(level, i, j, k);
+        if (state_[level][index] == CellState::empty) return;
+        if (can_merge(level, i, j, k)) return;
+        state_[level][index] = CellState::inner;
+        for (int c = 0; c < 8; ++c) refine(level - 1, 2 * i + (c & 1), 2 * j + ((c >> 1) & 1), 2 * k + (c >> 2));
     }
 
-    void merge_cell(int level, int i, int j, int k) {
-        std::array<CellState, 8> child;
-        bool any_surface = false;
-        for (int c = 0; c < 8; ++c) {
-            child[c] = state_[level - 1][cell_index(level - 1, 2 * i + (c & 1), 2 * j + ((c >> 1) & 1), 2 * k + (c >> 2))];
-            if (child[c] == CellState::inner) return;  // stays inner
-            any_surface |= child[c] == CellState::surface;
-        }
-        const int index = cell_index(level, i, j, k);
-        if (!any_surface) {
-            state_[level][index] = CellState::empty;
-            return;
-        }
+    bool can_merge(int level, int i, int j, int k) {
         const int size = 1 << level;
         const std::array<int, 3> min = {i * size, j * size, k * size};
-        Qef3 qef;
-        for (int c = 0; c < 8; ++c) {
-            qef.add(qef_[level - 1][cell_index(level - 1, 2 * i + (c & 1), 2 * j + ((c >> 1) & 1), 2 * k + (c >> 2))]);
-        }
+        const int index = cell_index(level, i, j, k);
         // Cheapest and most often failing first.
-        const Point3d vertex = solve_in_cell(qef, min, size);
-        if (!within_error(vertex, min, size) || !fan_near_surface(vertex, min, size) ||
-            !edges_and_faces_simple(min, size) || !surface_is_one_disk(min, size) || !surface_near_fan(vertex, min, size)) {
-            return;
+        if (!simple_[level][index]) return false;
+        const Point3d vertex = solve_in_cell(qef_[level][index], min, size);
+        if (!within_error(vertex, min, size) || !fan_near_surface(vertex, min, size) || !surface_near_fan(vertex, min, size)) {
+            return false;
         }
-        state_[level][index] = CellState::surface;
-        qef_[level][index] = qef;
         vertex_[level][index] = vertex;
+        return true;
     }
 
     /// Calls @a visit(start, axis) for the start (local sample) and axis of each of the 12
@@ -340,82 +325,6 @@ private:
         }
     }
 
-    bool edges_and_faces_simple(const std::array<int, 3>& min, int size) const {
-        bool simple = true;
-        for_each_cell_edge(min, size, [&](const std::array<int, 3>& p, int axis) { simple &= sign_changes(*s_, p, axis, size) <= 1; });
-        if (!simple) return false;
-        for (int axis = 0; axis < 3; ++axis) {
-            for (int side = 0; side < 2; ++side) {
-                std::array<int, 3> origin = min;
-                origin[axis] += side * size;
-                if (!trace_square(*s_, origin, axis, size).at_most_one_chain()) return false;
-            }
-        }
-        return true;
-    }
-
-    /// Whether the Marching Cubes surface in the closed cell is one disk: no ambiguous unit
-    /// face, connected, and Euler characteristic 1. Per unit cell, a component of n vertices
-    /// is n - 2 triangles with n - 3 inner edges, so the characteristic is
-    /// crossed edges - segments on unit faces + the cells' component counts.
-    bool surface_is_one_disk(const std::array<int, 3>& min, int size) const {
-        const int n = size + 1;
-        auto node = [&](int dx, int dy, int dz, int axis) { return ((dx * n + dy) * n + dz) * 3 + axis; };
-        std::array<int, kEdgeDim * kEdgeDim * kEdgeDim * 3> parent;  // entries below n^3 * 3 set below
-        std::array<bool, kEdgeDim * kEdgeDim * kEdgeDim * 3> crossed;
-        int vertices = 0;
-        for (int dx = 0; dx < n; ++dx) {
-            for (int dy = 0; dy < n; ++dy) {
-                for (int dz = 0; dz < n; ++dz) {
-                    const std::array<int, 3> d = {dx, dy, dz};
-                    for (int axis = 0; axis < 3; ++axis) {
-                        const int id = node(dx, dy, dz, axis);
-                        parent[id] = id;
-                        crossed[id] = d[axis] < size && s_->crossed(min[0] + dx, min[1] + dy, min[2] + dz, axis);
-                        vertices += crossed[id];
-                    }
-                }
-            }
-        }
-        auto find = [&](int i) {
-            while (parent[i] != i) i = parent[i] = parent[parent[i]];
-            return i;
-        };
-        int segments = 0;
-        for (int normal = 0; normal < 3; ++normal) {
-            const int u = (normal + 1) % 3, w = (normal + 2) % 3;
-            for (int plane = 0; plane < n; ++plane) {
-                for (int i = 0; i < size; ++i) {
-                    for (int j = 0; j < size; ++j) {
-                        std::array<int, 3> d{};
-                        d[normal] = plane;
-                        d[u] = i;
-                        d[w] = j;
-                        std::array<int, 3> du = d, dw = d;
-                        ++du[u];
-                        ++dw[w];
-                        const std::array<int, 4> edges = {node(d[0], d[1], d[2], u), node(dw[0], dw[1], dw[2], u),
-                                                          node(d[0], d[1], d[2], w), node(du[0], du[1], du[2], w)};
-                        const int count = join_face_crossings(edges, crossed, parent);
-                        if (count == 4) return false;
-                        segments += count / 2;
-                    }
-                }
-            }
-        }
-        int components = 0;
-        for (int id = 0; id < n * n * n * 3; ++id) components += crossed[id] && find(id) == id;
-        if (components != 1) return false;
-        const auto& cell_components = mc_component_counts();
-        int pieces = 0;
-        for (int x = min[0]; x < min[0] + size; ++x) {
-            for (int y = min[1]; y < min[1] + size; ++y) {
-                for (int z = min[2]; z < min[2] + size; ++z) pieces += cell_components[s_->config(x, y, z)];
-            }
-        }
-        return vertices - segments + pieces == 1;
-    }
-
     Point3d solve_in_cell(const Qef3& qef, const std::array<int, 3>& min, int size) const {
         Point3d lo, hi;
         for (int a = 0; a < 3; ++a) {
@@ -426,12 +335,10 @@ private:
     }
 
     bool within_error(const Point3d& v, const std::array<int, 3>& min, int size) const {
-        bool ok = true;
-        for_each_crossing(min, size, [&](const Hermite& h) {
+        return all_crossings(min, size, [&](const Hermite& h) {
             const double d = h.normal[0] * (v[0] - h.point[0]) + h.normal[1] * (v[1] - h.point[1]) + h.normal[2] * (v[2] - h.point[2]);
-            ok &= std::abs(d) <= error_;
+            return std::abs(d) <= error_;
         });
-        return ok;
     }
 
     /// Whether the vertex, and the midpoints of its spokes to the crossings of the cell's 12
@@ -463,9 +370,7 @@ private:
                 if (face_chord(min, size, axis, side, ends) == 2) fan.add_chord(ends[0], ends[1]);
             }
         }
-        bool near = true;
-        for_each_crossing(min, size, [&](const Hermite& h) { near = near && fan.near(h.point, 2 * error_); });
-        return near;
+        return all_crossings(min, size, [&](const Hermite& h) { return fan.near(h.point, 2 * error_); });
     }
 
     /// The crossings on the perimeter of the cell's face normal to @a axis on @a side (0: low,
@@ -545,8 +450,10 @@ private:
     double error_ = 0;
     std::array<bool, kEdgeDim * kEdgeDim * kEdgeDim * 3> crossed_{};
     std::array<Hermite, kEdgeDim * kEdgeDim * kEdgeDim * 3> hermite_;
+    std::vector<std::array<std::uint8_t, 4>> crossings_;  ///< the crossed edges: x, y, z, axis
     std::array<std::vector<CellState>, kIfcMaxLevel + 1> state_;
     std::array<std::vector<Qef3>, kIfcMaxLevel + 1> qef_;
+    std::array<std::array<bool, kIfcBlock * kIfcBlock * kIfcBlock>, kIfcMaxLevel + 1> simple_{};
     std::array<std::array<Point3d, 64>, kIfcMaxLevel + 1> vertex_{};
 };
 
