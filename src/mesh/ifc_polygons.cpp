@@ -148,18 +148,21 @@ private:
         const int u = (axis + 1) % 3, w = (axis + 2) % 3;
         const openvdb::Coord e = s_.origin.offsetBy(x, y, z);
         const std::uint64_t p_key = edge_key(e, axis);
-        add_vertex(p_key, crossing_point(x, y, z, axis));  // Marching Cubes cells may use it too
         // Quadrants counter-clockwise round +axis (u x w = axis): (+,+), (-,+), (-,-), (+,-).
         static constexpr int kDu[4] = {0, -1, -1, 0}, kDw[4] = {0, 0, -1, -1};
         std::array<CellView, 4> quadrant;
-        bool any_merged = false;
+        bool any_merged = false, any_unit = false;
         for (int q = 0; q < 4; ++q) {
             openvdb::Coord unit = e;
             unit[u] += kDu[q];
             unit[w] += kDw[q];
             quadrant[q] = cell_of(unit);
             any_merged |= quadrant[q].merged();
+            any_unit |= !quadrant[q].merged();
         }
+        // The crossing is a vertex where a Marching Cubes cell or the fan round it uses it;
+        // inside merged cells it is not.
+        if (any_unit) add_vertex(p_key, crossing_point(x, y, z, axis));
         if (!any_merged) return;  // Marching Cubes all round
         // Counter-clockwise round the outward direction: from the inside end to the outside end.
         const bool outward_positive = s_.in(x, y, z);
@@ -177,6 +180,7 @@ private:
         if (ring.count > 1 && ring.cell[ring.count - 1] == ring.cell[0]) --ring.count;  // wrapped round
         if (ring.count <= 2) return;  // inside a cell or a face: the cells' vertices stand for it
         if (try_polygon(ring, e, axis)) return;
+        if (!any_unit) add_vertex(p_key, crossing_point(x, y, z, axis));
         fan(ring, e, axis, outward_positive, p_key);
     }
 

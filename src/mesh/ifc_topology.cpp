@@ -84,10 +84,17 @@ const std::array<FaceTrace, 512>& face_traces() {
 
 /// The 9-bit code (bit u + 3 w) of the face normal to @a axis at plane @a a.
 unsigned face_code(ChildCornerSigns signs, int axis, int a) {
+    static const auto bits = [] {
+        std::array<std::array<std::array<std::uint8_t, 9>, 3>, 3> result;
+        for (int n = 0; n < 3; ++n) {
+            for (int p = 0; p < 3; ++p) {
+                for (int k = 0; k < 9; ++k) result[n][p][k] = std::uint8_t(corner_bit(n, p, k % 3, k / 3));
+            }
+        }
+        return result;
+    }();
     unsigned code = 0;
-    for (int w = 0; w < 3; ++w) {
-        for (int u = 0; u < 3; ++u) code |= ((signs >> corner_bit(axis, a, u, w)) & 1u) << (u + 3 * w);
-    }
+    for (int k = 0; k < 9; ++k) code |= ((signs >> bits[axis][a][k]) & 1u) << k;
     return code;
 }
 
