@@ -42,41 +42,46 @@ void for_each_surface_block(const openvdb::FloatGrid& grid, const SampleClassifi
     });
 }
 
-/// One vertex per key, numbered in key order; vertices no triangle uses are dropped.
-Mesh weld(const std::vector<IfcBlockOutput>& outputs) {
-    std::size_t vertex_count = 0, triangle_count = 0;
-    for (const IfcBlockOutput& out : outputs) {
-        vertex_count += out.vertices.size();
-        triangle_count += out.triangles.size();
+/// One vertex per key, numbered in key order; vertices no triangle uses are dropped. Each
+/// block's output is released once read, so no part of it is held twice.
+Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
+    std::size_t vertex_count = 0;
+    std::vector<std::size_t> first_triangle(outputs.size() + 1, 0);
+    for (std::size_t b = 0; b < outputs.size(); ++b) {
+        vertex_count += outputs[b].vertices.size();
+        first_triangle[b + 1] = first_triangle[b] + outputs[b].triangles.size();
     }
     std::vector<IfcVertex> vertices;
     vertices.reserve(vertex_count);
-    std::vector<std::array<std::uint64_t, 3>> triangles;
-    triangles.reserve(triangle_count);
-    for (const IfcBlockOutput& out : outputs) {
+    for (IfcBlockOutput& out : outputs) {
         vertices.insert(vertices.end(), out.vertices.begin(), out.vertices.end());
-        triangles.insert(triangles.end(), out.triangles.begin(), out.triangles.end());
+        out.vertices = {};
     }
     tbb::parallel_sort(vertices.begin(), vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key < b.key; });
     vertices.erase(std::unique(vertices.begin(), vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key == b.key; }),
                    vertices.end());
     if (vertices.size() > std::numeric_limits<std::uint32_t>::max()) throw Error("contouring: more than 2^32 vertices");
     Mesh mesh;
-    mesh.triangles.resize(triangles.size());
+    mesh.triangles.resize(first_triangle.back());
     std::vector<std::uint8_t> used(vertices.size(), 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size()), [&](const auto& range) {
-        for (std::size_t t = range.begin(); t != range.end(); ++t) {
-            for (int k = 0; k < 3; ++k) {
-                const auto it = std::lower_bound(vertices.begin(), vertices.end(), triangles[t][k],
-                                                 [](const IfcVertex& v, std::uint64_t key) { return v.key < key; });
-                if (it == vertices.end() || it->key != triangles[t][k]) throw Error("contouring: a triangle refers to a missing vertex");
-                const std::size_t index = std::size_t(it - vertices.begin());
-                mesh.triangles[t][k] = std::uint32_t(index);
-                used[index] = 1;  // every writer writes 1: no race on the value
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+            auto& keyed = outputs[b].triangles;
+            for (std::size_t t = 0; t < keyed.size(); ++t) {
+                for (int k = 0; k < 3; ++k) {
+                    const auto it = std::lower_bound(vertices.begin(), vertices.end(), keyed[t][k],
+                                                     [](const IfcVertex& v, std::uint64_t key) { return v.key < key; });
+                    if (it == vertices.end() || it->key != keyed[t][k]) throw Error("contouring: a triangle refers to a missing vertex");
+                    const std::size_t index = std::size_t(it - vertices.begin());
+                    mesh.triangles[first_triangle[b] + t][k] = std::uint32_t(index);
+                    used[index] = 1;  // every writer writes 1: no race on the value
+                }
             }
+            keyed = {};
         }
     });
     std::vector<std::uint32_t> new_index(vertices.size());
+    mesh.vertices.reserve(std::size_t(std::count(used.begin(), used.end(), std::uint8_t(1))));
     for (std::size_t v = 0; v < vertices.size(); ++v) {
         new_index[v] = std::uint32_t(mesh.vertices.size());
         if (used[v]) mesh.vertices.push_back(vertices[v].position);
@@ -108,10 +113,13 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     std::vector<IfcBlockOutput> outputs(cells.origins.size());
     for_each_surface_block(grid, classifier, cells.origins, [&](const IfcSamples& samples, auto& accessor, std::size_t b) {
         contour_ifc_block(samples, classifier, accessor, cells, b, grid.transform(), outputs[b]);
+        outputs[b].vertices.shrink_to_fit();  // growth leaves up to half unused: it adds up over blocks
+        outputs[b].triangles.shrink_to_fit();
     });
     clock.lap(report, "contour");
     if (options.progress) options.progress(0.8);
-    Mesh mesh = weld(outputs);
+    cells = IfcCellGrid();  // not needed by the weld
+    Mesh mesh = weld(std::move(outputs));
     clock.lap(report, "weld");
     if (options.progress) options.progress(1.0);
     return mesh;

@@ -430,9 +430,9 @@ private:
                         const CellState state = state_[level][cell_index(level, i, j, k)];
                         if (state != CellState::empty && state != CellState::surface) continue;
                         if (out.level[IfcBlockCells::unit_index(i * size, j * size, k * size)] != 0) continue;  // inside a larger leaf
-                        std::uint16_t id = IfcBlockCells::kNoCell;
+                        std::uint8_t id = IfcBlockCells::kNoCell;
                         if (state == CellState::surface) {
-                            id = std::uint16_t(out.cells.size());
+                            id = std::uint8_t(out.cells.size());
                             out.cells.push_back({std::uint8_t(level), s_->origin.offsetBy(i * size, j * size, k * size),
                                                  vertex_[level][cell_index(level, i, j, k)]});
                         }
