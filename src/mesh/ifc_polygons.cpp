@@ -213,22 +213,16 @@ private:
             ++count;
         };
         const openvdb::Coord corner{int(lo[0]), int(lo[1]), int(lo[2])};
-        const int size_u = int(hi[u] - lo[u]), size_w = int(hi[w] - lo[w]);
-        for (int i = 0; i < size_u; ++i) {
-            openvdb::Coord a = corner, b = corner;
-            a[u] += i;
-            b[u] += i;
-            b[w] += size_w;
-            visit(a, u);
-            visit(b, u);
-        }
-        for (int j = 0; j < size_w; ++j) {
-            openvdb::Coord a = corner, b = corner;
-            a[w] += j;
-            b[w] += j;
-            b[u] += size_u;
-            visit(a, w);
-            visit(b, w);
+        for (int along : {u, w}) {
+            const int across = along == u ? w : u;
+            for (int side = 0; side < 2; ++side) {
+                for (int k = 0; k < int(hi[along] - lo[along]); ++k) {
+                    openvdb::Coord start = corner;
+                    start[along] += k;
+                    start[across] += side * int(hi[across] - lo[across]);
+                    visit(start, along);
+                }
+            }
         }
         if (count != 2) return std::nullopt;
         for (double& c : sum) c *= 0.5;

@@ -230,6 +230,14 @@ PointCloud read_ply(const std::filesystem::path& path) {
             if (pos + bytes > data.size())
                 throw FormatError(file, what, std::to_string(bytes) + " more bytes", std::to_string(data.size() - pos));
         };
+        auto skip_list = [&](const PlyProperty& p, const std::string& what) {
+            need(type_size(path, p.count_type), what);
+            const double n = read_binary(base + pos, p.count_type, big);
+            pos += type_size(path, p.count_type);
+            const std::size_t bytes = std::size_t(std::max(n, 0.0)) * type_size(path, p.type);
+            need(bytes, what);
+            pos += bytes;
+        };
         auto skip_instance = [&](const PlyElement& e, std::uint64_t i) {
             for (const PlyProperty& p : e.properties) {
                 const std::string what = "element " + e.name + " " + std::to_string(i) + " property " + p.name;
@@ -237,12 +245,7 @@ PointCloud read_ply(const std::filesystem::path& path) {
                     need(type_size(path, p.type), what);
                     pos += type_size(path, p.type);
                 } else {
-                    need(type_size(path, p.count_type), what);
-                    const double n = read_binary(base + pos, p.count_type, big);
-                    pos += type_size(path, p.count_type);
-                    const std::size_t bytes = std::size_t(std::max(n, 0.0)) * type_size(path, p.type);
-                    need(bytes, what);
-                    pos += bytes;
+                    skip_list(p, what);
                 }
             }
         };
@@ -271,12 +274,7 @@ PointCloud read_ply(const std::filesystem::path& path) {
                     const PlyProperty& p = vertex->properties[i];
                     const std::string what = "vertex " + std::to_string(v) + " property " + p.name;
                     if (!p.count_type.empty()) {
-                        need(type_size(path, p.count_type), what);
-                        const double n = read_binary(base + pos, p.count_type, big);
-                        pos += type_size(path, p.count_type);
-                        const std::size_t bytes = std::size_t(std::max(n, 0.0)) * type_size(path, p.type);
-                        need(bytes, what);
-                        pos += bytes;
+                        skip_list(p, what);
                         continue;
                     }
                     need(type_size(path, p.type), what);

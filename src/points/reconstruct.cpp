@@ -149,6 +149,13 @@ void sort_spatially(PointCloud& cloud) {
     cloud = std::move(out);
 }
 
+/// Sets the values (not the active states) of the cube of @a n voxels at local @a min in @a leaf.
+void fill_cube(openvdb::FloatTree::LeafNodeType& leaf, const openvdb::Coord& min, int n, float value) {
+    for (int x = 0; x < n; ++x)
+        for (int y = 0; y < n; ++y)
+            for (int z = 0; z < n; ++z) leaf.setValueOnly(min.offsetBy(x, y, z), value);
+}
+
 }  // namespace
 
 std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const SampleOptions& options) {
@@ -243,10 +250,7 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
                         const Vec3d c{(o[0] + sx + 1.5) * h, (o[1] + sy + 1.5) * h, (o[2] + sz + 1.5) * h};
                         const double g = field.value(c);
                         if (std::abs(g) > lipschitz * 1.5 * std::sqrt(3.0) * h + background) {
-                            const float v = g < 0 ? -float(background) : float(background);
-                            for (int x = 0; x < 4; ++x)
-                                for (int y = 0; y < 4; ++y)
-                                    for (int z = 0; z < 4; ++z) leaf->setValueOnly(openvdb::Coord(sx + x, sy + y, sz + z), v);
+                            fill_cube(*leaf, openvdb::Coord(sx, sy, sz), 4, g < 0 ? -float(background) : float(background));
                             continue;
                         }
                         // 2^3 cells: their centre decides whether their voxels need values.
@@ -256,10 +260,7 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
                                     const int bx = sx + cx, by = sy + cy, bz = sz + cz;
                                     const double e = field.value(Vec3d{(o[0] + bx + 0.5) * h, (o[1] + by + 0.5) * h, (o[2] + bz + 0.5) * h});
                                     if (std::abs(e) > lipschitz * 0.5 * std::sqrt(3.0) * h + background) {
-                                        const float v = e < 0 ? -float(background) : float(background);
-                                        for (int x = 0; x < 2; ++x)
-                                            for (int y = 0; y < 2; ++y)
-                                                for (int z = 0; z < 2; ++z) leaf->setValueOnly(openvdb::Coord(bx + x, by + y, bz + z), v);
+                                        fill_cube(*leaf, openvdb::Coord(bx, by, bz), 2, e < 0 ? -float(background) : float(background));
                                         continue;
                                     }
                                     for (int x = 0; x < 2; ++x)
