@@ -45,18 +45,17 @@ void for_each_surface_block(const openvdb::FloatGrid& grid, const SampleClassifi
 /// One vertex per key, numbered in key order; vertices no triangle uses are dropped. Each
 /// block's output is released once read, so no part of it is held twice.
 Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
-    std::size_t vertex_count = 0;
     std::vector<std::size_t> first_triangle(outputs.size() + 1, 0);
-    for (std::size_t b = 0; b < outputs.size(); ++b) {
-        vertex_count += outputs[b].vertices.size();
-        first_triangle[b + 1] = first_triangle[b] + outputs[b].triangles.size();
-    }
-    std::vector<IfcVertex> vertices;
-    vertices.reserve(vertex_count);
-    for (IfcBlockOutput& out : outputs) {
-        vertices.insert(vertices.end(), out.vertices.begin(), out.vertices.end());
-        out.vertices = {};
-    }
+    for (std::size_t b = 0; b < outputs.size(); ++b) first_triangle[b + 1] = first_triangle[b] + outputs[b].triangles.size();
+    std::vector<std::size_t> first_vertex(outputs.size() + 1, 0);
+    for (std::size_t b = 0; b < outputs.size(); ++b) first_vertex[b + 1] = first_vertex[b] + outputs[b].vertices.size();
+    std::vector<IfcVertex> vertices(first_vertex.back());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+            std::copy(outputs[b].vertices.begin(), outputs[b].vertices.end(), vertices.begin() + std::ptrdiff_t(first_vertex[b]));
+            outputs[b].vertices = {};
+        }
+    });
     tbb::parallel_sort(vertices.begin(), vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key < b.key; });
     vertices.erase(std::unique(vertices.begin(), vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key == b.key; }),
                    vertices.end());
@@ -86,9 +85,11 @@ Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
         new_index[v] = std::uint32_t(mesh.vertices.size());
         if (used[v]) mesh.vertices.push_back(vertices[v].position);
     }
-    for (auto& triangle : mesh.triangles) {
-        for (auto& v : triangle) v = new_index[v];
-    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size()), [&](const auto& range) {
+        for (std::size_t t = range.begin(); t != range.end(); ++t) {
+            for (auto& v : mesh.triangles[t]) v = new_index[v];
+        }
+    });
     return mesh;
 }
 
