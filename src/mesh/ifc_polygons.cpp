@@ -85,6 +85,10 @@ public:
           transform_(transform), out_(out) {}
 
     void run() {
+        for (int n = 0; n < 27; ++n) {
+            const openvdb::Coord origin = s_.origin.offsetBy((n / 9 - 1) * kIfcBlock, ((n / 3) % 3 - 1) * kIfcBlock, (n % 3 - 1) * kIfcBlock);
+            neighbour_[n] = n == 13 ? std::ptrdiff_t(block_) : grid_.block_at(origin);
+        }
         const IfcBlockCells& cells = grid_.blocks[block_];
         for (const IfcCell& cell : cells.cells) add_vertex(make_key(1, cell.level, cell.min), cell.vertex);
         for (int x = 0; x < kIfcBlock; ++x) {
@@ -124,7 +128,8 @@ private:
         const openvdb::Coord origin(unit.x() & ~(kIfcBlock - 1), unit.y() & ~(kIfcBlock - 1), unit.z() & ~(kIfcBlock - 1));
         CellView view;
         view.min = unit;
-        const std::ptrdiff_t b = origin == s_.origin ? std::ptrdiff_t(block_) : grid_.block_at(origin);
+        const openvdb::Coord offset = origin - s_.origin;  // within one block of ours: edges touch no farther
+        const std::ptrdiff_t b = neighbour_[(offset.x() / kIfcBlock + 1) * 9 + (offset.y() / kIfcBlock + 1) * 3 + offset.z() / kIfcBlock + 1];
         if (b < 0) return view;  // a block without surface: all unit cells
         const IfcBlockCells& cells = grid_.blocks[std::size_t(b)];
         const openvdb::Coord local = unit - origin;
@@ -386,6 +391,7 @@ private:
     }
 
     const IfcSamples& s_;
+    std::array<std::ptrdiff_t, 27> neighbour_;  ///< the blocks round this one (index 13), or -1
     const SampleClassifier& classifier_;
     openvdb::FloatGrid::ConstAccessor& accessor_;
     double iso_;
