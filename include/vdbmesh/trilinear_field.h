@@ -60,10 +60,18 @@ private:
         const openvdb::Coord base(int(std::floor(p[0])), int(std::floor(p[1])), int(std::floor(p[2])));
         const double tx = p[0] - base[0], ty = p[1] - base[1], tz = p[2] - base[2];
         double c[2][2][2];  // c[dx][dy][dz]
+        using Leaf = openvdb::FloatTree::LeafNodeType;
+        const openvdb::Coord local(base[0] & (Leaf::DIM - 1), base[1] & (Leaf::DIM - 1), base[2] & (Leaf::DIM - 1));
+        const Leaf* leaf = local[0] + 1 < int(Leaf::DIM) && local[1] + 1 < int(Leaf::DIM) && local[2] + 1 < int(Leaf::DIM)
+                               ? accessor_.probeConstLeaf(base)
+                               : nullptr;
+        // Most cells lie inside one leaf: their corners straight from its buffer, as getValue() reads them.
+        const float* values = leaf ? leaf->buffer().data() + Leaf::coordToOffset(base) : nullptr;
         for (int dx = 0; dx < 2; ++dx)
             for (int dy = 0; dy < 2; ++dy)
                 for (int dz = 0; dz < 2; ++dz)
-                    c[dx][dy][dz] = accessor_.getValue(base.offsetBy(dx, dy, dz));
+                    c[dx][dy][dz] = values ? values[(dx << (2 * Leaf::LOG2DIM)) | (dy << Leaf::LOG2DIM) | dz]
+                                           : accessor_.getValue(base.offsetBy(dx, dy, dz));
         // Interpolate along z, then y, then x, keeping the partial derivatives.
         double ez[2][2], dzv[2][2];
         for (int dx = 0; dx < 2; ++dx)

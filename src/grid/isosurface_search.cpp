@@ -30,7 +30,7 @@ constexpr double kTolerance = 1e-7;     ///< |f - iso| / |grad f|: first-order d
 constexpr double kMaxStep = 0.5;        ///< Newton step clamp (voxels): stay near the cell structure
 constexpr int kRefinements = 8;
 constexpr double kRayStep = 1.0 / 16;   ///< ray search step (voxels): finer than any cell
-constexpr int kBisections = 40;
+constexpr int kBisections = 24;         ///< 2^-24 of a ray step: far below the Newton tolerance
 constexpr double kSpeckSearchFrom = 1.0;  ///< best distance (voxels) above which grid edges are searched
 
 /// Newton steps from @a start onto the surface; empty when they do not converge near @a origin.
