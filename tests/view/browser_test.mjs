@@ -153,7 +153,13 @@ async function checkIsoSlider(driver, checks, before, isoTo, timeout) {
   // A range input takes only values on its steps.
   const target = slider.min + Math.round((wanted - slider.min) / slider.step) * slider.step;
   const meshes = (await driver.state()).meshes;
-  await driver.page.locator('#iso').fill(String(Number(target.toPrecision(12))));
+  // Set as a released slider would (input, then change). Playwright's fill() refuses a value the
+  // browser rounds onto the step ("Malformed value"), which a scan's fractional step makes.
+  await driver.page.locator('#iso').evaluate((input, value) => {
+    input.value = value;
+    input.dispatchEvent(new Event('input', { bubbles: true }));
+    input.dispatchEvent(new Event('change', { bubbles: true }));
+  }, String(Number(target.toPrecision(12))));
   const after = await driver.waitForFullMesh(meshes, timeout);
   const shown = await driver.page.locator('#triangle-count').textContent();
   checks.expect(after.triangles !== triangles, `moving the isovalue to ${target} re-meshes: ${triangles} -> ${after.triangles} triangles`);
