@@ -35,6 +35,18 @@ std::string hex(std::uint64_t value) {
     return text.str();
 }
 
+/// Where the archive header holds its file id, a random UUID as 36 characters: after the
+/// magic number (8 bytes), the file format and library versions (3 x 4) and the offsets flag (1).
+constexpr std::streamoff kUuidOffset = 8 + 3 * 4 + 1;
+
+/// A file id made from the grid's checksum, in the UUID's text form: the same grid gives the
+/// same file, byte for byte (OpenVDB draws a new random id on every write).
+std::string file_id(std::uint64_t checksum) {
+    const std::string digits = hex(checksum) + hex(checksum * 0x9E3779B97F4A7C15ull + 1);
+    return digits.substr(0, 8) + "-" + digits.substr(8, 4) + "-" + digits.substr(12, 4) + "-" + digits.substr(16, 4) + "-" +
+           digits.substr(20, 12);
+}
+
 /// Throws FormatError when a float grid of @a path carries a checksum that its content no longer matches.
 void verify_checksums(const std::filesystem::path& path, const openvdb::GridPtrVec& grids) {
     for (const openvdb::GridBase::Ptr& grid : grids) {
@@ -78,10 +90,15 @@ void write_vdb(const openvdb::FloatGrid& grid, const std::filesystem::path& path
     openvdb::initialize();
     CheckedOutput out(path);
     try {
+        const std::uint64_t checksum = detail::grid_checksum(grid);
         openvdb::MetaMap metadata(grid);
-        metadata.insertMeta(kMetaChecksum, openvdb::StringMetadata(hex(detail::grid_checksum(grid))));
+        metadata.insertMeta(kMetaChecksum, openvdb::StringMetadata(hex(checksum)));
         // A shallow copy sharing the tree, with the checksum added to its metadata.
         VdbStreamWriter().write_to(out.stream(), openvdb::GridCPtrVec{grid.copyGridReplacingMetadata(metadata)});
+        const std::string id = file_id(checksum);
+        out.stream().seekp(kUuidOffset);
+        out.stream().write(id.data(), std::streamsize(id.size()));
+        out.stream().seekp(0, std::ios::end);
     } catch (const openvdb::Exception& e) {
         throw Error(path.string() + ": cannot write the .vdb file (" + e.what() + ")");
     }

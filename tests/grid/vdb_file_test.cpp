@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "grid_test_util.h"
 #include "test_data.h"
@@ -59,6 +61,33 @@ TEST(VdbFileTest, RoundTripKeepsValuesTransformAndMetadata) {
     auto accessor = back->getConstAccessor();
     for (auto it = grid->tree().cbeginValueAll(); it; ++it)
         if (it.isVoxelValue()) ASSERT_EQ(accessor.getValue(it.getCoord()), *it) << it.getCoord();
+}
+
+std::string file_bytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// OpenVDB writes a random file id into every archive header; ours is made from the grid, so
+// the same grid gives the same bytes, and the file still opens in OpenVDB's own reader.
+TEST(VdbFileTest, TheSameGridGivesTheSameBytes) {
+    ScratchDir dir;
+    const auto grid = small_converted_grid(dir);
+    write_vdb(*grid, dir / "first.vdb");
+    write_vdb(*grid, dir / "second.vdb");
+    const std::string first = file_bytes(dir / "first.vdb");
+    ASSERT_GT(first.size(), 100u);
+    EXPECT_EQ(first, file_bytes(dir / "second.vdb"));
+    openvdb::io::File file((dir / "first.vdb").string());
+    ASSERT_NO_THROW(file.open());
+    EXPECT_EQ(file.getUniqueTag().size(), 36u);
+    EXPECT_EQ(first.substr(21, 36), file.getUniqueTag());  // the id sits where we wrote it
+    EXPECT_EQ(openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("density"))->activeVoxelCount(), grid->activeVoxelCount());
+    file.close();
+    // A different grid gets a different id.
+    grid->tree().setValue(openvdb::Coord(1, 1, 1), 3.0f);
+    write_vdb(*grid, dir / "third.vdb");
+    EXPECT_NE(file_bytes(dir / "third.vdb").substr(21, 36), first.substr(21, 36));
 }
 
 TEST(VdbFileTest, FailedWriteLeavesNothingBehind) {
