@@ -39,9 +39,19 @@ std::string join(const std::vector<double>& values, const char* separator) {
     return out.str();
 }
 
-Json scan_json(const VolumeHeader& h, const VolumeStats& s) {
+/// The distinct files the samples come from, in reading order.
+std::vector<std::string> data_files(const std::vector<DataSegment>& segments) {
+    std::vector<std::string> files;
+    for (const DataSegment& segment : segments) {
+        if (files.empty() || files.back() != segment.path.string()) files.push_back(segment.path.string());
+    }
+    return files;
+}
+
+Json scan_json(const VolumeHeader& h, const std::vector<std::string>& files, const VolumeStats& s) {
     Json j;
     j["file"] = h.path.string();
+    j["data_files"] = files;
     j["format"] = h.format;
     j["dims"] = h.dims;
     j["type"] = to_string(h.type);
@@ -64,9 +74,11 @@ Json scan_json(const VolumeHeader& h, const VolumeStats& s) {
     return j;
 }
 
-void print_scan(const VolumeHeader& h, const VolumeStats& s, std::ostream& out) {
-    out << "file            " << h.path.string() << "\n"
-        << "format          " << h.format << "\n"
+void print_scan(const VolumeHeader& h, const std::vector<std::string>& files, const VolumeStats& s, std::ostream& out) {
+    out << "file            " << h.path.string() << "\n";
+    if (files.size() == 1) out << "data file       " << files.front() << "\n";
+    else if (!files.empty()) out << "data files      " << files.size() << ": " << files.front() << " .. " << files.back() << "\n";
+    out << "format          " << h.format << "\n"
         << "dims            " << h.dims[0] << " x " << h.dims[1] << " x " << h.dims[2] << " (" << s.count
         << " samples)\n"
         << "type            " << to_string(h.type) << ", " << to_string(h.byte_order) << "-endian\n"
@@ -192,8 +204,9 @@ int run_info(const InfoOptions& o) {
     auto reader = open_scan(o.inputs, o.read);
     Progress progress("reading", o.common.quiet);
     const VolumeStats stats = compute_volume_stats(*reader, [&](double f) { progress(f); });
-    if (o.json) std::cout << scan_json(reader->header(), stats).dump() << "\n";
-    else print_scan(reader->header(), stats, std::cout);
+    const std::vector<std::string> files = data_files(reader->segments());
+    if (o.json) std::cout << scan_json(reader->header(), files, stats).dump() << "\n";
+    else print_scan(reader->header(), files, stats, std::cout);
     return kSuccess;
 }
 

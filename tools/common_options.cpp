@@ -67,6 +67,7 @@ ReadOptions ReadFlags::to_read_options(const std::vector<std::string>& more_inpu
         options.raw_spacing = {s[0], s[1], s[2]};
     }
     options.raw_header_bytes = header_bytes;
+    options.allow_outside_data = allow_outside_data;
     return options;
 }
 
@@ -77,6 +78,8 @@ void add_read_flags(CLI::App& command, ReadFlags& flags) {
     group->add_option("--raw-endian", flags.raw_endian, "Byte order: little|big")->capture_default_str();
     group->add_option("--spacing", flags.spacing, "Voxel spacing SX,SY,SZ (world units)");
     group->add_option("--header-bytes", flags.header_bytes, "Bytes to skip before the samples");
+    command.add_flag("--allow-outside-data", flags.allow_outside_data,
+                     "Read a data file that a MetaImage, NRRD or OpenQVis header names outside its own folder");
 }
 
 Progress::Progress(std::string label, bool quiet) : label_(std::move(label)), enabled_(!quiet && ::isatty(2)) {}

@@ -32,6 +32,7 @@ private:
 struct ReadFlags {
     std::string raw_dims, raw_type = "u8", raw_endian = "little", spacing;
     std::uint64_t header_bytes = 0;
+    bool allow_outside_data = false;
     /// Converts to ReadOptions; throws UsageError on malformed values. @a more_inputs are the
     /// positional inputs after the first: the further parts of a split raw scan, read in order
     /// (ReadOptions::raw_more_files), allowed only with --raw-dims.

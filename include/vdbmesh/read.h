@@ -102,6 +102,9 @@ struct ReadOptions {
     std::array<double, 3> raw_spacing{1, 1, 1};             ///< --spacing
     std::uint64_t raw_header_bytes = 0;                     ///< --header-bytes
     std::vector<std::filesystem::path> raw_more_files;      ///< further parts, read after the first (a split scan)
+    /// --allow-outside-data: read a data file that a header names outside the header's folder
+    /// (refused by default: a header from elsewhere must not make us read any file it likes).
+    bool allow_outside_data = false;
 };
 
 /// Samples of a volume handed out z-slice by z-slice as floats (what convert_to_grid()
@@ -126,6 +129,8 @@ public:
     VolumeReader& operator=(const VolumeReader&) = delete;
 
     const VolumeHeader& header() const override { return source_.header; }
+    /// Where the samples are read from (the files a header names, in order).
+    const std::vector<DataSegment>& segments() const { return source_.segments; }
     void read_slices(std::int64_t slices, float* out) override;
     std::int64_t next_slice() const override { return next_slice_; }
 

@@ -1,6 +1,7 @@
 // Picks the reader for a path: a folder is a DICOM series, --raw-dims forces headerless
 // raw, otherwise the extension decides (".gz" looked through).
 
+#include <filesystem>
 #include <string>
 
 #include "formats.h"
@@ -19,6 +20,28 @@ std::string format_extension(const std::filesystem::path& path) {
     return detail::to_lower(name.extension().string());
 }
 
+/// Whether @a file lies in @a folder or below it, after resolving "..", "." and symbolic links.
+bool inside_folder(const std::filesystem::path& file, const std::filesystem::path& folder) {
+    std::error_code ec;
+    const std::filesystem::path f = std::filesystem::weakly_canonical(file, ec);
+    const std::filesystem::path d = std::filesystem::weakly_canonical(folder.empty() ? "." : folder, ec);
+    const std::filesystem::path relative = f.lexically_relative(d);
+    return !ec && !relative.empty() && *relative.begin() != "..";
+}
+
+/// Throws FormatError when a header names a data file outside its own folder, unless allowed.
+VolumeSource checked_data_files(VolumeSource source, const std::filesystem::path& header, const std::string& field,
+                                const ReadOptions& options) {
+    if (options.allow_outside_data) return source;
+    for (const DataSegment& segment : source.segments) {
+        if (!inside_folder(segment.path, header.parent_path()))
+            throw FormatError(header.string(), field,
+                              "a data file in the header's folder (--allow-outside-data reads it anyway)",
+                              "\"" + segment.path.string() + "\"");
+    }
+    return source;
+}
+
 }  // namespace
 
 VolumeSource open_volume_source(const std::filesystem::path& path, const ReadOptions& options) {
@@ -30,9 +53,9 @@ VolumeSource open_volume_source(const std::filesystem::path& path, const ReadOpt
 
     const std::string ext = format_extension(path);
     if (ext == ".nii" || ext == ".hdr" || ext == ".img") return detail::read_nifti_or_analyze(path);
-    if (ext == ".dat") return detail::read_openqvis(path);
-    if (ext == ".mhd" || ext == ".mha") return detail::read_metaimage(path);
-    if (ext == ".nrrd" || ext == ".nhdr") return detail::read_nrrd(path);
+    if (ext == ".dat") return checked_data_files(detail::read_openqvis(path), path, "ObjectFileName", options);
+    if (ext == ".mhd" || ext == ".mha") return checked_data_files(detail::read_metaimage(path), path, "ElementDataFile", options);
+    if (ext == ".nrrd" || ext == ".nhdr") return checked_data_files(detail::read_nrrd(path), path, "data file", options);
     if (ext == ".raw" || ext.empty())
         throw FormatError(path.string(), "format", "a header, or --raw-dims X,Y,Z for a headerless raw file",
                           "no header (extension \"" + ext + "\")");

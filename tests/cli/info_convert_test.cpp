@@ -82,6 +82,30 @@ TEST(InfoCommandTest, TextNamesTheSuggestedIsovalue) {
     EXPECT_NE(result.out.find("16 x 12 x 10"), std::string::npos) << result.out;
 }
 
+// A header's data file is named by info; one outside the header's folder is read only with
+// --allow-outside-data (issue 10, point 5).
+TEST(InfoCommandTest, NamesTheDataFileAndRefusesOneOutsideTheHeadersFolder) {
+    ScratchDir dir;
+    std::filesystem::create_directory(dir / "scan");
+    write_bytes(dir / "box.raw", box_volume());
+    std::ofstream(dir / "scan" / "box.mhd") << "ObjectType = Image\nNDims = 3\nDimSize = 16 12 10\nElementType = MET_UCHAR\n"
+                                                "ElementDataFile = ../box.raw\n";
+    const std::string header = (dir / "scan" / "box.mhd").string();
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(run({"info", header, "-q"}), kRuntimeError);
+    const std::string refused = testing::internal::GetCapturedStderr();
+    EXPECT_NE(refused.find("ElementDataFile"), std::string::npos) << refused;
+    EXPECT_NE(refused.find("--allow-outside-data"), std::string::npos) << refused;
+    const Output allowed = run_capturing({"info", header, "--allow-outside-data", "--json", "-q"});
+    ASSERT_EQ(allowed.status, kSuccess);
+    const auto j = parse_one_object(allowed.out);
+    ASSERT_EQ(j["data_files"].size(), 1u);
+    EXPECT_NE(j["data_files"][0].get<std::string>().find("box.raw"), std::string::npos);
+    const Output text = run_capturing({"info", header, "--allow-outside-data", "-q"});
+    EXPECT_NE(text.out.find("data file       "), std::string::npos) << text.out;
+    EXPECT_NE(text.out.find("box.raw"), std::string::npos) << text.out;
+}
+
 TEST(InfoCommandTest, MissingFileIsRuntimeError) {
     ScratchDir dir;
     EXPECT_EQ(run({"info", (dir / "absent.nii").string()}), kRuntimeError);

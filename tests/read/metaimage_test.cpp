@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <filesystem>
 
 #include "read/text_formats.h"
 #include "test_data.h"
 #include "text_reader_test_util.h"
+#include "vdbmesh/error.h"
 #include "vdbmesh/read.h"
 
 namespace vdbmesh {
@@ -114,6 +116,37 @@ TEST(MetaImageTest, ZlibCompressedLocal) {
     EXPECT_EQ(source.segments[0].file_offset, header.size());
     EXPECT_EQ(source.segments[0].bytes, 24u);
     EXPECT_EQ(read_all_samples(std::move(source)), std::vector<float>(kInt16Values.begin(), kInt16Values.end()));
+}
+
+// A header from elsewhere must not make us read any file it names (issue 10, point 5): a data
+// file outside the header's folder, by ".." or an absolute path, is refused unless allowed.
+TEST(MetaImageTest, ADataFileOutsideTheHeadersFolderIsRefusedUnlessAllowed) {
+    test::ScratchDir scratch;
+    std::filesystem::create_directory(scratch / "scan");
+    test::write_file(scratch / "outside.raw", int16_le(kInt16Values));
+    test::write_file(scratch / "scan" / "up.mhd", int16_header("ElementDataFile = ../outside.raw\n"));
+    test::write_file(scratch / "scan" / "absolute.mhd",
+                     int16_header("ElementDataFile = " + std::filesystem::absolute(scratch / "outside.raw").string() + "\n"));
+    for (const char* name : {"up.mhd", "absolute.mhd"}) {
+        try {
+            open_volume_source(scratch / "scan" / name);
+            ADD_FAILURE() << name << ": read a data file outside the header's folder";
+        } catch (const FormatError& e) {
+            const std::string message = e.what();
+            EXPECT_NE(message.find("ElementDataFile"), std::string::npos) << message;
+            EXPECT_NE(message.find("outside.raw"), std::string::npos) << message;
+            EXPECT_NE(message.find("--allow-outside-data"), std::string::npos) << message;
+        }
+        ReadOptions allowed;
+        allowed.allow_outside_data = true;
+        EXPECT_EQ(read_all_samples(open_volume_source(scratch / "scan" / name, allowed)),
+                  std::vector<float>(kInt16Values.begin(), kInt16Values.end()));
+    }
+    // Beside the header, and below it, is fine.
+    std::filesystem::create_directory(scratch / "scan" / "data");
+    test::write_file(scratch / "scan" / "data" / "in.raw", int16_le(kInt16Values));
+    test::write_file(scratch / "scan" / "below.mhd", int16_header("ElementDataFile = data/in.raw\n"));
+    EXPECT_NO_THROW(open_volume_source(scratch / "scan" / "below.mhd"));
 }
 
 TEST(MetaImageTest, ZlibCompressedAtTheEndOfADetachedFile) {
