@@ -16,6 +16,14 @@ int run(const std::vector<std::string>& args) {
     CommandResult result;
     for (const CommandEntry& entry : kCommands) entry.add(*app.add_subcommand(entry.name, entry.summary), result);
 
+    // CLI11 would say only "A subcommand is required" for a word that is not a command.
+    if (!args.empty() && !args.front().empty() && args.front()[0] != '-' &&
+        std::none_of(std::begin(kCommands), std::end(kCommands), [&](const CommandEntry& e) { return args.front() == e.name; })) {
+        std::cerr << "vdbmesh: unknown command \"" << args.front() << "\"; the commands are:";
+        for (const CommandEntry& entry : kCommands) std::cerr << " " << entry.name;
+        std::cerr << " (vdbmesh --help)\n";
+        return kUsageError;
+    }
     // CLI11 wants the arguments reversed when given as a vector.
     std::vector<std::string> reversed(args.rbegin(), args.rend());
     try {

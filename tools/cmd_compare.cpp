@@ -210,6 +210,8 @@ Plot make_plot(const std::string& title, const std::vector<MeshComparison>& mesh
 int run_compare(const CompareCommandOptions& o) {
     const ThreadLimit limit(o.common);
     CompareOptions options;
+    if (!o.plot.empty() && std::filesystem::path(o.plot).extension() != ".svg")
+        throw UsageError("--plot: expected a file name ending in .svg (the chart is SVG), got \"" + o.plot + "\"");
     options.errors = parse_number_list("--error", o.errors);
     if (!o.dc_errors.empty()) options.dc_errors = parse_number_list("--dc-error", o.dc_errors);
     options.adaptivities = parse_number_list("--adaptivity", o.adaptivities);

@@ -150,7 +150,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
         ->check(CLI::IsMember(kMethods, CLI::ignore_case))
         ->capture_default_str();
     command.add_option("--error", options->mesh.error, "dc, dmc: tolerated error in voxels (0: no simplification, Marching Cubes)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(kFiniteNonNegative)
         ->capture_default_str();
     command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")
         ->check(CLI::Range(0.0, 1.0))

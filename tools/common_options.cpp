@@ -66,7 +66,8 @@ ReadOptions ReadFlags::to_read_options(const std::vector<std::string>& more_inpu
             throw UsageError("--spacing: expected three positive numbers SX,SY,SZ, got \"" + spacing + "\"");
         options.raw_spacing = {s[0], s[1], s[2]};
     }
-    options.raw_header_bytes = header_bytes;
+    if (header_bytes < 0) throw UsageError("--header-bytes: expected a number of bytes >= 0, got " + std::to_string(header_bytes));
+    options.raw_header_bytes = std::uint64_t(header_bytes);
     options.allow_outside_data = allow_outside_data;
     return options;
 }

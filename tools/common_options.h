@@ -4,6 +4,8 @@
 #include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <string>
 
@@ -31,7 +33,7 @@ private:
 /// --raw-dims, --raw-type, --raw-endian, --spacing, --header-bytes, as strings until parsed.
 struct ReadFlags {
     std::string raw_dims, raw_type = "u8", raw_endian = "little", spacing;
-    std::uint64_t header_bytes = 0;
+    std::int64_t header_bytes = 0;  ///< signed, so that a negative value is reported as given
     bool allow_outside_data = false;
     /// Converts to ReadOptions; throws UsageError on malformed values. @a more_inputs are the
     /// positional inputs after the first: the further parts of a split raw scan, read in order
@@ -39,6 +41,17 @@ struct ReadFlags {
     ReadOptions to_read_options(const std::vector<std::string>& more_inputs = {}) const;
 };
 void add_read_flags(CLI::App& command, ReadFlags& flags);
+
+/// Accepts a finite number >= 0 (CLI11's NonNegativeNumber lets nan through).
+inline const CLI::Validator kFiniteNonNegative(
+    [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(value) || value < 0)
+            return "expected a finite number >= 0, got " + text;
+        return {};
+    },
+    "FINITE >= 0");
 
 /// A one-line percentage on stderr, shown only on a terminal and without --quiet.
 class Progress {

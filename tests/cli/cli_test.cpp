@@ -4,6 +4,8 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "cli.h"
 #include "commands.h"
@@ -41,7 +43,33 @@ std::string capture_help(const std::vector<std::string>& args) {
 
 TEST(CliTest, HelpSucceeds) { EXPECT_EQ(run({"--help"}), kSuccess); }
 
-TEST(CliTest, UnknownSubcommandIsUsageError) { EXPECT_EQ(run({"frobnicate"}), kUsageError); }
+/// The exit status and what went to stderr.
+std::pair<int, std::string> run_capturing_stderr(const std::vector<std::string>& args) {
+    testing::internal::CaptureStderr();
+    const int status = run(args);
+    return {status, testing::internal::GetCapturedStderr()};
+}
+
+TEST(CliTest, UnknownSubcommandIsUsageErrorNamingIt) {
+    const auto [status, message] = run_capturing_stderr({"frobnicate"});
+    EXPECT_EQ(status, kUsageError);
+    EXPECT_NE(message.find("unknown command \"frobnicate\""), std::string::npos) << message;
+    EXPECT_NE(message.find("mesh"), std::string::npos) << message;  // the commands are listed
+}
+
+// Issue 10, point 6: messages that name the option and the value as given.
+TEST(CliTest, BadNumbersAreReportedAsGiven) {
+    const auto [nan_status, nan_message] = run_capturing_stderr({"mesh", "in.nii", "--iso", "1", "--error", "nan", "-o", "out.stl"});
+    EXPECT_EQ(nan_status, kUsageError);
+    EXPECT_NE(nan_message.find("--error"), std::string::npos) << nan_message;
+    EXPECT_NE(nan_message.find("nan"), std::string::npos) << nan_message;
+    const auto [bytes_status, bytes_message] =
+        run_capturing_stderr({"info", "in.raw", "--raw-dims", "2,2,2", "--header-bytes", "-1", "-q"});
+    EXPECT_EQ(bytes_status, kUsageError);
+    EXPECT_NE(bytes_message.find("--header-bytes"), std::string::npos) << bytes_message;
+    EXPECT_NE(bytes_message.find("got -1"), std::string::npos) << bytes_message;
+    EXPECT_EQ(bytes_message.find("18446744073709551615"), std::string::npos) << bytes_message;
+}
 
 TEST(CliTest, NoSubcommandIsUsageError) { EXPECT_EQ(run({}), kUsageError); }
 

@@ -44,6 +44,12 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
     EXPECT_NE(text.find("<polyline"), std::string::npos);
 }
 
+TEST(CompareCliTest, APlotNotNamedSvgIsRefusedBeforeAnyWork) {
+    test::ScratchDir dir;
+    EXPECT_EQ(run({"compare", "--phantom", "sphere", "--size", "16", "--plot", (dir / "p.png").string(), "--quiet"}), kUsageError);
+    EXPECT_FALSE(std::filesystem::exists(dir / "p.png"));
+}
+
 TEST(CompareCliTest, ScanWithoutIsoIsAUsageError) {
     EXPECT_EQ(run({"compare", test::testdata("sphere_phantom.nii.gz").string(), "--quiet"}), kUsageError);
 }
