@@ -29,10 +29,16 @@ rlim_t memory_limit(std::uintmax_t file_bytes) {
     return physical > 0 ? std::min(wanted, physical) : wanted;
 }
 
-[[noreturn]] void read_in_child(const std::filesystem::path& path, rlim_t limit, int report) {
+/// Seconds the child may take: generous for a sound file of any size.
+unsigned time_limit(std::uintmax_t file_bytes) { return 30 + static_cast<unsigned>(file_bytes >> 24); }
+
+[[noreturn]] void read_in_child(const std::filesystem::path& path, rlim_t limit, unsigned seconds, int report) {
     const rlimit address_space{limit, limit}, no_core{0, 0};
     ::setrlimit(RLIMIT_AS, &address_space);
     ::setrlimit(RLIMIT_CORE, &no_core);
+    // A reader that loops, or a child that blocks (a lock held by another thread of the parent
+    // at fork()), ends by SIGALRM instead of hanging the parent.
+    ::alarm(seconds);
     const int null = ::open("/dev/null", O_WRONLY);  // glibc's and OpenVDB's own complaints
     if (null >= 0) ::dup2(null, STDERR_FILENO);
     std::string failure;
@@ -67,13 +73,15 @@ std::string read_all(int fd) {
 void probe_vdb_in_child(const std::filesystem::path& path) {
     openvdb::initialize();
     std::error_code ec;
-    const rlim_t limit = memory_limit(std::filesystem::file_size(path, ec));
+    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+    const rlim_t limit = memory_limit(bytes);
+    const unsigned seconds = time_limit(bytes);
     int report[2];
     if (::pipe2(report, O_CLOEXEC) != 0) throw Error(path.string() + ": cannot create a pipe to check the .vdb file");
     const pid_t child = ::fork();
     if (child == 0) {
         ::close(report[0]);
-        read_in_child(path, limit, report[1]);
+        read_in_child(path, limit, seconds, report[1]);
     }
     ::close(report[1]);
     const std::string failure = child > 0 ? read_all(report[0]) : "";
@@ -82,6 +90,9 @@ void probe_vdb_in_child(const std::filesystem::path& path) {
     int status = 0;
     while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
     }
+    if (WIFSIGNALED(status) && WTERMSIG(status) == SIGALRM)
+        throw FormatError(path.string(), "reading it did not finish in " + std::to_string(seconds) +
+                                             " s (OpenVDB's reader can loop on a corrupt file)");
     if (WIFSIGNALED(status))
         throw FormatError(path.string(), std::string("corrupt .vdb file: OpenVDB's reader crashed on it (") +
                                              ::strsignal(WTERMSIG(status)) + ")");
