@@ -1,7 +1,8 @@
 // `vdbmesh compare IN [--iso V] [--error LIST] [--adaptivity LIST] [--json FILE] [--plot FILE.svg]`
 // `vdbmesh compare --phantom SHAPE [--size N] [--blur W] ...`
-// Converts once, then meshes the same grid in this process with DMC at each --error, Marching
-// Cubes, and volumeToMesh at each --adaptivity, and measures each mesh (compare_meshers(),
+// Converts once, then meshes the same grid in this process with DC (the default mesher) at each
+// --error, DMC at each --dmc-error, Marching Cubes, and volumeToMesh at each --adaptivity, and
+// measures each mesh (compare_meshers(),
 // include/vdbmesh/compare.h): time, `vdbmesh check`'s figures, two-sided distance to the true
 // isosurface in voxels and normal deviation. The true surface of a scan or .vdb is the
 // trilinear isosurface of its grid; of a phantom (written to a temporary float NIfTI, then
@@ -41,7 +42,7 @@ struct CompareCommandOptions {
     std::int64_t size = 64;
     double blur = 5;
     std::string errors = "0,0.1,0.25,0.5", adaptivities = "0,0.1,0.25,1";
-    std::string dc_errors;
+    std::string dmc_errors;
     Inside inside = Inside::above;
     std::size_t samples = 100000;
     std::string json, plot;
@@ -213,7 +214,7 @@ int run_compare(const CompareCommandOptions& o) {
     if (!o.plot.empty() && std::filesystem::path(o.plot).extension() != ".svg")
         throw UsageError("--plot: expected a file name ending in .svg (the chart is SVG), got \"" + o.plot + "\"");
     options.errors = parse_number_list("--error", o.errors);
-    if (!o.dc_errors.empty()) options.dc_errors = parse_number_list("--dc-error", o.dc_errors);
+    if (!o.dmc_errors.empty()) options.dmc_errors = parse_number_list("--dmc-error", o.dmc_errors);
     options.adaptivities = parse_number_list("--adaptivity", o.adaptivities);
     options.inside = o.inside;
     options.accuracy.samples = o.samples;
@@ -252,8 +253,9 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
         ->check(CLI::IsMember(names));
     command.add_option("--size", o.size, "--phantom: edge of the cubic volume in voxels")->capture_default_str();
     command.add_option("--blur", o.blur, "--phantom: half-width of the density ramp in voxels")->capture_default_str();
-    command.add_option("--error", o.errors, "DMC error tolerances (voxels), one mesh each")->capture_default_str();
-    command.add_option("--dc-error", o.dc_errors, "Intersection-free DC error tolerances (voxels), one mesh each");
+    command.add_option("--error", o.errors, "Error tolerances (voxels) of the default mesher (intersection-free DC), one mesh each")
+        ->capture_default_str();
+    command.add_option("--dmc-error", o.dmc_errors, "Error tolerances (voxels) of --method dmc, one mesh each");
     command.add_option("--adaptivity", o.adaptivities, "volumeToMesh adaptivities in [0, 1], one mesh each")
         ->capture_default_str();
     const std::map<std::string, Inside> sides = {{"above", Inside::above}, {"below", Inside::below}};

@@ -94,8 +94,8 @@ private:
 struct CompareOptions {
     double iso = 0;
     Inside inside = Inside::above;
-    std::vector<double> errors{0, 0.1, 0.25, 0.5};         ///< DMC, one mesh each
-    std::vector<double> dc_errors;                         ///< intersection-free DC, one mesh each
+    std::vector<double> errors{0, 0.1, 0.25, 0.5};         ///< the default mesher (intersection-free DC), one mesh each
+    std::vector<double> dmc_errors;                        ///< the first adaptive mesher (DMC), one mesh each
     std::vector<double> adaptivities{0, 0.1, 0.25, 1};     ///< volumeToMesh, one mesh each
     bool marching_cubes = true;                            ///< one MC mesh
     AccuracyOptions accuracy;
@@ -120,7 +120,7 @@ struct Comparison {
     std::size_t reference_triangles = 0;  ///< of the MC mesh the reference samples come from
 };
 
-/// Meshes @a grid with every setting (DMC at each error, MC, volumeToMesh at each
+/// Meshes @a grid with every setting (DC at each error, DMC at each of its errors, MC, volumeToMesh at each
 /// adaptivity, in that order), one at a time in this process, timing mesh_grid() alone, and
 /// measures each result. Meshes are dropped once measured.
 Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions& options);

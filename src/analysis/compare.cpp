@@ -212,8 +212,8 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
         run.adaptivity = adaptivity;
         runs.push_back(run);
     };
-    for (double error : options.errors) add_run(MeshMethod::dmc, error, std::nullopt);
-    for (double error : options.dc_errors) add_run(MeshMethod::dc, error, std::nullopt);
+    for (double error : options.errors) add_run(MeshMethod::dc, error, std::nullopt);
+    for (double error : options.dmc_errors) add_run(MeshMethod::dmc, error, std::nullopt);
     if (options.marching_cubes) add_run(MeshMethod::mc, std::nullopt, std::nullopt);
     for (double adaptivity : options.adaptivities) add_run(MeshMethod::openvdb, std::nullopt, adaptivity);
 

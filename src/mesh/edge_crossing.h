@@ -38,10 +38,11 @@ inline double outside_scan_value(bool inside_above) {
 }
 
 /// Where along the edge from value f0 (t = 0) to f1 (t = 1) the isosurface crosses; f0 and f1
-/// lie on different sides of @a iso.
-inline double crossing_parameter(double f0, double f1, double iso) {
+/// lie on different sides of @a iso. Kept @a margin (at least kCrossingMargin) from the ends.
+inline double crossing_parameter(double f0, double f1, double iso, double margin = kCrossingMargin) {
     if (std::isinf(f0) || std::isinf(f1)) return 0.5;
-    return std::clamp((iso - f0) / (f1 - f0), kCrossingMargin, 1.0 - kCrossingMargin);
+    margin = std::max(margin, kCrossingMargin);
+    return std::clamp((iso - f0) / (f1 - f0), margin, 1.0 - margin);
 }
 
 using Point3d = std::array<double, 3>;
@@ -52,13 +53,14 @@ inline bool lexicographically_less(const Point3d& a, const Point3d& b) {
     return a[0] < b[0];
 }
 
-/// The surface point on the segment p0-p1 (index space) whose ends hold values f0 and f1.
-inline Point3d edge_crossing(Point3d p0, double f0, Point3d p1, double f1, double iso) {
+/// The surface point on the segment p0-p1 (index space) whose ends hold values f0 and f1, kept
+/// @a margin of the segment from its ends.
+inline Point3d edge_crossing(Point3d p0, double f0, Point3d p1, double f1, double iso, double margin = kCrossingMargin) {
     if (lexicographically_less(p1, p0)) {
         std::swap(p0, p1);
         std::swap(f0, f1);
     }
-    const double t = crossing_parameter(f0, f1, iso);
+    const double t = crossing_parameter(f0, f1, iso, margin);
     return {p0[0] + t * (p1[0] - p0[0]), p0[1] + t * (p1[1] - p0[1]), p0[2] + t * (p1[2] - p0[2])};
 }
 

@@ -113,7 +113,7 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     if (options.progress) options.progress(0.4);
     std::vector<IfcBlockOutput> outputs(cells.origins.size());
     for_each_surface_block(grid, classifier, cells.origins, [&](const IfcSamples& samples, auto& accessor, std::size_t b) {
-        contour_ifc_block(samples, classifier, accessor, cells, b, grid.transform(), outputs[b]);
+        contour_ifc_block(samples, classifier, accessor, cells, b, grid.transform(), options.error, outputs[b]);
         outputs[b].vertices.shrink_to_fit();  // growth leaves up to half unused: it adds up over blocks
         outputs[b].triangles.shrink_to_fit();
     });

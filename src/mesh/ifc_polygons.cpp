@@ -27,6 +27,7 @@
 #include <cmath>
 #include <optional>
 
+#include "mesh/ifc_fan.h"
 #include "mesh/mc_table.h"
 #include "vdbmesh/error.h"
 
@@ -41,6 +42,9 @@ namespace {
 
 /// Six times a tetrahedron's volume (voxels^3) below which a flip is not trusted.
 constexpr double kOrientationFloor = 1e-3;
+
+/// Largest distance (voxels) a crossing is moved along its edge away from the nearer sample.
+constexpr double kMaxCrossingMargin = 0.25;
 
 // ---- Vertex keys: kind (2 bits), payload (5 bits), x, y, z (19 bits each, biased) ----
 constexpr int kCoordBits = 19;
@@ -77,11 +81,43 @@ double orient(const Point3d& a, const Point3d& b, const Point3d& c, const Point3
     return b0 * (c1 * d2 - c2 * d1) - b1 * (c0 * d2 - c2 * d0) + b2 * (c0 * d1 - c1 * d0);
 }
 
+Point3d lerp(const Point3d& a, const Point3d& b, double t) {
+    return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
+}
+
+double squared_distance(const Point3d& a, const Point3d& b) {
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+}
+
+double distance_to_segment(const Point3d& p, const Point3d& a, const Point3d& b) {
+    const double length2 = squared_distance(a, b);
+    double t = 0;
+    if (length2 > 0) t = ((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1]) + (p[2] - a[2]) * (b[2] - a[2])) / length2;
+    return std::sqrt(squared_distance(p, lerp(a, b, std::clamp(t, 0.0, 1.0))));
+}
+
+/// The smallest angle of triangle (a, b, c), degrees (0 when degenerate).
+double smallest_angle(const Point3d& a, const Point3d& b, const Point3d& c) {
+    const Point3d* p[3] = {&a, &b, &c};
+    double smallest = 180;
+    for (int k = 0; k < 3; ++k) {
+        const Point3d& o = *p[k];
+        const Point3d& q = *p[(k + 1) % 3];
+        const Point3d& r = *p[(k + 2) % 3];
+        const double lq = std::sqrt(squared_distance(o, q)), lr = std::sqrt(squared_distance(o, r));
+        if (lq == 0 || lr == 0) return 0;
+        const double c = ((q[0] - o[0]) * (r[0] - o[0]) + (q[1] - o[1]) * (r[1] - o[1]) + (q[2] - o[2]) * (r[2] - o[2])) / (lq * lr);
+        smallest = std::min(smallest, std::acos(std::clamp(c, -1.0, 1.0)) * 180 / 3.14159265358979323846);
+    }
+    return smallest;
+}
+
 class BlockContour {
 public:
     BlockContour(const IfcSamples& s, const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor,
-                 const IfcCellGrid& grid, std::size_t block, const openvdb::math::Transform& transform, IfcBlockOutput& out)
-        : s_(s), classifier_(classifier), accessor_(accessor), iso_(classifier.iso()), grid_(grid), block_(block),
+                 const IfcCellGrid& grid, std::size_t block, const openvdb::math::Transform& transform, double error,
+                 IfcBlockOutput& out)
+        : s_(s), classifier_(classifier), accessor_(accessor), iso_(classifier.iso()), error_(error), crossing_margin_(std::min(error, kMaxCrossingMargin)), grid_(grid), block_(block),
           transform_(transform), out_(out) {}
 
     void run() {
@@ -193,7 +229,7 @@ private:
         const Point3d p0 = to_point(s_.origin.offsetBy(x, y, z));
         Point3d p1 = p0;
         p1[axis] += 1;
-        return edge_crossing(p0, s_.at(x, y, z), p1, s_.at(x + (axis == 0), y + (axis == 1), z + (axis == 2)), iso_);
+        return edge_crossing(p0, s_.at(x, y, z), p1, s_.at(x + (axis == 0), y + (axis == 1), z + (axis == 2)), iso_, crossing_margin_);
     }
 
     // ---- faces between two merged cells ----
@@ -203,18 +239,17 @@ private:
         Point3d point{};
     };
 
-    /// The midpoint of the two crossed grid edges on the perimeter of the face [lo, hi] (flat
+    /// The crossings of the two crossed grid edges on the perimeter of the face [lo, hi] (flat
     /// along @a normal); none unless there are exactly two.
-    std::optional<Point3d> chord_midpoint(const Point3d& lo, const Point3d& hi, int normal) {
+    std::optional<std::array<Point3d, 2>> chord_ends(const Point3d& lo, const Point3d& hi, int normal) {
         const int u = (normal + 1) % 3, w = (normal + 2) % 3;
-        Point3d sum = {0, 0, 0};
+        std::array<Point3d, 2> ends;
         int count = 0;
         auto visit = [&](openvdb::Coord start, int axis) {
             const openvdb::Coord end = start.offsetBy(axis == 0, axis == 1, axis == 2);
             const double f0 = sample(start), f1 = sample(end);
             if (classifier_.inside(f0) == classifier_.inside(f1)) return;
-            const Point3d p = edge_crossing(to_point(start), f0, to_point(end), f1, iso_);
-            for (int a = 0; a < 3; ++a) sum[a] += p[a];
+            if (count < 2) ends[count] = edge_crossing(to_point(start), f0, to_point(end), f1, iso_, crossing_margin_);
             ++count;
         };
         const openvdb::Coord corner{int(lo[0]), int(lo[1]), int(lo[2])};
@@ -230,8 +265,44 @@ private:
             }
         }
         if (count != 2) return std::nullopt;
-        for (double& c : sum) c *= 0.5;
-        return sum;
+        return ends;
+    }
+
+    /// The face point for the fans of the chord @a ends between the vertices @a va and @a vb:
+    /// of points between the chord's midpoint and @a through (where the segment va-vb meets the
+    /// face, clamped into it), no farther than the error from the chord and no farther from the
+    /// surface than the midpoint (first-order distance in the trilinear field), the one whose
+    /// four triangles (a chord end, a vertex, the point) have the largest smallest angle; then
+    /// kept the interior margin inside the face [lo, hi] (flat along @a normal), which is convex.
+    Point3d face_point(const std::array<Point3d, 2>& ends, const Point3d& through, const Point3d& va, const Point3d& vb,
+                       const Point3d& lo, const Point3d& hi, int normal) {
+        const Point3d mid = lerp(ends[0], ends[1], 0.5);
+        const double mid_distance = surface_distance(mid);
+        Point3d best = mid;
+        double best_angle = -1;
+        for (const double t : {0.0, 0.25, 0.5, 0.75, 1.0}) {
+            const Point3d m = lerp(mid, through, t);
+            if (t > 0 && distance_to_segment(m, ends[0], ends[1]) > error_) break;
+            if (t > 0 && surface_distance(m) > mid_distance) continue;
+            double angle = 180;
+            for (const Point3d& e : ends) angle = std::min({angle, smallest_angle(e, va, m), smallest_angle(e, m, vb)});
+            if (angle > best_angle) {
+                best_angle = angle;
+                best = m;
+            }
+        }
+        for (int k = 0; k < 3; ++k) {
+            best[k] = k == normal ? lo[k] : std::clamp(best[k], lo[k] + kIfcInteriorMargin, hi[k] - kIfcInteriorMargin);
+        }
+        return best;
+    }
+
+    /// First-order distance (voxels) from @a p to the trilinear isosurface of the unit cell holding it.
+    double surface_distance(const Point3d& p) {
+        const openvdb::Coord cell(int(std::floor(p[0])), int(std::floor(p[1])), int(std::floor(p[2])));
+        std::array<double, 8> values;
+        for (int c = 0; c < 8; ++c) values[c] = sample(cell.offsetBy(c & 1, (c >> 1) & 1, c >> 2));
+        return trilinear_surface_distance(values, {p[0] - cell.x(), p[1] - cell.y(), p[2] - cell.z()}, iso_);
     }
 
     /// The value meshers use at grid point @a ijk.
@@ -271,10 +342,10 @@ private:
             plan.point[k] = std::clamp(x, lo[k] + kIfcInteriorMargin, hi[k] - kIfcInteriorMargin);
         }
         if (!plan.direct) {
-            // On the chord of the surface's trace across the face, strictly inside the face
-            // and near the surface (the clamped crossing can be a face's width away from it).
-            const auto chord = chord_midpoint(lo, hi, normal);
-            if (chord) plan.point = *chord;
+            // Near the chord of the surface's trace across the face (the clamped crossing
+            // alone can be a face's width away from the surface).
+            const auto chord = chord_ends(lo, hi, normal);
+            if (chord) plan.point = face_point(*chord, plan.point, va, vb, lo, hi, normal);
             // Named by the smaller cell (the face is one of its faces: leaves do not nest, so
             // its minimum corner names it) and the side it faces.
             const CellView& owner = a.size <= b.size ? a : b;
@@ -331,9 +402,6 @@ private:
         return false;
     }
 
-    static double squared_distance(const Point3d& a, const Point3d& b) {
-        return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
-    }
 
     /// The other crossed edge of the unit face between quadrants @a q and @a q + 1 round edge @a e.
     std::uint64_t partner_on_unit_face(const openvdb::Coord& e, int axis, int q, bool outward_positive) const {
@@ -395,6 +463,8 @@ private:
     const SampleClassifier& classifier_;
     openvdb::FloatGrid::ConstAccessor& accessor_;
     double iso_;
+    double error_;
+    double crossing_margin_;  ///< of the edge's length, kept between a crossing and the edge's ends
     const IfcCellGrid& grid_;
     std::size_t block_;
     const openvdb::math::Transform& transform_;
@@ -405,8 +475,8 @@ private:
 
 void contour_ifc_block(const IfcSamples& samples, const SampleClassifier& classifier,
                        openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid, std::size_t block,
-                       const openvdb::math::Transform& transform, IfcBlockOutput& out) {
-    BlockContour(samples, classifier, accessor, grid, block, transform, out).run();
+                       const openvdb::math::Transform& transform, double error, IfcBlockOutput& out) {
+    BlockContour(samples, classifier, accessor, grid, block, transform, error, out).run();
 }
 
 }  // namespace vdbmesh::detail

@@ -28,6 +28,6 @@ struct IfcBlockOutput {
 /// merged cell.
 void contour_ifc_block(const IfcSamples& samples, const SampleClassifier& classifier,
                        openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid, std::size_t block,
-                       const openvdb::math::Transform& transform, IfcBlockOutput& out);
+                       const openvdb::math::Transform& transform, double error, IfcBlockOutput& out);
 
 }  // namespace vdbmesh::detail

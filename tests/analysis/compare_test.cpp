@@ -142,13 +142,13 @@ TEST_F(CompareTest, CompareMeshersRunsEverySettingInOrder) {
     const Comparison result = compare_meshers(*grid_, options);
     ASSERT_EQ(result.meshes.size(), 5u);
     EXPECT_EQ(calls, 6u);  // before each mesh, and once at the end
-    EXPECT_EQ(result.meshes[0].method, MeshMethod::dmc);
+    EXPECT_EQ(result.meshes[0].method, MeshMethod::dc);
     EXPECT_EQ(result.meshes[1].error, 0.25);
     EXPECT_EQ(result.meshes[2].method, MeshMethod::mc);
     EXPECT_FALSE(result.meshes[2].error.has_value());
     EXPECT_EQ(result.meshes[4].adaptivity, 1.0);
     EXPECT_GT(result.reference_triangles, 0u);
-    // DMC at error 0 is MC (dmc.h): the same triangle count.
+    // DC at error 0 is MC (ifc.h): the same triangle count.
     EXPECT_EQ(result.meshes[0].analysis.triangles, result.meshes[2].analysis.triangles);
     for (const auto& m : result.meshes) {
         EXPECT_TRUE(m.analysis.closed) << method_name(m.method);

@@ -24,13 +24,13 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
     const nlohmann::json report = nlohmann::json::parse(in);
     EXPECT_EQ(report["grid"]["truth"], "exact phantom surface");
     EXPECT_GT(report["grid"]["active_voxels"].get<long>(), 0);
-    ASSERT_EQ(report["meshes"].size(), 5u);  // 2 DMC, MC, 2 volumeToMesh
+    ASSERT_EQ(report["meshes"].size(), 5u);  // 2 DC, MC, 2 volumeToMesh
     for (const char* key : {"method", "error", "adaptivity", "seconds", "triangles", "vertices", "hausdorff_voxels",
                             "mean_distance_voxels", "self_intersecting_pairs", "closed", "manifold", "normal_mean_deg",
                             "normal_p95_deg", "boundary_edges", "genus", "area", "volume", "min_angle_deg"}) {
         for (const auto& mesh : report["meshes"]) EXPECT_TRUE(mesh.contains(key)) << key;
     }
-    EXPECT_EQ(report["meshes"][0]["method"], "dmc");
+    EXPECT_EQ(report["meshes"][0]["method"], "dc");
     EXPECT_EQ(report["meshes"][0]["error"], 0.0);
     EXPECT_TRUE(report["meshes"][0]["adaptivity"].is_null());
     EXPECT_EQ(report["meshes"][2]["method"], "mc");

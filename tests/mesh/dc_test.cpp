@@ -164,6 +164,31 @@ TEST(DcTest, NoiseIsCleanAndKeepsEveryComponentAtEveryError) {
     }
 }
 
+// Marching Cubes slivers come from crossings next to a sample (two vertices near a corner, a
+// third far). At --error E the crossings the mesh uses are kept min(E, 0.25) of the edge from
+// its samples: every vertex on a grid line (two integer coordinates; index space = world
+// space here) has its third coordinate at least that far from an integer.
+TEST(DcTest, CrossingsKeepTheirMarginFromTheSamples) {
+    const auto grid = dense_grid(32, smooth_noise(32, 7));
+    for (double error : {0.1, 0.25, 1.0}) {
+        const double margin = std::min(error, 0.25);
+        const Mesh mesh = mesh_grid(*grid, dc_options(error)).mesh;
+        std::size_t on_lines = 0;
+        for (const auto& v : mesh.vertices) {
+            int integers = 0, free_axis = 0;
+            for (int a = 0; a < 3; ++a) {
+                if (std::abs(v[a] - std::round(v[a])) < 1e-5) ++integers;
+                else free_axis = a;
+            }
+            if (integers != 2) continue;  // a merged cell's vertex or a face point
+            ++on_lines;
+            const double fraction = v[free_axis] - std::floor(v[free_axis]);
+            EXPECT_GE(std::min(fraction, 1 - fraction), margin - 1e-5) << "error " << error;
+        }
+        EXPECT_GT(on_lines, 1000u) << "error " << error;
+    }
+}
+
 // A cube tilted by (20, 30, 10) degrees, sampled as a signed distance: sharp edges and
 // corners, where the QEF puts vertices on the features and the face and edge tests fail most.
 TEST(DcTest, TiltedCubeIsClean) {
