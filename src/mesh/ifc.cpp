@@ -105,7 +105,7 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     cells.origins = surface_blocks(grid, classifier);
     cells.blocks.resize(cells.origins.size());
     for_each_surface_block(grid, classifier, cells.origins, [&](const IfcSamples& samples, auto&, std::size_t b) {
-        build_ifc_cells(samples, options.iso, options.error, cells.blocks[b]);
+        build_ifc_cells(samples, options.iso, options.error, cells.block_for_writing(b));
     });
     clock.lap(report, "octree");
     merge_ifc_coarse_cells(grid, classifier, options.error, cells);

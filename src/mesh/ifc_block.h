@@ -7,6 +7,7 @@
 #include <openvdb/openvdb.h>
 
 #include <array>
+#include <memory>
 #include <cstdint>
 #include <vector>
 
@@ -77,9 +78,15 @@ struct IfcBlockCells {
 /// The blocks' cells, found by the origin of their block.
 struct IfcCellGrid {
     std::vector<openvdb::Coord> origins;  ///< sorted
-    std::vector<IfcBlockCells> blocks;    ///< in the same order
+    /// In the same order; null for a block never built (no surface). Each is allocated by the
+    /// task that builds it, so the memory is first touched in parallel, not in one serial resize.
+    std::vector<std::unique_ptr<IfcBlockCells>> blocks;
     /// The index of the block at @a origin, or -1.
     std::ptrdiff_t block_at(const openvdb::Coord& origin) const;
+    /// The cells of block @a b (all unit cells without surface if it was never built).
+    const IfcBlockCells& block(std::size_t b) const;
+    /// The cells of block @a b, allocated empty if it was never built.
+    IfcBlockCells& block_for_writing(std::size_t b);
 };
 
 /// How far a merged cell's vertex and a face point stay inside their cell or face (voxels):

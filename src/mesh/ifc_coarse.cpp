@@ -78,7 +78,7 @@ private:
             const openvdb::Coord local = grid_.origins[b] - origin_;
             const int i = index(kIfcMaxLevel, local.x() / kIfcBlock, local.y() / kIfcBlock, local.z() / kIfcBlock);
             block_index_[std::size_t(i)] = std::ptrdiff_t(b);
-            const IfcBlockCells& block = grid_.blocks[b];
+            const IfcBlockCells& block = grid_.block(b);
             Cell& cell = cells_[kIfcMaxLevel][std::size_t(i)];
             if (!block.root_leaf) cell.state = State::inner;
             else if (!block.cells.empty()) cell = {State::surface, block.root_qef, block.cells.front().vertex};
@@ -221,7 +221,7 @@ private:
                                 for (int z = k * blocks; z < (k + 1) * blocks; ++z) {
                                     const std::size_t b = std::size_t(index(kIfcMaxLevel, x, y, z));
                                     covered[b] = true;
-                                    if (block_index_[b] >= 0) replace_cells(grid_.blocks[std::size_t(block_index_[b])], merged);
+                                    if (block_index_[b] >= 0) replace_cells(grid_.block_for_writing(std::size_t(block_index_[b])), merged);
                                 }
                             }
                         }

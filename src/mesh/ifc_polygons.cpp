@@ -38,6 +38,23 @@ std::ptrdiff_t IfcCellGrid::block_at(const openvdb::Coord& origin) const {
     return it != origins.end() && *it == origin ? it - origins.begin() : -1;
 }
 
+const IfcBlockCells& IfcCellGrid::block(std::size_t b) const {
+    static const IfcBlockCells never_built = [] {
+        IfcBlockCells cells;
+        cells.cell.fill(IfcBlockCells::kNoCell);
+        return cells;
+    }();
+    return blocks[b] ? *blocks[b] : never_built;
+}
+
+IfcBlockCells& IfcCellGrid::block_for_writing(std::size_t b) {
+    if (!blocks[b]) {
+        blocks[b] = std::make_unique<IfcBlockCells>();
+        blocks[b]->cell.fill(IfcBlockCells::kNoCell);
+    }
+    return *blocks[b];
+}
+
 namespace {
 
 /// Six times a tetrahedron's volume (voxels^3) below which a flip is not trusted.
@@ -123,9 +140,10 @@ public:
     void run() {
         for (int n = 0; n < 27; ++n) {
             const openvdb::Coord origin = s_.origin.offsetBy((n / 9 - 1) * kIfcBlock, ((n / 3) % 3 - 1) * kIfcBlock, (n % 3 - 1) * kIfcBlock);
-            neighbour_[n] = n == 13 ? std::ptrdiff_t(block_) : grid_.block_at(origin);
+            const std::ptrdiff_t b = n == 13 ? std::ptrdiff_t(block_) : grid_.block_at(origin);
+            neighbour_[n] = b < 0 ? nullptr : &grid_.block(std::size_t(b));
         }
-        const IfcBlockCells& cells = grid_.blocks[block_];
+        const IfcBlockCells& cells = grid_.block(block_);
         for (const IfcCell& cell : cells.cells) add_vertex(make_key(1, cell.level, cell.min), cell.vertex);
         for (int x = 0; x < kIfcBlock; ++x) {
             for (int y = 0; y < kIfcBlock; ++y) {
@@ -165,9 +183,9 @@ private:
         CellView view;
         view.min = unit;
         const openvdb::Coord offset = origin - s_.origin;  // within one block of ours: edges touch no farther
-        const std::ptrdiff_t b = neighbour_[(offset.x() / kIfcBlock + 1) * 9 + (offset.y() / kIfcBlock + 1) * 3 + offset.z() / kIfcBlock + 1];
-        if (b < 0) return view;  // a block without surface: all unit cells
-        const IfcBlockCells& cells = grid_.blocks[std::size_t(b)];
+        const IfcBlockCells* block = neighbour_[(offset.x() / kIfcBlock + 1) * 9 + (offset.y() / kIfcBlock + 1) * 3 + offset.z() / kIfcBlock + 1];
+        if (!block) return view;  // a block without surface: all unit cells
+        const IfcBlockCells& cells = *block;
         const openvdb::Coord local = unit - origin;
         const int u = IfcBlockCells::unit_index(local.x(), local.y(), local.z());
         view.level = cells.level[u];
@@ -459,7 +477,7 @@ private:
     }
 
     const IfcSamples& s_;
-    std::array<std::ptrdiff_t, 27> neighbour_;  ///< the blocks round this one (index 13), or -1
+    std::array<const IfcBlockCells*, 27> neighbour_;  ///< the blocks round this one (index 13), or null
     const SampleClassifier& classifier_;
     openvdb::FloatGrid::ConstAccessor& accessor_;
     double iso_;
