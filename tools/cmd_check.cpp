@@ -99,7 +99,7 @@ void add_check_command(CLI::App& command, CommandResult& result) {
     command.add_option("mesh", o.mesh, "Mesh to check (.stl, .ply, .obj)")->required();
     command.add_option("--ref", o.reference, "Reference mesh: adds two-sided Hausdorff, mean and RMS distances");
     command.add_option("--samples", o.samples, "Points sampled on each mesh for --ref")
-        ->check(CLI::PositiveNumber)
+        ->check(kFinitePositive)
         ->capture_default_str();
     command.add_flag("--json", o.json, "One JSON object instead of a table");
     add_common_options(command, o.common);

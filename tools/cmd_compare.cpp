@@ -263,7 +263,7 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
         ->transform(CLI::CheckedTransformer(sides, CLI::ignore_case))
         ->default_str("above");
     command.add_option("--samples", o.samples, "Points sampled on each mesh and on the true surface")
-        ->check(CLI::PositiveNumber)
+        ->check(kFinitePositive)
         ->capture_default_str();
     command.add_option("--json", o.json, "Write the whole report as JSON to FILE");
     command.add_option("--plot", o.plot, "Write triangles against Hausdorff distance as an SVG chart to FILE");

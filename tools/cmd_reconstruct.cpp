@@ -77,7 +77,7 @@ void add_reconstruct_command(CLI::App& command, CommandResult& result) {
     command.add_option("INPUT", o->input, "Points: .xyz/.pts (x y z [nx ny nz]), .ply, or a .conf range-scan set")->required();
     command.add_option("-o,--output", o->output, "The surface (.stl, .ply, .obj) or the sampled field (.vdb, negative inside)")->required();
     command.add_option("--voxel", o->rec.sample.voxel, "Voxel size of the sampled field (0: the points' longest side / 256)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(kFiniteNonNegative);
     command.add_option("--decimate", o->rec.decimate, "Adaptive decimation: the fraction of points to remove first, in [0, 1)")
         ->check(CLI::Range(0.0, 0.99));
     command.add_option("--seed", o->rec.seed, "Seed of the decimation (the same seed repeats the result)");
@@ -88,7 +88,7 @@ void add_reconstruct_command(CLI::App& command, CommandResult& result) {
         ->check(CLI::Range(0.001, 0.45));
     command.add_option("--cluster", o->rec.cluster, "Average the points per cell of this size first (0: the voxel; -1: no averaging)");
     command.add_option("--outliers", o->rec.outlier_factor, "Drop points whose neighbour distance exceeds the median by this factor (0: keep all)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(kFiniteNonNegative);
     command.add_option("--min-component", o->rec.min_component,
                        "Drop surface components smaller in volume than this fraction of the largest (0: keep all)")
         ->check(CLI::Range(0.0, 1.0));

@@ -13,7 +13,7 @@ namespace vdbmesh::cli {
 
 void add_common_options(CLI::App& command, CommonOptions& options) {
     command.add_option("--threads", options.threads, "Worker threads (0: all cores); output is the same for any count")
-        ->check(CLI::NonNegativeNumber);
+        ->check(kFiniteNonNegative);
     command.add_flag("-q,--quiet", options.quiet, "No progress output");
 }
 
@@ -44,6 +44,10 @@ ReadOptions ReadFlags::to_read_options(const std::vector<std::string>& more_inpu
     ReadOptions options;
     if (!more_inputs.empty() && raw_dims.empty())
         throw UsageError("more than one input is only for a raw scan split over several files, which needs --raw-dims X,Y,Z");
+    for (const CLI::Option* option : raw_only) {
+        if (raw_dims.empty() && option->count() > 0)
+            throw UsageError(option->get_name() + ": only for headerless raw input, which needs --raw-dims X,Y,Z (the file's own header gives it otherwise)");
+    }
     options.raw_more_files.assign(more_inputs.begin(), more_inputs.end());
     if (!raw_dims.empty()) {
         const auto dims = parse_number_list("--raw-dims", raw_dims);
@@ -75,10 +79,12 @@ ReadOptions ReadFlags::to_read_options(const std::vector<std::string>& more_inpu
 void add_read_flags(CLI::App& command, ReadFlags& flags) {
     auto* group = command.add_option_group("Headerless raw input");
     group->add_option("--raw-dims", flags.raw_dims, "Read INPUT as headerless raw with these dims X,Y,Z");
-    group->add_option("--raw-type", flags.raw_type, "Sample type: u8|i8|u16|i16|u32|i32|f32|f64")->capture_default_str();
-    group->add_option("--raw-endian", flags.raw_endian, "Byte order: little|big")->capture_default_str();
-    group->add_option("--spacing", flags.spacing, "Voxel spacing SX,SY,SZ (world units)");
-    group->add_option("--header-bytes", flags.header_bytes, "Bytes to skip before the samples");
+    flags.raw_only = {
+        group->add_option("--raw-type", flags.raw_type, "Sample type: u8|i8|u16|i16|u32|i32|f32|f64")->capture_default_str(),
+        group->add_option("--raw-endian", flags.raw_endian, "Byte order: little|big")->capture_default_str(),
+        group->add_option("--spacing", flags.spacing, "Voxel spacing SX,SY,SZ (world units)"),
+        group->add_option("--header-bytes", flags.header_bytes, "Bytes to skip before the samples"),
+    };
     command.add_flag("--allow-outside-data", flags.allow_outside_data,
                      "Read a data file that a MetaImage, NRRD or OpenQVis header names outside its own folder");
 }

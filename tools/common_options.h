@@ -35,6 +35,9 @@ struct ReadFlags {
     std::string raw_dims, raw_type = "u8", raw_endian = "little", spacing;
     std::int64_t header_bytes = 0;  ///< signed, so that a negative value is reported as given
     bool allow_outside_data = false;
+    /// The options that mean something only with --raw-dims (set by add_read_flags): given
+    /// without it, they are refused rather than ignored.
+    std::vector<const CLI::Option*> raw_only;
     /// Converts to ReadOptions; throws UsageError on malformed values. @a more_inputs are the
     /// positional inputs after the first: the further parts of a split raw scan, read in order
     /// (ReadOptions::raw_more_files), allowed only with --raw-dims.
@@ -42,7 +45,8 @@ struct ReadFlags {
 };
 void add_read_flags(CLI::App& command, ReadFlags& flags);
 
-/// Accepts a finite number >= 0 (CLI11's NonNegativeNumber lets nan through).
+/// Accepts a finite number >= 0 (CLI11's NonNegativeNumber lets nan through, and prints DBL_MAX
+/// in 309 digits in its message).
 inline const CLI::Validator kFiniteNonNegative(
     [](std::string& text) -> std::string {
         char* end = nullptr;
@@ -52,6 +56,17 @@ inline const CLI::Validator kFiniteNonNegative(
         return {};
     },
     "FINITE >= 0");
+
+/// Accepts a finite number > 0 (CLI11's PositiveNumber prints DBL_MAX in 309 digits in its message).
+inline const CLI::Validator kFinitePositive(
+    [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(value) || value <= 0)
+            return "expected a finite number > 0, got " + text;
+        return {};
+    },
+    "FINITE > 0");
 
 /// A one-line percentage on stderr, shown only on a terminal and without --quiet.
 class Progress {

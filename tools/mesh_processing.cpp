@@ -60,14 +60,14 @@ void add_processing_options(CLI::App& command, ProcessingOptions& options) {
     grid->add_option("--step", options.step, "Sample every N-th voxel along each axis")->check(CLI::Range(1, 64));
     grid->add_flag("--keep-largest", options.solids.keep_largest, "Keep only the largest solid (face-connected inside samples)");
     grid->add_option("--min-component-volume", options.solids.min_volume, "Drop solids smaller than this (world units^3)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(kFiniteNonNegative);
     auto* mesh = command.add_option_group("Mesh processing (after meshing)");
     mesh->add_option("--taubin", options.taubin, "Taubin lambda/mu smoothing iterations (never self-intersecting)")
         ->check(CLI::Range(0, 1000));
     mesh->add_option("--decimate", options.decimate, "Keep this share of the triangles, in (0, 1] (quadric edge collapse)")
-        ->check(CLI::PositiveNumber & CLI::Range(0.0, 1.0));
+        ->check(kFinitePositive & CLI::Range(0.0, 1.0));
     mesh->add_option("--max-error", options.max_error, "Decimate while the quadric error stays under this (world units)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(kFiniteNonNegative);
 }
 
 namespace {

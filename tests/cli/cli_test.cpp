@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "commands.h"
+#include "test_data.h"
 
 namespace vdbmesh::cli {
 namespace {
@@ -69,6 +70,40 @@ TEST(CliTest, BadNumbersAreReportedAsGiven) {
     EXPECT_NE(bytes_message.find("--header-bytes"), std::string::npos) << bytes_message;
     EXPECT_NE(bytes_message.find("got -1"), std::string::npos) << bytes_message;
     EXPECT_EQ(bytes_message.find("18446744073709551615"), std::string::npos) << bytes_message;
+    // CLI11's own range checks printed DBL_MAX in 309 digits.
+    for (const std::vector<std::string>& args : {std::vector<std::string>{"mesh", "in.nii", "--iso", "1", "--threads", "-1", "-o", "out.stl"},
+                                                 std::vector<std::string>{"compare", "--phantom", "sphere", "--samples", "0", "-q"}}) {
+        const auto [status, message] = run_capturing_stderr(args);
+        EXPECT_EQ(status, kUsageError) << args[3];
+        EXPECT_LT(message.size(), 200u) << message;
+        EXPECT_NE(message.find(args[0] == "mesh" ? "--threads" : "--samples"), std::string::npos) << message;
+    }
+}
+
+// Issue 10, point 6: raw-only options without --raw-dims were ignored silently.
+TEST(CliTest, RawOptionsWithoutRawDimsAreRefused) {
+    for (const char* flag : {"--spacing", "--raw-type", "--raw-endian", "--header-bytes"}) {
+        const std::string value = std::string(flag) == "--spacing" ? "1,1,2" : std::string(flag) == "--raw-type" ? "u16"
+                                  : std::string(flag) == "--raw-endian"                                  ? "big"
+                                                                                                          : "16";
+        const auto [status, message] = run_capturing_stderr({"info", test::testdata("sphere_phantom.nii.gz").string(), flag, value, "-q"});
+        EXPECT_EQ(status, kUsageError) << flag;
+        EXPECT_NE(message.find(flag), std::string::npos) << message;
+        EXPECT_NE(message.find("--raw-dims"), std::string::npos) << message;
+    }
+}
+
+// Issue 10, point 6: a 5 MB bad value was echoed whole.
+TEST(CliTest, AHugeBadValueIsNotEchoedWhole) {
+    const std::string huge(5 << 20, 'x');
+    for (const std::vector<std::string>& args : {std::vector<std::string>{"mesh", "in.nii", "--iso", huge, "-o", "out.stl"},
+                                                 std::vector<std::string>{"mesh", "in.nii", "--iso", "1", "--error", huge, "-o", "out.stl"},
+                                                 std::vector<std::string>{huge}}) {
+        const auto [status, message] = run_capturing_stderr(args);
+        EXPECT_EQ(status, kUsageError);
+        EXPECT_LT(message.size(), 1000u) << message.substr(0, 200);
+        EXPECT_NE(message.find("bytes in all"), std::string::npos) << message.substr(0, 600);
+    }
 }
 
 TEST(CliTest, NoSubcommandIsUsageError) { EXPECT_EQ(run({}), kUsageError); }
