@@ -25,7 +25,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <optional>
 
 #include "mesh/ifc_fan.h"
@@ -85,7 +84,6 @@ struct CellView {
     int size = 1;
     int level = 0;
     const Point3d* vertex = nullptr;  ///< merged cells
-    const IfcCell* source = nullptr;  ///< merged cells: the block's entry holding the vertex
     bool merged() const { return vertex != nullptr; }
     bool operator==(const CellView& o) const { return min == o.min && size == o.size; }
     std::uint64_t key() const { return make_key(1, unsigned(level), min); }
@@ -131,17 +129,12 @@ double smallest_angle(const Point3d& a, const Point3d& b, const Point3d& c) {
     return smallest;
 }
 
-struct IfcContourScratch {
-    std::vector<IfcVertex> vertices;
-    std::vector<std::array<std::uint64_t, 3>> triangles;
-};
-
 class BlockContour {
 public:
     BlockContour(const IfcSamples& s, const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor,
                  const IfcCellGrid& grid, std::size_t block, const openvdb::math::Transform& transform, double error,
-                 IfcContourScratch& scratch, IfcBlockOutput& out)
-        : s_(s), scratch_(scratch), classifier_(classifier), accessor_(accessor), iso_(classifier.iso()), error_(error), crossing_margin_(std::min(error, kMaxCrossingMargin)), grid_(grid), block_(block),
+                 IfcBlockOutput& out)
+        : s_(s), classifier_(classifier), accessor_(accessor), iso_(classifier.iso()), error_(error), crossing_margin_(std::min(error, kMaxCrossingMargin)), grid_(grid), block_(block),
           transform_(transform), out_(out) {}
 
     void run() {
@@ -151,10 +144,7 @@ public:
             neighbour_[n] = b < 0 ? nullptr : &grid_.block(std::size_t(b));
         }
         const IfcBlockCells& cells = grid_.block(block_);
-        scratch_.vertices.clear();
-        scratch_.triangles.clear();
         for (const IfcCell& cell : cells.cells) add_vertex(make_key(1, cell.level, cell.min), cell.vertex);
-        own_cells_ = {cells.cells.data(), cells.cells.data() + cells.cells.size()};
         for (int x = 0; x < kIfcBlock; ++x) {
             for (int y = 0; y < kIfcBlock; ++y) {
                 for (int z = 0; z < kIfcBlock; ++z) {
@@ -165,51 +155,14 @@ public:
                 }
             }
         }
-        index_triangles();
     }
 
 private:
     void add_vertex(std::uint64_t key, const Point3d& index_point) {
         const openvdb::Vec3d w = transform_.indexToWorld(openvdb::Vec3d(index_point[0], index_point[1], index_point[2]));
-        scratch_.vertices.push_back({key, {float(w[0]), float(w[1]), float(w[2])}});
+        out_.vertices.push_back({key, {float(w[0]), float(w[1]), float(w[2])}});
     }
-    void add_triangle(std::uint64_t a, std::uint64_t b, std::uint64_t c) { scratch_.triangles.push_back({a, b, c}); }
-
-    /// The key of a merged cell's vertex; a neighbour's cell is added here so that the block
-    /// holds every vertex its triangles use (run() adds the block's own).
-    std::uint64_t use_cell(const CellView& cell) {
-        const std::less<const IfcCell*> before;
-        if (before(cell.source, own_cells_.first) || !before(cell.source, own_cells_.second)) add_vertex(cell.key(), *cell.vertex);
-        return cell.key();
-    }
-    /// The key of the crossing of the grid edge from @a start along @a axis; added here when a
-    /// neighbour owns the edge (its start lies outside the block), else crossed_edge() adds it.
-    std::uint64_t use_edge(const openvdb::Coord& start, int axis) {
-        const openvdb::Coord local = start - s_.origin;
-        const auto outside = [](int c) { return c < 0 || c >= kIfcBlock; };
-        if (outside(local.x()) || outside(local.y()) || outside(local.z())) {
-            add_vertex(edge_key(start, axis), crossing_point(local.x(), local.y(), local.z(), axis));
-        }
-        return edge_key(start, axis);
-    }
-
-    /// The block's vertices sorted by key, each once, and its triangles as indices into them,
-    /// copied out at their final size (growing the output itself would leave garbage behind).
-    void index_triangles() {
-        auto& v = scratch_.vertices;
-        std::sort(v.begin(), v.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key < b.key; });
-        v.erase(std::unique(v.begin(), v.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key == b.key; }), v.end());
-        out_.vertices.assign(v.begin(), v.end());
-        const auto& keyed = scratch_.triangles;
-        out_.triangles.resize(keyed.size());
-        for (std::size_t t = 0; t < keyed.size(); ++t) {
-            for (int k = 0; k < 3; ++k) {
-                const auto it = std::lower_bound(v.begin(), v.end(), keyed[t][k], [](const IfcVertex& a, std::uint64_t key) { return a.key < key; });
-                if (it == v.end() || it->key != keyed[t][k]) throw Error("contouring: a triangle refers to a vertex its block does not hold");
-                out_.triangles[t][k] = std::uint32_t(it - v.begin());
-            }
-        }
-    }
+    void add_triangle(std::uint64_t a, std::uint64_t b, std::uint64_t c) { out_.triangles.push_back({a, b, c}); }
 
     void marching_cube(int x, int y, int z) {
         const McCase& c = mc_case(s_.config(x, y, z));
@@ -218,7 +171,7 @@ private:
             for (int k = 0; k < 3; ++k) {
                 const unsigned c0 = kEdgeCorners[c.triangles[t][k]][0], c1 = kEdgeCorners[c.triangles[t][k]][1];
                 const int axis = (c0 ^ c1) == 1 ? 0 : (c0 ^ c1) == 2 ? 1 : 2;
-                keys[k] = use_edge(s_.origin.offsetBy(x + int(c0 & 1), y + int((c0 >> 1) & 1), z + int(c0 >> 2)), axis);
+                keys[k] = edge_key(s_.origin.offsetBy(x + int(c0 & 1), y + int((c0 >> 1) & 1), z + int(c0 >> 2)), axis);
             }
             add_triangle(keys[0], keys[1], keys[2]);
         }
@@ -238,10 +191,7 @@ private:
         view.level = cells.level[u];
         view.size = 1 << view.level;
         view.min = openvdb::Coord(unit.x() & ~(view.size - 1), unit.y() & ~(view.size - 1), unit.z() & ~(view.size - 1));
-        if (cells.cell[u] != IfcBlockCells::kNoCell) {
-            view.source = &cells.cells[cells.cell[u]];
-            view.vertex = &view.source->vertex;
-        }
+        if (cells.cell[u] != IfcBlockCells::kNoCell) view.vertex = &cells.cells[cells.cell[u]].vertex;
         return view;
     }
 
@@ -463,7 +413,7 @@ private:
             }
             if (!valid) continue;
             for (int j = 1; j + 1 < ring.count; ++j) {
-                add_triangle(use_cell(ring.cell[s]), use_cell(ring.cell[(s + j) % ring.count]), use_cell(ring.cell[(s + j + 1) % ring.count]));
+                add_triangle(ring.cell[s].key(), ring.cell[(s + j) % ring.count].key(), ring.cell[(s + j + 1) % ring.count].key());
             }
             return true;
         }
@@ -472,7 +422,7 @@ private:
 
 
     /// The other crossed edge of the unit face between quadrants @a q and @a q + 1 round edge @a e.
-    std::uint64_t partner_on_unit_face(const openvdb::Coord& e, int axis, int q, bool outward_positive) {
+    std::uint64_t partner_on_unit_face(const openvdb::Coord& e, int axis, int q, bool outward_positive) const {
         const int u = (axis + 1) % 3, w = (axis + 2) % 3;
         // Between quadrants q and the next one going round (in the ring's direction).
         const int next = outward_positive ? (q + 1) % 4 : (q + 3) % 4;
@@ -496,7 +446,8 @@ private:
         for (const auto& [start, dir] : edges) {
             const openvdb::Coord local = start - s_.origin;
             if (!s_.crossed(local.x(), local.y(), local.z(), dir)) continue;
-            if (edge_key(start, dir) != own) return use_edge(start, dir);
+            const std::uint64_t key = edge_key(start, dir);
+            if (key != own) return key;
         }
         throw Error("contouring: a unit face next to a merged cell has one crossed edge");
     }
@@ -509,25 +460,23 @@ private:
             if (a.merged() && b.merged()) {
                 const FacePlan plan = face_plan(a, b);
                 if (plan.direct) {
-                    add_triangle(p, use_cell(a), use_cell(b));
+                    add_triangle(p, a.key(), b.key());
                 } else {
-                    add_triangle(p, use_cell(a), plan.key);
-                    add_triangle(p, plan.key, use_cell(b));
+                    add_triangle(p, a.key(), plan.key);
+                    add_triangle(p, plan.key, b.key());
                 }
             } else if (a.merged() || b.merged()) {
                 // The unit cell's face holds the surface's segment p-q; the triangle over it
                 // is made once, from the edge with the smaller key.
                 const std::uint64_t q = partner_on_unit_face(e, axis, ring.end[i], outward_positive);
                 if (q < p) continue;
-                if (a.merged()) add_triangle(p, use_cell(a), q);
-                else add_triangle(p, q, use_cell(b));
+                if (a.merged()) add_triangle(p, a.key(), q);
+                else add_triangle(p, q, b.key());
             }
         }
     }
 
     const IfcSamples& s_;
-    IfcContourScratch& scratch_;
-    std::pair<const IfcCell*, const IfcCell*> own_cells_;  ///< the block's own cells (a range of grid_)  ///< the block's vertices and its triangles by vertex key, before index_triangles()
     std::array<const IfcBlockCells*, 27> neighbour_;  ///< the blocks round this one (index 13), or null
     const SampleClassifier& classifier_;
     openvdb::FloatGrid::ConstAccessor& accessor_;
@@ -545,8 +494,7 @@ private:
 void contour_ifc_block(const IfcSamples& samples, const SampleClassifier& classifier,
                        openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid, std::size_t block,
                        const openvdb::math::Transform& transform, double error, IfcBlockOutput& out) {
-    thread_local IfcContourScratch scratch;  // reused from block to block
-    BlockContour(samples, classifier, accessor, grid, block, transform, error, scratch, out).run();
+    BlockContour(samples, classifier, accessor, grid, block, transform, error, out).run();
 }
 
 }  // namespace vdbmesh::detail

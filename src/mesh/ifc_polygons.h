@@ -19,8 +19,8 @@ struct IfcVertex {
 };
 
 struct IfcBlockOutput {
-    std::vector<IfcVertex> vertices;                     ///< sorted by key, each key once: every vertex its triangles use
-    std::vector<std::array<std::uint32_t, 3>> triangles;  ///< indices into @a vertices, counter-clockwise seen from outside
+    std::vector<IfcVertex> vertices;                     ///< may repeat a key (same position)
+    std::vector<std::array<std::uint64_t, 3>> triangles;  ///< counter-clockwise seen from outside
 };
 
 /// Triangles of the block at @a samples.origin: Marching Cubes in its unit cells, and the
