@@ -65,11 +65,23 @@ void verify_checksums(const std::filesystem::path& path, const openvdb::GridPtrV
 
 namespace detail {
 
+/// The smallest .vdb file: magic (8 bytes), file version (4), library version (4 + 4), the
+/// grid-offsets flag (1), the UUID (36), the file's metadata count (4) and grid count (4).
+constexpr std::uintmax_t kVdbHeaderBytes = 65;
+
 openvdb::GridPtrVecPtr read_vdb_grids(const std::filesystem::path& path) {
     openvdb::initialize();
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
         throw FormatError(path.string(), "file", "an existing .vdb file", "nothing readable at that path");
+    // OpenVDB reads a header cut short as a file of no grids, without a word.
+    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+    if (!ec && bytes < kVdbHeaderBytes) {
+        throw FormatError(path.string(), "size",
+                          "at least " + std::to_string(kVdbHeaderBytes) +
+                              " bytes (the header: magic, file and library versions, offsets flag, UUID, metadata and grid counts)",
+                          std::to_string(bytes) + " bytes (a truncated file)");
+    }
     probe_vdb_in_child(path);
     openvdb::GridPtrVecPtr grids;
     try {

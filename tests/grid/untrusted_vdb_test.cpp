@@ -83,6 +83,27 @@ TEST(UntrustedVdbTest, TruncatedFilesAreFormatErrors) {
     }
 }
 
+// Cut inside the 65-byte header, OpenVDB read "0 grid(s)" and `info` exited 0.
+TEST(UntrustedVdbTest, AFileCutInsideTheHeaderIsAFormatError) {
+    ScratchDir dir;
+    const auto whole = dir / "whole.vdb";
+    write_vdb(*openvdb::FloatGrid::create(0.0f), whole);
+    const auto original = read_bytes(whole);
+    ASSERT_GE(original.size(), 65u);
+    const auto path = dir / "cut.vdb";
+    for (const std::size_t size : {0, 8, 30, 50, 64}) {
+        write_bytes(path, std::vector<char>(original.begin(), original.begin() + static_cast<long>(size)));
+        try {
+            describe_vdb_file(path);
+            ADD_FAILURE() << size << " bytes read without an error";
+        } catch (const FormatError& e) {
+            EXPECT_NE(std::string(e.what()).find("size"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("truncated"), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_NO_THROW(describe_vdb_file(whole));
+}
+
 TEST(UntrustedVdbTest, AGridChangedAfterWritingFailsItsChecksum) {
     ScratchDir dir;
     const auto grid = openvdb::FloatGrid::create(-1.0f);
