@@ -42,11 +42,26 @@ VolumeSource checked_data_files(VolumeSource source, const std::filesystem::path
     return source;
 }
 
+std::string file_type_name(std::filesystem::file_type type) {
+    switch (type) {
+        case std::filesystem::file_type::fifo: return "a FIFO (named pipe)";
+        case std::filesystem::file_type::socket: return "a socket";
+        case std::filesystem::file_type::block: return "a block device";
+        case std::filesystem::file_type::character: return "a character device";
+        default: return "not a regular file";
+    }
+}
+
 }  // namespace
 
 VolumeSource open_volume_source(const std::filesystem::path& path, const ReadOptions& options) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) return detail::read_dicom_series(path);
+    const std::filesystem::file_type type = std::filesystem::status(path, ec).type();
+    if (type != std::filesystem::file_type::not_found && type != std::filesystem::file_type::regular) {
+        // A FIFO without a writer would block the first read for ever.
+        throw FormatError(path.string(), "file", "a regular file (a scan is read with seeks)", file_type_name(type));
+    }
     if (options.raw_dims) return detail::read_raw(path, options);
     if (!std::filesystem::exists(path, ec))
         throw FormatError(path.string(), "file", "an existing file", "nothing at that path");

@@ -2,6 +2,7 @@
 // and zlib data, exact-length checks, decoding of every sample type in both byte orders.
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -197,6 +198,24 @@ TEST(VolumeReaderTest, MissingFileThrowsFormatError) {
     test::ScratchDir dir;
     const std::string message = read_error(u8_cube({segment(dir / "nothing")}));
     EXPECT_NE(message.find("nothing"), std::string::npos) << message;
+}
+
+// Issue 10, point 6: a FIFO was "missing", and a FIFO .nii without a writer hung the reader.
+TEST(VolumeReaderTest, AFifoIsRefusedWithoutBeingOpened) {
+    test::ScratchDir dir;
+    for (const char* name : {"scan.nii", "scan.raw"}) {
+        const auto fifo = dir / name;
+        ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+        ReadOptions options;
+        if (std::string(name) == "scan.raw") options.raw_dims = std::array<std::int64_t, 3>{2, 2, 2};
+        try {
+            open_volume(fifo, options);
+            ADD_FAILURE() << name << ": opened";
+        } catch (const FormatError& e) {
+            EXPECT_NE(std::string(e.what()).find("FIFO"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("regular file"), std::string::npos) << e.what();
+        }
+    }
 }
 
 TEST(VolumeReaderTest, BytesAfterAKnownSizeSegmentAreTrailingData) {
