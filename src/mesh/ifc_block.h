@@ -64,7 +64,7 @@ struct IfcBlockCells {
     std::array<std::uint8_t, kIfcBlock * kIfcBlock * kIfcBlock> level{};
     /// Per unit cell: index into @a cells of its merged cell, or kNoCell (unit, or merged
     /// without surface).
-    std::array<std::uint8_t, kIfcBlock * kIfcBlock * kIfcBlock> cell{};  // at most 1 + 8 + 64 merged cells
+    std::array<std::uint8_t, kIfcBlock * kIfcBlock * kIfcBlock> cell;  // at most 1 + 8 + 64 merged cells
     std::vector<IfcCell> cells;
     /// Whether the whole block is one leaf (one merged cell, or no surface), and the QEF of
     /// its surface: what merging across blocks starts from. A block never built holds no surface.
@@ -72,6 +72,8 @@ struct IfcBlockCells {
     Qef3 root_qef;
 
     static constexpr std::uint8_t kNoCell = 0xff;
+    /// All unit cells, no surface: a block never built.
+    IfcBlockCells() { cell.fill(kNoCell); }
     static int unit_index(int x, int y, int z) { return (x * kIfcBlock + y) * kIfcBlock + z; }
 };
 

@@ -39,19 +39,12 @@ std::ptrdiff_t IfcCellGrid::block_at(const openvdb::Coord& origin) const {
 }
 
 const IfcBlockCells& IfcCellGrid::block(std::size_t b) const {
-    static const IfcBlockCells never_built = [] {
-        IfcBlockCells cells;
-        cells.cell.fill(IfcBlockCells::kNoCell);
-        return cells;
-    }();
+    static const IfcBlockCells never_built;
     return blocks[b] ? *blocks[b] : never_built;
 }
 
 IfcBlockCells& IfcCellGrid::block_for_writing(std::size_t b) {
-    if (!blocks[b]) {
-        blocks[b] = std::make_unique<IfcBlockCells>();
-        blocks[b]->cell.fill(IfcBlockCells::kNoCell);
-    }
+    if (!blocks[b]) blocks[b] = std::make_unique<IfcBlockCells>();
     return *blocks[b];
 }
 
