@@ -17,6 +17,7 @@
 #include <limits>
 #include <memory>
 
+#include "mesh/ifc_key_index.h"
 #include "mesh/ifc_polygons.h"
 #include "mesh/marching_cubes.h"
 #include "mesh/mesh_phases.h"
@@ -73,7 +74,8 @@ Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
     tbb::parallel_sort(vertices.begin(), vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key < b.key; });
     vertices.erase(std::unique(vertices.begin(), vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key == b.key; }),
                    vertices.end());
-    if (vertices.size() > std::numeric_limits<std::uint32_t>::max()) throw Error("contouring: more than 2^32 vertices");
+    if (vertices.size() >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
+    const IfcKeyIndex index_of(vertices);
     Mesh mesh;
     mesh.triangles.resize(first_triangle.back());
     std::vector<std::uint8_t> used(vertices.size(), 0);
@@ -82,11 +84,9 @@ Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
             auto& keyed = outputs[b].triangles;
             for (std::size_t t = 0; t < keyed.size(); ++t) {
                 for (int k = 0; k < 3; ++k) {
-                    const auto it = std::lower_bound(vertices.begin(), vertices.end(), keyed[t][k],
-                                                     [](const IfcVertex& v, std::uint64_t key) { return v.key < key; });
-                    if (it == vertices.end() || it->key != keyed[t][k]) throw Error("contouring: a triangle refers to a missing vertex");
-                    const std::size_t index = std::size_t(it - vertices.begin());
-                    mesh.triangles[first_triangle[b] + t][k] = std::uint32_t(index);
+                    const std::uint32_t index = index_of.find(keyed[t][k]);
+                    if (index == IfcKeyIndex::kMissing) throw Error("contouring: a triangle refers to a missing vertex");
+                    mesh.triangles[first_triangle[b] + t][k] = index;
                     used[index] = 1;  // every writer writes 1: no race on the value
                 }
             }
