@@ -112,6 +112,9 @@ struct MeshComparison {
     MeshReport mesher;                 ///< what mesh_grid() reported (phases, fallbacks)
     MeshAnalysis analysis;             ///< analyze_mesh()
     Accuracy accuracy;
+    /// The earlier run whose mesh is the same, vertex for vertex (DC at error 0 is Marching
+    /// Cubes): its analysis and accuracy are taken over rather than measured again.
+    std::optional<std::size_t> same_mesh_as;
 };
 
 /// Every mesher's result, in the order run.
@@ -122,7 +125,7 @@ struct Comparison {
 
 /// Meshes @a grid with every setting (DC at each error, DMC at each of its errors, MC, volumeToMesh at each
 /// adaptivity, in that order), one at a time in this process, timing mesh_grid() alone, and
-/// measures each result. Meshes are dropped once measured.
+/// measures each result (once per distinct mesh). Meshes are dropped once measured.
 Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions& options);
 
 /// "dmc", "mc" or "openvdb".

@@ -40,26 +40,60 @@ public:
 
     FieldSample operator()(openvdb::Vec3d p) const {
         bool clamped[3] = {false, false, false};
-        if (scan_box_) {
-            for (int a = 0; a < 3; ++a) {
-                const double lo = scan_box_->min()[a], hi = scan_box_->max()[a];
-                if (p[a] < lo || p[a] > hi) {
-                    p[a] = std::clamp(p[a], lo, hi);
-                    clamped[a] = true;
-                }
-            }
-        }
+        clamp_into_box(p, clamped);
         FieldSample s = interpolate(p);
         for (int a = 0; a < 3; ++a)
             if (clamped[a]) s.gradient[a] = 0;
         return s;
     }
 
+    /// operator()(p).value, bit for bit, without the gradient: the isosurface search steps
+    /// along rays by values alone.
+    double value(openvdb::Vec3d p) const {
+        bool clamped[3];
+        clamp_into_box(p, clamped);
+        const Corners c = corners(p);
+        const double ez[2][2] = {{lerp(c.v[0][0][0], c.v[0][0][1], c.t[2]), lerp(c.v[0][1][0], c.v[0][1][1], c.t[2])},
+                                 {lerp(c.v[1][0][0], c.v[1][0][1], c.t[2]), lerp(c.v[1][1][0], c.v[1][1][1], c.t[2])}};
+        return lerp(lerp(ez[0][0], ez[0][1], c.t[1]), lerp(ez[1][0], ez[1][1], c.t[1]), c.t[0]);
+    }
+
 private:
-    FieldSample interpolate(const openvdb::Vec3d& p) const {
+    /// The values at the 8 corners of the cell holding a point, v[dx][dy][dz], and the point's
+    /// position in it.
+    struct Corners {
+        double v[2][2][2];
+        double t[3];
+    };
+
+    static double lerp(double a, double b, double t) { return a + t * (b - a); }
+
+    void clamp_into_box(openvdb::Vec3d& p, bool clamped[3]) const {
+        for (int a = 0; a < 3; ++a) clamped[a] = false;
+        if (!scan_box_) return;
+        for (int a = 0; a < 3; ++a) {
+            const double lo = scan_box_->min()[a], hi = scan_box_->max()[a];
+            if (p[a] < lo || p[a] > hi) {
+                p[a] = std::clamp(p[a], lo, hi);
+                clamped[a] = true;
+            }
+        }
+    }
+
+    Corners corners(const openvdb::Vec3d& p) const {
         const openvdb::Coord base(int(std::floor(p[0])), int(std::floor(p[1])), int(std::floor(p[2])));
-        const double tx = p[0] - base[0], ty = p[1] - base[1], tz = p[2] - base[2];
-        double c[2][2][2];  // c[dx][dy][dz]
+        Corners c;
+        for (int a = 0; a < 3; ++a) c.t[a] = p[a] - base[a];
+        // The search steps along rays by 1/16 voxel: most points fall in the previous cell.
+        if (base != cached_base_) {
+            fetch_corners(base, cached_values_);
+            cached_base_ = base;
+        }
+        std::copy(&cached_values_[0][0][0], &cached_values_[0][0][0] + 8, &c.v[0][0][0]);
+        return c;
+    }
+
+    void fetch_corners(const openvdb::Coord& base, double v[2][2][2]) const {
         using Leaf = openvdb::FloatTree::LeafNodeType;
         const openvdb::Coord local(base[0] & (Leaf::DIM - 1), base[1] & (Leaf::DIM - 1), base[2] & (Leaf::DIM - 1));
         const Leaf* leaf = local[0] + 1 < int(Leaf::DIM) && local[1] + 1 < int(Leaf::DIM) && local[2] + 1 < int(Leaf::DIM)
@@ -70,29 +104,37 @@ private:
         for (int dx = 0; dx < 2; ++dx)
             for (int dy = 0; dy < 2; ++dy)
                 for (int dz = 0; dz < 2; ++dz)
-                    c[dx][dy][dz] = values ? values[(dx << (2 * Leaf::LOG2DIM)) | (dy << Leaf::LOG2DIM) | dz]
+                    v[dx][dy][dz] = values ? values[(dx << (2 * Leaf::LOG2DIM)) | (dy << Leaf::LOG2DIM) | dz]
                                            : accessor_.getValue(base.offsetBy(dx, dy, dz));
+    }
+
+    FieldSample interpolate(const openvdb::Vec3d& p) const {
+        const Corners corner = corners(p);
+        const auto& c = corner.v;
+        const double tx = corner.t[0], ty = corner.t[1], tz = corner.t[2];
         // Interpolate along z, then y, then x, keeping the partial derivatives.
         double ez[2][2], dzv[2][2];
         for (int dx = 0; dx < 2; ++dx)
             for (int dy = 0; dy < 2; ++dy) {
-                ez[dx][dy] = c[dx][dy][0] + tz * (c[dx][dy][1] - c[dx][dy][0]);
+                ez[dx][dy] = lerp(c[dx][dy][0], c[dx][dy][1], tz);
                 dzv[dx][dy] = c[dx][dy][1] - c[dx][dy][0];
             }
         double ey[2], dyv[2], dzy[2];
         for (int dx = 0; dx < 2; ++dx) {
-            ey[dx] = ez[dx][0] + ty * (ez[dx][1] - ez[dx][0]);
+            ey[dx] = lerp(ez[dx][0], ez[dx][1], ty);
             dyv[dx] = ez[dx][1] - ez[dx][0];
-            dzy[dx] = dzv[dx][0] + ty * (dzv[dx][1] - dzv[dx][0]);
+            dzy[dx] = lerp(dzv[dx][0], dzv[dx][1], ty);
         }
         FieldSample s;
-        s.value = ey[0] + tx * (ey[1] - ey[0]);
-        s.gradient = openvdb::Vec3d(ey[1] - ey[0], dyv[0] + tx * (dyv[1] - dyv[0]), dzy[0] + tx * (dzy[1] - dzy[0]));
+        s.value = lerp(ey[0], ey[1], tx);
+        s.gradient = openvdb::Vec3d(ey[1] - ey[0], lerp(dyv[0], dyv[1], tx), lerp(dzy[0], dzy[1], tx));
         return s;
     }
 
     openvdb::FloatGrid::ConstAccessor accessor_;
     std::optional<openvdb::CoordBBox> scan_box_;
+    mutable openvdb::Coord cached_base_{openvdb::Coord::max()};  ///< no cell's: nothing cached yet
+    mutable double cached_values_[2][2][2] = {};
 };
 
 /// Newton's projection of @a point onto {field = iso} (steps along the gradient); empty when

@@ -13,6 +13,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <utility>
 
 #include "vdbmesh/analysis.h"
@@ -124,6 +126,43 @@ NormalDeviation normal_deviation(const Mesh& mesh, TrueNormal true_normal) {
     return result;
 }
 
+/// Sizes and two 64-bit hashes of a mesh's vertex and index bytes: equal for the same mesh;
+/// for two different meshes of the same sizes, equal with odds of about 2^-128.
+struct MeshFingerprint {
+    std::size_t vertices = 0, triangles = 0;
+    std::uint64_t hash[2] = {0, 0};
+    bool operator==(const MeshFingerprint& other) const {
+        return vertices == other.vertices && triangles == other.triangles && hash[0] == other.hash[0] && hash[1] == other.hash[1];
+    }
+};
+
+MeshFingerprint mesh_fingerprint(const Mesh& mesh) {
+    MeshFingerprint f;
+    f.vertices = mesh.vertices.size();
+    f.triangles = mesh.triangles.size();
+    // Two multiply-rotate chains over the 32-bit words (coordinates as their bit patterns),
+    // with different odd multipliers and seeds.
+    std::uint64_t a = 0x243f6a8885a308d3ull, b = 0x13198a2e03707344ull;
+    const auto add = [&](std::uint32_t word) {
+        a = (a ^ word) * 0x9e3779b97f4a7c15ull;
+        a ^= a >> 29;
+        b = (b + word) * 0xc2b2ae3d27d4eb4full;
+        b ^= b >> 31;
+    };
+    for (const auto& v : mesh.vertices) {
+        for (const float c : v) {
+            std::uint32_t bits;
+            std::memcpy(&bits, &c, sizeof bits);
+            add(bits);
+        }
+    }
+    for (const auto& t : mesh.triangles)
+        for (const std::uint32_t index : t) add(index);
+    f.hash[0] = a;
+    f.hash[1] = b;
+    return f;
+}
+
 }  // namespace
 
 const char* method_name(MeshMethod method) {
@@ -218,6 +257,7 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
     for (double adaptivity : options.adaptivities) add_run(MeshMethod::openvdb, std::nullopt, adaptivity);
 
     const TrueSurface truth(grid, options.iso, options.inside, options.accuracy);
+    std::vector<MeshFingerprint> fingerprints(runs.size());
     for (std::size_t i = 0; i < runs.size(); ++i) {
         if (options.progress) options.progress(i, runs.size());
         MeshComparison& run = runs[i];
@@ -231,6 +271,14 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
         MeshResult result = mesh_grid(grid, mesh_options);
         run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         run.mesher = std::move(result.report);
+        fingerprints[i] = mesh_fingerprint(result.mesh);
+        for (std::size_t earlier = 0; earlier < i && !run.same_mesh_as; ++earlier)
+            if (fingerprints[earlier] == fingerprints[i]) run.same_mesh_as = earlier;
+        if (run.same_mesh_as) {
+            run.analysis = runs[*run.same_mesh_as].analysis;
+            run.accuracy = runs[*run.same_mesh_as].accuracy;
+            continue;
+        }
         run.analysis = analyze_mesh(result.mesh);
         run.accuracy = truth.measure(result.mesh);
     }

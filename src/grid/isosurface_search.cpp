@@ -54,14 +54,14 @@ std::optional<Vec3d> project(const TrilinearField& field, double iso, const Vec3
 /// The first sign change of f - iso along p + t u, t in (0, search], bisected; its t.
 std::optional<double> ray_crossing(const TrilinearField& field, double iso, const Vec3d& p, const Vec3d& u,
                                    double reach = kTrilinearSearchVoxels) {
-    const bool start_above = field(p).value > iso;
+    const bool start_above = field.value(p) > iso;
     double previous = 0;
     for (double t = kRayStep; t <= reach + kRayStep - 1e-12; t += kRayStep) {
-        if ((field(p + u * t).value > iso) != start_above) {
+        if ((field.value(p + u * t) > iso) != start_above) {
             double lo = previous, hi = t;
             for (int i = 0; i < kBisections; ++i) {
                 const double mid = 0.5 * (lo + hi);
-                ((field(p + u * mid).value > iso) == start_above ? lo : hi) = mid;
+                ((field.value(p + u * mid) > iso) == start_above ? lo : hi) = mid;
             }
             return 0.5 * (lo + hi);
         }
@@ -102,11 +102,11 @@ std::vector<Vec3d> grid_edge_crossings(const TrilinearField& field, double iso, 
         for (int y = -r; y <= r; ++y)
             for (int z = -r; z <= r; ++z) {
                 const Vec3d a = (centre + openvdb::Coord(x, y, z)).asVec3d();
-                const double fa = field(a).value - iso;
+                const double fa = field.value(a) - iso;
                 for (int axis = 0; axis < 3; ++axis) {
                     Vec3d b = a;
                     b[axis] += 1.0;
-                    const double fb = field(b).value - iso;
+                    const double fb = field.value(b) - iso;
                     if ((fa > 0) != (fb > 0)) crossings.push_back(a + (b - a) * (fa / (fa - fb)));
                 }
             }
@@ -178,7 +178,7 @@ std::optional<Vec3d> closest_boundary_point(const TrilinearField& field, double 
         for (const double face : {lo[axis], hi[axis]}) {
             Vec3d r;
             for (int a = 0; a < 3; ++a) r[a] = a == axis ? face : std::clamp(p[a], lo[a], hi[a]);
-            const double value = field(r).value;  // the last layer of samples, extended to the face
+            const double value = field.value(r);  // the last layer of samples, extended to the face
             if ((inside_above ? value > iso : value < iso) && (r - p).length() < best) {
                 best = (r - p).length();
                 closest = r;

@@ -35,35 +35,45 @@ unsigned IfcSamples::config(int x, int y, int z) const {
 }
 
 void load_ifc_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier, IfcSamples& samples) {
-    // The window spans up to 27 leaves: each is read from its buffer, or where there is no
-    // leaf, as the one value of its tile (or the background); both as getValue() would.
+    // The window spans up to 27 leaves: each is read from its buffer a row along z at a time,
+    // or where there is no leaf, as the one value of its tile (or the background); both as
+    // getValue() would.
     static constexpr int kSpanMin[3] = {-1, 0, kIfcBlock}, kSpanMax[3] = {0, kIfcBlock, kIfcSampleDim - 1};
     using Leaf = openvdb::FloatTree::LeafNodeType;
-    const openvdb::CoordBBox window(samples.origin.offsetBy(-1), samples.origin.offsetBy(kIfcSampleDim - 2));
-    const bool all_in_box = !classifier.scan_box() || classifier.scan_box()->isInside(window);
     for (int rx = 0; rx < 3; ++rx) {
         for (int ry = 0; ry < 3; ++ry) {
             for (int rz = 0; rz < 3; ++rz) {
                 const openvdb::Coord corner = samples.origin.offsetBy(kSpanMin[rx], kSpanMin[ry], kSpanMin[rz]);
                 const Leaf* leaf = accessor.probeConstLeaf(corner);
-                const float* buffer = leaf ? leaf->buffer().data() : nullptr;
                 const float tile = leaf ? 0.0f : accessor.getValue(corner);
-                const openvdb::Coord leaf_origin = corner & ~(Leaf::DIM - 1);
+                const openvdb::Coord local = corner - (corner & ~(Leaf::DIM - 1));
+                const int row_length = kSpanMax[rz] - kSpanMin[rz];
                 for (int x = kSpanMin[rx]; x < kSpanMax[rx]; ++x) {
                     for (int y = kSpanMin[ry]; y < kSpanMax[ry]; ++y) {
-                        for (int z = kSpanMin[rz]; z < kSpanMax[rz]; ++z) {
-                            const openvdb::Coord ijk = samples.origin.offsetBy(x, y, z);
-                            const openvdb::Coord local = ijk - leaf_origin;
-                            const float value = buffer ? buffer[(local.x() << (2 * Leaf::LOG2DIM)) | (local.y() << Leaf::LOG2DIM) | local.z()] : tile;
-                            const int i = IfcSamples::index(x, y, z);
-                            samples.value[i] = all_in_box ? double(value) : classifier.sample_value(ijk, value);
-                            samples.inside[i] = classifier.inside(samples.value[i]);
+                        double* row = &samples.value[IfcSamples::index(x, y, kSpanMin[rz])];
+                        if (!leaf) {
+                            std::fill(row, row + row_length, double(tile));
+                            continue;
                         }
+                        const float* source = leaf->buffer().data() + Leaf::coordToOffset(local.offsetBy(x - kSpanMin[rx], y - kSpanMin[ry], 0));
+                        for (int z = 0; z < row_length; ++z) row[z] = double(source[z]);
                     }
                 }
             }
         }
     }
+    const openvdb::CoordBBox window(samples.origin.offsetBy(-1), samples.origin.offsetBy(kIfcSampleDim - 2));
+    if (classifier.scan_box() && !classifier.scan_box()->isInside(window)) {
+        for (int x = -1; x < kIfcSampleDim - 1; ++x) {
+            for (int y = -1; y < kIfcSampleDim - 1; ++y) {
+                for (int z = -1; z < kIfcSampleDim - 1; ++z) {
+                    double& value = samples.value[IfcSamples::index(x, y, z)];
+                    value = classifier.sample_value(samples.origin.offsetBy(x, y, z), float(value));
+                }
+            }
+        }
+    }
+    for (std::size_t i = 0; i < samples.value.size(); ++i) samples.inside[i] = classifier.inside(samples.value[i]);
 }
 
 namespace {
