@@ -17,6 +17,7 @@
 #include <limits>
 #include <memory>
 
+#include "mesh/huge_pages.h"
 #include "mesh/ifc_key_index.h"
 #include "mesh/ifc_polygons.h"
 #include "mesh/marching_cubes.h"
@@ -64,7 +65,9 @@ Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
     for (std::size_t b = 0; b < outputs.size(); ++b) first_triangle[b + 1] = first_triangle[b] + outputs[b].triangles.size();
     std::vector<std::size_t> first_vertex(outputs.size() + 1, 0);
     for (std::size_t b = 0; b < outputs.size(); ++b) first_vertex[b + 1] = first_vertex[b] + outputs[b].vertices.size();
-    std::vector<IfcVertex> vertices(first_vertex.back());
+    std::vector<IfcVertex> vertices;
+    reserve_on_huge_pages(vertices, first_vertex.back());
+    vertices.resize(first_vertex.back());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
             std::copy(outputs[b].vertices.begin(), outputs[b].vertices.end(), vertices.begin() + std::ptrdiff_t(first_vertex[b]));
@@ -77,8 +80,11 @@ Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
     if (vertices.size() >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
     const IfcKeyIndex index_of(vertices);
     Mesh mesh;
+    reserve_on_huge_pages(mesh.triangles, first_triangle.back());
     mesh.triangles.resize(first_triangle.back());
-    std::vector<std::uint8_t> used(vertices.size(), 0);
+    std::vector<std::uint8_t> used;
+    reserve_on_huge_pages(used, vertices.size());
+    used.resize(vertices.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
             auto& keyed = outputs[b].triangles;
@@ -93,8 +99,10 @@ Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
             keyed = {};
         }
     });
-    std::vector<std::uint32_t> new_index(vertices.size());
-    mesh.vertices.reserve(std::size_t(std::count(used.begin(), used.end(), std::uint8_t(1))));
+    std::vector<std::uint32_t> new_index;
+    reserve_on_huge_pages(new_index, vertices.size());
+    new_index.resize(vertices.size());
+    reserve_on_huge_pages(mesh.vertices, std::size_t(std::count(used.begin(), used.end(), std::uint8_t(1))));
     for (std::size_t v = 0; v < vertices.size(); ++v) {
         new_index[v] = std::uint32_t(mesh.vertices.size());
         if (used[v]) mesh.vertices.push_back(vertices[v].position);

@@ -1,5 +1,7 @@
 #include "mesh/ifc_key_index.h"
 
+#include "mesh/huge_pages.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -12,6 +14,7 @@ IfcKeyIndex::IfcKeyIndex(const std::vector<IfcVertex>& vertices) : vertices_(ver
     mask_ = slot_count - 1;
     shift_ = 64 - bits;
     slots_.reset(new std::atomic<std::uint32_t>[slot_count]);
+    advise_huge_pages(slots_.get(), slot_count * sizeof(std::atomic<std::uint32_t>));
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, slot_count), [&](const auto& range) {
         for (std::size_t s = range.begin(); s != range.end(); ++s) slots_[s].store(kMissing, std::memory_order_relaxed);
     });
