@@ -13,6 +13,7 @@
 #include "common_options.h"
 #include "report_json.h"
 #include "vdbmesh/analysis.h"
+#include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_io.h"
 
 namespace vdbmesh::cli {
@@ -70,7 +71,7 @@ void add_distance(nlohmann::ordered_json& j, const DistanceReport& d, std::size_
 
 /// One "name  value" line per field, numbers as JSON writes them.
 void print_table(const nlohmann::ordered_json& j, std::ostream& out) {
-    for (const auto& [key, value] : j.items()) out << std::left << std::setw(24) << key << value.dump() << "\n";
+    for (const auto& [key, value] : j.items()) out << std::left << std::setw(24) << key << detail::json_text(value) << "\n";
 }
 
 int run_check(const CheckOptions& o) {
@@ -83,7 +84,7 @@ int run_check(const CheckOptions& o) {
         add_distance(j, mesh_distance(mesh, reference, o.samples), o.samples);
     }
     if (o.json) {
-        std::cout << j.dump() << "\n";
+        std::cout << detail::json_text(j) << "\n";
     } else {
         std::cout << o.mesh << "\n";
         print_table(j, std::cout);

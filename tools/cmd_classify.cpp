@@ -11,6 +11,7 @@
 #include "common_options.h"
 #include "points_commands.h"
 #include "vdbmesh/error.h"
+#include "vdbmesh/json_text.h"
 #include "vdbmesh/points.h"
 
 namespace vdbmesh::cli {
@@ -57,7 +58,7 @@ void run_classify(ClassifyCommandOptions& o) {
         j["class"] = best;
         j["energy"] = best_energy;
         j["classes"] = list;
-        std::cout << j.dump() << "\n";
+        std::cout << detail::json_text(j) << "\n";
     } else {
         std::cout << best << "\n";
     }

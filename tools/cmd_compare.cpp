@@ -29,6 +29,7 @@
 #include "vdbmesh/compare.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/json_text.h"
 #include "vdbmesh/phantom.h"
 #include "vdbmesh/write_volume.h"
 
@@ -236,7 +237,7 @@ int run_compare(const CompareCommandOptions& o) {
     report["grid"] = grid_json(o, loaded, comparison.reference_triangles);
     report["meshes"] = nlohmann::ordered_json::array();
     for (const auto& m : meshes) report["meshes"].push_back(mesh_json(m));
-    if (!o.json.empty()) write_text_file(o.json, report.dump(2) + "\n");
+    if (!o.json.empty()) write_text_file(o.json, detail::json_text(report, 2) + "\n");
     if (!o.plot.empty()) write_text_file(o.plot, svg_plot(make_plot(report["grid"]["input"].get<std::string>(), meshes)));
     print_table(report, meshes, std::cout);
     return kSuccess;

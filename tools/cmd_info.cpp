@@ -16,6 +16,7 @@
 #include "load_grid.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/json_text.h"
 #include "vdbmesh/read.h"
 #include "vdbmesh/shared_tree.h"
 #include "vdbmesh/volume_stats.h"
@@ -139,11 +140,11 @@ Json vdb_json(const std::string& file, const std::vector<GridInfo>& grids) {
 }
 
 /// A JSON value as text: strings without their quotes.
-std::string plain(const Json& value) { return value.is_string() ? value.get<std::string>() : value.dump(); }
+std::string plain(const Json& value) { return value.is_string() ? value.get<std::string>() : detail::json_text(value); }
 
 void print_vdb(const Json& j, std::ostream& out) {
     out << "file            " << j["file"].get<std::string>() << "\nformat          vdb, " << j["grids"].size()
-        << " grid(s)\nsuggested iso   " << j["suggested_iso"].dump() << " (" << j["suggested_iso_reason"].get<std::string>()
+        << " grid(s)\nsuggested iso   " << detail::json_text(j["suggested_iso"]) << " (" << j["suggested_iso_reason"].get<std::string>()
         << ")\n";
     for (const Json& g : j["grids"]) {
         out << "\ngrid \"" << g["name"].get<std::string>() << "\"\n";
@@ -193,7 +194,7 @@ int run_info(const InfoOptions& o) {
         if (o.inputs.size() > 1) throw UsageError("info: a .vdb file takes no further parts");
         Json j = vdb_json(o.inputs.front(), describe_vdb_file(o.inputs.front()));
         if (o.shared) j["shared"] = shared_json(o.inputs.front());
-        if (o.json) std::cout << j.dump() << "\n";
+        if (o.json) std::cout << detail::json_text(j) << "\n";
         else {
             print_vdb(j, std::cout);
             if (o.shared) print_shared(j["shared"], std::cout);
@@ -205,7 +206,7 @@ int run_info(const InfoOptions& o) {
     Progress progress("reading", o.common.quiet);
     const VolumeStats stats = compute_volume_stats(*reader, [&](double f) { progress(f); });
     const std::vector<std::string> files = data_files(reader->segments());
-    if (o.json) std::cout << scan_json(reader->header(), files, stats).dump() << "\n";
+    if (o.json) std::cout << detail::json_text(scan_json(reader->header(), files, stats)) << "\n";
     else print_scan(reader->header(), files, stats, std::cout);
     return kSuccess;
 }

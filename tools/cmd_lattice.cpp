@@ -22,6 +22,7 @@
 #include "load_mesh.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/json_text.h"
 #include "vdbmesh/lattice.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/shared_tree.h"
@@ -135,7 +136,7 @@ int run_lattice(const LatticeCommandOptions& o) {
     progress(1.0);
     j["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (o.json) {
-        std::cout << j.dump() << "\n";
+        std::cout << detail::json_text(j) << "\n";
     } else if (o.measure) {
         std::cout << "volume " << j["volume"] << "\narea " << j["area"] << "\ncomponents " << j["components"] << "\nvoxels "
                   << j["voxels"] << "\nunique_leaves " << j["unique_leaves"] << "\nleaves " << j["leaves"] << "\n";

@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "common_options.h"
 #include "load_mesh.h"
+#include "vdbmesh/json_text.h"
 #include "vdbmesh/measure.h"
 
 namespace vdbmesh::cli {
@@ -84,7 +85,7 @@ void run_measure(const MeasureOptions& o) {
     const ThreadLimit limit(o.common);
     const MeshMeasure measure = measure_mesh(load_mesh(o.inputs, o.input, "measure"));
     if (o.json) {
-        std::cout << measure_json(measure).dump() << "\n";
+        std::cout << detail::json_text(measure_json(measure)) << "\n";
     } else {
         print_measure(o.inputs.front(), measure, std::cout);
     }

@@ -23,6 +23,7 @@
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/read.h"
@@ -120,7 +121,7 @@ int run_mesh(MeshCommandOptions& options) {
     if (!defective) write_mesh(mesh, options.output, MeshWriteOptions{options.ascii, options.normals});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.json) {
-        std::cout << figures_json(options, processing, result, verified, seconds).dump() << "\n";
+        std::cout << detail::json_text(figures_json(options, processing, result, verified, seconds)) << "\n";
     } else if (!options.common.quiet || defective) {
         for (const std::string& fallback : result.report.fallbacks) std::cerr << "vdbmesh mesh: fell back to " << fallback << "\n";
         if (defective) {

@@ -16,6 +16,7 @@
 #include "load_grid.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/json_text.h"
 #include "vdbmesh/shared_process.h"
 #include "vdbmesh/shared_tree.h"
 
@@ -106,7 +107,7 @@ int run_process(const ProcessCommandOptions& o, const std::vector<std::string>& 
     write_vdb(*grid, o.output);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (o.json) {
-        std::cout << nlohmann::ordered_json{{"steps", steps}, {"leaves", grid->tree().leafCount()}, {"seconds", seconds}}.dump() << "\n";
+        std::cout << detail::json_text(nlohmann::ordered_json{{"steps", steps}, {"leaves", grid->tree().leafCount()}, {"seconds", seconds}}) << "\n";
     } else if (!o.common.quiet) {
         std::cerr << "vdbmesh process: " << order.size() << " steps, " << seconds << " s -> " << o.output << "\n";
     }

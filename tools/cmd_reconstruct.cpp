@@ -12,6 +12,7 @@
 #include "common_options.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/parse_util.h"
 #include "vdbmesh/points.h"
@@ -61,7 +62,7 @@ int run_reconstruct(ReconstructCommandOptions& o) {
         for (const auto& [name, s] : r.phases) phases[name] = s;
         j["phases"] = phases;
         j["seconds"] = seconds;
-        std::cout << j.dump() << "\n";
+        std::cout << detail::json_text(j) << "\n";
     } else if (!o.common.quiet) {
         std::cerr << "vdbmesh reconstruct: " << r.input_points << " points (" << r.outliers << " outliers, "
                   << r.used_points << " used, " << r.leaves << " leaves), voxel " << r.voxel << ": "

@@ -15,9 +15,10 @@
 #include "common_options.h"
 #include "load_mesh.h"
 #include "section_svg.h"
-#include "vdbmesh/error.h"
-#include "vdbmesh/section.h"
 #include "write_text_file.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/json_text.h"
+#include "vdbmesh/section.h"
 
 namespace vdbmesh::cli {
 
@@ -127,7 +128,7 @@ void run_section(const SectionOptions& o) {
     }
     if (!o.svg.empty()) write_text_file(o.svg, section_svg(sections, labels));
     if (o.json) {
-        std::cout << report.dump() << "\n";
+        std::cout << detail::json_text(report) << "\n";
     } else {
         std::cout.precision(9);
         for (std::size_t i = 0; i < sections.size(); ++i) print_section(labels[i], sections[i], std::cout);

@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "common_options.h"
 #include "points_commands.h"
+#include "vdbmesh/json_text.h"
 #include "vdbmesh/points.h"
 
 namespace vdbmesh::cli {
@@ -52,7 +53,7 @@ void run_similarity(SimilarityCommandOptions& o) {
     const PointCloud b = load_solid(o.b, o.solid, &field);
     const SimilarityResult r = compare_solids(a, *field_a, b, *field, o.sim);
     if (o.json) {
-        std::cout << similarity_json(r).dump() << "\n";
+        std::cout << detail::json_text(similarity_json(r)) << "\n";
         return;
     }
     std::cout << std::setprecision(9) << "energy      " << r.energy << "  (mean squared field value / size^2, both ways; 0: the same solid)\n"

@@ -18,6 +18,7 @@
 #include "report_json.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/view.h"
 
@@ -65,7 +66,7 @@ ViewSource load_source(const ViewCommandOptions& options) {
 }
 
 /// The figures `vdbmesh check --json` prints, for the page.
-std::string check_figures(const Mesh& mesh) { return report_json(analyze_mesh(mesh)).dump(); }
+std::string check_figures(const Mesh& mesh) { return detail::json_text(report_json(analyze_mesh(mesh))); }
 
 /// Hands @a address to the desktop's browser, when there is one.
 void open_browser(const std::string& address) {

@@ -6,6 +6,7 @@
 
 #include "load_grid.h"  // lowercase_extension
 #include "vdbmesh/checked_output.h"
+#include "vdbmesh/json_text.h"
 
 namespace vdbmesh::cli {
 
@@ -87,9 +88,9 @@ void write_instanced_gltf(const InstancedMesh& mesh, const std::string& path) {
                  {"buffers", Json::array({buffer})}};
     CheckedOutput out(path);
     if (!binary) {
-        out.stream() << gltf.dump() << "\n";
+        out.stream() << detail::json_text(gltf) << "\n";
     } else {
-        std::string text = gltf.dump();
+        std::string text = detail::json_text(gltf);
         while (text.size() % 4) text += ' ';
         auto u32 = [&](std::uint32_t v) { out.stream().write(reinterpret_cast<const char*>(&v), 4); };
         u32(0x46546C67);  // "glTF"

@@ -14,6 +14,7 @@
 
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/error.h"
+#include "vdbmesh/json_text.h"
 #include "vdbmesh/view.h"
 #include "view/mesh_buffers.h"
 #include "view/mesh_store.h"
@@ -28,7 +29,7 @@ using Handler = std::function<void(const httplib::Request&, httplib::Response&)>
 
 void send_error(httplib::Response& response, int status, const std::string& message) {
     response.status = status;
-    response.set_content(nlohmann::json{{"error", message}}.dump(), "application/json");
+    response.set_content(detail::json_text(nlohmann::json{{"error", message}}), "application/json");
 }
 
 /// @a handler, with a usage error answered 400 and any other failure 500, as JSON.
@@ -132,7 +133,7 @@ private:
         server_.Get("/index.html", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
         server_.Get("/app.js", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
         server_.Get("/api/info", guarded([this](const auto&, auto& response) {
-            response.set_content(view::info_json(store_.source(), options_.triangle_budget).dump(), "application/json");
+            response.set_content(detail::json_text(view::info_json(store_.source(), options_.triangle_budget)), "application/json");
         }));
         server_.Get("/api/mesh", guarded([this](const auto& request, auto& response) { serve_mesh(request, response); }));
         server_.Get("/api/figures", guarded([this](const auto& request, auto& response) { serve_figures(request, response); }));
@@ -172,7 +173,7 @@ private:
         j["vertices"] = stored->mesh->vertices.size();
         j["seconds"] = stored->seconds;
         j["check"] = nlohmann::json::parse(stored->figures(options_.mesh_figures));
-        response.set_content(j.dump(), "application/json");
+        response.set_content(detail::json_text(j), "application/json");
     }
 
     void serve_download(const httplib::Request& request, httplib::Response& response) {

@@ -77,6 +77,22 @@ TEST(CmdMeshTest, JsonReportsTheSettingsAndTheWrittenMesh) {
     EXPECT_TRUE(report["fallbacks"].empty());
 }
 
+// Issue 10, point 6: an output name that is not UTF-8 (any bytes are a Linux file name) made
+// --json throw after the mesh was written ("invalid UTF-8 byte"), with no report.
+TEST(CmdMeshTest, JsonNamesAnOutputThatIsNotUtf8WithReplacementCharacters) {
+    ScratchDir scratch;
+    const auto input = write_ball_vdb(scratch, true);
+    const auto output = scratch / "ball\xff.stl";
+    testing::internal::CaptureStdout();
+    const int status = cli::run({"mesh", input.string(), "--error", "0.25", "-o", output.string(), "--json"});
+    const std::string text = testing::internal::GetCapturedStdout();
+    ASSERT_EQ(status, cli::kSuccess);
+    EXPECT_TRUE(std::filesystem::exists(output));
+    const nlohmann::json report = nlohmann::json::parse(text);  // throws on text that is not UTF-8
+    const std::string named = report["output"].get<std::string>();
+    EXPECT_NE(named.find("ball\xef\xbf\xbd.stl"), std::string::npos) << named;  // U+FFFD for the 0xff byte
+}
+
 TEST(CmdMeshTest, VerifyWritesACleanMeshAndReportsItsCheck) {
     ScratchDir scratch;
     const auto input = write_ball_vdb(scratch, true);
