@@ -29,8 +29,12 @@
 namespace vdbmesh::detail {
 
 unsigned IfcSamples::config(int x, int y, int z) const {
+    // Corner c at (c & 1, (c >> 1) & 1, c >> 2), as an offset from the cell's minimum sample.
+    static constexpr int kDim = kIfcSampleDim;
+    static constexpr int kCorner[8] = {0, kDim * kDim, kDim, kDim * kDim + kDim, 1, kDim * kDim + 1, kDim + 1, kDim * kDim + kDim + 1};
+    const int base = index(x, y, z);
     unsigned config = 0;
-    for (unsigned c = 0; c < 8; ++c) config |= unsigned(in(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))) << c;
+    for (unsigned c = 0; c < 8; ++c) config |= unsigned(inside[base + kCorner[c]]) << c;
     return config;
 }
 
@@ -81,13 +85,13 @@ namespace {
 /// Central-difference gradient at local sample (x, y, z), one-sided at the samples' ring;
 /// zero where a difference is not finite (beyond the scan box).
 Point3d gradient(const IfcSamples& s, int x, int y, int z) {
+    static constexpr int kStride[3] = {kIfcSampleDim * kIfcSampleDim, kIfcSampleDim, 1};
+    const int p[3] = {x, y, z};
+    const int i = IfcSamples::index(x, y, z);
     Point3d g;
-    const std::array<int, 3> p = {x, y, z};
     for (int a = 0; a < 3; ++a) {
-        std::array<int, 3> lo = p, hi = p;
-        lo[a] = std::max(p[a] - 1, -1);
-        hi[a] = std::min(p[a] + 1, kIfcSampleDim - 2);
-        const double d = (s.at(hi[0], hi[1], hi[2]) - s.at(lo[0], lo[1], lo[2])) / double(hi[a] - lo[a]);
+        const int lo = p[a] > -1 ? 1 : 0, hi = p[a] < kIfcSampleDim - 2 ? 1 : 0;
+        const double d = (s.value[i + hi * kStride[a]] - s.value[i - lo * kStride[a]]) / double(hi + lo);
         g[a] = std::isfinite(d) ? d : 0.0;
     }
     return g;
@@ -193,15 +197,18 @@ private:
 
     /// Hermite data of the crossed edges of the block's cells (samples 0..8).
     void collect_hermite() {
+        static constexpr int kStride[3] = {kIfcSampleDim * kIfcSampleDim, kIfcSampleDim, 1};
         crossings_.clear();
+        crossed_.fill(false);
         for (int x = 0; x <= kIfcBlock; ++x) {
             for (int y = 0; y <= kIfcBlock; ++y) {
                 for (int z = 0; z <= kIfcBlock; ++z) {
+                    const int sample = IfcSamples::index(x, y, z);
+                    const std::array<int, 3> p = {x, y, z};
                     for (int axis = 0; axis < 3; ++axis) {
-                        const std::array<int, 3> p = {x, y, z};
+                        if (p[axis] == kIfcBlock || s_->inside[sample] == s_->inside[sample + kStride[axis]]) continue;
                         const int i = edge_index(x, y, z, axis);
-                        crossed_[i] = p[axis] < kIfcBlock && s_->crossed(x, y, z, axis);
-                        if (!crossed_[i]) continue;
+                        crossed_[i] = true;
                         hermite_[i] = edge_hermite(*s_, iso_, x, y, z, axis);
                         crossings_.push_back({std::uint8_t(x), std::uint8_t(y), std::uint8_t(z), std::uint8_t(axis)});
                     }
