@@ -49,6 +49,12 @@ nlohmann::ordered_json report_json(const MeshAnalysis& r) {
     return j;
 }
 
+nlohmann::ordered_json phases_json(const MeshReport& report) {
+    nlohmann::ordered_json phases = nlohmann::ordered_json::array();
+    for (const MeshPhase& phase : report.phases) phases.push_back({{"name", phase.name}, {"seconds", phase.seconds}});
+    return phases;
+}
+
 namespace {
 
 struct CheckOptions {

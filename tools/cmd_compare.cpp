@@ -140,6 +140,7 @@ nlohmann::ordered_json mesh_json(const MeshComparison& m) {
     j["error"] = m.error ? nlohmann::ordered_json(*m.error) : nullptr;
     j["adaptivity"] = m.adaptivity ? nlohmann::ordered_json(*m.adaptivity) : nullptr;
     j["seconds"] = m.seconds;
+    j["phases"] = phases_json(m.mesher);
     j["same_mesh_as"] = m.same_mesh_as ? nlohmann::ordered_json(*m.same_mesh_as) : nullptr;
     const DistanceReport& d = m.accuracy.distance;
     j["hausdorff_voxels"] = d.hausdorff;

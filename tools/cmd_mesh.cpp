@@ -86,9 +86,7 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
     j["vertices"] = mesh.vertices.size();
     j["seconds"] = seconds;
     // What the mesher did: its phases in the order run, DMC's safety-net rounds, fallbacks.
-    nlohmann::ordered_json phases = nlohmann::ordered_json::array();
-    for (const MeshPhase& phase : result.report.phases) phases.push_back({{"name", phase.name}, {"seconds", phase.seconds}});
-    j["phases"] = phases;
+    j["phases"] = phases_json(result.report);
     j["refinement_rounds"] = result.report.refinement_rounds;
     j["fallbacks"] = result.report.fallbacks;
     j["verified"] = verified ? report_json(*verified) : nlohmann::ordered_json(nullptr);

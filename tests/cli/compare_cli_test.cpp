@@ -27,7 +27,8 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
     ASSERT_EQ(report["meshes"].size(), 5u);  // 2 DC, MC, 2 volumeToMesh
     for (const char* key : {"method", "error", "adaptivity", "seconds", "triangles", "vertices", "hausdorff_voxels",
                             "mean_distance_voxels", "self_intersecting_pairs", "closed", "manifold", "normal_mean_deg",
-                            "normal_p95_deg", "boundary_edges", "genus", "area", "volume", "min_angle_deg"}) {
+                            "normal_p95_deg", "boundary_edges", "genus", "area", "volume", "min_angle_deg", "phases",
+                            "same_mesh_as"}) {
         for (const auto& mesh : report["meshes"]) EXPECT_TRUE(mesh.contains(key)) << key;
     }
     EXPECT_EQ(report["meshes"][0]["method"], "dc");
@@ -35,6 +36,11 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
     EXPECT_TRUE(report["meshes"][0]["adaptivity"].is_null());
     EXPECT_EQ(report["meshes"][2]["method"], "mc");
     EXPECT_EQ(report["meshes"][4]["adaptivity"], 1.0);
+    // DC at error 0 is MC: the MC row names it; DC at 0.25 reports its four phases.
+    EXPECT_EQ(report["meshes"][2]["same_mesh_as"], 0);
+    EXPECT_TRUE(report["meshes"][1]["same_mesh_as"].is_null());
+    ASSERT_EQ(report["meshes"][1]["phases"].size(), 4u);
+    EXPECT_EQ(report["meshes"][1]["phases"][0]["name"], "octree");
 
     std::ifstream plot(svg);
     const std::string text((std::istreambuf_iterator<char>(plot)), std::istreambuf_iterator<char>());
