@@ -197,11 +197,8 @@ private:
     }
 
     double surface_distance(const Point3d& x) {
-        const openvdb::Coord cell(int(std::floor(x[0])), int(std::floor(x[1])), int(std::floor(x[2])));
-        const std::array<double, 3> t = {x[0] - cell.x(), x[1] - cell.y(), x[2] - cell.z()};
-        std::array<double, 8> values;
-        for (int c = 0; c < 8; ++c) values[c] = value(cell.offsetBy(c & 1, (c >> 1) & 1, c >> 2));
-        return trilinear_surface_distance(values, t, iso_);
+        const std::array<int, 3> cell = {int(std::floor(x[0])), int(std::floor(x[1])), int(std::floor(x[2]))};
+        return cell_surface_distance(x, cell, [&](int i, int j, int k) { return value(openvdb::Coord(i, j, k)); }, iso_);
     }
 
     /// Top down: each coarse leaf holding surface replaces the cells of the blocks it covers.

@@ -47,4 +47,13 @@ private:
 /// position @a t in [0, 1]^3; 0 where a value is not finite (beyond the scan box).
 double trilinear_surface_distance(const std::array<double, 8>& corner_values, const std::array<double, 3>& t, double iso);
 
+/// The same at point @a p, in the unit cell whose minimum corner is @a cell (both in one
+/// frame, global or a block's), its corner values read by @a sample(x, y, z).
+template <class Sample>
+double cell_surface_distance(const Point3d& p, const std::array<int, 3>& cell, Sample&& sample, double iso) {
+    std::array<double, 8> values;
+    for (int c = 0; c < 8; ++c) values[c] = sample(cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2));
+    return trilinear_surface_distance(values, {p[0] - cell[0], p[1] - cell[1], p[2] - cell[2]}, iso);
+}
+
 }  // namespace vdbmesh::detail

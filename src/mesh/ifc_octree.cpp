@@ -430,16 +430,13 @@ private:
     /// First-order distance (voxels) from global index point @a x in the block to the
     /// isosurface of the trilinear interpolant; 0 where a sample is beyond the scan box.
     double surface_distance(const Point3d& x) const {
+        Point3d local;
         std::array<int, 3> cell;
-        std::array<double, 3> t;
         for (int a = 0; a < 3; ++a) {
-            const double local = x[a] - s_->origin[a];
-            cell[a] = std::clamp(int(std::floor(local)), 0, kIfcBlock - 1);
-            t[a] = local - cell[a];
+            local[a] = x[a] - s_->origin[a];
+            cell[a] = std::clamp(int(std::floor(local[a])), 0, kIfcBlock - 1);
         }
-        std::array<double, 8> values;
-        for (int c = 0; c < 8; ++c) values[c] = s_->at(cell[0] + (c & 1), cell[1] + ((c >> 1) & 1), cell[2] + (c >> 2));
-        return trilinear_surface_distance(values, t, iso_);
+        return cell_surface_distance(local, cell, [&](int i, int j, int k) { return s_->at(i, j, k); }, iso_);
     }
 
     /// Top down: the largest leaves become the block's cells.

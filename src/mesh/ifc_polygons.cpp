@@ -310,10 +310,8 @@ private:
 
     /// First-order distance (voxels) from @a p to the trilinear isosurface of the unit cell holding it.
     double surface_distance(const Point3d& p) {
-        const openvdb::Coord cell(int(std::floor(p[0])), int(std::floor(p[1])), int(std::floor(p[2])));
-        std::array<double, 8> values;
-        for (int c = 0; c < 8; ++c) values[c] = sample(cell.offsetBy(c & 1, (c >> 1) & 1, c >> 2));
-        return trilinear_surface_distance(values, {p[0] - cell.x(), p[1] - cell.y(), p[2] - cell.z()}, iso_);
+        const std::array<int, 3> cell = {int(std::floor(p[0])), int(std::floor(p[1])), int(std::floor(p[2]))};
+        return cell_surface_distance(p, cell, [&](int x, int y, int z) { return sample(openvdb::Coord(x, y, z)); }, iso_);
     }
 
     /// The value meshers use at grid point @a ijk.
