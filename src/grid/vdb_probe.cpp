@@ -32,9 +32,38 @@ rlim_t memory_limit(std::uintmax_t file_bytes) {
 /// Seconds the child may take: generous for a sound file of any size.
 unsigned time_limit(std::uintmax_t file_bytes) { return 30 + static_cast<unsigned>(file_bytes >> 24); }
 
+/// Whether this is an AddressSanitizer build (the fuzz build): its shadow memory reserves
+/// terabytes of address space, so an address-space limit would fail every allocation; its
+/// own allocator refuses (aborts on) a request beyond its maximum instead.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
+/// The child inherits the parent's signal handlers and mask. A handler for SIGALRM (libFuzzer
+/// has one, and so may any program that embeds vdbmesh) swallows the alarm below, and a
+/// blocked SIGALRM never arrives: either way the parent waits forever. A crash handler would
+/// run the host's crash reporting in the child. So the child resets them all to the default:
+/// the alarm ends it, a crash kills it, and the parent reports which.
+void restore_default_signals() {
+    for (const int signal : {SIGALRM, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) ::signal(signal, SIG_DFL);
+    sigset_t alarm_only;
+    sigemptyset(&alarm_only);
+    sigaddset(&alarm_only, SIGALRM);
+    ::sigprocmask(SIG_UNBLOCK, &alarm_only, nullptr);
+}
+
 [[noreturn]] void read_in_child(const std::filesystem::path& path, rlim_t limit, unsigned seconds, int report) {
+    restore_default_signals();
     const rlimit address_space{limit, limit}, no_core{0, 0};
-    ::setrlimit(RLIMIT_AS, &address_space);
+    if (!kAddressSanitizer) ::setrlimit(RLIMIT_AS, &address_space);
     ::setrlimit(RLIMIT_CORE, &no_core);
     // A reader that loops, or a child that blocks (a lock held by another thread of the parent
     // at fork()), ends by SIGALRM instead of hanging the parent.

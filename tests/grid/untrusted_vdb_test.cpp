@@ -1,8 +1,12 @@
 // Corrupt and truncated .vdb files: OpenVDB's reader crashes or allocates without bound on some
 // of them; reading must instead throw a FormatError naming the file.
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
 
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -57,6 +61,40 @@ TEST(UntrustedVdbTest, AByteThatCrashedOpenVdbsReaderIsAFormatError) {
     write_bytes(path, bytes);
     EXPECT_THROW(describe_vdb_file(path), FormatError);
     EXPECT_THROW(read_vdb(path), FormatError);
+}
+
+/// Where the SIGABRT handler below leaves its mark (a path fixed before it is installed).
+std::string* abort_marker = nullptr;
+void mark_abort(int) {
+    const int fd = ::open(abort_marker->c_str(), O_CREAT | O_WRONLY, 0644);  // async-signal-safe
+    if (fd >= 0) ::close(fd);
+}
+
+// The child that reads the file first used to keep the parent's signal handlers: a host's
+// crash handler ran in it (libFuzzer wrote a crash report for each corrupt file), and a host's
+// SIGALRM handler would have swallowed the alarm that ends a reader stuck in a loop.
+TEST(UntrustedVdbTest, TheReadingChildDoesNotRunTheHostsSignalHandlers) {
+    VDBMESH_SHARED_DATA(scan, "openqvis_nucleon_sim/nucleon.dat");
+    ScratchDir dir;
+    const auto path = write_nucleon_vdb(scan, dir);
+    std::vector<char> bytes = read_bytes(path);
+    ASSERT_GT(bytes.size(), 4270u);
+    bytes[4270] = static_cast<char>(0xDB);  // glibc aborts in bloscFromStream (the test above)
+    write_bytes(path, bytes);
+    std::string marker = (dir / "abort-handler-ran").string();
+    abort_marker = &marker;
+    struct sigaction host {}, previous {};
+    host.sa_handler = mark_abort;
+    ASSERT_EQ(::sigaction(SIGABRT, &host, &previous), 0);
+    try {
+        read_vdb(path);
+        ADD_FAILURE() << "a corrupt file was read";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("crashed"), std::string::npos) << e.what();
+    }
+    ::sigaction(SIGABRT, &previous, nullptr);
+    abort_marker = nullptr;
+    EXPECT_FALSE(std::filesystem::exists(marker)) << "the host's SIGABRT handler ran in the reading child";
 }
 
 TEST(UntrustedVdbTest, FourByteMutationsNeverCrash) {
