@@ -53,4 +53,9 @@ std::uint64_t file_size_or_throw(const std::filesystem::path& path);
 /// True when the file starts with the gzip magic bytes.
 bool is_gzip(const std::filesystem::path& path);
 
+/// zlib's gzerror() text without the name zlib gives the stream in front of it
+/// (@a stream_name: "<fd:3>" for gzdopen(3, ...), the path for gzopen()): our messages name
+/// the file themselves. "corrupt data" when there is no text.
+std::string gzip_error_reason(const char* message, const std::string& stream_name);
+
 }  // namespace vdbmesh::detail

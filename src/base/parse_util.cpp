@@ -100,10 +100,9 @@ std::vector<unsigned char> read_prefix(const std::filesystem::path& path, std::s
         filled += static_cast<std::size_t>(got);
     }
     int status = Z_OK;
-    gzerror(file, &status);
+    const std::string reason = gzip_error_reason(gzerror(file, &status), path.string());
     gzclose(file);
-    if (status != Z_OK && status != Z_BUF_ERROR)
-        throw FormatError(path.string(), "gzip stream", "valid compressed data", "a corrupt stream");
+    if (status != Z_OK && status != Z_BUF_ERROR) throw FormatError(path.string(), "gzip stream", "valid compressed data", reason);
     bytes.resize(filled);
     return bytes;
 }
@@ -120,6 +119,13 @@ bool is_gzip(const std::filesystem::path& path) {
     unsigned char magic[2] = {0, 0};
     in.read(reinterpret_cast<char*>(magic), 2);
     return in.gcount() == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
+}
+
+std::string gzip_error_reason(const char* message, const std::string& stream_name) {
+    std::string text = message ? message : "";
+    const std::string prefix = stream_name + ": ";
+    if (text.compare(0, prefix.size(), prefix) == 0) text.erase(0, prefix.size());
+    return text.empty() ? "corrupt data" : text;
 }
 
 }  // namespace vdbmesh::detail

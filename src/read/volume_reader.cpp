@@ -23,6 +23,7 @@
 #include <limits>
 
 #include "vdbmesh/error.h"
+#include "vdbmesh/parse_util.h"
 #include "vdbmesh/read.h"
 
 namespace vdbmesh {
@@ -45,7 +46,8 @@ public:
 /// Plain or gzip bytes through gzread (transparent for data without the gzip magic).
 class GzipInput final : public SegmentInput {
 public:
-    GzipInput(std::filesystem::path path, int fd) : path_(std::move(path)), file_(gzdopen(fd, "rb")) {
+    GzipInput(std::filesystem::path path, int fd)
+        : path_(std::move(path)), stream_name_("<fd:" + std::to_string(fd) + ">"), file_(gzdopen(fd, "rb")) {
         if (!file_) {
             ::close(fd);
             throw Error(path_.string() + ": cannot start reading (out of memory)");
@@ -61,11 +63,12 @@ public:
         const char* message = gzerror(file_, &status);
         if (status == Z_BUF_ERROR)
             throw FormatError(path_.string(), "gzip stream", "a complete gzip stream", "one cut short (truncated)");
-        throw FormatError(path_.string(), "gzip stream", "valid compressed data", message ? message : "corrupt data");
+        throw FormatError(path_.string(), "gzip stream", "valid compressed data", detail::gzip_error_reason(message, stream_name_));
     }
 
 private:
     std::filesystem::path path_;
+    std::string stream_name_;  ///< what zlib calls the stream in its messages
     gzFile file_;
 };
 

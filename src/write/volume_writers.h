@@ -59,6 +59,7 @@ private:
     [[noreturn]] void fail(const char* what);
     gzFile file_ = nullptr;
     std::filesystem::path name_;
+    std::string stream_name_;  ///< what zlib calls the stream in its messages: the path opened
 };
 
 /// Checks what every writer needs: dims > 0 whose byte count fits in 63 bits, a finite

@@ -43,7 +43,7 @@ void encode_as(const float* values, std::size_t count, double scale, double offs
 }  // namespace
 
 ByteSink::ByteSink(const std::filesystem::path& path, const std::filesystem::path& name, bool gzip, bool append)
-    : name_(name) {
+    : name_(name), stream_name_(path.string()) {
     const std::string mode = std::string(append ? "ab" : "wb") + (gzip ? "6" : "T");
     file_ = gzopen(path.c_str(), mode.c_str());
     if (!file_) throw Error(name_.string() + ": cannot create the file (" + std::strerror(errno) + ")");
@@ -57,7 +57,8 @@ ByteSink::~ByteSink() {
 void ByteSink::fail(const char* what) {
     int code = 0;
     const char* message = file_ ? gzerror(file_, &code) : "";
-    throw Error(name_.string() + ": " + what + " (" + (code == Z_ERRNO ? std::strerror(errno) : message) + ")");
+    throw Error(name_.string() + ": " + what + " (" +
+                (code == Z_ERRNO ? std::string(std::strerror(errno)) : gzip_error_reason(message, stream_name_)) + ")");
 }
 
 void ByteSink::write(const void* data, std::size_t size) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <functional>
 #include <limits>
 
@@ -316,6 +317,27 @@ TEST(NiftiAnalyzeTest, GzippedFileIsCheckedWhileStreaming) {
     const std::string message = open_error(dir / "long.nii.gz");
     EXPECT_MESSAGE_HAS(message, "trailing data");
     EXPECT_MESSAGE_HAS(message, "2 more bytes");
+}
+
+// Issue 10, point 6: zlib names a stream it was given by descriptor "<fd:3>", and its
+// messages went out as they were: "got <fd:3>: incorrect data check".
+TEST(NiftiAnalyzeTest, AGzipChecksumMismatchIsNamedWithoutZlibsStreamName) {
+    test::ScratchDir dir;
+    Bytes gzip = test::gzip_bytes(nii_file(nifti_header(), Bytes(8)));
+    gzip[gzip.size() - 8] ^= 0xff;  // the CRC-32 of the trailer
+    test::write_bytes(dir / "crc.nii.gz", gzip);
+    const std::string message = open_error(dir / "crc.nii.gz");
+    EXPECT_MESSAGE_HAS(message, (dir / "crc.nii.gz").string() + ": gzip stream: expected valid compressed data, got incorrect data check");
+    EXPECT_EQ(message.find("<fd:"), std::string::npos) << message;
+    // A larger file: the header is read from its start, the CRC found while streaming.
+    std::ifstream in(test::testdata("sphere_phantom.nii.gz"), std::ios::binary);
+    Bytes large((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(large.size(), 1000u);
+    large[large.size() - 8] ^= 0xff;
+    test::write_bytes(dir / "large.nii.gz", large);
+    const std::string streamed = open_error(dir / "large.nii.gz");
+    EXPECT_MESSAGE_HAS(streamed, (dir / "large.nii.gz").string() + ": gzip stream: expected valid compressed data, got incorrect data check");
+    EXPECT_EQ(streamed.find("<fd:"), std::string::npos) << streamed;
 }
 
 TEST(NiftiAnalyzeTest, NanInFloatDataThrows) {
