@@ -51,14 +51,21 @@ bool reads_or_names_the_file(const std::filesystem::path& path) {
     }
 }
 
+/// nucleon.vdb with the byte that makes OpenVDB's reader corrupt its heap in bloscFromStream
+/// (glibc then aborts: "malloc(): corrupted top size").
+std::filesystem::path write_vdb_that_crashes_openvdb(const std::filesystem::path& scan, const ScratchDir& dir) {
+    const auto path = write_nucleon_vdb(scan, dir);
+    std::vector<char> bytes = read_bytes(path);
+    EXPECT_GT(bytes.size(), 4270u);
+    bytes.at(4270) = static_cast<char>(0xDB);
+    write_bytes(path, bytes);
+    return path;
+}
+
 TEST(UntrustedVdbTest, AByteThatCrashedOpenVdbsReaderIsAFormatError) {
     VDBMESH_SHARED_DATA(scan, "openqvis_nucleon_sim/nucleon.dat");
     ScratchDir dir;
-    const auto path = write_nucleon_vdb(scan, dir);
-    std::vector<char> bytes = read_bytes(path);
-    ASSERT_GT(bytes.size(), 4270u);
-    bytes[4270] = static_cast<char>(0xDB);  // heap corruption in bloscFromStream: "malloc(): corrupted top size"
-    write_bytes(path, bytes);
+    const auto path = write_vdb_that_crashes_openvdb(scan, dir);
     EXPECT_THROW(describe_vdb_file(path), FormatError);
     EXPECT_THROW(read_vdb(path), FormatError);
 }
@@ -76,11 +83,7 @@ void mark_abort(int) {
 TEST(UntrustedVdbTest, TheReadingChildDoesNotRunTheHostsSignalHandlers) {
     VDBMESH_SHARED_DATA(scan, "openqvis_nucleon_sim/nucleon.dat");
     ScratchDir dir;
-    const auto path = write_nucleon_vdb(scan, dir);
-    std::vector<char> bytes = read_bytes(path);
-    ASSERT_GT(bytes.size(), 4270u);
-    bytes[4270] = static_cast<char>(0xDB);  // glibc aborts in bloscFromStream (the test above)
-    write_bytes(path, bytes);
+    const auto path = write_vdb_that_crashes_openvdb(scan, dir);
     std::string marker = (dir / "abort-handler-ran").string();
     abort_marker = &marker;
     struct sigaction host {}, previous {};
