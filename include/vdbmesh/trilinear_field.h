@@ -9,6 +9,7 @@
 #include <openvdb/openvdb.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
@@ -39,8 +40,7 @@ public:
     const std::optional<openvdb::CoordBBox>& scan_box() const { return scan_box_; }
 
     FieldSample operator()(openvdb::Vec3d p) const {
-        bool clamped[3] = {false, false, false};
-        clamp_into_box(p, clamped);
+        const std::array<bool, 3> clamped = clamp_into_box(p);
         FieldSample s = interpolate(p);
         for (int a = 0; a < 3; ++a)
             if (clamped[a]) s.gradient[a] = 0;
@@ -50,8 +50,7 @@ public:
     /// operator()(p).value, bit for bit, without the gradient: the isosurface search steps
     /// along rays by values alone.
     double value(openvdb::Vec3d p) const {
-        bool clamped[3];
-        clamp_into_box(p, clamped);
+        clamp_into_box(p);
         const Corners c = corners(p);
         const double ez[2][2] = {{lerp(c.v[0][0][0], c.v[0][0][1], c.t[2]), lerp(c.v[0][1][0], c.v[0][1][1], c.t[2])},
                                  {lerp(c.v[1][0][0], c.v[1][0][1], c.t[2]), lerp(c.v[1][1][0], c.v[1][1][1], c.t[2])}};
@@ -68,9 +67,10 @@ private:
 
     static double lerp(double a, double b, double t) { return a + t * (b - a); }
 
-    void clamp_into_box(openvdb::Vec3d& p, bool clamped[3]) const {
-        for (int a = 0; a < 3; ++a) clamped[a] = false;
-        if (!scan_box_) return;
+    /// Moves @a p into the scan box (if any); returns which coordinates moved.
+    std::array<bool, 3> clamp_into_box(openvdb::Vec3d& p) const {
+        std::array<bool, 3> clamped = {false, false, false};
+        if (!scan_box_) return clamped;
         for (int a = 0; a < 3; ++a) {
             const double lo = scan_box_->min()[a], hi = scan_box_->max()[a];
             if (p[a] < lo || p[a] > hi) {
@@ -78,6 +78,7 @@ private:
                 clamped[a] = true;
             }
         }
+        return clamped;
     }
 
     Corners corners(const openvdb::Vec3d& p) const {

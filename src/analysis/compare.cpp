@@ -140,7 +140,7 @@ MeshFingerprint mesh_fingerprint(const Mesh& mesh) {
     MeshFingerprint f;
     f.vertices = mesh.vertices.size();
     f.triangles = mesh.triangles.size();
-    // Two multiply-rotate chains over the 32-bit words (coordinates as their bit patterns),
+    // Two multiply-xorshift chains over the 32-bit words (coordinates as their bit patterns),
     // with different odd multipliers and seeds.
     std::uint64_t a = 0x243f6a8885a308d3ull, b = 0x13198a2e03707344ull;
     const auto add = [&](std::uint32_t word) {

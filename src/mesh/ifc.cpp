@@ -14,7 +14,6 @@
 #endif
 
 #include <algorithm>
-#include <limits>
 #include <memory>
 
 #include "mesh/huge_pages.h"
