@@ -38,21 +38,19 @@ void release_free_memory() {
 #endif
 }
 
-bool uniform(const IfcSamples& samples) {
-    return std::all_of(samples.inside.begin(), samples.inside.end(), [&](bool in) { return in == samples.inside[0]; });
-}
-
-/// Calls @a visit(samples, accessor, block) for every block holding surface, in parallel.
-template <typename Visit>
+/// Calls @a visit(samples, accessor, block) for every block holding surface among those
+/// @a candidate(block, accessor) accepts, in parallel.
+template <typename Candidate, typename Visit>
 void for_each_surface_block(const openvdb::FloatGrid& grid, const SampleClassifier& classifier,
-                            const std::vector<openvdb::Coord>& origins, Visit&& visit) {
+                            const std::vector<openvdb::Coord>& origins, Candidate&& candidate, Visit&& visit) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size()), [&](const auto& range) {
         auto accessor = grid.getConstAccessor();
         auto samples = std::make_unique<IfcSamples>();
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
+            if (!candidate(b, accessor)) continue;
             samples->origin = origins[b];
             load_ifc_samples(accessor, classifier, *samples);
-            if (!uniform(*samples)) visit(*samples, accessor, b);
+            if (!samples->uniform()) visit(*samples, accessor, b);
         }
     });
 }
@@ -125,7 +123,8 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     IfcCellGrid cells;
     cells.origins = surface_blocks(grid, classifier);
     cells.blocks.resize(cells.origins.size());
-    for_each_surface_block(grid, classifier, cells.origins, [&](const IfcSamples& samples, auto&, std::size_t b) {
+    auto may_hold_surface = [&](std::size_t b, auto& accessor) { return block_may_hold_surface(accessor, classifier, cells.origins[b]); };
+    for_each_surface_block(grid, classifier, cells.origins, may_hold_surface, [&](const IfcSamples& samples, auto&, std::size_t b) {
         build_ifc_cells(samples, options.iso, options.error, cells.block_for_writing(b));
     });
     clock.lap(report, "octree");
@@ -133,7 +132,10 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     clock.lap(report, "coarse");
     if (options.progress) options.progress(0.4);
     std::vector<IfcBlockOutput> outputs(cells.origins.size());
-    for_each_surface_block(grid, classifier, cells.origins, [&](const IfcSamples& samples, auto& accessor, std::size_t b) {
+    // A block the octree did not build has all its samples on one side (about a third of the
+    // candidates on the scans): it is not loaded again.
+    auto built_block = [&](std::size_t b, auto&) { return cells.blocks[b] != nullptr; };
+    for_each_surface_block(grid, classifier, cells.origins, built_block, [&](const IfcSamples& samples, auto& accessor, std::size_t b) {
         contour_ifc_block(samples, classifier, accessor, cells, b, grid.transform(), options.error, outputs[b]);
         outputs[b].vertices.shrink_to_fit();  // growth leaves up to half unused: it adds up over blocks
         outputs[b].triangles.shrink_to_fit();

@@ -22,19 +22,41 @@ inline constexpr int kIfcMaxLevel = 3;     ///< merged cells within a block: up 
 inline constexpr int kIfcCoarseMaxLevel = 7;  ///< across blocks: up to a lower internal node, 128 voxels
 inline constexpr int kIfcSampleDim = kIfcBlock + 3;  ///< samples -1..9: cells 0..7 and gradients
 
-/// The samples a block reads, local coordinates in [-1, 9].
+/// The samples a block reads, local coordinates in [-1, 9]. Values are kept as the grid's
+/// floats (half the bytes to write per block; the meshers compute in double from them, and
+/// every value, the scan box's infinities included, converts exactly). Which samples are inside
+/// is kept as one bit per sample in rows along z, so crossed edges and cell configurations
+/// come from a few bit operations per row.
 struct IfcSamples {
     openvdb::Coord origin;
-    std::array<double, kIfcSampleDim * kIfcSampleDim * kIfcSampleDim> value;
-    std::array<bool, kIfcSampleDim * kIfcSampleDim * kIfcSampleDim> inside;
+    std::array<float, kIfcSampleDim * kIfcSampleDim * kIfcSampleDim> value;
+    /// Per row (x, y): bit z + 1 set when sample (x, y, z) is inside.
+    std::array<std::uint16_t, kIfcSampleDim * kIfcSampleDim> inside_rows;
 
     static int index(int x, int y, int z) { return ((x + 1) * kIfcSampleDim + (y + 1)) * kIfcSampleDim + (z + 1); }
-    bool in(int x, int y, int z) const { return inside[index(x, y, z)]; }
+    static int row_index(int x, int y) { return (x + 1) * kIfcSampleDim + (y + 1); }
+    std::uint16_t row(int x, int y) const { return inside_rows[row_index(x, y)]; }
+    bool in(int x, int y, int z) const { return (row(x, y) >> (z + 1)) & 1u; }
     double at(int x, int y, int z) const { return value[index(x, y, z)]; }
     /// Whether the grid edge from local sample (x, y, z) along @a axis is crossed.
     bool crossed(int x, int y, int z, int axis) const {
         return in(x, y, z) != in(x + (axis == 0), y + (axis == 1), z + (axis == 2));
     }
+    /// Bit z + 1 set for each z whose edge from sample (x, y, z) along @a axis is crossed (its
+    /// far end must lie in the window; along z, bit 10 is always clear).
+    std::uint16_t crossed_row(int x, int y, int axis) const {
+        const std::uint16_t near = row(x, y);
+        const std::uint16_t far = axis == 2 ? std::uint16_t(near >> 1) : row(x + (axis == 0), y + (axis == 1));
+        return std::uint16_t((near ^ far) & (axis == 2 ? 0x3ffu : 0x7ffu));
+    }
+    /// Bit z + 1 set for each z whose unit cell at (x, y, z) has corners on both sides.
+    std::uint16_t mixed_cells_row(int x, int y) const {
+        const unsigned r[4] = {row(x, y), row(x + 1, y), row(x, y + 1), row(x + 1, y + 1)};
+        const unsigned all_in = r[0] & r[1] & r[2] & r[3], any_in = r[0] | r[1] | r[2] | r[3];
+        return std::uint16_t(~(all_in & (all_in >> 1)) & (any_in | (any_in >> 1)) & 0x3ffu);
+    }
+    /// Whether every sample is on the same side.
+    bool uniform() const;
     /// Marching Cubes configuration of the unit cell at local (x, y, z): bit c for corner c inside.
     unsigned config(int x, int y, int z) const;
 };
@@ -83,8 +105,9 @@ struct IfcCellGrid {
     /// In the same order; null for a block never built (no surface). Each is allocated by the
     /// task that builds it, so the memory is first touched in parallel, not in one serial resize.
     std::vector<std::unique_ptr<IfcBlockCells>> blocks;
-    /// The index of the block at @a origin, or -1.
-    std::ptrdiff_t block_at(const openvdb::Coord& origin) const;
+    /// The indices of the 27 blocks round block @a b (itself at 13; n = 9 dx + 3 dy + dz for
+    /// offsets (dx - 1, dy - 1, dz - 1) blocks), -1 where there is none.
+    std::array<std::ptrdiff_t, 27> neighbours(std::size_t b) const;
     /// The cells of block @a b (all unit cells without surface if it was never built).
     const IfcBlockCells& block(std::size_t b) const;
     /// The cells of block @a b, allocated empty if it was never built.

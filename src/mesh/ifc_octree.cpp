@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <numeric>
@@ -30,13 +31,31 @@ namespace vdbmesh::detail {
 
 unsigned IfcSamples::config(int x, int y, int z) const {
     // Corner c at (c & 1, (c >> 1) & 1, c >> 2), as an offset from the cell's minimum sample.
-    static constexpr int kDim = kIfcSampleDim;
-    static constexpr int kCorner[8] = {0, kDim * kDim, kDim, kDim * kDim + kDim, 1, kDim * kDim + 1, kDim + 1, kDim * kDim + kDim + 1};
-    const int base = index(x, y, z);
+    const unsigned rows[4] = {row(x, y), row(x + 1, y), row(x, y + 1), row(x + 1, y + 1)};
     unsigned config = 0;
-    for (unsigned c = 0; c < 8; ++c) config |= unsigned(inside[base + kCorner[c]]) << c;
+    for (unsigned c = 0; c < 8; ++c) config |= ((rows[c & 3] >> (z + 1 + (c >> 2))) & 1u) << c;
     return config;
 }
+
+bool IfcSamples::uniform() const {
+    const std::uint16_t first = inside_rows[0];
+    if (first != 0 && first != 0x7ff) return false;
+    return std::all_of(inside_rows.begin(), inside_rows.end(), [&](std::uint16_t r) { return r == first; });
+}
+
+namespace {
+
+/// Copies a row of 1, 2 or 8 floats; the fixed sizes are inlined (a call to memmove per
+/// 32-byte row cost as much as the copy).
+void copy_row(const float* source, int length, float* row) {
+    switch (length) {
+        case 8: std::memcpy(row, source, 8 * sizeof(float)); break;
+        case 2: std::memcpy(row, source, 2 * sizeof(float)); break;
+        default: std::memcpy(row, source, std::size_t(length) * sizeof(float));
+    }
+}
+
+}  // namespace
 
 void load_ifc_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier, IfcSamples& samples) {
     // The window spans up to 27 leaves: each is read from its buffer a row along z at a time,
@@ -54,13 +73,13 @@ void load_ifc_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleC
                 const int row_length = kSpanMax[rz] - kSpanMin[rz];
                 for (int x = kSpanMin[rx]; x < kSpanMax[rx]; ++x) {
                     for (int y = kSpanMin[ry]; y < kSpanMax[ry]; ++y) {
-                        double* row = &samples.value[IfcSamples::index(x, y, kSpanMin[rz])];
+                        float* row = &samples.value[IfcSamples::index(x, y, kSpanMin[rz])];
                         if (!leaf) {
-                            std::fill(row, row + row_length, double(tile));
+                            std::fill(row, row + row_length, tile);
                             continue;
                         }
                         const float* source = leaf->buffer().data() + Leaf::coordToOffset(local.offsetBy(x - kSpanMin[rx], y - kSpanMin[ry], 0));
-                        for (int z = 0; z < row_length; ++z) row[z] = double(source[z]);
+                        copy_row(source, row_length, row);
                     }
                 }
             }
@@ -71,13 +90,15 @@ void load_ifc_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleC
         for (int x = -1; x < kIfcSampleDim - 1; ++x) {
             for (int y = -1; y < kIfcSampleDim - 1; ++y) {
                 for (int z = -1; z < kIfcSampleDim - 1; ++z) {
-                    double& value = samples.value[IfcSamples::index(x, y, z)];
-                    value = classifier.sample_value(samples.origin.offsetBy(x, y, z), float(value));
+                    float& value = samples.value[IfcSamples::index(x, y, z)];
+                    value = float(classifier.sample_value(samples.origin.offsetBy(x, y, z), value));
                 }
             }
         }
     }
-    for (std::size_t i = 0; i < samples.value.size(); ++i) samples.inside[i] = classifier.inside(samples.value[i]);
+    for (std::size_t r = 0; r < samples.inside_rows.size(); ++r) {
+        samples.inside_rows[r] = std::uint16_t(classifier.inside_bits(&samples.value[r * kIfcSampleDim], kIfcSampleDim));
+    }
 }
 
 namespace {
@@ -91,7 +112,7 @@ Point3d gradient(const IfcSamples& s, int x, int y, int z) {
     Point3d g;
     for (int a = 0; a < 3; ++a) {
         const int lo = p[a] > -1 ? 1 : 0, hi = p[a] < kIfcSampleDim - 2 ? 1 : 0;
-        const double d = (s.value[i + hi * kStride[a]] - s.value[i - lo * kStride[a]]) / double(hi + lo);
+        const double d = (double(s.value[i + hi * kStride[a]]) - double(s.value[i - lo * kStride[a]])) / double(hi + lo);
         g[a] = std::isfinite(d) ? d : 0.0;
     }
     return g;
@@ -197,16 +218,22 @@ private:
 
     /// Hermite data of the crossed edges of the block's cells (samples 0..8).
     void collect_hermite() {
-        static constexpr int kStride[3] = {kIfcSampleDim * kIfcSampleDim, kIfcSampleDim, 1};
         crossings_.clear();
         crossed_.fill(false);
         for (int x = 0; x <= kIfcBlock; ++x) {
             for (int y = 0; y <= kIfcBlock; ++y) {
-                for (int z = 0; z <= kIfcBlock; ++z) {
-                    const int sample = IfcSamples::index(x, y, z);
-                    const std::array<int, 3> p = {x, y, z};
+                // Bit z + 1 of along[axis]: the edge from (x, y, z) along axis is crossed; edges
+                // leaving the block's samples 0..8 are not the block's.
+                std::array<unsigned, 3> along{};
+                for (int axis = 0; axis < 3; ++axis) {
+                    const int p[2] = {x, y};
+                    if (axis < 2 && p[axis] == kIfcBlock) continue;
+                    along[axis] = s_->crossed_row(x, y, axis) & (axis == 2 ? 0x1feu : 0x3feu);
+                }
+                for (unsigned any = along[0] | along[1] | along[2]; any != 0; any &= any - 1) {
+                    const int z = __builtin_ctz(any) - 1;
                     for (int axis = 0; axis < 3; ++axis) {
-                        if (p[axis] == kIfcBlock || s_->inside[sample] == s_->inside[sample + kStride[axis]]) continue;
+                        if (!((along[axis] >> (z + 1)) & 1u)) continue;
                         const int i = edge_index(x, y, z, axis);
                         crossed_[i] = true;
                         hermite_[i] = edge_hermite(*s_, iso_, x, y, z, axis);
@@ -287,7 +314,10 @@ private:
         const auto& simple_units = simple_unit_cells();
         for (int x = 0; x < kIfcBlock; ++x) {
             for (int y = 0; y < kIfcBlock; ++y) {
-                for (int z = 0; z < kIfcBlock; ++z) simple_[0][cell_index(0, x, y, z)] = simple_units[s_->config(x, y, z)];
+                const unsigned mixed = s_->mixed_cells_row(x, y);  // cells without surface are simple
+                for (int z = 0; z < kIfcBlock; ++z) {
+                    simple_[0][cell_index(0, x, y, z)] = !((mixed >> (z + 1)) & 1u) || simple_units[s_->config(x, y, z)];
+                }
             }
         }
         for (int level = 1; level <= kIfcMaxLevel; ++level) {

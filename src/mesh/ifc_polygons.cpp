@@ -33,9 +33,22 @@
 
 namespace vdbmesh::detail {
 
-std::ptrdiff_t IfcCellGrid::block_at(const openvdb::Coord& origin) const {
-    const auto it = std::lower_bound(origins.begin(), origins.end(), origin);
-    return it != origins.end() && *it == origin ? it - origins.begin() : -1;
+std::array<std::ptrdiff_t, 27> IfcCellGrid::neighbours(std::size_t b) const {
+    // Origins are sorted by x, then y, then z: the three blocks of one column (fixed x and y)
+    // are consecutive, so one search per column finds them (9 searches, not 26).
+    std::array<std::ptrdiff_t, 27> found;
+    const openvdb::Coord& centre = origins[b];
+    for (int column = 0; column < 9; ++column) {
+        const openvdb::Coord low = centre.offsetBy((column / 3 - 1) * kIfcBlock, (column % 3 - 1) * kIfcBlock, -kIfcBlock);
+        auto it = column == 4 ? origins.begin() + std::ptrdiff_t(b) - (b > 0 && origins[b - 1] == low)
+                              : std::lower_bound(origins.begin(), origins.end(), low);
+        for (int dz = 0; dz < 3; ++dz) {
+            const bool here = it != origins.end() && *it == low.offsetBy(0, 0, dz * kIfcBlock);
+            found[std::size_t(column * 3 + dz)] = here ? it - origins.begin() : -1;
+            it += here;
+        }
+    }
+    return found;
 }
 
 const IfcBlockCells& IfcCellGrid::block(std::size_t b) const {
@@ -131,19 +144,23 @@ public:
           transform_(transform), out_(out) {}
 
     void run() {
-        for (int n = 0; n < 27; ++n) {
-            const openvdb::Coord origin = s_.origin.offsetBy((n / 9 - 1) * kIfcBlock, ((n / 3) % 3 - 1) * kIfcBlock, (n % 3 - 1) * kIfcBlock);
-            const std::ptrdiff_t b = n == 13 ? std::ptrdiff_t(block_) : grid_.block_at(origin);
-            neighbour_[n] = b < 0 ? nullptr : &grid_.block(std::size_t(b));
-        }
+        const std::array<std::ptrdiff_t, 27> around = grid_.neighbours(block_);
+        for (int n = 0; n < 27; ++n) neighbour_[n] = around[n] < 0 ? nullptr : &grid_.block(std::size_t(around[n]));
         const IfcBlockCells& cells = grid_.block(block_);
         for (const IfcCell& cell : cells.cells) add_vertex(make_key(1, cell.level, cell.min), cell.vertex);
+        // Per unit cell in order: its Marching Cubes triangles when it is a unit cell, then its
+        // three crossed edges; rows of bits skip the cells and edges without surface.
+        static constexpr unsigned kBlockBits = ((1u << kIfcBlock) - 1) << 1;  // z = 0..7 at bits 1..8
         for (int x = 0; x < kIfcBlock; ++x) {
             for (int y = 0; y < kIfcBlock; ++y) {
-                for (int z = 0; z < kIfcBlock; ++z) {
-                    if (cells.level[IfcBlockCells::unit_index(x, y, z)] == 0) marching_cube(x, y, z);
+                const unsigned mixed = s_.mixed_cells_row(x, y) & kBlockBits;
+                const std::array<unsigned, 3> along = {s_.crossed_row(x, y, 0) & kBlockBits, s_.crossed_row(x, y, 1) & kBlockBits,
+                                                       s_.crossed_row(x, y, 2) & kBlockBits};
+                for (unsigned any = mixed | along[0] | along[1] | along[2]; any != 0; any &= any - 1) {
+                    const int z = __builtin_ctz(any) - 1;
+                    if (((mixed >> (z + 1)) & 1u) && cells.level[IfcBlockCells::unit_index(x, y, z)] == 0) marching_cube(x, y, z);
                     for (int axis = 0; axis < 3; ++axis) {
-                        if (s_.crossed(x, y, z, axis)) crossed_edge(x, y, z, axis);
+                        if ((along[axis] >> (z + 1)) & 1u) crossed_edge(x, y, z, axis);
                     }
                 }
             }

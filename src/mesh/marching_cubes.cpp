@@ -61,10 +61,6 @@ void load_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClass
     }
 }
 
-bool uniform(const BlockSamples& samples) {
-    return std::all_of(samples.inside.begin(), samples.inside.end(), [&](bool in) { return in == samples.inside[0]; });
-}
-
 /// An edge owned by a block: ((x * 8 + y) * 8 + z) * 3 + axis for its minimum voxel (x, y, z)
 /// relative to the block's origin.
 std::uint16_t edge_code(int x, int y, int z, int axis) {
@@ -100,9 +96,9 @@ public:
             BlockSamples samples;
             OwnVertexIndex own_vertex;
             for (std::size_t b = range.begin(); b != range.end(); ++b) {
+                if (!block_may_hold_surface(accessor, classifier_, blocks_[b])) continue;  // most blocks next to a leaf
                 samples.origin = blocks_[b];
                 load_samples(accessor, classifier_, samples);
-                if (uniform(samples)) continue;  // most blocks next to a leaf hold no surface
                 collect_vertices(samples, own_vertex, outputs[b]);
                 collect_triangles(samples, own_vertex, outputs[b]);
             }

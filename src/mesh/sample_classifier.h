@@ -5,6 +5,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <cstdint>
 #include <optional>
 
 #include "mesh/edge_crossing.h"
@@ -21,6 +22,17 @@ public:
     bool in_box(const openvdb::Coord& ijk) const { return !box_ || box_->isInside(ijk); }
     /// Whether a value (finite, or outside_scan_value()) is inside the object.
     bool inside(double value) const { return is_inside_value(value, iso_, above_); }
+    /// Bit i set for each of the @a count (at most 32) values that is inside, as inside() says.
+    std::uint32_t inside_bits(const float* values, int count) const {
+        std::uint32_t bits = 0;
+        // The side is tested outside the loop so that the loop is branch-free.
+        if (above_) {
+            for (int i = 0; i < count; ++i) bits |= std::uint32_t(double(values[i]) > iso_) << i;
+        } else {
+            for (int i = 0; i < count; ++i) bits |= std::uint32_t(double(values[i]) < iso_) << i;
+        }
+        return bits;
+    }
     /// The value meshers use for the sample at @a ijk holding @a value: itself inside the box,
     /// outside_scan_value() beyond it.
     double sample_value(const openvdb::Coord& ijk, float value) const {

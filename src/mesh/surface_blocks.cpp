@@ -8,6 +8,7 @@
 #include "mesh/surface_blocks.h"
 
 #include <algorithm>
+#include <cstdint>
 
 namespace vdbmesh::detail {
 
@@ -69,6 +70,39 @@ std::vector<openvdb::Coord> surface_blocks(const openvdb::FloatGrid& grid, const
     std::sort(blocks.begin(), blocks.end());
     blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
     return blocks;
+}
+
+bool block_may_hold_surface(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier,
+                            const openvdb::Coord& origin) {
+    // The block's cells read samples origin .. origin + 8: its own leaf's region and the first
+    // plane, line or sample of the 7 regions above it.
+    const openvdb::CoordBBox window(origin, origin.offsetBy(kBlockDim));
+    if (classifier.scan_box() && !classifier.scan_box()->isInside(window)) return true;
+    using Leaf = openvdb::FloatTree::LeafNodeType;
+    bool seen[2] = {false, false};
+    for (int region = 0; region < 8; ++region) {
+        const int d[3] = {region >> 2, (region >> 1) & 1, region & 1};
+        const openvdb::Coord corner = origin.offsetBy(d[0] * kBlockDim, d[1] * kBlockDim, d[2] * kBlockDim);
+        const Leaf* leaf = accessor.probeConstLeaf(corner);
+        if (!leaf) {
+            seen[classifier.inside(accessor.getValue(corner))] = true;
+        } else {
+            // Along an axis the region is the whole leaf (d = 0) or its first plane (d = 1).
+            const int extent[3] = {d[0] ? 1 : kBlockDim, d[1] ? 1 : kBlockDim, d[2] ? 1 : kBlockDim};
+            const float* values = leaf->buffer().data();
+            const std::uint32_t all = (1u << extent[2]) - 1;
+            for (int x = 0; x < extent[0]; ++x) {
+                for (int y = 0; y < extent[1]; ++y) {
+                    const std::uint32_t inside = classifier.inside_bits(values + Leaf::coordToOffset(openvdb::Coord(x, y, 0)), extent[2]);
+                    seen[1] |= inside != 0;
+                    seen[0] |= inside != all;
+                    if (seen[0] && seen[1]) return true;
+                }
+            }
+        }
+        if (seen[0] && seen[1]) return true;
+    }
+    return false;
 }
 
 }  // namespace vdbmesh::detail

@@ -18,4 +18,12 @@ inline constexpr int kBlockDim = int(openvdb::FloatTree::LeafNodeType::DIM);
 /// the background, and the shell of the scan box where it meets inside samples.
 std::vector<openvdb::Coord> surface_blocks(const openvdb::FloatGrid& grid, const SampleClassifier& classifier);
 
+/// False when every sample the cells of the block at @a origin read (origin .. origin + 8) is
+/// on the same side, so the block holds no surface. It reads leaf buffers and tiles in place
+/// and stops at the first pair of samples on either side: about a third of surface_blocks()
+/// hold no surface on the scans, and loading their samples to find that out cost several
+/// times more.
+bool block_may_hold_surface(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier,
+                            const openvdb::Coord& origin);
+
 }  // namespace vdbmesh::detail
