@@ -41,6 +41,14 @@ std::shared_ptr<const ViewScan> phantom_scan() {
     return std::make_shared<const ViewScan>(prepare_scan([&] { return open_volume(dir / "sphere.nii"); }));
 }
 
+/// The triangles of the library's Marching Cubes mesh of @a grid at @a iso.
+std::size_t mc_triangle_count(const openvdb::FloatGrid& grid, double iso) {
+    MeshOptions options;
+    options.method = MeshMethod::mc;
+    options.iso = iso;
+    return mesh_grid(grid, options).mesh.triangles.size();
+}
+
 /// A server on a free port of 127.0.0.1, serving in a thread, and a client for it.
 class RunningServer {
 public:
@@ -189,10 +197,7 @@ TEST_F(ViewServerTest, CoarseLevelMeshesTheCoarseGrid) {
     const auto coarse = server.get("/api/mesh?level=coarse&iso=0.5");
     ASSERT_TRUE(coarse);
     EXPECT_EQ(coarse->status, 200);
-    MeshOptions options;
-    options.method = MeshMethod::mc;
-    options.iso = 0.5;
-    EXPECT_EQ(header_count(coarse, "X-Triangles"), mesh_grid(*scan_->coarse, options).mesh.triangles.size());
+    EXPECT_EQ(header_count(coarse, "X-Triangles"), mc_triangle_count(*scan_->coarse, 0.5));
 }
 
 /// A stand-in for the mesher that holds the first full mesh asked of it inside, reporting
@@ -248,19 +253,13 @@ TEST_F(ViewServerTest, ANewSettingGivesUpTheFullMeshInFlightWith409) {
     ASSERT_EQ((*older)->status, 409);
     EXPECT_NE(nlohmann::json::parse((*older)->body)["error"].get<std::string>().find("superseded"), std::string::npos);
     EXPECT_EQ(newer->status, 200);
-    MeshOptions coarse;
-    coarse.method = MeshMethod::mc;
-    coarse.iso = 0.6;
-    EXPECT_EQ(header_count(newer, "X-Triangles"), mesh_grid(*scan_->coarse, coarse).mesh.triangles.size());
+    EXPECT_EQ(header_count(newer, "X-Triangles"), mc_triangle_count(*scan_->coarse, 0.6));
 
     // Given up, not kept: asked for again, the older full mesh is made in full.
     const auto again = server.get(kOlderFull);
     ASSERT_TRUE(again);
     EXPECT_EQ(again->status, 200);
-    MeshOptions full;
-    full.method = MeshMethod::mc;
-    full.iso = 0.5;
-    EXPECT_EQ(header_count(again, "X-Triangles"), mesh_grid(*scan_->grid, full).mesh.triangles.size());
+    EXPECT_EQ(header_count(again, "X-Triangles"), mc_triangle_count(*scan_->grid, 0.5));
 }
 
 TEST_F(ViewServerTest, FiguresAreThoseOfCheck) {
