@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "vdbmesh/mesh.h"
+#include "vdbmesh/mesher.h"
 #include "vdbmesh/openvdb_fwd.h"
 #include "vdbmesh/read.h"
 
@@ -55,6 +56,9 @@ struct ViewSource {
     double initial_iso = 0;            ///< scans: the isovalue shown first
 };
 
+/// Meshes a grid as mesh_grid() does.
+using GridMesher = std::function<MeshResult(const openvdb::FloatGrid&, const MeshOptions&)>;
+
 struct ViewServerOptions {
     std::string host = "127.0.0.1";
     int port = 0;                            ///< 0: any free port
@@ -62,6 +66,9 @@ struct ViewServerOptions {
     /// The figures of a mesh as a JSON object's text (GET /api/figures), e.g. what
     /// `vdbmesh check --json` prints; empty: none.
     std::function<std::string(const Mesh&)> mesh_figures;
+    /// What meshes the scan: mesh_grid() when empty. A stand-in lets a test hold a request
+    /// inside the mesher (a full mesh gives up through its options.progress).
+    GridMesher mesher;
 };
 
 /// The HTTP server of `vdbmesh view`, bound on construction.
@@ -69,7 +76,7 @@ struct ViewServerOptions {
 /// GET /api/info         JSON: the input, its histogram and suggested isovalue, the budget
 /// GET /api/mesh         binary: positions (float32 x 3V), normals (float32 x 3V), indices
 ///                       (uint32 x 3T); headers X-Vertices, X-Triangles, X-Seconds.
-///                       Parameters: level=coarse|full, method=dmc|mc|openvdb, iso, error, adaptivity
+///                       Parameters: level=coarse|full, method=dc|dmc|mc|openvdb, iso, error, adaptivity
 /// GET /api/figures      JSON: the analysis of the mesh of the same parameters (as `check`)
 /// GET /api/download     the mesh of the same parameters as format=stl|ply|obj
 class ViewServer {

@@ -4,7 +4,8 @@
 
 namespace vdbmesh::view {
 
-MeshStore::MeshStore(ViewSource source) : source_(std::move(source)) {}
+MeshStore::MeshStore(ViewSource source, GridMesher mesher)
+    : source_(std::move(source)), mesher_(mesher ? std::move(mesher) : GridMesher(mesh_grid)) {}
 
 std::shared_ptr<StoredMesh> MeshStore::mesh(const MeshRequest& request) {
     const std::string key = source_.mesh ? "file" : request.key();
@@ -35,7 +36,7 @@ std::shared_ptr<StoredMesh> MeshStore::make(const MeshRequest& request, std::uin
         give_up_when_superseded(0);
         options.progress = give_up_when_superseded;
     }
-    MeshResult result = mesh_grid(coarse ? *source_.scan->coarse : *source_.scan->grid, options);
+    MeshResult result = mesher_(coarse ? *source_.scan->coarse : *source_.scan->grid, options);
     stored->mesh = std::make_shared<const Mesh>(std::move(result.mesh));
     stored->seconds = result.report.total_seconds();
     return stored;

@@ -40,7 +40,8 @@ public:
 
 class MeshStore {
 public:
-    explicit MeshStore(ViewSource source);
+    /// Meshes with @a mesher, mesh_grid() when empty.
+    MeshStore(ViewSource source, GridMesher mesher);
     const ViewSource& source() const { return source_; }
     /// The mesh of @a request, made now unless kept. A coarse request is the page's first
     /// of a new setting: full meshes asked for before it stop at the mesher's next progress
@@ -53,6 +54,7 @@ private:
     std::shared_ptr<StoredMesh> make(const MeshRequest& request, std::uint64_t coarse_seen) const;
 
     ViewSource source_;
+    GridMesher mesher_;
     std::atomic<std::uint64_t> coarse_requests_{0};
     std::mutex mutex_;
     std::deque<std::pair<std::string, std::shared_ptr<StoredMesh>>> kept_;  ///< newest first

@@ -76,7 +76,7 @@ std::string encode_mesh(const Mesh& mesh, const std::string& format) {
 class ViewServer::Impl {
 public:
     Impl(ViewSource source, const ViewServerOptions& options)
-        : options_(options), store_(std::move(source)) {
+        : options_(options), store_(std::move(source), options.mesher) {
         add_routes();
         bind();
     }

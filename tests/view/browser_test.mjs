@@ -171,7 +171,9 @@ async function checkIsoSlider(driver, checks, before, isoTo, timeout) {
   const ms = (value) => (value === undefined ? '-' : `${value.toFixed(0)} ms`);
   console.log(`timing: slider released -> coarse mesh received ${ms(timing.coarseFetchedMs)}, on screen ${ms(timing.coarseMs)}; ` +
     `full mesh received ${ms(timing.fullFetchedMs)}, on screen ${ms(timing.fullMs)}` +
-    (timing.fullMs === undefined ? ` (over the budget; by the button: ${ms(after.timings.at(-1).fullMs)})` : ''));
+    (timing.fullMs === undefined
+      ? ` (over the budget: made, its count received ${ms(timing.overBudgetMs)}; then on screen ${ms(after.timings.at(-1).fullMs)} after the button)`
+      : ''));
   return image;
 }
 

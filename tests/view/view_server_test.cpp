@@ -5,8 +5,12 @@
 #include <httplib.h>
 
 #include <nlohmann/json.hpp>
+#include <atomic>
+#include <chrono>
 #include <cstring>
+#include <future>
 #include <numeric>
+#include <optional>
 #include <thread>
 
 #include "cli.h"
@@ -35,6 +39,14 @@ std::shared_ptr<const ViewScan> phantom_scan() {
     header.type = SampleType::f32;
     write_volume(dir / "sphere.nii", header, [&](std::int64_t z, float* slice) { fill_phantom_slice(spec, z, slice); });
     return std::make_shared<const ViewScan>(prepare_scan([&] { return open_volume(dir / "sphere.nii"); }));
+}
+
+/// The triangles of the library's Marching Cubes mesh of @a grid at @a iso.
+std::size_t mc_triangle_count(const openvdb::FloatGrid& grid, double iso) {
+    MeshOptions options;
+    options.method = MeshMethod::mc;
+    options.iso = iso;
+    return mesh_grid(grid, options).mesh.triangles.size();
 }
 
 /// A server on a free port of 127.0.0.1, serving in a thread, and a client for it.
@@ -185,10 +197,69 @@ TEST_F(ViewServerTest, CoarseLevelMeshesTheCoarseGrid) {
     const auto coarse = server.get("/api/mesh?level=coarse&iso=0.5");
     ASSERT_TRUE(coarse);
     EXPECT_EQ(coarse->status, 200);
-    MeshOptions options;
-    options.method = MeshMethod::mc;
-    options.iso = 0.5;
-    EXPECT_EQ(header_count(coarse, "X-Triangles"), mesh_grid(*scan_->coarse, options).mesh.triangles.size());
+    EXPECT_EQ(header_count(coarse, "X-Triangles"), mc_triangle_count(*scan_->coarse, 0.5));
+}
+
+/// A stand-in for the mesher that holds the first full mesh asked of it inside, reporting
+/// progress as mesh_grid() does between its steps, until the store gives it up (progress
+/// throws); it meshes everything else as mesh_grid(). No sleeps: the held request leaves
+/// the mesher only when superseded, so the test's order of events is fixed.
+class HeldFullMesher {
+public:
+    GridMesher mesher() {
+        return [this](const openvdb::FloatGrid& grid, const MeshOptions& options) { return mesh(grid, options); };
+    }
+    /// Returns once the held request is inside the mesher (holding the store).
+    void wait_until_held() { held_future_.wait(); }
+
+private:
+    MeshResult mesh(const openvdb::FloatGrid& grid, const MeshOptions& options) {
+        if (options.progress && !holding_.exchange(true)) {
+            held_.set_value();
+            // A store that never gives up fails the test instead of hanging it: within the
+            // client's read timeout (60 s), the held mesh is made after all.
+            const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+            while (std::chrono::steady_clock::now() < deadline) {
+                options.progress(0.5);
+                std::this_thread::yield();
+            }
+        }
+        return mesh_grid(grid, options);
+    }
+
+    std::atomic<bool> holding_{false};
+    std::promise<void> held_;
+    std::shared_future<void> held_future_ = held_.get_future().share();
+};
+
+TEST_F(ViewServerTest, ANewSettingGivesUpTheFullMeshInFlightWith409) {
+    HeldFullMesher held;
+    ViewServerOptions options;
+    options.mesher = held.mesher();
+    RunningServer server(scan_source(), options);
+    constexpr const char* kOlderFull = "/api/mesh?level=full&method=mc&iso=0.5";
+    std::optional<httplib::Result> older;
+    std::thread older_page([&] {  // the page before the slider moved: its full mesh
+        httplib::Client client("127.0.0.1", server.port());
+        client.set_read_timeout(60, 0);
+        older.emplace(client.Get(kOlderFull));
+    });
+    held.wait_until_held();
+    // The slider released: the page asks for the coarse mesh of the new isovalue first.
+    const auto newer = server.get("/api/mesh?level=coarse&iso=0.6");
+    older_page.join();
+
+    ASSERT_TRUE(older && *older && newer);
+    ASSERT_EQ((*older)->status, 409);
+    EXPECT_NE(nlohmann::json::parse((*older)->body)["error"].get<std::string>().find("superseded"), std::string::npos);
+    EXPECT_EQ(newer->status, 200);
+    EXPECT_EQ(header_count(newer, "X-Triangles"), mc_triangle_count(*scan_->coarse, 0.6));
+
+    // Given up, not kept: asked for again, the older full mesh is made in full.
+    const auto again = server.get(kOlderFull);
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->status, 200);
+    EXPECT_EQ(header_count(again, "X-Triangles"), mc_triangle_count(*scan_->grid, 0.5));
 }
 
 TEST_F(ViewServerTest, FiguresAreThoseOfCheck) {

@@ -1,7 +1,8 @@
 // Live re-meshing: for a scan, the coarse mesh first, then the full one (or, over the
 // triangle budget, its count and a button), then its figures. A newer request makes older
 // ones moot: their answers are dropped. Times are measured from the request to the buffers
-// received (*FetchedMs) and to the frame that shows the mesh (*Ms).
+// received (*FetchedMs), to the frame that shows the mesh (*Ms), and, over the budget, to
+// the full mesh's count received (overBudgetMs: the server has made it).
 import { fetchJson, fetchMesh, meshQuery, OverBudget } from './mesh_loader.js';
 
 export class Remesher {
@@ -43,6 +44,7 @@ export class Remesher {
     } catch (error) {
       if (!current() || error.name === 'AbortError') return null;
       if (!(error instanceof OverBudget)) throw error;
+      timings.overBudgetMs = performance.now() - start;
       this.handlers.onOverBudget(error.triangles);
     }
     const figures = await fetchJson(`/api/figures?${meshQuery({ ...params, level: 'full' })}`, abort.signal);
