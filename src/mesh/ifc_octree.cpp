@@ -46,11 +46,12 @@ bool IfcSamples::uniform() const {
 namespace {
 
 /// Copies a row of 1, 2 or 8 floats; the fixed sizes are inlined (a call to memmove per
-/// 32-byte row cost as much as the copy).
+/// short row cost as much as the copy).
 void copy_row(const float* source, int length, float* row) {
     switch (length) {
         case 8: std::memcpy(row, source, 8 * sizeof(float)); break;
         case 2: std::memcpy(row, source, 2 * sizeof(float)); break;
+        case 1: *row = *source; break;
         default: std::memcpy(row, source, std::size_t(length) * sizeof(float));
     }
 }
@@ -87,11 +88,18 @@ void load_ifc_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleC
     }
     const openvdb::CoordBBox window(samples.origin.offsetBy(-1), samples.origin.offsetBy(kIfcSampleDim - 2));
     if (classifier.scan_box() && !classifier.scan_box()->isInside(window)) {
+        // Samples beyond the scanned box take its outside value: whole rows where x or y is
+        // beyond it, else the ends of the row beyond it along z.
+        const openvdb::CoordBBox& box = *classifier.scan_box();
+        const float outside = float(classifier.sample_value(box.max().offsetBy(1), 0.0f));
+        const openvdb::Coord& o = samples.origin;
         for (int x = -1; x < kIfcSampleDim - 1; ++x) {
             for (int y = -1; y < kIfcSampleDim - 1; ++y) {
+                float* row = &samples.value[IfcSamples::index(x, y, -1)];
+                const bool row_in_box = o.x() + x >= box.min().x() && o.x() + x <= box.max().x() && o.y() + y >= box.min().y() &&
+                                        o.y() + y <= box.max().y();
                 for (int z = -1; z < kIfcSampleDim - 1; ++z) {
-                    float& value = samples.value[IfcSamples::index(x, y, z)];
-                    value = float(classifier.sample_value(samples.origin.offsetBy(x, y, z), value));
+                    if (!row_in_box || o.z() + z < box.min().z() || o.z() + z > box.max().z()) row[z + 1] = outside;
                 }
             }
         }

@@ -4,6 +4,7 @@
 
 #include "mesh/ifc_topology.h"
 
+#include <cstddef>
 #include <numeric>
 
 namespace vdbmesh::detail {
@@ -98,9 +99,7 @@ unsigned face_code(ChildCornerSigns signs, int axis, int a) {
     return code;
 }
 
-}  // namespace
-
-bool union_is_one_disk(ChildCornerSigns signs, const std::array<bool, 8>& surface) {
+bool one_disk_by_signs(ChildCornerSigns signs, const std::array<bool, 8>& surface) {
     const auto& traces = face_traces();
     for (int axis = 0; axis < 3; ++axis) {
         if (!traces[face_code(signs, axis, 0)].simple_boundary || !traces[face_code(signs, axis, 2)].simple_boundary) return false;
@@ -133,6 +132,26 @@ bool union_is_one_disk(ChildCornerSigns signs, const std::array<bool, 8>& surfac
     int components = 0;
     for (int c = 0; c < 8; ++c) components += surface[c] && find(c) == c;
     return components == 1 && chi == 1;
+}
+
+}  // namespace
+
+bool union_is_one_disk(ChildCornerSigns signs, const std::array<bool, 8>& surface) {
+    // The answer depends on 35 bits only, and neighbouring cells of a smooth surface repeat a
+    // few sign patterns: a small per-thread table of recent answers saves most of the work
+    // (about 4% of DC's time on the bunny went to this test).
+    static constexpr std::size_t kSlots = 4096;
+    struct Slot {
+        std::uint64_t key_plus_one = 0;  // 0: empty
+        bool answer = false;
+    };
+    thread_local std::array<Slot, kSlots> recent;
+    std::uint64_t key = signs;
+    for (int c = 0; c < 8; ++c) key |= std::uint64_t(surface[c]) << (27 + c);
+    static_assert(kSlots == std::size_t(1) << 12, "the hash keeps 12 bits");
+    Slot& slot = recent[(key * 0x9e3779b97f4a7c15ull) >> (64 - 12)];
+    if (slot.key_plus_one != key + 1) slot = {key + 1, one_disk_by_signs(signs, surface)};
+    return slot.answer;
 }
 
 }  // namespace vdbmesh::detail
