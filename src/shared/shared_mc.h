@@ -44,8 +44,24 @@ struct BlockMc {
     std::vector<std::array<std::uint32_t, 3>> part_triangles;
 };
 
-/// The neighbourhood of child (cx, cy, cz) of the level-@a level neighbourhood @a parent.
-Key8 child_key(const SharedTree& tree, int level, const Key8& parent, int cx, int cy, int cz);
+/// The children a level-@a level neighbourhood @a parent covers: child (x, y, z) for 0 <= x, y,
+/// z <= n (n children per axis; those with a coordinate n are first children of the nodes
+/// after the parent), looked up once so that the neighbourhoods of all n^3 children are read
+/// from them.
+class ChildGrid {
+public:
+    ChildGrid(const SharedTree& tree, int level, const Key8& parent);
+    /// The neighbourhood of child (x, y, z), 0 <= x, y, z < n.
+    Key8 key(int x, int y, int z) const {
+        const int i = (x * m_ + y) * m_ + z;
+        return {refs_[i], refs_[i + m_ * m_], refs_[i + m_], refs_[i + m_ * m_ + m_],
+                refs_[i + 1], refs_[i + m_ * m_ + 1], refs_[i + m_ + 1], refs_[i + m_ * m_ + m_ + 1]};
+    }
+
+private:
+    int m_;  // n + 1
+    std::vector<SharedRef> refs_;
+};
 /// Whether a neighbourhood is all tiles on one side of the surface (no surface in it).
 bool quiet_key(const SharedTree& tree, const Key8& key);
 /// The level-2 neighbourhoods that may hold surface: every root entry and the positions before it.

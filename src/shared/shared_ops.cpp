@@ -39,22 +39,15 @@ const std::vector<SharedRef>& children_of(const SharedTree& tree, int level, Sha
 
 }  // namespace
 
-Key8 child_key(const SharedTree& tree, int level, const Key8& parent, int cx, int cy, int cz) {
-    const int n = kSharedChildren[level];
-    Key8 key;
-    for (int d = 0; d < 8; ++d) {
-        int q[3] = {cx + (d & 1), cy + ((d >> 1) & 1), cz + (d >> 2)};
-        int which = 0;
-        for (int a = 0; a < 3; ++a) {
-            if (q[a] == n) {
-                q[a] = 0;
-                which |= 1 << a;
+ChildGrid::ChildGrid(const SharedTree& tree, int level, const Key8& parent) : m_(kSharedChildren[level] + 1) {
+    const int n = m_ - 1;
+    refs_.resize(std::size_t(m_) * m_ * m_);
+    for (int x = 0; x < m_; ++x)
+        for (int y = 0; y < m_; ++y)
+            for (int z = 0; z < m_; ++z) {
+                const SharedRef p = parent[(x == n) | ((y == n) << 1) | ((z == n) << 2)];
+                refs_[(std::size_t(x) * m_ + y) * m_ + z] = is_tile(p) ? p : children_of(tree, level, p)[((x % n) * n + y % n) * n + z % n];
             }
-        }
-        const SharedRef p = parent[which];
-        key[d] = is_tile(p) ? p : children_of(tree, level, p)[(q[0] * n + q[1]) * n + q[2]];
-    }
-    return key;
 }
 
 bool quiet_key(const SharedTree& tree, const Key8& key) {
@@ -240,10 +233,11 @@ double area_of(const SharedTree& tree, McCaches& caches, int level, const Key8& 
     auto& cache = level == 1 ? caches.area1 : caches.area2;
     return cache.get(key, [&] {
         const int n = kSharedChildren[level];
+        const detail::ChildGrid children(tree, level, key);
         double sum = 0;
         for (int x = 0; x < n; ++x)
             for (int y = 0; y < n; ++y)
-                for (int z = 0; z < n; ++z) sum += area_of(tree, caches, level - 1, detail::child_key(tree, level, key, x, y, z));
+                for (int z = 0; z < n; ++z) sum += area_of(tree, caches, level - 1, children.key(x, y, z));
         return sum;
     });
 }
@@ -251,10 +245,11 @@ double area_of(const SharedTree& tree, McCaches& caches, int level, const Key8& 
 const std::vector<McCaches::BlockRef>& blocks_of_level1(const SharedTree& tree, McCaches& caches, const Key8& key) {
     return caches.list1.get(key, [&] {
         std::vector<McCaches::BlockRef> list;
+        const detail::ChildGrid children(tree, 1, key);
         for (int x = 0; x < 16; ++x)
             for (int y = 0; y < 16; ++y)
                 for (int z = 0; z < 16; ++z) {
-                    const Key8 k = detail::child_key(tree, 1, key, x, y, z);
+                    const Key8 k = children.key(x, y, z);
                     if (detail::quiet_key(tree, k)) continue;
                     const detail::BlockMc& mc = block_of(tree, caches, k);
                     if (!mc.edges.empty() || !mc.corners.empty()) list.push_back({std::uint32_t((x * 16 + y) * 16 + z), &mc});
@@ -272,25 +267,47 @@ struct PlacedBlock {
 std::vector<PlacedBlock> surface_blocks(const SharedTree& tree, McCaches& caches) {
     std::vector<std::pair<Coord3, Key8>> level1;  // neighbourhoods of level-1 positions
     for (const auto& [origin, key] : detail::root_neighbourhoods(tree)) {
+        const detail::ChildGrid children(tree, 2, key);
         for (int x = 0; x < 32; ++x)
             for (int y = 0; y < 32; ++y)
                 for (int z = 0; z < 32; ++z) {
-                    const Key8 k = detail::child_key(tree, 2, key, x, y, z);
+                    const Key8 k = children.key(x, y, z);
                     if (!detail::quiet_key(tree, k)) level1.push_back({{origin[0] + x * 128, origin[1] + y * 128, origin[2] + z * 128}, k});
                 }
     }
+    // Root neighbourhoods at the same x give children at different x: sorted here.
+    std::sort(level1.begin(), level1.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<const std::vector<McCaches::BlockRef>*> lists(level1.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, level1.size()), [&](const auto& range) {
         for (std::size_t i = range.begin(); i != range.end(); ++i) lists[i] = &blocks_of_level1(tree, caches, level1[i].second);
     });
+    // Sorted by origin without sorting them: level1 is sorted by origin and each list by offset
+    // ((x * 16 + y) * 16 + z), so the blocks of one leaf row (x, y) are a run of each list,
+    // taken node by node along z.
     std::vector<PlacedBlock> blocks;
-    for (std::size_t i = 0; i < level1.size(); ++i) {
-        const Coord3& o = level1[i].first;
-        for (const auto& b : *lists[i]) {
-            blocks.push_back({{o[0] + int(b.offset >> 8) * 8, o[1] + int((b.offset >> 4) & 15) * 8, o[2] + int(b.offset & 15) * 8}, b.mc});
+    std::vector<std::size_t> cursor(level1.size(), 0);
+    for (std::size_t gx = 0; gx < level1.size();) {
+        std::size_t gx_end = gx;  // the nodes at this x
+        while (gx_end < level1.size() && level1[gx_end].first[0] == level1[gx].first[0]) ++gx_end;
+        for (std::uint32_t lx = 0; lx < 16; ++lx) {
+            for (std::size_t gy = gx; gy < gx_end;) {
+                std::size_t gy_end = gy;  // the nodes at this x and y, by z
+                while (gy_end < gx_end && level1[gy_end].first[1] == level1[gy].first[1]) ++gy_end;
+                for (std::uint32_t ly = 0; ly < 16; ++ly) {
+                    for (std::size_t i = gy; i < gy_end; ++i) {
+                        const Coord3& o = level1[i].first;
+                        const auto& list = *lists[i];
+                        for (; cursor[i] < list.size() && list[cursor[i]].offset >> 4 == lx * 16 + ly; ++cursor[i]) {
+                            const std::uint32_t z = list[cursor[i]].offset & 15;
+                            blocks.push_back({{o[0] + int(lx) * 8, o[1] + int(ly) * 8, o[2] + int(z) * 8}, list[cursor[i]].mc});
+                        }
+                    }
+                }
+                gy = gy_end;
+            }
         }
+        gx = gx_end;
     }
-    tbb::parallel_sort(blocks.begin(), blocks.end(), [](const PlacedBlock& a, const PlacedBlock& b) { return a.origin < b.origin; });
     return blocks;
 }
 
@@ -302,12 +319,12 @@ double shared_area(const SharedTree& tree) {
     std::vector<double> area(roots.size());
     for (std::size_t i = 0; i < roots.size(); ++i) {
         // Level-2 neighbourhoods are split here so that their children run in parallel.
-        const Key8& key = roots[i].second;
+        const detail::ChildGrid children(tree, 2, roots[i].second);
         std::vector<double> slab(32);
         tbb::parallel_for(0, 32, [&](int x) {
             double sum = 0;
             for (int y = 0; y < 32; ++y)
-                for (int z = 0; z < 32; ++z) sum += area_of(tree, caches, 1, detail::child_key(tree, 2, key, x, y, z));
+                for (int z = 0; z < 32; ++z) sum += area_of(tree, caches, 1, children.key(x, y, z));
             slab[x] = sum;
         });
         for (double s : slab) area[i] += s;
