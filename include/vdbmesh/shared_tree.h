@@ -165,7 +165,9 @@ struct CropComponents {
     std::uint64_t components = 0;        ///< of the whole box
     std::vector<std::uint64_t> voxels;   ///< inside voxels of each of them, largest first
     std::uint64_t crop_components = 0;   ///< of the box's first period cell on its own
-    std::uint64_t crop_components_periodic = 0;  ///< of that cell with opposite faces touching (the unbounded lattice)
+    /// Of that cell with opposite faces touching (the unbounded lattice); 0 when the box holds
+    /// less than a period along some axis.
+    std::uint64_t crop_components_periodic = 0;
 };
 /// The components (6-connected, value < 0) of @a field in the voxel box @a box (inclusive),
 /// for a field whose inside voxels within the box repeat with @a period voxels along every

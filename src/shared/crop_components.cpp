@@ -156,7 +156,7 @@ CropComponents plain_components_from_crop(const LeafField& field, const std::arr
     std::sort(out.voxels.begin(), out.voxels.end(), std::greater<>());
     const CellLabels& first = labels_of(0);
     out.crop_components = first.labels.count;
-    out.crop_components_periodic = detail::label_runs(first.runs, true).count;
+    if (crop == std::array<int, 3>{period, period, period}) out.crop_components_periodic = detail::label_runs(first.runs, true).count;
     return out;
 }
 
