@@ -11,7 +11,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
@@ -263,27 +262,11 @@ struct PlacedBlock {
     const detail::BlockMc* mc;
 };
 
-/// Every surface block of the tree with its cached result, sorted by origin.
-std::vector<PlacedBlock> surface_blocks(const SharedTree& tree, McCaches& caches) {
-    std::vector<std::pair<Coord3, Key8>> level1;  // neighbourhoods of level-1 positions
-    for (const auto& [origin, key] : detail::root_neighbourhoods(tree)) {
-        const detail::ChildGrid children(tree, 2, key);
-        for (int x = 0; x < 32; ++x)
-            for (int y = 0; y < 32; ++y)
-                for (int z = 0; z < 32; ++z) {
-                    const Key8 k = children.key(x, y, z);
-                    if (!detail::quiet_key(tree, k)) level1.push_back({{origin[0] + x * 128, origin[1] + y * 128, origin[2] + z * 128}, k});
-                }
-    }
-    // Root neighbourhoods at the same x give children at different x: sorted here.
-    std::sort(level1.begin(), level1.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    std::vector<const std::vector<McCaches::BlockRef>*> lists(level1.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, level1.size()), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) lists[i] = &blocks_of_level1(tree, caches, level1[i].second);
-    });
-    // Sorted by origin without sorting them: level1 is sorted by origin and each list by offset
-    // ((x * 16 + y) * 16 + z), so the blocks of one leaf row (x, y) are a run of each list,
-    // taken node by node along z.
+/// The blocks of the level-1 lists placed, sorted by origin without sorting them: level1 is
+/// sorted by origin and each list by offset ((x * 16 + y) * 16 + z), so the blocks of one leaf
+/// row (x, y) are a run of each list, taken node by node along z.
+std::vector<PlacedBlock> placed_in_origin_order(const std::vector<std::pair<Coord3, Key8>>& level1,
+                                                const std::vector<const std::vector<McCaches::BlockRef>*>& lists) {
     std::vector<PlacedBlock> blocks;
     std::vector<std::size_t> cursor(level1.size(), 0);
     for (std::size_t gx = 0; gx < level1.size();) {
@@ -309,6 +292,27 @@ std::vector<PlacedBlock> surface_blocks(const SharedTree& tree, McCaches& caches
         gx = gx_end;
     }
     return blocks;
+}
+
+/// Every surface block of the tree with its cached result, sorted by origin.
+std::vector<PlacedBlock> surface_blocks(const SharedTree& tree, McCaches& caches) {
+    std::vector<std::pair<Coord3, Key8>> level1;  // neighbourhoods of level-1 positions
+    for (const auto& [origin, key] : detail::root_neighbourhoods(tree)) {
+        const detail::ChildGrid children(tree, 2, key);
+        for (int x = 0; x < 32; ++x)
+            for (int y = 0; y < 32; ++y)
+                for (int z = 0; z < 32; ++z) {
+                    const Key8 k = children.key(x, y, z);
+                    if (!detail::quiet_key(tree, k)) level1.push_back({{origin[0] + x * 128, origin[1] + y * 128, origin[2] + z * 128}, k});
+                }
+    }
+    // Root neighbourhoods at the same x give children at different x: sorted here.
+    std::sort(level1.begin(), level1.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<const std::vector<McCaches::BlockRef>*> lists(level1.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, level1.size()), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) lists[i] = &blocks_of_level1(tree, caches, level1[i].second);
+    });
+    return placed_in_origin_order(level1, lists);
 }
 
 }  // namespace
