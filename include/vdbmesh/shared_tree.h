@@ -160,4 +160,21 @@ std::uint64_t plain_components(const openvdb::FloatGrid& grid);
 /// opposite one (the box extended periodically).
 std::uint64_t plain_components(const openvdb::FloatGrid& grid, const std::array<Coord3, 2>& box, bool periodic);
 
+/// The components of a periodic field cut by a box, found by plain labellings of one period.
+struct CropComponents {
+    std::uint64_t components = 0;        ///< of the whole box
+    std::vector<std::uint64_t> voxels;   ///< inside voxels of each of them, largest first
+    std::uint64_t crop_components = 0;   ///< of the box's first period cell on its own
+    /// Of that cell with opposite faces touching (the unbounded lattice); 0 when the box holds
+    /// less than a period along some axis.
+    std::uint64_t crop_components_periodic = 0;
+};
+/// The components (6-connected, value < 0) of @a field in the voxel box @a box (inclusive),
+/// for a field whose inside voxels within the box repeat with @a period voxels along every
+/// axis: a periodic lattice cut by a box, @a box being the voxels that the cut leaves inside.
+/// Only the box's first period cell is evaluated; it and its versions cut short at the far box
+/// faces are labelled voxel by voxel and joined across the faces between cells. Nothing shared:
+/// the reference for shared_components() on lattices too large to label whole.
+CropComponents plain_components_from_crop(const LeafField& field, const std::array<Coord3, 2>& box, int period);
+
 }  // namespace vdbmesh

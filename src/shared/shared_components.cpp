@@ -4,16 +4,17 @@
 // cached under (level, the two ids, the axis), computed from the faces of their children.
 // Tiles take part as nodes whose every child is the tile itself (one label when inside).
 //
-// The plain reference labels runs of inside voxels along z, line by line.
+// The plain reference labels runs of inside voxels along z, line by line (run_labels.h).
 
 #include <openvdb/openvdb.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <numeric>
 
 #include "shared/result_cache.h"
+#include "shared/run_labels.h"
+#include "shared/union_find.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/shared_tree.h"
 
@@ -21,39 +22,7 @@ namespace vdbmesh {
 
 namespace {
 
-class UnionFind {
-public:
-    explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), std::uint32_t(0)); }
-    std::uint32_t find(std::uint32_t x) {
-        while (parent_[x] != x) {
-            parent_[x] = parent_[parent_[x]];
-            x = parent_[x];
-        }
-        return x;
-    }
-    void unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a == b) return;
-        if (a < b) std::swap(a, b);
-        parent_[a] = b;  // the smaller index is the root: labels follow element order
-    }
-    /// Labels 0..count-1 in order of each component's first element.
-    std::vector<std::uint32_t> labels(std::uint32_t& count) {
-        std::vector<std::uint32_t> out(parent_.size());
-        std::vector<std::uint32_t> of_root(parent_.size(), ~0u);
-        count = 0;
-        for (std::uint32_t i = 0; i < parent_.size(); ++i) {
-            const std::uint32_t r = find(i);
-            if (of_root[r] == ~0u) of_root[r] = count++;
-            out[i] = of_root[r];
-        }
-        return out;
-    }
-
-private:
-    std::vector<std::uint32_t> parent_;
-};
+using detail::UnionFind;
 
 using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
 
@@ -237,57 +206,12 @@ private:
 std::uint64_t shared_components(const SharedTree& tree) { return Components(tree).run(); }
 
 std::uint64_t plain_components(const openvdb::FloatGrid& grid, const std::array<Coord3, 2>& box, bool periodic) {
-    // Runs of inside voxels along z, per (x, y) line; runs of neighbouring lines that overlap are
-    // one component. Periodic: the last line/voxel on each axis also touches the first.
-    const int nx = box[1][0] - box[0][0] + 1, ny = box[1][1] - box[0][1] + 1, nz = box[1][2] - box[0][2] + 1;
-    if (nx <= 0 || ny <= 0 || nz <= 0) return 0;
-    struct Run {
-        int z0, z1;  // inclusive, relative to the box
-    };
-    std::vector<std::vector<Run>> lines(std::size_t(nx) * ny);
-    tbb::parallel_for(0, nx, [&](int x) {
-        auto accessor = grid.getConstAccessor();
-        for (int y = 0; y < ny; ++y) {
-            auto& runs = lines[std::size_t(x) * ny + y];
-            int start = -1;
-            for (int z = 0; z <= nz; ++z) {
-                const bool in = z < nz && accessor.getValue(openvdb::Coord(box[0][0] + x, box[0][1] + y, box[0][2] + z)) < 0;
-                if (in && start < 0) start = z;
-                if (!in && start >= 0) {
-                    runs.push_back({start, z - 1});
-                    start = -1;
-                }
-            }
-        }
+    const auto runs = detail::collect_runs(box[1][0] - box[0][0] + 1, box[1][1] - box[0][1] + 1, box[1][2] - box[0][2] + 1, [&] {
+        return [&box, accessor = grid.getConstAccessor()](int x, int y, int z) mutable {
+            return accessor.getValue(openvdb::Coord(box[0][0] + x, box[0][1] + y, box[0][2] + z)) < 0;
+        };
     });
-    std::vector<std::uint32_t> first(lines.size() + 1, 0);
-    for (std::size_t l = 0; l < lines.size(); ++l) first[l + 1] = first[l] + std::uint32_t(lines[l].size());
-    UnionFind uf(first.back());
-    auto join = [&](std::size_t la, std::size_t lb) {
-        const auto& a = lines[la];
-        const auto& b = lines[lb];
-        std::size_t i = 0, j = 0;
-        while (i < a.size() && j < b.size()) {
-            if (a[i].z1 >= b[j].z0 && b[j].z1 >= a[i].z0) uf.unite(first[la] + std::uint32_t(i), first[lb] + std::uint32_t(j));
-            if (a[i].z1 < b[j].z1) ++i;
-            else ++j;
-        }
-    };
-    for (int x = 0; x < nx; ++x)
-        for (int y = 0; y < ny; ++y) {
-            const std::size_t l = std::size_t(x) * ny + y;
-            if (x + 1 < nx) join(l, l + ny);
-            else if (periodic && nx > 1) join(l, std::size_t(y));
-            if (y + 1 < ny) join(l, l + 1);
-            else if (periodic && ny > 1) join(l, std::size_t(x) * ny);
-            const auto& runs = lines[l];
-            if (periodic && runs.size() > 1 && runs.front().z0 == 0 && runs.back().z1 == nz - 1) {
-                uf.unite(first[l], first[l] + std::uint32_t(runs.size() - 1));
-            }
-        }
-    std::uint32_t n = 0;
-    uf.labels(n);
-    return n;
+    return detail::label_runs(runs, periodic).count;
 }
 
 std::uint64_t plain_components(const openvdb::FloatGrid& grid) {

@@ -16,23 +16,52 @@ using Key8 = std::array<SharedRef, 8>;
 
 /// As edge_crossing.h of the mesh stage: crossings kept this far from the samples.
 inline constexpr double kMcCrossingMargin = 1e-3;
-/// A triangle corner on an edge the block owns: this bit | the edge's index in BlockMc::edges.
-/// Otherwise (d << 16) | edge code, d the neighbour block (bits as in Key8).
-inline constexpr std::uint32_t kMcOwnVertex = 1u << 31;
 
-/// Marching Cubes of the cells whose minimum corner lies in one 8^3 block.
+/// BlockMc::index_of of an edge that does not cross the surface.
+inline constexpr std::uint16_t kMcNoEdge = 0xffff;
+
+/// Marching Cubes of the cells whose minimum corner lies in one 8^3 block. Its vertices are the
+/// crossings of the edges it owns (whose minimum corner lies in it) and the ones its triangles
+/// borrow from the 7 blocks after it: a placed copy of the block writes its triangles as
+/// @a corners plus the number of its first vertex, then overwrites the borrowed corners with
+/// the neighbours' vertices (found through their index_of).
 struct BlockMc {
     std::vector<std::uint16_t> edges;  ///< owned crossing edges ((x * 8 + y) * 8 + z) * 3 + axis, sorted
     std::vector<double> t;             ///< their crossing parameters
-    std::vector<std::uint16_t> index_of;  ///< per edge code (8 * 8 * 8 * 3): its index in edges, when it crosses
-    std::vector<std::array<std::uint32_t, 3>> triangles;  ///< corners as kMcOwnVertex / neighbour refs
+    std::vector<std::uint16_t> index_of;  ///< per edge code (8 * 8 * 8 * 3): its index in edges, or kMcNoEdge
+    /// Triangles: an own vertex as its index in edges; a borrowed one as 0 (see borrowed_corners).
+    std::vector<std::array<std::uint32_t, 3>> corners;
+    /// Borrowed vertices in order of first use: (d << 16) | edge code in block d (bits as in Key8).
+    std::vector<std::uint32_t> borrowed;
+    struct BorrowedCorner {
+        std::uint32_t triangle;
+        std::uint16_t corner;    ///< 0..2
+        std::uint16_t borrowed;  ///< index in borrowed
+    };
+    std::vector<BorrowedCorner> borrowed_corners;  ///< in triangle order
     double area = 0;                                       ///< in index units
     std::vector<std::array<float, 3>> part_vertices;       ///< every corner, index space from the block origin
     std::vector<std::array<std::uint32_t, 3>> part_triangles;
 };
 
-/// The neighbourhood of child (cx, cy, cz) of the level-@a level neighbourhood @a parent.
-Key8 child_key(const SharedTree& tree, int level, const Key8& parent, int cx, int cy, int cz);
+/// The children a level-@a level neighbourhood @a parent covers: child (x, y, z) for 0 <= x, y,
+/// z <= n (n children per axis; those with a coordinate n are first children of the nodes
+/// after the parent), looked up once so that the neighbourhoods of all n^3 children are read
+/// from them.
+class ChildGrid {
+public:
+    ChildGrid(const SharedTree& tree, int level, const Key8& parent);
+    /// The neighbourhood of child (x, y, z), 0 <= x, y, z < n.
+    Key8 key(int x, int y, int z) const {
+        const int i = (x * m_ + y) * m_ + z;
+        return {refs_[i], refs_[i + m_ * m_], refs_[i + m_], refs_[i + m_ * m_ + m_],
+                refs_[i + 1], refs_[i + m_ * m_ + 1], refs_[i + m_ + 1], refs_[i + m_ * m_ + m_ + 1]};
+    }
+
+private:
+    int m_;  // n + 1
+    std::vector<SharedRef> refs_;
+};
 /// Whether a neighbourhood is all tiles on one side of the surface (no surface in it).
 bool quiet_key(const SharedTree& tree, const Key8& key);
 /// The level-2 neighbourhoods that may hold surface: every root entry and the positions before it.

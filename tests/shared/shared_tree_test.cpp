@@ -5,6 +5,7 @@
 #include <openvdb/openvdb.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -199,6 +200,47 @@ TEST(SharedOps, ComponentsMatchPlain) {
         const std::uint64_t n = plain_components(*grid);
         EXPECT_GE(n, 1u);
         EXPECT_EQ(shared_components(tree), n);
+    }
+}
+
+TEST(SharedOps, ComponentsOfABoxedLatticeFromOnePeriod) {
+    // The logic of the bench's 4096^3 figure at sizes where the whole box can be labelled voxel
+    // by voxel: the components derived from one plainly labelled period cell (its versions cut
+    // short by the box faces, joined across the faces between cells) are those of the whole.
+    struct Case {
+        LatticeKind kind;
+        int box, period;
+        double thickness;
+        bool cut_pieces;  ///< whether the box faces cut pieces off the lattice (found by a first run)
+    };
+    for (const Case& c : {Case{LatticeKind::gyroid, 256, 64, 4, true}, Case{LatticeKind::bcc_struts, 100, 24, 6, false},
+                          Case{LatticeKind::diamond, 150, 32, 3, false}}) {
+        LatticeOptions o;
+        o.kind = c.kind;
+        o.voxel = 1.0;
+        o.period = c.period;
+        o.thickness = c.thickness;
+        o.box = {double(c.box), double(c.box), double(c.box)};
+        const auto field = make_lattice_field(o);
+        const SharedTree tree = build_shared_tree(*field);
+        const auto grid = to_float_grid(tree);
+        // The box [0, box] keeps the voxels strictly inside it: 1 .. box - 1.
+        const CropComponents crop = plain_components_from_crop(*field, {Coord3{1, 1, 1}, Coord3{c.box - 1, c.box - 1, c.box - 1}}, c.period);
+        const std::uint64_t whole = plain_components(*grid);
+        EXPECT_EQ(crop.components, whole) << "box " << c.box;
+        EXPECT_EQ(shared_components(tree), whole) << "box " << c.box;
+        std::uint64_t inside = 0;
+        for (auto it = grid->tree().cbeginValueAll(); it; ++it) {
+            if (*it < 0) inside += it.getVoxelCount();
+        }
+        std::uint64_t counted = 0;
+        for (std::uint64_t v : crop.voxels) counted += v;
+        EXPECT_EQ(counted, inside) << "box " << c.box;
+        EXPECT_TRUE(std::is_sorted(crop.voxels.rbegin(), crop.voxels.rend()));
+        EXPECT_GE(crop.crop_components, crop.crop_components_periodic);
+        // Where the box cuts pieces off, the unbounded lattice (one period, opposite faces
+        // touching) has fewer components than the box: the reference must count the cut cells.
+        if (c.cut_pieces) EXPECT_GT(whole, crop.crop_components_periodic);
     }
 }
 
