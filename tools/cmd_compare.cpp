@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -160,13 +161,14 @@ nlohmann::ordered_json mesh_json(const MeshComparison& m) {
     return j;
 }
 
-std::string setting_text(const MeshComparison& m) {
+/// The setting of @a m: each value after its name in @a names (decimate, error, adaptivity).
+std::string setting_text(const MeshComparison& m, const std::array<const char*, 3>& names) {
     std::ostringstream text;
     if (m.decimate)
-        text << "dec " << *m.decimate;
+        text << names[0] << *m.decimate;
     else if (m.error)
-        text << "error " << *m.error;
-    if (m.adaptivity) text << "adapt " << *m.adaptivity;
+        text << names[1] << *m.error;
+    if (m.adaptivity) text << names[2] << *m.adaptivity;
     return text.str();
 }
 
@@ -183,7 +185,7 @@ void print_table(const nlohmann::ordered_json& report, const std::vector<MeshCom
     out << std::fixed;
     for (const auto& m : meshes) {
         const DistanceReport& d = m.accuracy.distance;
-        out << std::left << std::setw(9) << method_name(m.method) << std::setw(12) << setting_text(m) << std::right
+        out << std::left << std::setw(9) << method_name(m.method) << std::setw(12) << setting_text(m, {"dec ", "error ", "adapt "}) << std::right
             << std::setprecision(3) << std::setw(9) << m.seconds << std::setw(11) << m.analysis.triangles << std::setw(11)
             << m.analysis.vertices << std::setprecision(4) << std::setw(11) << d.hausdorff << std::setw(9) << d.mean
             << std::setprecision(2) << std::setw(9) << m.accuracy.normals.mean_deg << std::setw(8)
@@ -208,13 +210,7 @@ Plot make_plot(const std::string& title, const std::vector<MeshComparison>& mesh
             if (decimated) series.name += " + decimate";
             for (const auto& m : meshes) {
                 if (m.method != method || m.decimate.has_value() != decimated) continue;
-                std::ostringstream label;
-                if (m.decimate)
-                    label << "d=" << *m.decimate;
-                else if (m.error)
-                    label << "e=" << *m.error;
-                if (m.adaptivity) label << "a=" << *m.adaptivity;
-                series.points.push_back({double(m.analysis.triangles), m.accuracy.distance.hausdorff, label.str()});
+                series.points.push_back({double(m.analysis.triangles), m.accuracy.distance.hausdorff, setting_text(m, {"d=", "e=", "a="})});
             }
             if (!series.points.empty()) plot.series.push_back(series);
         }
