@@ -1,8 +1,8 @@
-// `vdbmesh compare IN [--iso V] [--error LIST] [--adaptivity LIST] [--json FILE] [--plot FILE.svg]`
+// `vdbmesh compare IN [--iso V] [--error LIST] [--adaptivity LIST] [--decimate LIST] [--json FILE] [--plot FILE.svg]`
 // `vdbmesh compare --phantom SHAPE [--size N] [--blur W] ...`
 // Converts once, then meshes the same grid in this process with DC (the default mesher) at each
-// --error, DMC at each --dmc-error, Marching Cubes, and volumeToMesh at each --adaptivity, and
-// measures each mesh (compare_meshers(),
+// --error, DMC at each --dmc-error, Marching Cubes, volumeToMesh at each --adaptivity, and DC at
+// error 0 decimated to each --decimate fraction (as `vdbmesh mesh --decimate`), and measures each mesh (compare_meshers(),
 // include/vdbmesh/compare.h): time, `vdbmesh check`'s figures, two-sided distance to the true
 // isosurface in voxels and normal deviation. The true surface of a scan or .vdb is the
 // trilinear isosurface of its grid; of a phantom (written to a temporary float NIfTI, then
@@ -10,6 +10,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -43,7 +44,7 @@ struct CompareCommandOptions {
     std::int64_t size = 64;
     double blur = 5;
     std::string errors = "0,0.1,0.25,0.5", adaptivities = "0,0.1,0.25,1";
-    std::string dmc_errors;
+    std::string dmc_errors, decimate;
     Inside inside = Inside::above;
     std::size_t samples = 100000;
     std::string json, plot;
@@ -139,7 +140,9 @@ nlohmann::ordered_json mesh_json(const MeshComparison& m) {
     j["method"] = method_name(m.method);
     j["error"] = m.error ? nlohmann::ordered_json(*m.error) : nullptr;
     j["adaptivity"] = m.adaptivity ? nlohmann::ordered_json(*m.adaptivity) : nullptr;
+    j["decimate"] = m.decimate ? nlohmann::ordered_json(*m.decimate) : nullptr;
     j["seconds"] = m.seconds;
+    j["decimate_seconds"] = m.decimate ? nlohmann::ordered_json(m.decimate_seconds) : nullptr;
     j["phases"] = phases_json(m.mesher);
     j["same_mesh_as"] = m.same_mesh_as ? nlohmann::ordered_json(*m.same_mesh_as) : nullptr;
     const DistanceReport& d = m.accuracy.distance;
@@ -158,10 +161,14 @@ nlohmann::ordered_json mesh_json(const MeshComparison& m) {
     return j;
 }
 
-std::string setting_text(const MeshComparison& m) {
+/// The setting of @a m: each value after its name in @a names (decimate, error, adaptivity).
+std::string setting_text(const MeshComparison& m, const std::array<const char*, 3>& names) {
     std::ostringstream text;
-    if (m.error) text << "error " << *m.error;
-    if (m.adaptivity) text << "adapt " << *m.adaptivity;
+    if (m.decimate)
+        text << names[0] << *m.decimate;
+    else if (m.error)
+        text << names[1] << *m.error;
+    if (m.adaptivity) text << names[2] << *m.adaptivity;
     return text.str();
 }
 
@@ -178,7 +185,7 @@ void print_table(const nlohmann::ordered_json& report, const std::vector<MeshCom
     out << std::fixed;
     for (const auto& m : meshes) {
         const DistanceReport& d = m.accuracy.distance;
-        out << std::left << std::setw(9) << method_name(m.method) << std::setw(12) << setting_text(m) << std::right
+        out << std::left << std::setw(9) << method_name(m.method) << std::setw(12) << setting_text(m, {"dec ", "error ", "adapt "}) << std::right
             << std::setprecision(3) << std::setw(9) << m.seconds << std::setw(11) << m.analysis.triangles << std::setw(11)
             << m.analysis.vertices << std::setprecision(4) << std::setw(11) << d.hausdorff << std::setw(9) << d.mean
             << std::setprecision(2) << std::setw(9) << m.accuracy.normals.mean_deg << std::setw(8)
@@ -197,16 +204,16 @@ Plot make_plot(const std::string& title, const std::vector<MeshComparison>& mesh
     plot.x_label = "triangles (log scale)";
     plot.y_label = "two-sided Hausdorff distance (voxels)";
     for (MeshMethod method : {MeshMethod::dmc, MeshMethod::dc, MeshMethod::mc, MeshMethod::openvdb}) {
-        PlotSeries series;
-        series.name = method == MeshMethod::openvdb ? "volumeToMesh" : method == MeshMethod::dmc ? "DMC" : method == MeshMethod::dc ? "DC" : "MC";
-        for (const auto& m : meshes) {
-            if (m.method != method) continue;
-            std::ostringstream label;
-            if (m.error) label << "e=" << *m.error;
-            if (m.adaptivity) label << "a=" << *m.adaptivity;
-            series.points.push_back({double(m.analysis.triangles), m.accuracy.distance.hausdorff, label.str()});
+        for (const bool decimated : {false, true}) {
+            PlotSeries series;
+            series.name = method == MeshMethod::openvdb ? "volumeToMesh" : method == MeshMethod::dmc ? "DMC" : method == MeshMethod::dc ? "DC" : "MC";
+            if (decimated) series.name += " + decimate";
+            for (const auto& m : meshes) {
+                if (m.method != method || m.decimate.has_value() != decimated) continue;
+                series.points.push_back({double(m.analysis.triangles), m.accuracy.distance.hausdorff, setting_text(m, {"d=", "e=", "a="})});
+            }
+            if (!series.points.empty()) plot.series.push_back(series);
         }
-        if (!series.points.empty()) plot.series.push_back(series);
     }
     return plot;
 }
@@ -219,6 +226,14 @@ int run_compare(const CompareCommandOptions& o) {
     options.errors = parse_number_list("--error", o.errors);
     if (!o.dmc_errors.empty()) options.dmc_errors = parse_number_list("--dmc-error", o.dmc_errors);
     options.adaptivities = parse_number_list("--adaptivity", o.adaptivities);
+    if (!o.decimate.empty()) options.decimate_fractions = parse_number_list("--decimate", o.decimate);
+    for (const double f : options.decimate_fractions) {
+        if (!(f > 0 && f <= 1)) {
+            std::ostringstream got;
+            got << f;
+            throw UsageError("--decimate: expected shares of triangles to keep in (0, 1], got " + got.str());
+        }
+    }
     options.inside = o.inside;
     options.accuracy.samples = o.samples;
     const LoadedGrid loaded = load_input(o);
@@ -261,6 +276,8 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
     command.add_option("--dmc-error", o.dmc_errors, "Error tolerances (voxels) of --method dmc, one mesh each");
     command.add_option("--adaptivity", o.adaptivities, "volumeToMesh adaptivities in [0, 1], one mesh each")
         ->capture_default_str();
+    command.add_option("--decimate", o.decimate,
+                       "Shares of triangles in (0, 1] to keep of the error-0 mesh (as mesh --decimate), one mesh each");
     const std::map<std::string, Inside> sides = {{"above", Inside::above}, {"below", Inside::below}};
     command.add_option("--inside", o.inside, "Which side of the isovalue is the object: above|below")
         ->transform(CLI::CheckedTransformer(sides, CLI::ignore_case))

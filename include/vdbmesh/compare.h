@@ -97,6 +97,9 @@ struct CompareOptions {
     std::vector<double> errors{0, 0.1, 0.25, 0.5};         ///< the default mesher (intersection-free DC), one mesh each
     std::vector<double> dmc_errors;                        ///< the first adaptive mesher (DMC), one mesh each
     std::vector<double> adaptivities{0, 0.1, 0.25, 1};     ///< volumeToMesh, one mesh each
+    /// Shares of triangles to keep: the default mesher's error-0 mesh decimated by
+    /// decimate_mesh() (as `vdbmesh mesh --decimate`), one mesh each.
+    std::vector<double> decimate_fractions;
     bool marching_cubes = true;                            ///< one MC mesh
     AccuracyOptions accuracy;
     /// Called before each mesh with its index and the number of meshes.
@@ -108,7 +111,9 @@ struct MeshComparison {
     MeshMethod method = MeshMethod::dmc;
     std::optional<double> error;       ///< DMC
     std::optional<double> adaptivity;  ///< volumeToMesh
-    double seconds = 0;                ///< mesh_grid() wall time
+    std::optional<double> decimate;    ///< the share of triangles kept by decimate_mesh()
+    double seconds = 0;                ///< mesh_grid() wall time (with decimate: plus decimate_seconds)
+    double decimate_seconds = 0;       ///< decimate_mesh() wall time
     MeshReport mesher;                 ///< what mesh_grid() reported (phases, fallbacks)
     MeshAnalysis analysis;             ///< analyze_mesh()
     Accuracy accuracy;
@@ -124,8 +129,9 @@ struct Comparison {
 };
 
 /// Meshes @a grid with every setting (DC at each error, DMC at each of its errors, MC, volumeToMesh at each
-/// adaptivity, in that order), one at a time in this process, timing mesh_grid() alone, and
-/// measures each result (once per distinct mesh). Meshes are dropped once measured.
+/// adaptivity, DC at error 0 decimated to each fraction, in that order), one at a time in this
+/// process, timing mesh_grid() (and decimate_mesh()) alone, and measures each result (once per
+/// distinct mesh). Meshes are dropped once measured, but for the error-0 mesh that is decimated.
 Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions& options);
 
 /// "dmc", "mc" or "openvdb".

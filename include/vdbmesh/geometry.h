@@ -42,6 +42,9 @@ using Triangle3 = std::array<Point3, 3>;
 /// True when the three points are exactly collinear (or coincide).
 bool collinear(const Point3& a, const Point3& b, const Point3& c);
 
+/// Exact sign (-1, 0, +1) of ((b - a) x (c - a)) . (d - a).
+int orient3d(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
+
 /// Two non-degenerate triangles whose corners carry ids (equal ids: the same point): true when
 /// they meet beyond what they share. No shared id: any common point; one: a point other than
 /// that corner; two: overlapping beyond that edge; three (the same face): always. The test of

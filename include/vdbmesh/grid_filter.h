@@ -62,10 +62,11 @@ struct SolidSelectionReport {
 SolidSelectionReport select_solids(openvdb::FloatGrid& grid, const MeshOptions& options, const SolidSelection& selection);
 
 /// @brief Splits each triangle of @a mesh (meshed from @a grid at @a iso) into four at its edge
-/// midpoints, then moves each vertex onto the isosurface of the triquadratic interpolant of the samples (openvdb::tools::QuadraticSampler), by Newton
-/// steps along its gradient, for measuring smooth solids beyond the linear interpolation of
-/// Marching Cubes (which puts vertices inside convex surfaces). A vertex that would move more
-/// than half a voxel, or where the interpolant would read beyond the scanned box, stays. The
+/// midpoints, then moves each vertex onto the isosurface of the triquadratic interpolant of the
+/// samples (parabolas through three scanned samples per axis, exact for quadratic fields), by
+/// Newton steps along its gradient, for measuring smooth solids beyond the linear interpolation
+/// of Marching Cubes (which puts vertices inside convex surfaces). A vertex that would move more
+/// than half a voxel, or out of the scanned box, stays. The
 /// mesh's guarantees (no self-intersection) are not checked afterwards: this is for measuring.
 void refine_to_isosurface(Mesh& mesh, const openvdb::FloatGrid& grid, double iso);
 

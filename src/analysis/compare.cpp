@@ -19,6 +19,7 @@
 
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/process.h"
 #include "vdbmesh/trilinear_field.h"
 
 namespace vdbmesh {
@@ -163,6 +164,43 @@ MeshFingerprint mesh_fingerprint(const Mesh& mesh) {
     return f;
 }
 
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// The mesh of @a run (meshed, or for a decimate run the error-0 mesh decimated), with its
+/// times and the mesher's report filled in. @a error0 keeps the error-0 mesh and its report
+/// for the decimate runs after the first.
+Mesh mesh_of(const openvdb::FloatGrid& grid, const CompareOptions& options, MeshComparison& run,
+             std::optional<std::pair<MeshResult, double>>& error0) {
+    MeshOptions mesh_options;
+    mesh_options.method = run.method;
+    mesh_options.iso = options.iso;
+    mesh_options.inside = options.inside;
+    mesh_options.error = run.error.value_or(0.0);
+    mesh_options.adaptivity = run.adaptivity.value_or(0.0);
+    if (!run.decimate) {
+        const auto start = std::chrono::steady_clock::now();
+        MeshResult result = mesh_grid(grid, mesh_options);
+        run.seconds = seconds_since(start);
+        run.mesher = std::move(result.report);
+        return std::move(result.mesh);
+    }
+    if (!error0) {
+        const auto start = std::chrono::steady_clock::now();
+        MeshResult result = mesh_grid(grid, mesh_options);
+        error0.emplace(std::move(result), seconds_since(start));
+    }
+    DecimateOptions decimate;
+    decimate.keep_fraction = *run.decimate;
+    const auto start = std::chrono::steady_clock::now();
+    Mesh decimated = decimate_mesh(error0->first.mesh, decimate);
+    run.decimate_seconds = seconds_since(start);
+    run.seconds = error0->second + run.decimate_seconds;
+    run.mesher = error0->first.report;
+    return decimated;
+}
+
 }  // namespace
 
 const char* method_name(MeshMethod method) {
@@ -244,34 +282,29 @@ Accuracy TrueSurface::measure(const Mesh& world_mesh) const {
 
 Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions& options) {
     std::vector<MeshComparison> runs;
-    const auto add_run = [&](MeshMethod method, std::optional<double> error, std::optional<double> adaptivity) {
+    const auto add_run = [&](MeshMethod method, std::optional<double> error, std::optional<double> adaptivity,
+                             std::optional<double> decimate = std::nullopt) {
         MeshComparison run;
         run.method = method;
         run.error = error;
         run.adaptivity = adaptivity;
+        run.decimate = decimate;
         runs.push_back(run);
     };
     for (double error : options.errors) add_run(MeshMethod::dc, error, std::nullopt);
     for (double error : options.dmc_errors) add_run(MeshMethod::dmc, error, std::nullopt);
     if (options.marching_cubes) add_run(MeshMethod::mc, std::nullopt, std::nullopt);
     for (double adaptivity : options.adaptivities) add_run(MeshMethod::openvdb, std::nullopt, adaptivity);
+    for (double fraction : options.decimate_fractions) add_run(MeshMethod::dc, 0.0, std::nullopt, fraction);
 
     const TrueSurface truth(grid, options.iso, options.inside, options.accuracy);
     std::vector<MeshFingerprint> fingerprints(runs.size());
+    std::optional<std::pair<MeshResult, double>> error0;  // kept for the decimate runs
     for (std::size_t i = 0; i < runs.size(); ++i) {
         if (options.progress) options.progress(i, runs.size());
         MeshComparison& run = runs[i];
-        MeshOptions mesh_options;
-        mesh_options.method = run.method;
-        mesh_options.iso = options.iso;
-        mesh_options.inside = options.inside;
-        mesh_options.error = run.error.value_or(0.0);
-        mesh_options.adaptivity = run.adaptivity.value_or(0.0);
-        const auto start = std::chrono::steady_clock::now();
-        MeshResult result = mesh_grid(grid, mesh_options);
-        run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        run.mesher = std::move(result.report);
-        fingerprints[i] = mesh_fingerprint(result.mesh);
+        const Mesh mesh = mesh_of(grid, options, run, error0);
+        fingerprints[i] = mesh_fingerprint(mesh);
         for (std::size_t earlier = 0; earlier < i && !run.same_mesh_as; ++earlier)
             if (fingerprints[earlier] == fingerprints[i]) run.same_mesh_as = earlier;
         if (run.same_mesh_as) {
@@ -279,8 +312,8 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
             run.accuracy = runs[*run.same_mesh_as].accuracy;
             continue;
         }
-        run.analysis = analyze_mesh(result.mesh);
-        run.accuracy = truth.measure(result.mesh);
+        run.analysis = analyze_mesh(mesh);
+        run.accuracy = truth.measure(mesh);
     }
     if (options.progress) options.progress(runs.size(), runs.size());
     return {std::move(runs), truth.reference_triangles()};

@@ -1,22 +1,34 @@
 // decimate_mesh(): quadric edge collapse (M. Garland and P. Heckbert, SIGGRAPH 1997) that keeps a
-// closed manifold mesh closed, manifold, oriented and free of self-intersections. Edges are
-// collapsed cheapest first (a heap with lazy deletion: an entry is stale once either end has
-// changed). Each collapse is checked where it changes the mesh, on the float coordinates that
-// will be written:
+// closed manifold mesh closed, manifold, oriented and free of self-intersections.
+//
+// The collapses are made in rounds. Each round takes the cheapest edges (about as many as
+// collapses are still wanted) and picks among them, in order of cost, those whose ends lie in the
+// star of no edge picked before (as meshoptimizer locks vertices). Those are checked in parallel
+// against the mesh as it was at the start of the round, then applied in order of cost. No collapse
+// of the round changes what another's checks read (its ends' rings, its star) but for the new
+// triangles of two collapses, which are tested against each other as they are applied. So the
+// result does not depend on the thread count. Each collapse is checked where it changes the mesh,
+// on the float coordinates that will be written:
 // - topology: the link condition (the ends' neighbours in common are exactly the two opposite
 //   corners; T. K. Dey et al., "Topology preserving edge contraction", 1999), which keeps a
 //   closed 2-manifold one;
 // - geometry: no triangle of the new star is degenerate (exact collinearity) or turns by more
 //   than kMaxTurnDegrees;
-// - intersections: each new triangle against the others of the star and against the triangles
-//   a hash grid finds near it, with the exact tests of `vdbmesh check` (triangle_intersection.h).
+// - intersections: each new triangle against the others of the star and against the triangles a
+//   grid (rebuilt each round) finds near it, with the exact tests of `vdbmesh check`.
+// The mesh is held as a corner table (each corner's opposite corner across its edge), flat arrays
+// throughout.
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cmath>
-#include <queue>
+#include <limits>
 #include <string>
 
 #include "process/quadric.h"
-#include "process/triangle_hash.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/geometry.h"
 #include "vdbmesh/process.h"
@@ -27,12 +39,15 @@ namespace {
 using detail::Quadric;
 using detail::Vec3d;
 using Ids = std::array<std::uint32_t, 3>;
+using Box = std::array<std::array<float, 3>, 2>;  ///< lo, hi
 
+constexpr std::uint32_t kNone = ~0u;
 constexpr double kMaxTurnDegrees = 75;  ///< largest change of a triangle's normal in one collapse
-constexpr double kCellEdges = 2;        ///< hash cell size in mean edge lengths
 /// Ties of the quadric error (flat regions, where it is 0) go to the shorter edge, which keeps
 /// the triangles there from growing into needles.
 constexpr double kLengthWeight = 1e-3;
+constexpr double kCellEdges = 1;       ///< triangle grid cell size in mean triangle extents
+constexpr std::size_t kMinRound = 64;  ///< candidates a round takes at least
 
 Vec3d sub(const Vec3d& a, const Vec3d& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 Vec3d cross(const Vec3d& a, const Vec3d& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
@@ -40,23 +55,22 @@ double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + 
 Vec3d to_double(const std::array<float, 3>& p) { return {p[0], p[1], p[2]}; }
 std::array<float, 3> to_float(const Vec3d& p) { return {float(p[0]), float(p[1]), float(p[2])}; }
 
-bool boxes_overlap(const detail::TriangleHash::Box& a, const detail::TriangleHash::Box& b) {
+std::uint32_t next(std::uint32_t c) { return c % 3 == 2 ? c - 2 : c + 1; }
+std::uint32_t prev(std::uint32_t c) { return c % 3 == 0 ? c + 2 : c - 1; }
+
+Box empty_box() {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    return {{{inf, inf, inf}, {-inf, -inf, -inf}}};
+}
+void grow(Box& box, const std::array<float, 3>& p) {
+    for (int k = 0; k < 3; ++k) box[0][k] = std::min(box[0][k], p[k]), box[1][k] = std::max(box[1][k], p[k]);
+}
+bool overlap(const Box& a, const Box& b) {
     for (int k = 0; k < 3; ++k) {
         if (a[1][k] < b[0][k] || b[1][k] < a[0][k]) return false;
     }
     return true;
 }
-
-/// An edge waiting in the heap, with the versions of its ends when it was pushed.
-struct Candidate {
-    double cost;   ///< the quadric error plus kLengthWeight times the squared edge length
-    double error;  ///< the quadric error (squared world units)
-    std::uint32_t a, b, version_a, version_b;
-    bool operator<(const Candidate& o) const {  // the heap's top is the cheapest
-        if (cost != o.cost) return cost > o.cost;
-        return a != o.a ? a > o.a : b > o.b;
-    }
-};
 
 void check_closed_manifold(const Mesh& mesh) {
     const detail::Topology topology = detail::analyze_topology(mesh);
@@ -68,69 +82,245 @@ void check_closed_manifold(const Mesh& mesh) {
     }
 }
 
-class Decimator {
+/// Boxes with ids in a uniform grid, each in the cell of its low corner (one larger than a cell:
+/// in every cell it meets), for finding the boxes that may meet a box. Built at once and
+/// read-only after.
+class BoxGrid {
 public:
-    Decimator(const Mesh& mesh, const DecimateOptions& options)
-        : positions_(mesh.vertices), triangles_(mesh.triangles), alive_(mesh.triangles.size(), 1),
-          around_(mesh.vertices.size()), quadrics_(mesh.vertices.size()), versions_(mesh.vertices.size(), 0),
-          excluded_(mesh.triangles.size(), 0), hash_(cell_size(mesh)), alive_count_(mesh.triangles.size()),
-          max_error_squared_(options.max_error * options.max_error) {
-        target_ = std::size_t(std::ceil(options.keep_fraction * double(mesh.triangles.size())));
-        for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
-            for (const std::uint32_t v : triangles_[t]) around_[v].push_back(t);
-            hash_.insert(t, box(triangles_[t]));
-            const Vec3d n = normal(triangles_[t]);
-            const double length = std::sqrt(dot(n, n));
-            if (length == 0) continue;
-            const Quadric plane = Quadric::plane({n[0] / length, n[1] / length, n[2] / length}, point(triangles_[t][0]));
-            for (const std::uint32_t v : triangles_[t]) quadrics_[v] = quadrics_[v] + plane;
+    struct Entry {
+        Box box;
+        std::uint32_t id;
+        Ids ids;  ///< for triangles, their corners (read without a detour through the mesh)
+    };
+
+    /// @a cell: the cell size, made at least the largest extent of 99% of the boxes, and coarser
+    /// where the boxes are spread thin (at most about eight cells per box).
+    void build(const std::vector<Entry>& all, double cell) {
+        Box bounds = empty_box();
+        std::vector<float> extents(all.size());
+        for (std::size_t i = 0; i < all.size(); ++i) {
+            const Box& b = all[i].box;
+            grow(bounds, b[0]), grow(bounds, b[1]);
+            extents[i] = std::max({b[1][0] - b[0][0], b[1][1] - b[0][1], b[1][2] - b[0][2]});
         }
-        for (const Ids& t : triangles_) {
+        if (!extents.empty()) {
+            const auto most = extents.begin() + std::ptrdiff_t(std::size_t(0.99 * double(extents.size() - 1)));
+            std::nth_element(extents.begin(), most, extents.end());
+            cell = std::max(cell, double(*most));
+        }
+        cell_ = cell > 0 ? cell : 1;
+        for (;;) {
+            std::uint64_t count = 1;
             for (int k = 0; k < 3; ++k) {
-                if (t[k] < t[(k + 1) % 3]) push(t[k], t[(k + 1) % 3]);  // each edge once in a closed oriented mesh
+                origin_[k] = all.empty() ? 0 : bounds[0][k];
+                dims_[k] = all.empty() ? 1 : std::int64_t(std::floor((double(bounds[1][k]) - origin_[k]) / cell_)) + 1;
+                count *= std::uint64_t(dims_[k]);
+            }
+            if (count <= 8 * all.size() + 64) break;
+            cell_ *= 1.25;
+        }
+        const std::size_t cells = std::size_t(dims_[0] * dims_[1] * dims_[2]);
+        start_.assign(cells + 1, 0);
+        for (const Entry& e : all) for_cells(e.box, [&](std::size_t c) { ++start_[c + 1]; });
+        for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
+        entries_.resize(start_[cells]);
+        std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
+        for (const Entry& e : all) for_cells(e.box, [&](std::size_t c) { entries_[fill[c]++] = e; });
+    }
+
+    /// Calls visit(entry) for each entry whose box may meet @a box (one larger than a cell may
+    /// come more than once); stops when visit returns false. Returns whether it went through.
+    template <class Visit>
+    bool visit(const Box& box, Visit&& visit) const {
+        // A box of a cell or less that meets @a box has its low corner in [box.lo - cell, box.hi];
+        // a larger one is in the cells of a point they share.
+        std::array<float, 3> lo;
+        for (int k = 0; k < 3; ++k) lo[k] = float(double(box[0][k]) - cell_);
+        const std::array<std::int64_t, 3> from = cell_coordinates(lo), to = cell_coordinates(box[1]);
+        for (std::int64_t z = from[2]; z <= to[2]; ++z) {
+            for (std::int64_t y = from[1]; y <= to[1]; ++y) {
+                const std::size_t row = index({0, y, z});
+                for (std::uint32_t i = start_[row + std::size_t(from[0])]; i < start_[row + std::size_t(to[0]) + 1]; ++i) {
+                    if (!visit(entries_[i])) return false;
+                }
+            }
+        }
+        return true;
+    }
+
+private:
+    /// Calls call(cell) for the cell of @a box's low corner, or each cell it meets if it is
+    /// larger than a cell.
+    template <class Call>
+    void for_cells(const Box& box, Call&& call) const {
+        const std::array<std::int64_t, 3> from = cell_coordinates(box[0]);
+        std::array<std::int64_t, 3> to = from;
+        bool small = true;
+        for (int k = 0; k < 3; ++k) small &= double(box[1][k]) - box[0][k] <= cell_;
+        if (!small) to = cell_coordinates(box[1]);
+        for (std::int64_t z = from[2]; z <= to[2]; ++z) {
+            for (std::int64_t y = from[1]; y <= to[1]; ++y) {
+                for (std::int64_t x = from[0]; x <= to[0]; ++x) call(index({x, y, z}));
             }
         }
     }
 
+    std::array<std::int64_t, 3> cell_coordinates(const std::array<float, 3>& p) const {
+        std::array<std::int64_t, 3> c{};
+        for (int k = 0; k < 3; ++k) {
+            const double x = std::floor((double(p[k]) - origin_[k]) / cell_);
+            c[k] = x < 0 ? 0 : x >= double(dims_[k]) ? dims_[k] - 1 : std::int64_t(x);
+        }
+        return c;
+    }
+    std::size_t index(const std::array<std::int64_t, 3>& c) const { return std::size_t(c[0] + dims_[0] * (c[1] + dims_[1] * c[2])); }
+
+    double cell_ = 1;
+    std::array<double, 3> origin_{};
+    std::array<std::int64_t, 3> dims_{1, 1, 1};
+    std::vector<std::uint32_t> start_;  ///< entries of cell c: [start_[c], start_[c + 1])
+    std::vector<Entry> entries_;
+};
+
+/// An edge a round considers, at the corner opposite it where it runs from its lower vertex
+/// (the one kept) to its higher one.
+struct Candidate {
+    double cost;
+    std::uint32_t corner;
+    bool operator<(const Candidate& o) const { return cost != o.cost ? cost < o.cost : corner < o.corner; }
+};
+
+enum class Verdict : std::uint8_t { unchecked, passed, topology, geometry, intersection };
+
+/// A collapse a round may make.
+struct Plan {
+    std::uint32_t corner = kNone;
+    Box star = empty_box();  ///< the box of the new star (once checked)
+    Verdict verdict = Verdict::unchecked;
+};
+
+/// Per-thread scratch of the checks.
+struct Scratch {
+    std::vector<std::uint32_t> mark;  ///< stamp per vertex (link condition)
+    std::uint32_t stamp = 0;
+    std::vector<std::uint32_t> star;  ///< the triangles of the new star
+    std::vector<Ids> ids;             ///< their corners' vertices after the collapse
+    std::vector<detail::Triangle3> corners;
+    std::vector<Box> boxes;
+};
+
+class Decimator {
+public:
+    Decimator(const Mesh& mesh, const DecimateOptions& options)
+        : positions_(mesh.vertices), triangles_(mesh.triangles), alive_(mesh.triangles.size(), 1),
+          opposite_(3 * mesh.triangles.size(), kNone), vertex_corner_(mesh.vertices.size(), kNone),
+          quadrics_(mesh.vertices.size()), cost_(3 * mesh.triangles.size()), error_(3 * mesh.triangles.size()),
+          position_(3 * mesh.triangles.size()),
+          rejected_(3 * mesh.triangles.size(), 0), boxes_(mesh.triangles.size()), alive_count_(mesh.triangles.size()),
+          target_(std::size_t(std::ceil(options.keep_fraction * double(mesh.triangles.size())))),
+          max_error_squared_(options.max_error * options.max_error) {
+        link_corners();
+        gather_quadrics();
+        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(triangles_.size()), 4096), [&](const auto& range) {
+            for (std::uint32_t t = range.begin(); t != range.end(); ++t) refresh(t);
+        });
+    }
+
     Mesh run(DecimateReport& report) {
-        while (alive_count_ > target_ && !heap_.empty()) {
-            const Candidate c = heap_.top();
-            heap_.pop();
-            if (versions_[c.a] != c.version_a || versions_[c.b] != c.version_b || around_[c.a].empty() || around_[c.b].empty()) continue;
-            if (c.error > max_error_squared_) continue;  // a longer edge with less error may follow
-            if (collapse(c.a, c.b, placement(c.a, c.b), report)) {
-                ++report.collapses;
-                report.max_error = std::max(report.max_error, std::sqrt(c.error));
-            }
+        tbb::enumerable_thread_specific<Scratch> scratch([&] {
+            Scratch s;
+            s.mark.assign(positions_.size(), 0);
+            return s;
+        });
+        std::vector<Candidate> candidates;
+        std::vector<Plan> plans;
+        Scratch own;
+        own.mark.assign(positions_.size(), 0);
+        while (alive_count_ > target_) {
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, dirty_.size(), 1024), [&](const auto& range) {
+                for (std::size_t i = range.begin(); i != range.end(); ++i) refresh(dirty_[i]);
+            });
+            dirty_.clear();
+            gather_candidates(candidates);
+            if (candidates.empty()) break;
+            // The cheapest, about as many as the collapses still wanted.
+            const std::size_t wanted = (alive_count_ - target_ + 1) / 2;
+            const std::size_t take = std::min(candidates.size(), std::max(kMinRound, wanted));
+            std::nth_element(candidates.begin(), candidates.begin() + std::ptrdiff_t(take - 1), candidates.end());
+            candidates.resize(take);
+            tbb::parallel_sort(candidates.begin(), candidates.end());
+            choose_apart(candidates, plans, own);
+            build_triangle_grid();
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, plans.size(), 32), [&](const auto& range) {
+                Scratch& s = scratch.local();
+                for (std::size_t i = range.begin(); i != range.end(); ++i) plans[i].verdict = check(plans[i], s);
+            });
+            apply_round(plans, report, own);
         }
         return compact();
     }
 
 private:
-    static double cell_size(const Mesh& mesh) {
-        double total = 0;
-        for (const Ids& t : mesh.triangles) {
-            for (int k = 0; k < 3; ++k) {
-                const Vec3d d = sub(to_double(mesh.vertices[t[k]]), to_double(mesh.vertices[t[(k + 1) % 3]]));
-                total += std::sqrt(dot(d, d));
+    // ---- the corner table: corner c is vertex c % 3 of triangle c / 3 ----
+
+    std::uint32_t vertex(std::uint32_t c) const { return triangles_[c / 3][c % 3]; }
+
+    /// Each corner's opposite: the corner of the other triangle on the edge opposite it (that
+    /// edge runs vertex(next c) -> vertex(prev c), and the other way in the other triangle).
+    void link_corners() {
+        const std::size_t n = positions_.size();
+        const auto corners = std::uint32_t(3 * triangles_.size());
+        std::vector<std::uint32_t> start(n + 1, 0);
+        for (std::uint32_t c = 0; c < corners; ++c) ++start[vertex(c) + 1];
+        for (std::size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+        std::vector<std::uint32_t> at(start[n]);  // the corners at each vertex
+        std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+        for (std::uint32_t c = 0; c < corners; ++c) at[fill[vertex(c)]++] = c;
+        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, corners, 4096), [&](const auto& range) {
+            for (std::uint32_t c = range.begin(); c != range.end(); ++c) {
+                // The other triangle has a corner at w = vertex(prev c) followed by one at u.
+                const std::uint32_t u = vertex(next(c)), w = vertex(prev(c));
+                for (std::uint32_t i = start[w]; i < start[w + 1]; ++i) {
+                    if (vertex(next(at[i])) == u) opposite_[c] = prev(at[i]);
+                }
             }
-        }
-        const double mean = mesh.triangles.empty() ? 1 : total / double(3 * mesh.triangles.size());
-        return mean > 0 ? kCellEdges * mean : 1;
+        });
+        for (std::uint32_t c = 0; c < corners; ++c) vertex_corner_[vertex(c)] = c;
     }
+
+    /// The next corner at the same vertex (across the edge to vertex(next c)).
+    std::uint32_t swing(std::uint32_t c) const { return prev(opposite_[prev(c)]); }
+
+    /// Calls visit(corner) for each corner at @a v.
+    template <class Visit>
+    void around(std::uint32_t v, Visit&& visit) const {
+        const std::uint32_t first = vertex_corner_[v];
+        std::uint32_t c = first;
+        do {
+            visit(c);
+            c = swing(c);
+        } while (c != first);
+    }
+
+    // ---- quadrics, costs, boxes ----
 
     Vec3d point(std::uint32_t v) const { return to_double(positions_[v]); }
     Vec3d normal(const Ids& t) const { return cross(sub(point(t[1]), point(t[0])), sub(point(t[2]), point(t[0]))); }
 
-    detail::TriangleHash::Box box(const Ids& t) const { return box(corners(t, ~0u, {})); }
-
-    /// The box of float corners (exactly representable: the corners are floats).
-    static detail::TriangleHash::Box box(const detail::Triangle3& c) {
-        detail::TriangleHash::Box b{to_float(c[0]), to_float(c[0])};
-        for (const Vec3d& q : c) {
-            for (int k = 0; k < 3; ++k) b[0][k] = std::min(b[0][k], float(q[k])), b[1][k] = std::max(b[1][k], float(q[k]));
-        }
-        return b;
+    /// Each vertex's quadric: the planes of its triangles, summed around it.
+    void gather_quadrics() {
+        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(positions_.size()), 4096), [&](const auto& range) {
+            for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
+                if (vertex_corner_[v] == kNone) continue;
+                around(v, [&](std::uint32_t c) {
+                    const Ids& t = triangles_[c / 3];
+                    const Vec3d n = normal(t);
+                    const double length = std::sqrt(dot(n, n));
+                    if (length == 0) return;
+                    quadrics_[v] = quadrics_[v] + Quadric::plane({n[0] / length, n[1] / length, n[2] / length}, point(t[0]));
+                });
+            }
+        });
     }
 
     /// Where the collapse of (a, b) puts the vertex, rounded to floats: the quadric's minimizer
@@ -150,172 +340,275 @@ private:
         return to_float(chosen);
     }
 
-    void push(std::uint32_t a, std::uint32_t b) {
-        const std::array<float, 3> p = placement(a, b);
-        const double error = (quadrics_[a] + quadrics_[b]).error(to_double(p));
-        const Vec3d edge = sub(point(a), point(b));
-        heap_.push({error + kLengthWeight * dot(edge, edge), error, a, b, versions_[a], versions_[b]});
+    /// Triangle @a t's box and the costs of its edges (each at the corner where it runs from the
+    /// lower vertex); none of them refused any more.
+    void refresh(std::uint32_t t) {
+        boxes_[t] = empty_box();
+        for (std::uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
+            grow(boxes_[t], positions_[vertex(c)]);
+            rejected_[c] = 0;
+            const std::uint32_t a = vertex(next(c)), b = vertex(prev(c));
+            if (a > b) continue;
+            position_[c] = placement(a, b);
+            const double error = (quadrics_[a] + quadrics_[b]).error(to_double(position_[c]));
+            const Vec3d edge = sub(point(a), point(b));
+            error_[c] = error;
+            cost_[c] = error + kLengthWeight * dot(edge, edge);
+        }
     }
 
-    /// The vertices sharing a triangle with @a v, sorted.
-    std::vector<std::uint32_t> ring(std::uint32_t v) const {
-        std::vector<std::uint32_t> result;
-        for (const std::uint32_t t : around_[v]) {
-            for (const std::uint32_t w : triangles_[t]) {
-                if (w != v) result.push_back(w);
+    void gather_candidates(std::vector<Candidate>& candidates) const {
+        candidates.clear();
+        for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
+            if (!alive_[t]) continue;
+            for (std::uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
+                if (vertex(next(c)) < vertex(prev(c)) && !rejected_[c] && error_[c] <= max_error_squared_) candidates.push_back({cost_[c], c});
             }
         }
-        std::sort(result.begin(), result.end());
-        result.erase(std::unique(result.begin(), result.end()), result.end());
-        return result;
     }
 
-    /// The two triangles on edge (a, b), or false when the edge does not have exactly two.
-    bool edge_triangles(std::uint32_t a, std::uint32_t b, std::array<std::uint32_t, 2>& edge) const {
-        int found = 0;
-        for (const std::uint32_t t : around_[a]) {
-            const Ids& ids = triangles_[t];
-            if (ids[0] != b && ids[1] != b && ids[2] != b) continue;
-            if (found == 2) return false;
-            edge[found++] = t;
-        }
-        return found == 2;
-    }
+    // ---- a round ----
 
-    bool link_condition(std::uint32_t a, std::uint32_t b, const std::array<std::uint32_t, 2>& edge) const {
-        const std::vector<std::uint32_t> ra = ring(a), rb = ring(b);
-        std::vector<std::uint32_t> common;
-        std::set_intersection(ra.begin(), ra.end(), rb.begin(), rb.end(), std::back_inserter(common));
-        std::vector<std::uint32_t> opposite;
-        for (const std::uint32_t t : edge) {
-            for (const std::uint32_t w : triangles_[t]) {
-                if (w != a && w != b) opposite.push_back(w);
+    /// The candidates, in order of cost, whose ends lie in the star of no earlier one chosen.
+    /// Then no collapse of the round changes the rings of another's ends or the triangles of its
+    /// star (a triangle changes only if it has an end of the collapse, and a vertex's ring only
+    /// if it is in the star), which is what the link condition and the geometry check read.
+    void choose_apart(const std::vector<Candidate>& candidates, std::vector<Plan>& plans, Scratch& s) const {
+        plans.clear();
+        const std::uint32_t stamp = ++s.stamp;
+        for (const Candidate& candidate : candidates) {
+            const std::uint32_t ends[2] = {vertex(next(candidate.corner)), vertex(prev(candidate.corner))};
+            if (s.mark[ends[0]] == stamp || s.mark[ends[1]] == stamp) continue;
+            for (const std::uint32_t v : ends) {
+                around(v, [&](std::uint32_t c) { s.mark[vertex(next(c))] = stamp; });
             }
+            Plan plan;
+            plan.corner = candidate.corner;
+            plans.push_back(plan);
         }
-        std::sort(opposite.begin(), opposite.end());
-        return common == opposite && opposite[0] != opposite[1];
     }
 
-    /// The star after the collapse: each triangle around a or b but off the edge (so around
-    /// exactly one of them), b renamed a.
-    std::vector<std::pair<std::uint32_t, Ids>> new_star(std::uint32_t a, std::uint32_t b, const std::array<std::uint32_t, 2>& edge) const {
-        std::vector<std::pair<std::uint32_t, Ids>> star;
+    /// Applies the plans that passed their checks, in order of cost, while triangles are to go.
+    /// Their stars share no vertex, so each check still holds but for the new triangles of two
+    /// collapses of the round, which no check has met: a plan whose new triangles cross those of
+    /// one applied before waits for the next round.
+    void apply_round(std::vector<Plan>& plans, DecimateReport& report, Scratch& s) {
+        std::vector<BoxGrid::Entry> passed;
+        double extent = 0;
+        for (std::uint32_t i = 0; i < plans.size(); ++i) {
+            if (plans[i].verdict != Verdict::passed) continue;
+            passed.push_back({plans[i].star, i, {}});
+            for (int k = 0; k < 3; ++k) extent += double(plans[i].star[1][k]) - plans[i].star[0][k];
+        }
+        plan_grid_.build(passed, extent / (3 * double(std::max<std::size_t>(passed.size(), 1))));
+        std::vector<char> applied(plans.size(), 0);
+        for (std::uint32_t i = 0; i < plans.size() && alive_count_ > target_; ++i) {
+            const Plan& p = plans[i];
+            if (p.verdict != Verdict::passed) {
+                rejected_[p.corner] = 1;
+                ++(p.verdict == Verdict::topology ? report.rejected_topology
+                   : p.verdict == Verdict::geometry ? report.rejected_geometry
+                                                    : report.rejected_intersection);
+                continue;
+            }
+            bool star_ready = false;
+            const bool apart = plan_grid_.visit(p.star, [&](const BoxGrid::Entry& e) {
+                if (e.id >= i || !applied[e.id] || !overlap(e.box, p.star)) return true;
+                if (!star_ready) new_star(p, s), star_ready = true;
+                return !crosses_star_of(vertex(next(plans[e.id].corner)), s);
+            });
+            if (!apart) continue;
+            report.max_error = std::max(report.max_error, std::sqrt(error_[p.corner]));
+            apply(p);
+            applied[i] = 1;
+            ++report.collapses;
+        }
+    }
+
+    /// Whether a triangle of the new star in @a s crosses one around vertex @a v (of another
+    /// star: no vertex in common).
+    bool crosses_star_of(std::uint32_t v, const Scratch& s) const {
+        bool crossed = false;
+        around(v, [&](std::uint32_t c) {
+            const Ids& ids = triangles_[c / 3];
+            const detail::Triangle3 other{to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])};
+            Box box = empty_box();  // (boxes_ is refreshed only at the next round)
+            for (const std::uint32_t w : ids) grow(box, positions_[w]);
+            for (std::size_t i = 0; i < s.star.size() && !crossed; ++i) {
+                crossed = overlap(s.boxes[i], box) && detail::triangles_intersect(s.ids[i], s.corners[i], ids, other);
+            }
+        });
+        return crossed;
+    }
+
+    /// The alive triangles with their boxes, in cells of kCellEdges mean edge lengths.
+    void build_triangle_grid() {
+        std::vector<BoxGrid::Entry> entries;
+        entries.reserve(alive_count_);
+        double extent = 0;
+        for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
+            if (!alive_[t]) continue;
+            entries.push_back({boxes_[t], t, triangles_[t]});
+            extent += std::max({double(boxes_[t][1][0]) - boxes_[t][0][0], double(boxes_[t][1][1]) - boxes_[t][0][1],
+                                double(boxes_[t][1][2]) - boxes_[t][0][2]});
+        }
+        triangle_grid_.build(entries, kCellEdges * extent / double(std::max<std::size_t>(entries.size(), 1)));
+    }
+
+    bool link_condition(std::uint32_t corner, Scratch& s) const {
+        const std::uint32_t a = vertex(next(corner)), b = vertex(prev(corner));
+        const std::uint32_t c = vertex(corner), d = vertex(opposite_[corner]);
+        if (c == d) return false;
+        const std::uint32_t stamp = ++s.stamp;
+        std::size_t valence = 0, common = 0;
+        around(a, [&](std::uint32_t k) { s.mark[vertex(next(k))] = stamp, ++valence; });
+        around(b, [&](std::uint32_t k) { common += s.mark[vertex(next(k))] == stamp, ++valence; });
+        // Only the two opposite corners in common; the kept vertex keeps three neighbours at least.
+        return common == 2 && valence >= 4 + 3;
+    }
+
+    /// The new star: the triangles around either end but off the edge, with b renamed a, the
+    /// float corners with a moved to the new position, and their boxes.
+    void new_star(const Plan& p, Scratch& s) const {
+        const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
+        const std::array<float, 3>& position = position_[p.corner];
+        const std::uint32_t t0 = p.corner / 3, t1 = opposite_[p.corner] / 3;
+        s.star.clear(), s.ids.clear(), s.corners.clear(), s.boxes.clear();
         for (const std::uint32_t v : {a, b}) {
-            for (const std::uint32_t t : around_[v]) {
-                if (t == edge[0] || t == edge[1]) continue;
+            around(v, [&](std::uint32_t c) {
+                const std::uint32_t t = c / 3;
+                if (t == t0 || t == t1) return;
                 Ids ids = triangles_[t];
-                for (std::uint32_t& w : ids) w = w == b ? a : w;
-                star.emplace_back(t, ids);
-            }
+                detail::Triangle3 corners;
+                Box box = empty_box();
+                for (int k = 0; k < 3; ++k) {
+                    if (ids[k] == b) ids[k] = a;
+                    const std::array<float, 3>& q = ids[k] == a ? position : positions_[ids[k]];
+                    corners[k] = to_double(q);
+                    grow(box, q);
+                }
+                s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(corners), s.boxes.push_back(box);
+            });
         }
-        return star;
     }
 
-    detail::Triangle3 corners(const Ids& ids, std::uint32_t moved, const Vec3d& p) const {
-        detail::Triangle3 result;
-        for (int k = 0; k < 3; ++k) result[k] = ids[k] == moved ? p : point(ids[k]);
-        return result;
-    }
-
-    bool geometry_holds(const std::vector<std::pair<std::uint32_t, Ids>>& star, std::uint32_t a, const Vec3d& p) const {
+    bool geometry_holds(const Scratch& s) const {
         const double min_cosine = std::cos(kMaxTurnDegrees * 3.14159265358979323846 / 180);
-        for (const auto& [t, ids] : star) {
-            const detail::Triangle3 c = corners(ids, a, p);
+        for (std::size_t i = 0; i < s.star.size(); ++i) {
+            const detail::Triangle3& c = s.corners[i];
             if (detail::collinear(c[0], c[1], c[2])) return false;
-            const Vec3d before = normal(triangles_[t]), after = cross(sub(c[1], c[0]), sub(c[2], c[0]));
+            const Vec3d before = normal(triangles_[s.star[i]]), after = cross(sub(c[1], c[0]), sub(c[2], c[0]));
             if (dot(before, after) < min_cosine * std::sqrt(dot(before, before) * dot(after, after))) return false;
         }
         return true;
     }
 
-    /// The new triangles cross neither each other nor any triangle near them outside the star
-    /// (gathered once from the hash grid over the star's box).
-    bool intersection_free(const std::vector<std::pair<std::uint32_t, Ids>>& star, std::uint32_t a, const Vec3d& p,
-                           const std::array<std::uint32_t, 2>& edge) {
-        const std::uint32_t changing = ++stamp_;
-        for (const auto& [t, ids] : star) excluded_[t] = changing;
-        excluded_[edge[0]] = excluded_[edge[1]] = changing;
-        std::vector<detail::Triangle3> corners_of(star.size());
-        std::vector<detail::TriangleHash::Box> boxes(star.size());
-        detail::TriangleHash::Box around = box(corners(star[0].second, a, p));
-        for (std::size_t i = 0; i < star.size(); ++i) {
-            corners_of[i] = corners(star[i].second, a, p);
-            boxes[i] = box(corners_of[i]);
-            for (int k = 0; k < 3; ++k) around[0][k] = std::min(around[0][k], boxes[i][0][k]), around[1][k] = std::max(around[1][k], boxes[i][1][k]);
-            for (std::size_t j = 0; j < i; ++j) {
-                if (detail::triangles_intersect(star[i].second, corners_of[i], star[j].second, corners_of[j])) return false;
+    /// Whether the new star (a closed fan around the kept vertex @a a) is certainly free of
+    /// crossings among its triangles: seen along one direction, each turns the same way (exact
+    /// orientations) and their angles at the kept vertex add up to one turn (the sum is a whole
+    /// number of turns, so rounding cannot mislead), so the fan projects one-to-one onto a plane.
+    bool star_is_a_graph(std::uint32_t a, const Scratch& s) const {
+        std::vector<std::array<Vec3d, 2>> spokes(s.star.size());  // from the kept vertex to the other two corners
+        Vec3d n{0, 0, 0};
+        double reach = 0;
+        for (std::size_t i = 0; i < s.star.size(); ++i) {
+            const int k = s.ids[i][0] == a ? 0 : s.ids[i][1] == a ? 1 : 2;
+            spokes[i] = {sub(s.corners[i][(k + 1) % 3], s.corners[i][k]), sub(s.corners[i][(k + 2) % 3], s.corners[i][k])};
+            const Vec3d c = cross(spokes[i][0], spokes[i][1]);
+            for (int j = 0; j < 3; ++j) n[j] += c[j];
+            reach = std::max(reach, dot(spokes[i][0], spokes[i][0]));
+        }
+        const double length = std::sqrt(dot(n, n));
+        if (!(length > 0)) return false;
+        const Vec3d& p = s.corners[0][s.ids[0][0] == a ? 0 : s.ids[0][1] == a ? 1 : 2];
+        const double scale = std::sqrt(reach) / length;
+        const Vec3d q{p[0] + n[0] * scale, p[1] + n[1] * scale, p[2] + n[2] * scale};
+        // A basis of the plane across n, for the angles.
+        const Vec3d d{n[0] / length, n[1] / length, n[2] / length};
+        const Vec3d helper = std::abs(d[0]) < 0.6 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
+        Vec3d u = cross(d, helper);
+        const double u_length = std::sqrt(dot(u, u));
+        u = {u[0] / u_length, u[1] / u_length, u[2] / u_length};
+        const Vec3d v = cross(d, u);
+        int turn = 0;
+        double angles = 0;
+        for (std::size_t i = 0; i < s.star.size(); ++i) {
+            const int k = s.ids[i][0] == a ? 0 : s.ids[i][1] == a ? 1 : 2;
+            const int sign = detail::orient3d(s.corners[i][k], s.corners[i][(k + 1) % 3], s.corners[i][(k + 2) % 3], q);
+            if (sign == 0 || (turn != 0 && sign != turn)) return false;
+            turn = sign;
+            const double x1 = dot(spokes[i][0], u), y1 = dot(spokes[i][0], v), x2 = dot(spokes[i][1], u), y2 = dot(spokes[i][1], v);
+            angles += std::atan2(std::abs(x1 * y2 - x2 * y1), x1 * x2 + y1 * y2);
+        }
+        return angles < 3 * 3.14159265358979323846;
+    }
+
+    /// The new triangles cross neither each other nor any triangle near them off the old star.
+    bool intersection_free(const Plan& p, const Scratch& s) const {
+        const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
+        Box around_star = empty_box();
+        for (const Box& box : s.boxes) grow(around_star, box[0]), grow(around_star, box[1]);
+        if (!star_is_a_graph(a, s)) {
+            for (std::size_t i = 0; i < s.star.size(); ++i) {
+                for (std::size_t j = 0; j < i; ++j) {
+                    if (detail::triangles_intersect(s.ids[i], s.corners[i], s.ids[j], s.corners[j])) return false;
+                }
             }
         }
-        nearby_.clear();
-        hash_.visit(around, [&](std::uint32_t u) {
-            if (excluded_[u] == changing) return;
-            excluded_[u] = changing;  // each candidate once
-            nearby_.push_back(u);
+        return triangle_grid_.visit(around_star, [&](const BoxGrid::Entry& e) {
+            if (!overlap(e.box, around_star)) return true;
+            const Ids& ids = e.ids;
+            for (const std::uint32_t v : ids) {
+                if (v == a || v == b) return true;  // the old star, replaced
+            }
+            const detail::Triangle3 other{to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])};
+            for (std::size_t i = 0; i < s.star.size(); ++i) {
+                if (overlap(s.boxes[i], e.box) && detail::triangles_intersect(s.ids[i], s.corners[i], ids, other)) return false;
+            }
+            return true;
         });
-        for (const std::uint32_t u : nearby_) {
-            const detail::Triangle3 other = corners(triangles_[u], a, p);
-            const detail::TriangleHash::Box other_box = box(other);
-            for (std::size_t i = 0; i < star.size(); ++i) {
-                if (boxes_overlap(boxes[i], other_box) && detail::triangles_intersect(star[i].second, corners_of[i], triangles_[u], other)) return false;
-            }
-        }
-        return true;
     }
 
-    bool collapse(std::uint32_t a, std::uint32_t b, const std::array<float, 3>& position, DecimateReport& report) {
-        std::array<std::uint32_t, 2> edge{};
-        if (!edge_triangles(a, b, edge) || !link_condition(a, b, edge)) {
-            ++report.rejected_topology;
-            return false;
-        }
-        const Vec3d p = to_double(position);
-        const auto star = new_star(a, b, edge);
-        if (!geometry_holds(star, a, p)) {
-            ++report.rejected_geometry;
-            return false;
-        }
-        if (!intersection_free(star, a, p, edge)) {
-            ++report.rejected_intersection;
-            return false;
-        }
-        apply(a, b, position, star, edge);
-        return true;
+    /// The verdict on @a p, and the box of its new star.
+    Verdict check(Plan& p, Scratch& s) const {
+        if (!link_condition(p.corner, s)) return Verdict::topology;
+        new_star(p, s);
+        if (!geometry_holds(s)) return Verdict::geometry;
+        if (!intersection_free(p, s)) return Verdict::intersection;
+        for (const Box& b : s.boxes) grow(p.star, b[0]), grow(p.star, b[1]);
+        return Verdict::passed;
     }
 
-    void apply(std::uint32_t a, std::uint32_t b, const std::array<float, 3>& position,
-               const std::vector<std::pair<std::uint32_t, Ids>>& star, const std::array<std::uint32_t, 2>& edge) {
-        for (const std::uint32_t t : edge) {
-            hash_.erase(t, box(triangles_[t]));
-            alive_[t] = 0;
-            for (const std::uint32_t v : triangles_[t]) {
-                auto& list = around_[v];
-                list.erase(std::remove(list.begin(), list.end(), t), list.end());
-            }
-        }
+    /// The collapse of the edge opposite p.corner, from a (kept) to b, whose triangles are
+    /// t0 = (a, b, c) and t1 = (b, a, d): b's corners become a's, and the two edges left of each
+    /// removed triangle are joined.
+    void apply(const Plan& p) {
+        const std::uint32_t corner = p.corner, o = opposite_[corner];
+        const std::uint32_t a = vertex(next(corner)), b = vertex(prev(corner));
+        around(b, [&](std::uint32_t c) { triangles_[c / 3][c % 3] = a; });
+        const std::uint32_t x0 = opposite_[next(corner)], y0 = opposite_[prev(corner)];  // across b-c and c-a
+        const std::uint32_t x1 = opposite_[next(o)], y1 = opposite_[prev(o)];            // across a-d and d-b
+        opposite_[x0] = y0, opposite_[y0] = x0;
+        opposite_[x1] = y1, opposite_[y1] = x1;
+        vertex_corner_[a] = next(y0);  // y0's triangle runs (., a, c)
+        vertex_corner_[vertex(corner)] = next(x0);
+        vertex_corner_[vertex(o)] = next(x1);
+        vertex_corner_[b] = kNone;
+        alive_[corner / 3] = alive_[o / 3] = 0;
         alive_count_ -= 2;
-        for (const auto& [t, ids] : star) hash_.erase(t, box(triangles_[t]));
-        positions_[a] = position;
+        positions_[a] = position_[p.corner];
         quadrics_[a] = quadrics_[a] + quadrics_[b];
-        around_[a].clear();
-        for (const auto& [t, ids] : star) {
-            triangles_[t] = ids;
-            around_[a].push_back(t);
-            hash_.insert(t, box(ids));
-        }
-        around_[b].clear();
-        ++versions_[a];
-        ++versions_[b];
-        for (const std::uint32_t w : ring(a)) push(std::min(a, w), std::max(a, w));
+        around(a, [&](std::uint32_t c) { dirty_.push_back(c / 3); });
     }
 
     Mesh compact() const {
         Mesh mesh;
-        std::vector<std::uint32_t> index(positions_.size(), ~0u);
+        std::vector<std::uint32_t> index(positions_.size(), kNone);
         for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
             if (!alive_[t]) continue;
             Ids ids = triangles_[t];
             for (std::uint32_t& v : ids) {
-                if (index[v] == ~0u) index[v] = std::uint32_t(mesh.vertices.size()), mesh.vertices.push_back(positions_[v]);
+                if (index[v] == kNone) index[v] = std::uint32_t(mesh.vertices.size()), mesh.vertices.push_back(positions_[v]);
                 v = index[v];
             }
             mesh.triangles.push_back(ids);
@@ -326,16 +619,17 @@ private:
     std::vector<std::array<float, 3>> positions_;
     std::vector<Ids> triangles_;
     std::vector<char> alive_;
-    std::vector<std::vector<std::uint32_t>> around_;  ///< the alive triangles around each vertex
+    std::vector<std::uint32_t> opposite_;       ///< per corner
+    std::vector<std::uint32_t> vertex_corner_;  ///< a corner at each vertex (kNone once removed)
     std::vector<Quadric> quadrics_;
-    std::vector<std::uint32_t> versions_;
-    std::vector<std::uint32_t> excluded_;  ///< stamp of the collapse that last looked at the triangle
-    std::vector<std::uint32_t> nearby_;    ///< the triangles near the star being checked
-    std::uint32_t stamp_ = 0;
-    detail::TriangleHash hash_;
-    std::priority_queue<Candidate> heap_;
+    std::vector<double> cost_, error_;  ///< per corner, of the edge opposite it (from its lower vertex)
+    std::vector<std::array<float, 3>> position_;  ///< per corner: where that edge's collapse puts the vertex
+    std::vector<char> rejected_;        ///< per corner: its edge's collapse failed a check since it last changed
+    std::vector<Box> boxes_;            ///< per triangle
+    std::vector<std::uint32_t> dirty_;  ///< triangles changed in the round (to refresh)
+    BoxGrid triangle_grid_, plan_grid_;
     std::size_t alive_count_;
-    std::size_t target_ = 0;
+    std::size_t target_;
     double max_error_squared_;
 };
 

@@ -1,6 +1,7 @@
 // `vdbmesh compare`: the JSON report's keys and the SVG chart, on a small phantom.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -48,6 +49,54 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
     EXPECT_EQ(std::count(text.begin(), text.end(), '\n') > 10, true);
     EXPECT_NE(text.find("volumeToMesh"), std::string::npos);
     EXPECT_NE(text.find("<polyline"), std::string::npos);
+}
+
+// --decimate: rows of the error-0 mesh decimated by decimate_mesh(), after the others, at the
+// triangle counts asked for, still closed and manifold, and drawn as their own series.
+TEST(CompareCliTest, DecimateAddsRowsOfTheDecimatedErrorZeroMesh) {
+    const test::ScratchDir dir;
+    const std::string json = (dir / "report.json").string(), svg = (dir / "curve.svg").string();
+    testing::internal::CaptureStdout();
+    ASSERT_EQ(run({"compare", "--phantom", "sphere", "--size", "32", "--error", "0", "--adaptivity", "1", "--decimate",
+                   "0.5,0.2", "--samples", "2000", "--json", json, "--plot", svg, "--quiet"}),
+              kSuccess);
+    const std::string table = testing::internal::GetCapturedStdout();
+    EXPECT_NE(table.find("dec 0.2"), std::string::npos) << table;
+
+    std::ifstream in(json);
+    const nlohmann::json report = nlohmann::json::parse(in);
+    ASSERT_EQ(report["meshes"].size(), 5u);  // DC 0, MC, volumeToMesh 1, two decimated
+    const auto& full = report["meshes"][0];
+    EXPECT_TRUE(full["decimate"].is_null());
+    EXPECT_TRUE(full["decimate_seconds"].is_null());
+    const double full_triangles = full["triangles"];
+    for (const std::size_t i : {3u, 4u}) {
+        const auto& row = report["meshes"][i];
+        const double keep = i == 3 ? 0.5 : 0.2;
+        EXPECT_EQ(row["method"], "dc");
+        EXPECT_EQ(row["error"], 0.0);
+        EXPECT_EQ(row["decimate"], keep);
+        EXPECT_GE(row["decimate_seconds"].get<double>(), 0.0);
+        EXPECT_GE(row["seconds"].get<double>(), row["decimate_seconds"].get<double>());
+        // decimate_mesh stops at ceil(keep * triangles); a smooth sphere refuses few collapses.
+        EXPECT_LE(row["triangles"].get<double>(), std::ceil(keep * full_triangles));
+        EXPECT_GE(row["triangles"].get<double>(), 0.9 * keep * full_triangles);
+        EXPECT_TRUE(row["closed"].get<bool>());
+        EXPECT_TRUE(row["manifold"].get<bool>());
+        EXPECT_EQ(row["self_intersecting_pairs"], 0);
+        // Coarser than the full mesh, but still near the sphere (voxels).
+        EXPECT_GT(row["hausdorff_voxels"].get<double>(), full["hausdorff_voxels"].get<double>());
+        EXPECT_LT(row["hausdorff_voxels"].get<double>(), 1.0);
+        EXPECT_TRUE(row["same_mesh_as"].is_null());
+    }
+    std::ifstream plot(svg);
+    const std::string text((std::istreambuf_iterator<char>(plot)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("DC + decimate"), std::string::npos);
+}
+
+TEST(CompareCliTest, ADecimateShareOutsideZeroToOneIsRefused) {
+    for (const char* shares : {"0.5,1.5", "0", "-0.2"})
+        EXPECT_EQ(run({"compare", "--phantom", "sphere", "--size", "16", "--decimate", shares, "--quiet"}), kUsageError) << shares;
 }
 
 TEST(CompareCliTest, APlotNotNamedSvgIsRefusedBeforeAnyWork) {

