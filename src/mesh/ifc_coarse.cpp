@@ -115,7 +115,7 @@ private:
         }
         const Point3d vertex = qef.solve(lo, hi);
         if (qef.residual(vertex) > qef.count() * error_ * error_) return;
-        const IfcFan fan = make_fan(vertex, min, size);
+        IfcFan fan = make_fan(vertex, min, size);
         if (!fan_near_surface(fan)) return;
         for (int c = 0; c < 8; ++c) {
             if (surface[c] && !fan.near(child[c]->vertex, error_)) return;
@@ -179,7 +179,7 @@ private:
         return fan.sample(kFanLatticeSteps, [&](const Point3d& p) { return surface_distance(p) <= error_; });
     }
 
-    bool lines_near_fan(const IfcFan& fan, const openvdb::Coord& min, int size) {
+    bool lines_near_fan(IfcFan& fan, const openvdb::Coord& min, int size) {
         const int spacing = size / kLineDivisions;
         for (int axis = 0; axis < 3; ++axis) {
             for (int i = 0; i <= kLineDivisions; ++i) {

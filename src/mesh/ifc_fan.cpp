@@ -13,12 +13,16 @@ void IfcFan::add_chord(const Point3d& a, const Point3d& b) {
     triangles_[count_++] = {vertex_, middle, b};
 }
 
-bool IfcFan::near(const Point3d& p, double distance) const {
+bool IfcFan::near(const Point3d& p, double distance) {
     const double limit = distance * distance;
-    for (int t = 0; t < count_; ++t) {
+    for (int k = 0; k < count_; ++k) {
+        const int t = (last_near_ + k) % count_;
         const Point3d q = closest_point_on_triangle(p, triangles_[t][0], triangles_[t][1], triangles_[t][2]);
         const double d2 = (q[0] - p[0]) * (q[0] - p[0]) + (q[1] - p[1]) * (q[1] - p[1]) + (q[2] - p[2]) * (q[2] - p[2]);
-        if (d2 <= limit) return true;
+        if (d2 <= limit) {
+            last_near_ = t;
+            return true;
+        }
     }
     return false;
 }

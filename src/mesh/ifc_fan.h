@@ -16,8 +16,10 @@ public:
     explicit IfcFan(const Point3d& vertex) : vertex_(vertex) {}
     /// Adds the two triangles over the chord from @a a to @a b on one face.
     void add_chord(const Point3d& a, const Point3d& b);
-    /// Whether @a p lies within @a distance of some triangle of the fan.
-    bool near(const Point3d& p, double distance) const;
+    /// Whether @a p lies within @a distance of some triangle of the fan. The triangle that was
+    /// near last time is tried first: points are asked in order along the cell's grid lines,
+    /// so it is usually near again (the answer does not depend on the order).
+    bool near(const Point3d& p, double distance);
     /// Calls @a visit(point) at the points of a lattice of @a divisions steps per side on each
     /// triangle, its corners included; stops when @a visit returns false, and returns false then.
     template <typename Visit>
@@ -40,6 +42,7 @@ private:
     Point3d vertex_;
     std::array<Triangle3, 12> triangles_;
     int count_ = 0;
+    int last_near_ = 0;
 };
 
 /// First-order distance |f - iso| / |grad f| (voxels) of the trilinear interpolant of the 8

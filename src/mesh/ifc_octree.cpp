@@ -111,16 +111,15 @@ void load_ifc_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleC
 
 namespace {
 
-/// Central-difference gradient at local sample (x, y, z), one-sided at the samples' ring;
-/// zero where a difference is not finite (beyond the scan box).
+/// Central-difference gradient at local sample (x, y, z) of the block's own samples (0..8,
+/// so both neighbours are in the window); zero where a difference is not finite (beyond the
+/// scan box).
 Point3d gradient(const IfcSamples& s, int x, int y, int z) {
     static constexpr int kStride[3] = {kIfcSampleDim * kIfcSampleDim, kIfcSampleDim, 1};
-    const int p[3] = {x, y, z};
     const int i = IfcSamples::index(x, y, z);
     Point3d g;
     for (int a = 0; a < 3; ++a) {
-        const int lo = p[a] > -1 ? 1 : 0, hi = p[a] < kIfcSampleDim - 2 ? 1 : 0;
-        const double d = (double(s.value[i + hi * kStride[a]]) - double(s.value[i - lo * kStride[a]])) / double(hi + lo);
+        const double d = (double(s.value[i + kStride[a]]) - double(s.value[i - kStride[a]])) * 0.5;
         g[a] = std::isfinite(d) ? d : 0.0;
     }
     return g;
@@ -295,10 +294,14 @@ private:
         }
         // A unit cell holds surface iff one of its edges is crossed; each crossing's plane
         // goes to the (up to 4) unit cells round its edge.
+        // The plane's QEF is formed once and added to each cell (the same sums, bit for bit,
+        // as adding the plane to each: every term starts from zero).
         std::fill(state_[0].begin(), state_[0].end(), CellState::empty);
         for (const auto& c : crossings_) {
             const int axis = c[3], u = (axis + 1) % 3, w = (axis + 2) % 3;
             const Hermite& h = hermite_[edge_index(c[0], c[1], c[2], axis)];
+            Qef3 plane;
+            plane.add_plane(h.point, h.normal);
             for (int q = 0; q < 4; ++q) {
                 std::array<int, 3> cell = {c[0], c[1], c[2]};
                 cell[u] -= q & 1;
@@ -306,10 +309,11 @@ private:
                 if (cell[u] < 0 || cell[u] >= kIfcBlock || cell[w] < 0 || cell[w] >= kIfcBlock) continue;
                 const int i = cell_index(0, cell[0], cell[1], cell[2]);
                 if (state_[0][i] != CellState::surface) {
-                    qef_[0][i] = Qef3();
+                    qef_[0][i] = plane;
                     state_[0][i] = CellState::surface;
+                } else {
+                    qef_[0][i].add(plane);
                 }
-                qef_[0][i].add_plane(h.point, h.normal);
             }
         }
     }
