@@ -11,6 +11,7 @@
 #include <numeric>
 
 #include "kdtree.h"
+#include "points_internal.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/points.h"
 
@@ -50,46 +51,118 @@ struct RbfField::Impl {
     double spacing = 0;
     std::vector<Vec3d> points, normals;
     std::unique_ptr<points_detail::KdTree> tree;
+    std::size_t fitted_points = 0;
     double trust = 0;  // beyond this distance from the points the field blends into Hoppe's
 
-    double leaf_value(const Leaf& leaf, const Vec3d& p) const {
-        const double inv = 1.0 / leaf.scale;
-        const double px = (p[0] - leaf.centre[0]) * inv, py = (p[1] - leaf.centre[1]) * inv, pz = (p[2] - leaf.centre[2]) * inv;
-        const std::size_t n = leaf.x.size();
-        const double* X = leaf.x.data();
-        const double* Y = leaf.y.data();
-        const double* Z = leaf.z.data();
-        const double* L = leaf.lambda.data();
-        double s0 = 0, s1 = 0;  // two partial sums, always in this order
-        std::size_t j = 0;
-        for (; j + 1 < n; j += 2) {
-            const double ax = px - X[j], ay = py - Y[j], az = pz - Z[j];
-            const double bx = px - X[j + 1], by = py - Y[j + 1], bz = pz - Z[j + 1];
-            const double ra = ax * ax + ay * ay + az * az, rb = bx * bx + by * by + bz * bz;
-            s0 += L[j] * ra * std::sqrt(ra);
-            s1 += L[j + 1] * rb * std::sqrt(rb);
-        }
-        if (j < n) {
-            const double ax = px - X[j], ay = py - Y[j], az = pz - Z[j];
-            const double ra = ax * ax + ay * ay + az * az;
-            s0 += L[j] * ra * std::sqrt(ra);
-        }
-        const double s = s0 + s1 + leaf.poly[0] + leaf.poly[1] * px + leaf.poly[2] * py + leaf.poly[3] * pz;
-        return s * leaf.scale;
-    }
-
-    // Depth-first, left before right: the same order of the sum for every point.
-    double value(int node, const Vec3d& p, double weight) const {
+    /// Visits the leaves whose fits blend at @a p, with their weights: depth-first, left before
+    /// right, so the sum has the same order for every point.
+    template <class Visit>
+    void visit_leaves(int node, const Vec3d& p, double weight, Visit&& visit) const {
         const Node& nd = nodes[std::size_t(node)];
-        if (nd.leaf >= 0) return weight * leaf_value(leaves[std::size_t(nd.leaf)], p);
+        if (nd.leaf >= 0) {
+            visit(std::uint32_t(nd.leaf), weight);
+            return;
+        }
         const double t = (p[std::size_t(nd.axis)] - (nd.split - nd.half)) / (2 * nd.half);
         const double right = smooth_step(t);
-        double s = 0;
-        if (right < 1) s += value(nd.child[0], p, weight * (1 - right));
-        if (right > 0) s += value(nd.child[1], p, weight * right);
-        return s;
+        if (right < 1) visit_leaves(nd.child[0], p, weight * (1 - right), visit);
+        if (right > 0) visit_leaves(nd.child[1], p, weight * right, visit);
     }
+
+    /// Hoppe's signed distance to the tangent planes at @a p, averaged over its 8 nearest points.
+    double tangent_plane_distance(const Vec3d& p) const {
+        std::vector<std::size_t> index;
+        std::vector<double> dist2;
+        tree->knn(p, 8, index, dist2);
+        double g = 0;
+        for (std::size_t i : index) {
+            const Vec3d& q = points[i];
+            const Vec3d& n = normals[i];
+            g += (p[0] - q[0]) * n[0] + (p[1] - q[1]) * n[1] + (p[2] - q[2]) * n[2];
+        }
+        return g / double(index.size());
+    }
+
+    void values(const Vec3d* p, std::size_t count, double* out) const;
 };
+
+namespace {
+
+/// Points evaluated together against one leaf (the inner loop runs over them: vectorised).
+constexpr std::size_t kChunk = 64;
+
+/// out[j] = the local fit of @a leaf at world points (x[j], y[j], z[j]), j < m <= kChunk. The
+/// sum over the centres runs in their order for every point, whatever m.
+void evaluate_leaf(const Leaf& leaf, const double* x, const double* y, const double* z, std::size_t m, double* out) {
+    const double inv = 1.0 / leaf.scale;
+    double px[kChunk], py[kChunk], pz[kChunk], sum[kChunk];
+    for (std::size_t j = 0; j < m; ++j) {
+        px[j] = (x[j] - leaf.centre[0]) * inv, py[j] = (y[j] - leaf.centre[1]) * inv, pz[j] = (z[j] - leaf.centre[2]) * inv;
+        sum[j] = 0;
+    }
+    const std::size_t n = leaf.x.size();
+    for (std::size_t c = 0; c < n; ++c) {
+        const double cx = leaf.x[c], cy = leaf.y[c], cz = leaf.z[c], lambda = leaf.lambda[c];
+        for (std::size_t j = 0; j < m; ++j) {
+            const double dx = px[j] - cx, dy = py[j] - cy, dz = pz[j] - cz;
+            const double r2 = dx * dx + dy * dy + dz * dz;
+            sum[j] += lambda * (r2 * std::sqrt(r2));
+        }
+    }
+    for (std::size_t j = 0; j < m; ++j)
+        out[j] = (sum[j] + leaf.poly[0] + leaf.poly[1] * px[j] + leaf.poly[2] * py[j] + leaf.poly[3] * pz[j]) * leaf.scale;
+}
+
+}  // namespace
+
+void RbfField::Impl::values(const Vec3d* p, std::size_t count, double* out) const {
+    // The blend's terms, point by point in visiting order: (leaf, point, weight); then grouped
+    // by leaf so that each leaf's centres are read once for all its points.
+    struct Term {
+        std::uint32_t leaf, point;
+        double weight, value;
+    };
+    std::vector<Term> terms;
+    terms.reserve(4 * count);
+    std::vector<double> distance(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        double d2 = 0;
+        tree->nearest(p[i], &d2);
+        distance[i] = std::sqrt(d2);
+        if (distance[i] < 2 * trust)
+            visit_leaves(0, p[i], 1.0, [&](std::uint32_t leaf, double w) { terms.push_back({leaf, std::uint32_t(i), w, 0.0}); });
+    }
+    std::vector<std::uint32_t> order(terms.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return terms[a].leaf < terms[b].leaf; });
+    double x[kChunk], y[kChunk], z[kChunk], v[kChunk];
+    for (std::size_t first = 0; first < order.size();) {
+        const std::uint32_t leaf = terms[order[first]].leaf;
+        std::size_t last = first;
+        while (last < order.size() && terms[order[last]].leaf == leaf && last - first < kChunk) ++last;
+        for (std::size_t t = first; t < last; ++t) {
+            const Vec3d& q = p[terms[order[t]].point];
+            x[t - first] = q[0], y[t - first] = q[1], z[t - first] = q[2];
+        }
+        evaluate_leaf(leaves[leaf], x, y, z, last - first, v);
+        for (std::size_t t = first; t < last; ++t) terms[order[t]].value = v[t - first];
+        first = last;
+    }
+    std::fill(out, out + count, 0.0);
+    for (const Term& t : terms) out[t.point] += t.weight * t.value;
+    // Away from the points the local fits only extrapolate (and may change sign): Hoppe's
+    // distance takes over between trust and twice trust.
+    for (std::size_t i = 0; i < count; ++i) {
+        if (distance[i] <= trust) continue;
+        const double g = tangent_plane_distance(p[i]);
+        if (distance[i] >= 2 * trust) {
+            out[i] = g;
+        } else {
+            const double w = smooth_step((distance[i] - trust) / trust);
+            out[i] = (1 - w) * out[i] + w * g;
+        }
+    }
+}
 
 RbfField::~RbfField() = default;
 RbfField::RbfField(RbfField&&) noexcept = default;
@@ -140,7 +213,8 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
         std::vector<std::uint32_t> index;
     };
     std::vector<Pending> stack;
-    std::vector<std::pair<int, std::vector<std::uint32_t>>> leaf_points;
+    std::vector<int> leaf_nodes;                        // each leaf's node
+    std::vector<std::vector<std::uint32_t>> leaf_points;  // and its points
     m.nodes.push_back(Node{lo, hi});
     {
         std::vector<std::uint32_t> all(n);
@@ -154,7 +228,8 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
         Node nd = m.nodes[std::size_t(job.node)];
         if (job.index.size() <= max_leaf) {
             m.nodes[std::size_t(job.node)].leaf = int(leaf_points.size());
-            leaf_points.emplace_back(job.node, std::move(job.index));
+            leaf_nodes.push_back(job.node);
+            leaf_points.push_back(std::move(job.index));
             continue;
         }
         // The longest axis of the points' box (the cell's own box may be mostly empty).
@@ -188,7 +263,8 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
         }
         if (!ok) {
             m.nodes[std::size_t(job.node)].leaf = int(leaf_points.size());
-            leaf_points.emplace_back(job.node, std::move(job.index));
+            leaf_nodes.push_back(job.node);
+            leaf_points.push_back(std::move(job.index));
             continue;
         }
         Node left{nd.lo, nd.hi}, right{nd.lo, nd.hi};
@@ -207,18 +283,29 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
         stack.push_back({l, std::move(li)});
     }
 
+    // Decimation inside the leaves, before their fits (the method's order): the partition is
+    // that of all the points, each fit gets fewer centres.
+    if (options.decimate.fraction > 0)
+        points_detail::decimate_leaves(leaf_points, points_detail::point_features(P, *m.tree, options.decimate.neighbours), options.decimate);
+    {
+        std::vector<char> fitted(n, 0);
+        for (const auto& leaf : leaf_points)
+            for (std::uint32_t i : leaf) fitted[i] = 1;
+        m.fitted_points = std::size_t(std::count(fitted.begin(), fitted.end(), char(1)));
+    }
+
     // The local fits, in parallel (each leaf independent).
     m.leaves.resize(leaf_points.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaf_points.size(), 4), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t li = r.begin(); li < r.end(); ++li) {
-            std::vector<std::uint32_t> idx = leaf_points[li].second;
+            std::vector<std::uint32_t> idx = leaf_points[li];
             const std::size_t cap = 4 * std::size_t(options.leaf_min);  // a bounded solve, whatever the leaf
             if (idx.size() > cap) {
                 std::vector<std::uint32_t> thin;
                 for (std::size_t i = 0; i < cap; ++i) thin.push_back(idx[i * idx.size() / cap]);
                 idx.swap(thin);
             }
-            const Node& nd = m.nodes[std::size_t(leaf_points[li].first)];
+            const Node& nd = m.nodes[std::size_t(leaf_nodes[li])];
             Leaf& leaf = m.leaves[li];
             for (int a = 0; a < 3; ++a) leaf.centre[a] = 0.5 * (nd.lo[a] + nd.hi[a]);
             leaf.scale = 0.5 * std::max({nd.hi[0] - nd.lo[0], nd.hi[1] - nd.lo[1], nd.hi[2] - nd.lo[2]});
@@ -269,27 +356,14 @@ RbfField::RbfField(const PointCloud& cloud, const RbfOptions& options) : impl_(s
 }
 
 double RbfField::value(const Vec3d& p) const {
-    const Impl& m = *impl_;
-    double d2 = 0;
-    m.tree->nearest(p, &d2);
-    const double d = std::sqrt(d2);
-    const double f = d < 2 * m.trust ? m.value(0, p, 1.0) : 0.0;
-    if (d <= m.trust) return f;
-    // Away from the points: Hoppe's signed distance to the tangent planes, averaged over the
-    // 8 nearest points (the local fits only extrapolate there, and may change sign).
-    std::vector<std::size_t> index;
-    std::vector<double> dist2;
-    m.tree->knn(p, 8, index, dist2);
-    double g = 0;
-    for (std::size_t i : index) {
-        const Vec3d& q = m.points[i];
-        const Vec3d& n = m.normals[i];
-        g += (p[0] - q[0]) * n[0] + (p[1] - q[1]) * n[1] + (p[2] - q[2]) * n[2];
-    }
-    g /= double(index.size());
-    if (d >= 2 * m.trust) return g;
-    const double w = smooth_step((d - m.trust) / m.trust);
-    return (1 - w) * f + w * g;
+    double v = 0;
+    impl_->values(&p, 1, &v);
+    return v;
+}
+
+void RbfField::values(const std::vector<Vec3d>& points, std::vector<double>& out) const {
+    out.resize(points.size());
+    impl_->values(points.data(), points.size(), out.data());
 }
 
 Vec3d RbfField::gradient(const Vec3d& p) const {
@@ -307,6 +381,7 @@ Vec3d RbfField::box_min() const { return impl_->lo; }
 Vec3d RbfField::box_max() const { return impl_->hi; }
 std::size_t RbfField::leaves() const { return impl_->leaves.size(); }
 double RbfField::spacing() const { return impl_->spacing; }
+std::size_t RbfField::fitted_points() const { return impl_->fitted_points; }
 
 double RbfField::distance_to_points(const Vec3d& p) const {
     double d2 = 0;
