@@ -1,6 +1,6 @@
 // Adaptive decimation (the method's chapter 2.4): a point's importance is its normal variation
-// over its density relative to its leaf; leaves lose points in proportion to how unimportant
-// they are, and within a leaf the least important points are the likeliest to go.
+// over its density relative to its leaf; unimportant leaves and, within them, unimportant
+// points are the likeliest to go.
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -30,31 +30,6 @@ double uniform_draw(std::uint64_t seed, std::uint64_t leaf, std::uint64_t point)
     return (double(z >> 11) + 0.5) * 0x1.0p-53;
 }
 
-/// How many points each leaf gives up: @a target in all, shared in proportion to @a weight,
-/// never more than @a removable of a leaf (what a full leaf cannot give goes to the others).
-std::vector<std::size_t> removal_quotas(const std::vector<double>& weight, const std::vector<std::size_t>& removable, std::size_t target) {
-    std::vector<std::size_t> quota(weight.size(), 0);
-    std::size_t removed = 0;
-    while (removed < target) {
-        double total = 0;
-        for (std::size_t l = 0; l < weight.size(); ++l)
-            if (quota[l] < removable[l]) total += weight[l];
-        if (total <= 0) break;
-        const double left = double(target - removed);
-        std::size_t added = 0;
-        for (std::size_t l = 0; l < weight.size() && removed + added < target; ++l) {
-            if (quota[l] >= removable[l] || weight[l] <= 0) continue;
-            const auto share = std::max<std::size_t>(1, std::size_t(std::floor(left * weight[l] / total)));
-            const std::size_t take = std::min({share, removable[l] - quota[l], target - removed - added});
-            quota[l] += take;
-            added += take;
-        }
-        removed += added;
-        if (added == 0) break;
-    }
-    return quota;
-}
-
 }  // namespace
 
 PointFeatures point_features(const std::vector<Vec3d>& points, const KdTree& tree, int neighbours) {
@@ -75,61 +50,75 @@ PointFeatures point_features(const std::vector<Vec3d>& points, const KdTree& tre
     return f;
 }
 
-void decimate_leaves(std::vector<std::vector<std::uint32_t>>& leaves, const PointFeatures& features, const DecimateOptions& options) {
+void decimate_leaves(std::vector<std::vector<std::uint32_t>>& leaves, std::size_t points, const PointFeatures& features,
+                     const DecimateOptions& options) {
     if (!(options.fraction >= 0 && options.fraction < 1))
         throw UsageError("decimate: expected a fraction in [0, 1), got " + std::to_string(options.fraction));
     if (options.fraction == 0 || leaves.empty()) return;
     // Importance = variation / relative density, the density relative to the leaf's mean (the
-    // leaf's own density); a leaf's total importance is the sum over its points.
-    std::vector<std::vector<double>> importance(leaves.size());
-    std::vector<double> total(leaves.size(), 0.0);
-    std::vector<std::size_t> removable(leaves.size());
-    std::size_t all = 0;
+    // leaf's own density); a leaf's total importance is the sum over its points. A point held
+    // by several leaves (the overlaps) is judged in the first of them.
+    constexpr auto kNoLeaf = std::uint32_t(-1);
+    std::vector<std::uint32_t> home(points, kNoLeaf);
+    std::vector<double> importance(points, 0.0), most(leaves.size(), 0.0), total(leaves.size(), 0.0);
     for (std::size_t l = 0; l < leaves.size(); ++l) {
-        const auto& leaf = leaves[l];
         double mean_density = 0;
-        for (std::uint32_t i : leaf) mean_density += features.density[i];
-        mean_density /= double(std::max<std::size_t>(leaf.size(), 1));
-        importance[l].reserve(leaf.size());
-        for (std::uint32_t i : leaf) {
+        for (std::uint32_t i : leaves[l]) mean_density += features.density[i];
+        mean_density /= double(std::max<std::size_t>(leaves[l].size(), 1));
+        for (std::uint32_t i : leaves[l]) {
             const double relative_density = features.density[i] / std::max(mean_density, 1e-300);
-            importance[l].push_back(features.variation[i] / relative_density);
-            total[l] += importance[l].back();
+            const double v = features.variation[i] / relative_density;
+            total[l] += v;
+            if (home[i] != kNoLeaf) continue;
+            home[i] = std::uint32_t(l);
+            importance[i] = v;
+            most[l] = std::max(most[l], v);
         }
-        removable[l] = leaf.size() - std::min(leaf.size(), std::size_t(std::max(options.min_per_leaf, 0)));
-        all += leaf.size();
     }
-    // A leaf is chosen with a probability of 1 - total / largest total: the quotas are those
-    // probabilities' expected shares.
+    // The method picks a leaf with probability 1 - total / largest total, then a point of it
+    // with probability 1 - importance / the leaf's largest: a point goes with the product, by
+    // weighted sampling without replacement (Efraimidis and Spirakis: the largest keys u^(1/w),
+    // here their logarithms).
     const double largest = *std::max_element(total.begin(), total.end());
-    std::vector<double> weight(leaves.size());
-    for (std::size_t l = 0; l < leaves.size(); ++l) weight[l] = largest > 0 ? 1.0 - total[l] / largest : 1.0;
-    const auto target = std::size_t(std::llround(options.fraction * double(all)));
-    const std::vector<std::size_t> quota = removal_quotas(weight, removable, target);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
-        std::vector<std::pair<double, std::uint32_t>> keys;
-        for (std::size_t l = r.begin(); l < r.end(); ++l) {
-            if (quota[l] == 0) continue;
-            auto& leaf = leaves[l];
-            const double most = *std::max_element(importance[l].begin(), importance[l].end());
-            // Weighted sampling without replacement (Efraimidis and Spirakis: the largest keys
-            // u^(1/w), here their logarithms) with w = 1 - importance / the leaf's largest.
-            keys.clear();
-            for (std::size_t m = 0; m < leaf.size(); ++m) {
-                const double w = most > 0 ? 1.0 - importance[l][m] / most : 1.0;
-                const double u = uniform_draw(options.seed, l, leaf[m]);
-                keys.emplace_back(w > 0 ? std::log(u) / w : -HUGE_VAL, leaf[m]);
-            }
-            std::sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) {
-                return a.first != b.first ? a.first > b.first : a.second < b.second;
-            });
-            std::vector<std::uint32_t> kept;
-            kept.reserve(leaf.size() - quota[l]);
-            for (std::size_t k = quota[l]; k < keys.size(); ++k) kept.push_back(keys[k].second);
-            std::sort(kept.begin(), kept.end());
-            leaf.swap(kept);
-        }
-    });
+    std::vector<std::pair<double, std::uint32_t>> keys;
+    keys.reserve(points);
+    for (std::size_t i = 0; i < points; ++i) {
+        if (home[i] == kNoLeaf) continue;
+        const std::uint32_t l = home[i];
+        const double leaf_weight = largest > 0 ? 1.0 - total[l] / largest : 1.0;
+        const double point_weight = most[l] > 0 ? 1.0 - importance[i] / most[l] : 1.0;
+        const double w = leaf_weight * point_weight;
+        keys.emplace_back(w > 0 ? std::log(uniform_draw(options.seed, l, i)) / w : -HUGE_VAL, std::uint32_t(i));
+    }
+    std::sort(keys.begin(), keys.end(), [](const auto& a, const auto& b) { return a.first != b.first ? a.first > b.first : a.second < b.second; });
+    // Remove in that order from every leaf holding the point, skipping points whose removal
+    // would leave some leaf below the minimum.
+    std::vector<std::size_t> member_first(points + 1, 0);
+    for (const auto& leaf : leaves)
+        for (std::uint32_t i : leaf) ++member_first[i + 1];
+    std::partial_sum(member_first.begin(), member_first.end(), member_first.begin());
+    std::vector<std::uint32_t> member(member_first.back());
+    {
+        std::vector<std::size_t> fill(member_first.begin(), member_first.end() - 1);
+        for (std::size_t l = 0; l < leaves.size(); ++l)
+            for (std::uint32_t i : leaves[l]) member[fill[i]++] = std::uint32_t(l);
+    }
+    std::vector<std::size_t> left(leaves.size());
+    for (std::size_t l = 0; l < leaves.size(); ++l) left[l] = leaves[l].size();
+    const auto minimum = std::size_t(std::max(options.min_per_leaf, 0));
+    const auto target = std::size_t(std::llround(options.fraction * double(keys.size())));
+    std::vector<char> removed(points, 0);
+    std::size_t count = 0;
+    for (const auto& [key, i] : keys) {
+        if (count == target) break;
+        bool allowed = true;
+        for (std::size_t e = member_first[i]; e < member_first[i + 1] && allowed; ++e) allowed = left[member[e]] > minimum;
+        if (!allowed) continue;
+        for (std::size_t e = member_first[i]; e < member_first[i + 1]; ++e) --left[member[e]];
+        removed[i] = 1;
+        ++count;
+    }
+    for (auto& leaf : leaves) leaf.erase(std::remove_if(leaf.begin(), leaf.end(), [&](std::uint32_t i) { return removed[i] != 0; }), leaf.end());
 }
 
 }  // namespace points_detail
@@ -168,7 +157,7 @@ PointCloud decimate_points(const PointCloud& input, const DecimateOptions& optio
         stack.push_back(std::move(right));
         stack.push_back(std::move(idx));
     }
-    points_detail::decimate_leaves(leaves, features, options);
+    points_detail::decimate_leaves(leaves, cloud.points.size(), features, options);
     std::vector<char> keep(cloud.points.size(), 0);
     for (const auto& leaf : leaves)
         for (std::uint32_t i : leaf) keep[i] = 1;

@@ -47,8 +47,8 @@ inline ReferenceToSurface reference_to_surface(const Mesh& reference, const Mesh
 }
 
 struct SurfaceToReference {
-    /// Over the vertices whose closest reference point is inside the reference's surface (not on
-    /// the rim of one of its holes, where the reference has no surface to compare with): the
+    /// Over the vertices that are not across one of the reference's holes (where a hole's rim is
+    /// about as near as its surface, the reference has no surface to compare with): the
     /// deepest inward (behind the reference's outward side) and farthest outward distances,
     /// the mean, the 99th percentile, and how many vertices lie beyond 0.5% of the diagonal.
     double inward_max_percent = 0, outward_max_percent = 0, mean_percent = 0, p99_percent = 0;
@@ -69,20 +69,20 @@ inline SurfaceToReference surface_to_reference(const Mesh& mesh, const Mesh& ref
         const auto& v = reference.vertices[i];
         return std::array<double, 3>{v[0], v[1], v[2]};
     };
-    auto on_rim = [&](const detail::Point3& c, std::uint32_t triangle) {
-        const auto& t = reference.triangles[triangle];
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t a = t[k], b = t[(k + 1) % 3];
-            if (uses[{std::min(a, b), std::max(a, b)}] != 1) continue;
-            const auto p = point(a), q = point(b);
+    std::vector<std::array<std::array<double, 3>, 2>> rim;
+    for (const auto& [edge, count] : uses)
+        if (count == 1) rim.push_back({point(edge.first), point(edge.second)});
+    auto rim_distance = [&](const detail::Point3& c) {
+        double best = 1e300;
+        for (const auto& [p, q] : rim) {
             double e2 = 0, along = 0;
             for (int d = 0; d < 3; ++d) e2 += (q[d] - p[d]) * (q[d] - p[d]), along += (c[d] - p[d]) * (q[d] - p[d]);
             const double s = std::clamp(along / std::max(e2, 1e-300), 0.0, 1.0);
             double off = 0;
             for (int d = 0; d < 3; ++d) off += (c[d] - p[d] - s * (q[d] - p[d])) * (c[d] - p[d] - s * (q[d] - p[d]));
-            if (off <= 1e-18 * diagonal * diagonal) return true;
+            best = std::min(best, off);
         }
-        return false;
+        return std::sqrt(best);
     };
     auto normal = [&](std::uint32_t triangle) {
         const auto& t = reference.triangles[triangle];
@@ -107,7 +107,10 @@ inline SurfaceToReference surface_to_reference(const Mesh& mesh, const Mesh& ref
     for (const auto& v : mesh.vertices) {
         const detail::Point3 p{v[0], v[1], v[2]};
         const detail::ClosestPoint c = bvh.closest_point(p);
-        if (on_rim(c.point, c.triangle)) {
+        // Across a hole: the rim about as near as the surface (within twice its distance).
+        // Only looked for beyond 0.1% (the rims are searched one edge after another).
+        const double distance = std::sqrt(c.distance_squared);
+        if (distance > 1e-3 * diagonal && rim_distance(p) <= 2 * distance) {
             ++r.at_holes;
             continue;
         }
