@@ -71,12 +71,10 @@ struct Adjacency {
     }
 };
 
-/// Prim's propagation over the minimum spanning forest of the graph weighted by
-/// 1 - |n_i . n_j| (Hoppe et al. 1992), grown from the @a seeds (already decided, as every point
-/// marked @a done): each point reached takes the side of the one it is reached from.
-/// Deterministic: ties by point number.
-void propagate_orientation(std::vector<Vec3d>& normals, const Adjacency& graph, std::vector<char>& done,
-                           const std::vector<std::uint32_t>& seeds) {
+/// Prim's propagation over the minimum spanning tree of the graph weighted by 1 - |n_i . n_j|
+/// (Hoppe et al. 1992), grown from @a start (decided) over the points not @a done: each point
+/// reached takes the side of the one it is reached from. Deterministic: ties by point number.
+void propagate_orientation(std::vector<Vec3d>& normals, const Adjacency& graph, std::vector<char>& done, std::uint32_t start) {
     using Entry = std::tuple<double, std::uint32_t, std::uint32_t>;  // weight, to, from
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
     auto push_edges = [&](std::uint32_t from) {
@@ -85,7 +83,8 @@ void propagate_orientation(std::vector<Vec3d>& normals, const Adjacency& graph, 
             if (!done[to]) queue.emplace(1.0 - std::abs(dot(normals[from], normals[to])), to, from);
         }
     };
-    for (std::uint32_t s : seeds) push_edges(s);
+    done[start] = 1;
+    push_edges(start);
     while (!queue.empty()) {
         const auto [w, j, from] = queue.top();
         queue.pop();
@@ -96,25 +95,15 @@ void propagate_orientation(std::vector<Vec3d>& normals, const Adjacency& graph, 
     }
 }
 
-/// Range scans: a normal seen nearly face-on takes the side of its scanner; one at a grazing
-/// angle (|n . view| below kFaceOn) gets an unreliable side from it (the PCA plane mixes the
-/// noisy edge of a scan with the other scans' points), and takes its side by propagation from
-/// the face-on ones instead. Points no face-on point reaches keep their scanner's side.
+/// Range scans: each normal takes the side of its scanner. Points seen at a grazing angle get
+/// an unreliable side from it: two rounds of neighbour voting (from the previous round's
+/// normals, so any thread count gives the same result) flip those that disagree with most of
+/// their neighbours. (Propagating the sides of the face-on normals to the grazing ones over
+/// the spanning tree instead changed none of the bunny's figures, for 0.6 s more.)
 void orient_towards_scanners(const PointCloud& cloud, std::vector<Vec3d>& normals, const NeighbourGraph& graph, std::size_t k) {
-    constexpr double kFaceOn = 0.5;  // within 60 degrees of the view direction
     const std::size_t n = normals.size();
-    std::vector<char> done(n);
-    std::vector<std::uint32_t> face_on;
-    for (std::size_t i = 0; i < n; ++i) {
-        const double c = dot(normals[i], cloud.scan_view[cloud.scan[i]]);
-        if (c < 0) flip(normals[i]);
-        done[i] = std::abs(c) >= kFaceOn;
-        if (done[i]) face_on.push_back(std::uint32_t(i));
-    }
-    propagate_orientation(normals, Adjacency(graph, n, k), done, face_on);
-    // A face-on normal can still be wrong (a thin part whose neighbourhood holds both sides):
-    // two rounds of neighbour voting (from the previous round's normals, so any thread count
-    // gives the same result) flip those that disagree with most of their neighbours.
+    for (std::size_t i = 0; i < n; ++i)
+        if (dot(normals[i], cloud.scan_view[cloud.scan[i]]) < 0) flip(normals[i]);
     for (int round = 0; round < 2; ++round) {
         std::vector<Vec3d> next = normals;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -149,8 +138,7 @@ void orient_by_spanning_tree(const PointCloud& cloud, std::vector<Vec3d>& normal
     for (std::size_t start : order) {
         if (done[start]) continue;
         if (normals[start][2] < 0) flip(normals[start]);
-        done[start] = 1;
-        propagate_orientation(normals, adjacency, done, {std::uint32_t(start)});
+        propagate_orientation(normals, adjacency, done, std::uint32_t(start));
     }
 }
 
