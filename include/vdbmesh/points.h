@@ -86,13 +86,15 @@ struct RbfOptions {
     double overlap = 0.05;        ///< the overlap of two siblings, a fraction of the parent's extent
     double off_surface = 0.0;     ///< Carr's off-surface distance; 0: half the median point spacing
     /// Within this distance of the points the field is the blended local fits; beyond twice
-    /// it, Hoppe's signed distance to the nearest point's tangent plane; blended in between.
-    /// 0: 4 times the median point spacing.
+    /// it, Hoppe's signed distance to the tangent planes of the 8 nearest points of the cloud
+    /// averaged per cell of twice this (a coarse shape, where a few wrong normals are outvoted);
+    /// blended in between. 0: 4 times the median point spacing.
     double trust = 0.0;
     int off_every = 2;            ///< an off-surface constraint at every this many points (alternately outside and inside)
-    /// Adaptive decimation of each leaf's points before its fit (chapter 2.4; leaf_points is not
-    /// used: the leaves are the partition's). The fits get fewer centres; the field still knows
-    /// every point (distance_to_points(), the far field).
+    /// Adaptive decimation after the partition, before the fits (chapter 2.4; leaf_points is not
+    /// used: the leaves are the partition's). A point chosen leaves every leaf holding it and
+    /// is merged into its nearest kept point (their mean: on scans that averages noise away).
+    /// The fits get fewer centres; the field still knows every point (distance_to_points()).
     DecimateOptions decimate;
 };
 
