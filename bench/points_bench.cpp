@@ -76,6 +76,7 @@ Json run_bunny(double voxel, double decimate, const Mesh& reference) {
     if (const char* c = std::getenv("OFF_EVERY")) options.rbf.off_every = std::stoi(c);
     if (const char* c = std::getenv("LEAF")) options.rbf.leaf_min = std::stoi(c);
     if (const char* c = std::getenv("DECIMATE_K")) options.rbf.decimate.neighbours = std::stoi(c);
+    if (const char* c = std::getenv("TRUST")) options.rbf.trust = std::stod(c);
     const Reconstruction rec = reconstruct(std::move(cloud), options);
     const double seconds = seconds_since(start);
     const double cpu_seconds = double(std::clock() - cpu_start) / CLOCKS_PER_SEC;

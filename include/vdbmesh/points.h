@@ -87,8 +87,8 @@ struct RbfOptions {
     double off_surface = 0.0;     ///< Carr's off-surface distance; 0: half the median point spacing
     /// Within this distance of the points the field is the blended local fits; beyond twice
     /// it, Hoppe's signed distance to the tangent planes of the 8 nearest points of the cloud
-    /// averaged per cell of twice this (a coarse shape, where a few wrong normals are outvoted);
-    /// blended in between. 0: 4 times the median point spacing.
+    /// averaged per cell of 8 median spacings (a coarse shape, where a few wrong normals are
+    /// outvoted); blended in between. 0: twice the median point spacing.
     double trust = 0.0;
     int off_every = 2;            ///< an off-surface constraint at every this many points (alternately outside and inside)
     /// Adaptive decimation after the partition, before the fits (chapter 2.4; leaf_points is not
