@@ -35,6 +35,10 @@ struct Leaf {
     double poly[4] = {0, 0, 0, 0};        // a0 + a . x
 };
 
+inline double squared_distance(const Vec3d& a, const Vec3d& b) {
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+}
+
 /// 0 at t <= 0, 1 at t >= 1, C1 in between; s(t) + s(1 - t) = 1.
 inline double smooth_step(double t) {
     if (t <= 0) return 0;
@@ -86,6 +90,7 @@ struct RbfField::Impl {
         return g / double(index.size());
     }
 
+    std::vector<double> blend_distances(const Vec3d* p, std::size_t count) const;
     void values(const Vec3d* p, std::size_t count, double* out) const;
 };
 
@@ -118,6 +123,59 @@ void evaluate_leaf(const Leaf& leaf, const double* x, const double* y, const dou
 
 }  // namespace
 
+std::vector<double> RbfField::Impl::blend_distances(const Vec3d* p, std::size_t count) const {
+    // Only distances between trust and twice trust matter (the blend): a point within trust of
+    // the last nearest point found is within trust (0 stands for that), and one with no point
+    // within twice trust is beyond it (2 * trust stands for that).
+    std::vector<double> distance(count, 0.0);
+    Vec3d lo = p[0], hi = p[0];
+    for (std::size_t i = 0; i < count; ++i)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[i][a]), hi[a] = std::max(hi[a], p[i][a]);
+    const double half_diagonal = 0.5 * std::sqrt(squared_distance(lo, hi));
+    const Vec3d centre{0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    // A compact batch (a block's cubes, cells or voxels): one search for every point that can be
+    // within twice trust of one of it, then the nearest of those by brute force (vectorised).
+    // A spread batch: one search per point.
+    const bool compact = count >= 8 && half_diagonal <= 8 * trust;
+    std::vector<std::size_t> near;
+    std::vector<double> x, y, z;
+    if (compact) {
+        tree->within(centre, half_diagonal + 2 * trust, near);
+        std::sort(near.begin(), near.end());
+        for (std::size_t j : near) x.push_back(points[j][0]), y.push_back(points[j][1]), z.push_back(points[j][2]);
+    }
+    const double reach2 = 4 * trust * trust;
+    std::size_t nearest = tree->nearest(p[0]);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (squared_distance(p[i], points[nearest]) <= trust * trust) continue;
+        if (!compact) {
+            double d2 = 0;
+            nearest = tree->nearest(p[i], &d2);
+            distance[i] = std::sqrt(d2);
+            continue;
+        }
+        const double px = p[i][0], py = p[i][1], pz = p[i][2];
+        double best = reach2;
+        for (std::size_t j = 0; j < near.size(); ++j) {
+            const double dx = px - x[j], dy = py - y[j], dz = pz - z[j];
+            best = std::min(best, dx * dx + dy * dy + dz * dz);
+        }
+        if (best >= reach2) {
+            distance[i] = 2 * trust;
+            continue;
+        }
+        distance[i] = std::sqrt(best);
+        for (std::size_t j = 0; j < near.size(); ++j) {
+            const double dx = px - x[j], dy = py - y[j], dz = pz - z[j];
+            if (dx * dx + dy * dy + dz * dz == best) {
+                nearest = near[j];
+                break;
+            }
+        }
+    }
+    return distance;
+}
+
 void RbfField::Impl::values(const Vec3d* p, std::size_t count, double* out) const {
     if (count == 0) return;
     // The blend's terms, point by point in visiting order: (leaf, point, weight); then grouped
@@ -128,37 +186,10 @@ void RbfField::Impl::values(const Vec3d* p, std::size_t count, double* out) cons
     };
     std::vector<Term> terms;
     terms.reserve(4 * count);
-    // The distance to the points matters only between trust and twice trust. The last search's
-    // point p0, its nearest point q0 and distance d0 bound the next: d(p) <= |p - q0| (within
-    // trust: distance 0 stands for that here) and d(p) >= d0 - |p - p0| (beyond twice trust).
-    // Batches come in spatial order, so most points need no search.
-    std::vector<double> distance(count, 0.0);
-    Vec3d searched = p[0];
-    double searched_distance = 0;
-    std::size_t nearest = 0;
-    auto squared = [](const Vec3d& a, const Vec3d& b) {
-        return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
-    };
-    {
-        double d2 = 0;
-        nearest = tree->nearest(searched, &d2);
-        searched_distance = std::sqrt(d2);
-    }
-    for (std::size_t i = 0; i < count; ++i) {
-        if (squared(p[i], points[nearest]) > trust * trust) {
-            const double below = searched_distance - std::sqrt(squared(p[i], searched));
-            if (below >= 2 * trust) {
-                distance[i] = below;  // a bound, enough beyond twice trust
-            } else {
-                double d2 = 0;
-                nearest = tree->nearest(p[i], &d2);
-                searched = p[i];
-                searched_distance = distance[i] = std::sqrt(d2);
-            }
-        }
+    const std::vector<double> distance = blend_distances(p, count);
+    for (std::size_t i = 0; i < count; ++i)
         if (distance[i] < 2 * trust)
             visit_leaves(0, p[i], 1.0, [&](std::uint32_t leaf, double w) { terms.push_back({leaf, std::uint32_t(i), w, 0.0}); });
-    }
     // Grouped by leaf, terms in their order within a leaf (the key holds both).
     std::vector<std::uint64_t> order(terms.size());
     for (std::size_t t = 0; t < terms.size(); ++t) order[t] = std::uint64_t(terms[t].leaf) << 32 | std::uint64_t(t);
