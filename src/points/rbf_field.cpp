@@ -55,7 +55,7 @@ struct RbfField::Impl {
     double spacing = 0;
     std::vector<Vec3d> points;
     std::unique_ptr<points_detail::KdTree> tree;
-    PointCloud coarse;  // the points averaged per cell of 2 * trust: the far field's planes
+    PointCloud coarse;  // the points averaged per cell of 8 median spacings: the far field's planes
     std::unique_ptr<points_detail::KdTree> coarse_tree;
     std::size_t fitted_points = 0;
     double trust = 0;  // beyond this distance from the points the field blends into Hoppe's
