@@ -53,6 +53,7 @@ int run_reconstruct(ReconstructCommandOptions& o) {
         j["input_points"] = r.input_points;
         j["outliers"] = r.outliers;
         j["used_points"] = r.used_points;
+        j["fitted_points"] = r.fitted_points;
         j["leaves"] = r.leaves;
         j["voxel"] = r.voxel;
         j["triangles"] = rec.mesh.triangles.size();
@@ -79,9 +80,9 @@ void add_reconstruct_command(CLI::App& command, CommandResult& result) {
     command.add_option("-o,--output", o->output, "The surface (.stl, .ply, .obj) or the sampled field (.vdb, negative inside)")->required();
     command.add_option("--voxel", o->rec.sample.voxel, "Voxel size of the sampled field (0: the points' longest side / 256)")
         ->check(kFiniteNonNegative);
-    command.add_option("--decimate", o->rec.decimate, "Adaptive decimation: the fraction of points to remove first, in [0, 1)")
+    command.add_option("--decimate", o->rec.rbf.decimate.fraction, "Adaptive decimation: the fraction of each leaf's fitted points to remove, in [0, 1)")
         ->check(CLI::Range(0.0, 0.99));
-    command.add_option("--seed", o->rec.seed, "Seed of the decimation (the same seed repeats the result)");
+    command.add_option("--seed", o->rec.rbf.decimate.seed, "Seed of the decimation (the same seed repeats the result)");
     command.add_option("--neighbours", o->rec.normals.neighbours, "k of the PCA normals (when the points have none)")
         ->check(CLI::Range(3, 200));
     command.add_option("--leaf", o->rec.rbf.leaf_min, "N1: the partition's leaves hold N1 to 2*N1 points")->check(CLI::Range(8, 500));

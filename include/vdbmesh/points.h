@@ -68,15 +68,17 @@ std::size_t remove_small_clusters(PointCloud& cloud, double min_fraction = 0.01,
 struct DecimateOptions {
     double fraction = 0.0;      ///< the fraction of points to remove, in [0, 1)
     std::uint64_t seed = 1;     ///< the same seed and input give the same result
-    int neighbours = 16;
-    int min_per_leaf = 20;      ///< never fewer points than this left in a leaf of the partition
-    int leaf_points = 200;      ///< the leaves of the decimation partition
+    int neighbours = 16;        ///< k of the PCA variation and of the local density
+    int min_per_leaf = 20;      ///< never fewer points than this left in a leaf
+    int leaf_points = 200;      ///< decimate_points() only: the leaves of its own partition
 };
 
-/// Adaptive decimation (the method's chapter 2.4): each point's importance is the normal
-/// variation (PCA surface variation) over the relative local density; leaves of a median
-/// partition lose points with probabilities from their mean importance, and within a leaf
-/// the least important points are the likeliest to go. Needs normals (estimated if missing).
+/// Adaptive decimation (the method's chapter 2.4) of a cloud on its own: each point's
+/// importance is its normal variation (PCA surface variation) over its density relative to its
+/// leaf (a median partition into leaves of at most leaf_points); leaves lose points with
+/// probabilities from their total importance, and within a leaf the least important points
+/// are the likeliest to go. Normals are kept where present and not needed. reconstruct()
+/// decimates instead the leaves of the RBF partition (RbfOptions::decimate), as the method does.
 PointCloud decimate_points(const PointCloud& cloud, const DecimateOptions& options);
 
 struct RbfOptions {
@@ -84,10 +86,16 @@ struct RbfOptions {
     double overlap = 0.05;        ///< the overlap of two siblings, a fraction of the parent's extent
     double off_surface = 0.0;     ///< Carr's off-surface distance; 0: half the median point spacing
     /// Within this distance of the points the field is the blended local fits; beyond twice
-    /// it, Hoppe's signed distance to the nearest point's tangent plane; blended in between.
-    /// 0: 4 times the median point spacing.
+    /// it, Hoppe's signed distance to the tangent planes of the 8 nearest points of the cloud
+    /// averaged per cell of 8 median spacings (a coarse shape, where a few wrong normals are
+    /// outvoted); blended in between. 0: twice the median point spacing.
     double trust = 0.0;
     int off_every = 2;            ///< an off-surface constraint at every this many points (alternately outside and inside)
+    /// Adaptive decimation after the partition, before the fits (chapter 2.4; leaf_points is not
+    /// used: the leaves are the partition's). A point chosen leaves every leaf holding it and
+    /// is merged into its nearest kept point (their mean: on scans that averages noise away).
+    /// The fits get fewer centres; the field still knows every point (distance_to_points()).
+    DecimateOptions decimate;
 };
 
 /// The partition-of-unity RBF field of a cloud with normals: negative inside, roughly a
@@ -102,11 +110,15 @@ public:
     RbfField& operator=(RbfField&&) noexcept;
 
     double value(const Vec3d& p) const;
+    /// The values at many points at once (the same numbers as value(), faster: each local fit
+    /// is evaluated for all the points it covers together).
+    void values(const std::vector<Vec3d>& points, std::vector<double>& out) const;
     Vec3d gradient(const Vec3d& p) const;  ///< by central differences
     Vec3d box_min() const;                 ///< where the field is defined
     Vec3d box_max() const;
     std::size_t leaves() const;
     double spacing() const;                ///< the median nearest-neighbour distance of the cloud
+    std::size_t fitted_points() const;     ///< points that are centres of some leaf's fit
     double distance_to_points(const Vec3d& p) const;  ///< to the nearest point of the cloud
 
 private:
@@ -133,8 +145,6 @@ struct ReconstructOptions {
     double outlier_factor = 4.0;  ///< remove_outliers(); 0: keep every point
     double min_cluster = 0.01;    ///< remove_small_clusters() fraction; 0: keep every cluster
     double cluster = 0.0;         ///< average the points per cell of this side first; 0: the voxel; < 0: no clustering
-    double decimate = 0.0;        ///< decimate_points() fraction; 0: none
-    std::uint64_t seed = 1;
     RbfOptions rbf;
     SampleOptions sample;
     double dmc_error = 0.0;       ///< DMC QEF tolerance in voxels
@@ -144,6 +154,7 @@ struct ReconstructOptions {
 
 struct ReconstructReport {
     std::size_t input_points = 0, outliers = 0, used_points = 0, leaves = 0;
+    std::size_t fitted_points = 0;  ///< used points left in some leaf's fit after decimation
     double voxel = 0;
     std::size_t dropped_components = 0;
     std::vector<std::string> mesh_fallbacks;  ///< MeshReport::fallbacks of DMC
@@ -156,7 +167,8 @@ struct Reconstruction {
     ReconstructReport report;
 };
 
-/// The whole pipeline: outliers, normals, decimation, the RBF field, sampling, DMC.
+/// The whole pipeline: outliers, normals, averaging per cell, the RBF field (decimated per
+/// leaf), sampling, DMC.
 Reconstruction reconstruct(PointCloud cloud, const ReconstructOptions& options = {});
 
 /// A similarity transform y = scale * R x + t.

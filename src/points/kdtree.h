@@ -24,6 +24,13 @@ public:
         index.resize(found);
         dist2.resize(found);
     }
+    /// The indices of the points within @a radius of @a q (in no particular order).
+    void within(const Vec3d& q, double radius, std::vector<std::size_t>& index) const {
+        std::vector<std::pair<std::size_t, double>> found;
+        index_.radiusSearch(q.data(), radius * radius, found, nanoflann::SearchParams(32, 0.0f, false));
+        index.resize(found.size());
+        for (std::size_t i = 0; i < found.size(); ++i) index[i] = found[i].first;
+    }
     /// Index of the nearest point.
     std::size_t nearest(const Vec3d& q, double* dist2 = nullptr) const {
         std::size_t i = 0;

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numeric>
 #include <queue>
+#include <tuple>
 
 #include "kdtree.h"
 #include "points_internal.h"
@@ -43,6 +44,106 @@ PcaResult pca_normal(const std::vector<Vec3d>& points, const std::vector<std::si
 
 using points_detail::KdTree;
 
+namespace {
+
+using NeighbourGraph = std::vector<std::uint32_t>;  // k neighbours per point, -1 where fewer
+constexpr std::uint32_t kNone = std::uint32_t(-1);
+
+double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+void flip(Vec3d& n) {
+    for (double& c : n) c = -c;
+}
+
+/// The k-nearest graph made symmetric (an edge from either end), as compressed rows.
+struct Adjacency {
+    std::vector<std::size_t> first;  // n + 1 offsets into next
+    std::vector<std::uint32_t> next;
+    Adjacency(const NeighbourGraph& graph, std::size_t n, std::size_t k) : first(n + 1, 0) {
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t m = 0; m < k; ++m)
+                if (const std::uint32_t j = graph[i * k + m]; j != kNone) ++first[i + 1], ++first[j + 1];
+        std::partial_sum(first.begin(), first.end(), first.begin());
+        next.resize(first[n]);
+        std::vector<std::size_t> fill(first.begin(), first.end() - 1);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t m = 0; m < k; ++m)
+                if (const std::uint32_t j = graph[i * k + m]; j != kNone) next[fill[i]++] = j, next[fill[j]++] = std::uint32_t(i);
+    }
+};
+
+/// Prim's propagation over the minimum spanning tree of the graph weighted by 1 - |n_i . n_j|
+/// (Hoppe et al. 1992), grown from @a start (decided) over the points not @a done: each point
+/// reached takes the side of the one it is reached from. Deterministic: ties by point number.
+void propagate_orientation(std::vector<Vec3d>& normals, const Adjacency& graph, std::vector<char>& done, std::uint32_t start) {
+    using Entry = std::tuple<double, std::uint32_t, std::uint32_t>;  // weight, to, from
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+    auto push_edges = [&](std::uint32_t from) {
+        for (std::size_t e = graph.first[from]; e < graph.first[from + 1]; ++e) {
+            const std::uint32_t to = graph.next[e];
+            if (!done[to]) queue.emplace(1.0 - std::abs(dot(normals[from], normals[to])), to, from);
+        }
+    };
+    done[start] = 1;
+    push_edges(start);
+    while (!queue.empty()) {
+        const auto [w, j, from] = queue.top();
+        queue.pop();
+        if (done[j]) continue;
+        done[j] = 1;
+        if (dot(normals[from], normals[j]) < 0) flip(normals[j]);
+        push_edges(j);
+    }
+}
+
+/// Range scans: each normal takes the side of its scanner. Points seen at a grazing angle get
+/// an unreliable side from it: two rounds of neighbour voting (from the previous round's
+/// normals, so any thread count gives the same result) flip those that disagree with most of
+/// their neighbours. (Propagating the sides of the face-on normals to the grazing ones over
+/// the spanning tree instead changed none of the bunny's figures, for 0.6 s more.)
+void orient_towards_scanners(const PointCloud& cloud, std::vector<Vec3d>& normals, const NeighbourGraph& graph, std::size_t k) {
+    const std::size_t n = normals.size();
+    for (std::size_t i = 0; i < n; ++i)
+        if (dot(normals[i], cloud.scan_view[cloud.scan[i]]) < 0) flip(normals[i]);
+    for (int round = 0; round < 2; ++round) {
+        std::vector<Vec3d> next = normals;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                int agree = 0, disagree = 0;
+                for (std::size_t m = 0; m < k; ++m) {
+                    const std::uint32_t j = graph[i * k + m];
+                    if (j == kNone) continue;
+                    const double d = dot(normals[i], normals[j]);
+                    agree += d > 0.2;
+                    disagree += d < -0.2;
+                }
+                if (disagree > agree) flip(next[i]);
+            }
+        });
+        normals.swap(next);
+    }
+}
+
+/// No scanner: each component of the k-nearest graph starts at its highest point, oriented up
+/// (+z), and propagates over the minimum spanning tree.
+void orient_by_spanning_tree(const PointCloud& cloud, std::vector<Vec3d>& normals, const NeighbourGraph& graph, std::size_t k) {
+    const std::size_t n = normals.size();
+    std::vector<std::size_t> order(n);
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        if (cloud.points[a][2] != cloud.points[b][2]) return cloud.points[a][2] > cloud.points[b][2];
+        return a < b;
+    });
+    const Adjacency adjacency(graph, n, k);
+    std::vector<char> done(n, 0);
+    for (std::size_t start : order) {
+        if (done[start]) continue;
+        if (normals[start][2] < 0) flip(normals[start]);
+        propagate_orientation(normals, adjacency, done, std::uint32_t(start));
+    }
+}
+
+}  // namespace
+
 void estimate_normals(PointCloud& cloud, const NormalOptions& options) {
     if (cloud.has_normals()) return;
     if (options.neighbours < 3) throw UsageError("normals: expected at least 3 neighbours, got " + std::to_string(options.neighbours));
@@ -51,94 +152,22 @@ void estimate_normals(PointCloud& cloud, const NormalOptions& options) {
     const KdTree tree(cloud.points);
     const std::size_t k = std::size_t(options.neighbours);
     std::vector<Vec3d> normals(n);
-    const bool scans = !cloud.scan.empty() && !cloud.scan_view.empty();
-    std::vector<std::uint32_t> graph;  // k neighbours per point (MST orientation only)
-    if (!scans) graph.assign(n * k, std::uint32_t(-1));
+    NeighbourGraph graph(n * k, kNone);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
         std::vector<std::size_t> index;
         std::vector<double> dist2;
         for (std::size_t i = r.begin(); i < r.end(); ++i) {
             tree.knn(cloud.points[i], k + 1, index, dist2);
-            Vec3d normal = points_detail::pca_normal(cloud.points, index).normal;
-            if (scans) {
-                const Vec3d& v = cloud.scan_view[cloud.scan[i]];
-                if (normal[0] * v[0] + normal[1] * v[1] + normal[2] * v[2] < 0)
-                    for (double& c : normal) c = -c;
-            } else {
-                std::size_t m = 0;
-                for (std::size_t j : index)
-                    if (j != i && m < k) graph[i * k + m++] = std::uint32_t(j);
-            }
-            normals[i] = normal;
+            normals[i] = points_detail::pca_normal(cloud.points, index).normal;
+            std::size_t m = 0;
+            for (std::size_t j : index)
+                if (j != i && m < k) graph[i * k + m++] = std::uint32_t(j);
         }
     });
-    if (scans) {
-        // Points seen at a grazing angle get an unreliable sign from the view direction: two
-        // rounds of neighbour voting (from the previous round's normals, so any thread count
-        // gives the same result) flip those that disagree with most of their neighbours.
-        for (int round = 0; round < 2; ++round) {
-            std::vector<Vec3d> next = normals;
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-                std::vector<std::size_t> index;
-                std::vector<double> dist2;
-                for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                    tree.knn(cloud.points[i], k + 1, index, dist2);
-                    int agree = 0, disagree = 0;
-                    for (std::size_t j : index) {
-                        if (j == i) continue;
-                        const double d = normals[i][0] * normals[j][0] + normals[i][1] * normals[j][1] + normals[i][2] * normals[j][2];
-                        if (d > 0.2) ++agree;
-                        if (d < -0.2) ++disagree;
-                    }
-                    if (disagree > agree)
-                        for (double& c : next[i]) c = -c;
-                }
-            });
-            normals.swap(next);
-        }
-    }
-    if (!scans) {
-        // Prim's algorithm over the symmetric k-nearest graph, weight 1 - |n_i . n_j|; each
-        // component starts at its highest point, oriented up. Deterministic: ties by index.
-        std::vector<std::vector<std::uint32_t>> adjacency(n);
-        for (std::size_t i = 0; i < n; ++i)
-            for (std::size_t m = 0; m < k; ++m) {
-                const std::uint32_t j = graph[i * k + m];
-                if (j == std::uint32_t(-1)) continue;
-                adjacency[i].push_back(j);
-                adjacency[j].push_back(std::uint32_t(i));
-            }
-        graph.clear();
-        std::vector<std::size_t> order(n);
-        std::iota(order.begin(), order.end(), 0);
-        std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-            if (cloud.points[a][2] != cloud.points[b][2]) return cloud.points[a][2] > cloud.points[b][2];
-            return a < b;
-        });
-        std::vector<char> done(n, 0);
-        using Entry = std::tuple<double, std::uint32_t, std::uint32_t>;  // weight, to, from
-        std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-        auto dot = [&](std::size_t a, std::size_t b) {
-            return normals[a][0] * normals[b][0] + normals[a][1] * normals[b][1] + normals[a][2] * normals[b][2];
-        };
-        for (std::size_t start : order) {
-            if (done[start]) continue;
-            if (normals[start][2] < 0)
-                for (double& c : normals[start]) c = -c;
-            done[start] = 1;
-            for (std::uint32_t j : adjacency[start])
-                if (!done[j]) queue.emplace(1.0 - std::abs(dot(start, j)), j, std::uint32_t(start));
-            while (!queue.empty()) {
-                const auto [w, j, from] = queue.top();
-                queue.pop();
-                if (done[j]) continue;
-                done[j] = 1;
-                if (dot(from, j) < 0)
-                    for (double& c : normals[j]) c = -c;
-                for (std::uint32_t m : adjacency[j])
-                    if (!done[m]) queue.emplace(1.0 - std::abs(dot(j, m)), m, j);
-            }
-        }
+    if (!cloud.scan.empty() && !cloud.scan_view.empty()) {
+        orient_towards_scanners(cloud, normals, graph, k);
+    } else {
+        orient_by_spanning_tree(cloud, normals, graph, k);
     }
     cloud.normals = std::move(normals);
 }

@@ -21,39 +21,6 @@ namespace vdbmesh {
 
 namespace {
 
-/// Averages the points (and normals) that fall in one cell of a grid of side @a cell.
-/// Deterministic: cells in key order, points in input order.
-PointCloud cluster_points(const PointCloud& cloud, double cell) {
-    using Key = std::array<std::int64_t, 3>;
-    std::vector<std::pair<Key, std::uint32_t>> keyed(cloud.points.size());
-    for (std::size_t i = 0; i < cloud.points.size(); ++i) {
-        Key k;
-        for (int a = 0; a < 3; ++a) k[a] = std::int64_t(std::floor(cloud.points[i][a] / cell));
-        keyed[i] = {k, std::uint32_t(i)};
-    }
-    std::sort(keyed.begin(), keyed.end());
-    PointCloud out;
-    for (std::size_t i = 0; i < keyed.size();) {
-        std::size_t j = i;
-        Vec3d p{0, 0, 0}, nsum{0, 0, 0};
-        while (j < keyed.size() && keyed[j].first == keyed[i].first) {
-            const std::uint32_t m = keyed[j].second;
-            for (int a = 0; a < 3; ++a) p[a] += cloud.points[m][a], nsum[a] += cloud.normals[m][a];
-            ++j;
-        }
-        const double count = double(j - i);
-        for (double& c : p) c /= count;
-        const double len = std::sqrt(nsum[0] * nsum[0] + nsum[1] * nsum[1] + nsum[2] * nsum[2]);
-        if (len > 1e-9 * count) {  // normals that cancel out: drop the cell
-            for (double& c : nsum) c /= len;
-            out.points.push_back(p);
-            out.normals.push_back(nsum);
-        }
-        i = j;
-    }
-    return out;
-}
-
 /// Connected components of a mesh by shared vertices; drops those with |volume| below
 /// @a fraction of the largest. Returns how many were dropped.
 std::size_t drop_small_components(Mesh& mesh, double fraction, const std::function<bool(const Vec3d&)>& near_points) {
@@ -156,6 +123,54 @@ void fill_cube(openvdb::FloatTree::LeafNodeType& leaf, const openvdb::Coord& min
             for (int z = 0; z < n; ++z) leaf.setValueOnly(min.offsetBy(x, y, z), value);
 }
 
+/// Samples one 8^3 block (@a leaf, voxel @a h) coarse to fine: 4^3 cubes, then 2^3 cells,
+/// then voxels, each level evaluated in one batch; a cube or cell whose centre value is farther
+/// from 0 than the field can fall over its half diagonal (slope @a lipschitz) plus the band is
+/// filled with +-background. Returns whether any voxel is within the band (active).
+bool sample_block(const RbfField& field, openvdb::FloatTree::LeafNodeType& leaf, double h, double background, double lipschitz,
+                  std::vector<Vec3d>& positions, std::vector<double>& values) {
+    const openvdb::Coord o = leaf.origin();
+    auto at = [&](double x, double y, double z) { return Vec3d{(o[0] + x) * h, (o[1] + y) * h, (o[2] + z) * h}; };
+    std::vector<openvdb::Coord> corners;  // local minima of the cubes of the current level
+    for (int x = 0; x < 8; x += 4)
+        for (int y = 0; y < 8; y += 4)
+            for (int z = 0; z < 8; z += 4) corners.emplace_back(x, y, z);
+    // Cubes of side 4 then 2: refine those the surface may cross.
+    for (const int side : {4, 2}) {
+        positions.clear();
+        const double centre = 0.5 * (side - 1);
+        for (const openvdb::Coord& c : corners) positions.push_back(at(c[0] + centre, c[1] + centre, c[2] + centre));
+        field.values(positions, values);
+        std::vector<openvdb::Coord> finer;
+        const double decided = lipschitz * 0.5 * (side - 1) * std::sqrt(3.0) * h + background;
+        for (std::size_t i = 0; i < corners.size(); ++i) {
+            if (std::abs(values[i]) > decided) {
+                fill_cube(leaf, corners[i], side, values[i] < 0 ? -float(background) : float(background));
+                continue;
+            }
+            const int half = side / 2;
+            for (int x = 0; x < side; x += half)
+                for (int y = 0; y < side; y += half)
+                    for (int z = 0; z < side; z += half) finer.push_back(corners[i].offsetBy(x, y, z));
+        }
+        corners.swap(finer);
+    }
+    // The voxels of the cells left (corners are now single voxels).
+    positions.clear();
+    for (const openvdb::Coord& c : corners) positions.push_back(at(c[0], c[1], c[2]));
+    field.values(positions, values);
+    bool any = false;
+    for (std::size_t i = 0; i < corners.size(); ++i) {
+        const bool on = std::abs(values[i]) < background;
+        leaf.setValueOnly(corners[i], float(std::clamp(values[i], -background, background)));
+        if (on) {
+            leaf.setValueOn(corners[i]);
+            any = true;
+        }
+    }
+    return any;
+}
+
 }  // namespace
 
 std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const SampleOptions& options) {
@@ -188,13 +203,19 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
     std::vector<signed char> near(nblocks, 0);
     std::vector<float> coarse(nblocks, 0.0f);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks, 64), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<Vec3d> centres;
+        std::vector<std::size_t> blocks;
+        std::vector<double> values;
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
             const openvdb::Coord o = origin_of(b);
             const Vec3d centre{(o[0] + 3.5) * h, (o[1] + 3.5) * h, (o[2] + 3.5) * h};
             if (field.distance_to_points(centre) > reach + block_radius) continue;
             near[b] = 1;
-            coarse[b] = float(field.value(centre));
+            centres.push_back(centre);
+            blocks.push_back(b);
         }
+        field.values(centres, values);
+        for (std::size_t i = 0; i < blocks.size(); ++i) coarse[blocks[i]] = float(values[i]);
     });
     // Far blocks: connected groups (6-neighbours) take the sign most of the near blocks around
     // them have; a group touching the box's side is outside.
@@ -234,6 +255,8 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
     using Leaf = openvdb::FloatTree::LeafNodeType;
     std::vector<std::unique_ptr<Leaf>> leaves(nblocks);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nblocks, 16), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::vector<Vec3d> positions;
+        std::vector<double> values;
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
             if (!near[b]) continue;
             const double f = coarse[b];
@@ -243,41 +266,7 @@ std::shared_ptr<openvdb::FloatGrid> sample_field(const RbfField& field, const Sa
             }
             const openvdb::Coord o = origin_of(b);
             auto leaf = std::make_unique<Leaf>(o, float(background), false);
-            bool any = false;
-            for (int sx = 0; sx < 8; sx += 4)
-                for (int sy = 0; sy < 8; sy += 4)
-                    for (int sz = 0; sz < 8; sz += 4) {
-                        const Vec3d c{(o[0] + sx + 1.5) * h, (o[1] + sy + 1.5) * h, (o[2] + sz + 1.5) * h};
-                        const double g = field.value(c);
-                        if (std::abs(g) > lipschitz * 1.5 * std::sqrt(3.0) * h + background) {
-                            fill_cube(*leaf, openvdb::Coord(sx, sy, sz), 4, g < 0 ? -float(background) : float(background));
-                            continue;
-                        }
-                        // 2^3 cells: their centre decides whether their voxels need values.
-                        for (int cx = 0; cx < 4; cx += 2)
-                            for (int cy = 0; cy < 4; cy += 2)
-                                for (int cz = 0; cz < 4; cz += 2) {
-                                    const int bx = sx + cx, by = sy + cy, bz = sz + cz;
-                                    const double e = field.value(Vec3d{(o[0] + bx + 0.5) * h, (o[1] + by + 0.5) * h, (o[2] + bz + 0.5) * h});
-                                    if (std::abs(e) > lipschitz * 0.5 * std::sqrt(3.0) * h + background) {
-                                        fill_cube(*leaf, openvdb::Coord(bx, by, bz), 2, e < 0 ? -float(background) : float(background));
-                                        continue;
-                                    }
-                                    for (int x = 0; x < 2; ++x)
-                                        for (int y = 0; y < 2; ++y)
-                                            for (int z = 0; z < 2; ++z) {
-                                                const openvdb::Coord local(bx + x, by + y, bz + z);
-                                                double v = field.value(Vec3d{(o[0] + local[0]) * h, (o[1] + local[1]) * h, (o[2] + local[2]) * h});
-                                                const bool on = std::abs(v) < background;
-                                                v = std::clamp(v, -background, background);
-                                                leaf->setValueOnly(local, float(v));
-                                                if (on) {
-                                                    leaf->setValueOn(local);
-                                                    any = true;
-                                                }
-                                            }
-                                }
-                    }
+            const bool any = sample_block(field, *leaf, h, background, lipschitz, positions, values);
             if (any) {
                 leaves[b] = std::move(leaf);
             } else {
@@ -329,23 +318,16 @@ Reconstruction reconstruct(PointCloud cloud, const ReconstructOptions& options) 
     const double longest = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]});
     const double voxel = options.sample.voxel > 0 ? options.sample.voxel : longest / 256.0;
     report.voxel = voxel;
-    if (options.decimate > 0) {
-        DecimateOptions d;
-        d.fraction = options.decimate;
-        d.seed = options.seed;
-        d.neighbours = options.normals.neighbours;
-        cloud = decimate_points(cloud, d);
-        phase("decimate");
-    }
     if (options.cluster >= 0) {
         const double cell = options.cluster > 0 ? options.cluster : voxel;
-        cloud = cluster_points(cloud, cell);
+        cloud = points_detail::average_per_cell(cloud, cell);
         phase("cluster");
     }
     report.used_points = cloud.points.size();
     progress(0.25);
     const RbfField field(cloud, options.rbf);
     report.leaves = field.leaves();
+    report.fitted_points = field.fitted_points();
     phase("fit");
     progress(0.45);
     SampleOptions sample = options.sample;

@@ -162,5 +162,25 @@ TEST(Decimate, RemovesTheFractionRepeatablyAndKeepsTheMinimumPerLeaf) {
     EXPECT_THROW(decimate_points(c, DecimateOptions{1.0}), UsageError);
 }
 
+// Decimation inside the RBF partition: the points chosen leave every leaf holding them (and are
+// merged into kept neighbours), so the fits lose the fraction asked for; the field stays a good
+// sphere (radius 1: values at the points and at 1.1 and 0.9 along the normal).
+TEST(Decimate, RbfFieldFitsFewerPointsAndStaysAccurate) {
+    const PointCloud c = test::sample_shape("sphere", 8000, 8);
+    RbfOptions o;
+    o.decimate.fraction = 0.3;
+    const RbfField decimated(c, o);
+    EXPECT_NEAR(double(decimated.fitted_points()), 0.7 * 8000, 0.02 * 8000);  // the minimum per leaf may keep a few
+    EXPECT_EQ(RbfField(c).fitted_points(), 8000u);
+    double worst = 0;
+    for (std::size_t i = 0; i < c.points.size(); i += 37) {
+        const Vec3d& p = c.points[i];
+        worst = std::max(worst, std::abs(decimated.value(p)));
+        EXPECT_GT(decimated.value({1.1 * p[0], 1.1 * p[1], 1.1 * p[2]}), 0.0);
+        EXPECT_LT(decimated.value({0.9 * p[0], 0.9 * p[1], 0.9 * p[2]}), 0.0);
+    }
+    EXPECT_LT(worst, 0.01);  // 1% of the radius: a tenth of the spacing's order (8000 points: about 0.04)
+}
+
 }  // namespace
 }  // namespace vdbmesh

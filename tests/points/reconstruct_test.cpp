@@ -2,12 +2,11 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
-#include <numeric>
 
 #include "cgal_judge.h"
 #include "point_shapes.h"
+#include "surface_deviation.h"
 #include "test_data.h"
-#include "vdbmesh/geometry.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/points.h"
 
@@ -45,7 +44,7 @@ TEST(Reconstruct, SameResultForAnyThreadCount) {
     const PointCloud c = test::sample_shape("torus", 8000, 13);
     ReconstructOptions o;
     o.sample.voxel = 0.04;
-    o.decimate = 0.2;
+    o.rbf.decimate.fraction = 0.2;
     const Reconstruction a = reconstruct(c, o);
     Reconstruction b;
     {
@@ -66,21 +65,17 @@ TEST(Reconstruct, StanfordBunnyScansMatchBunZipper) {
     const test::CgalVerdict v = test::judge_with_cgal(r.mesh);
     EXPECT_TRUE(v.clean()) << v.describe();
     const Mesh reference = read_mesh(zipper);
-    std::vector<std::uint32_t> all(r.mesh.triangles.size());
-    std::iota(all.begin(), all.end(), 0u);
-    const detail::TriangleBvh bvh(r.mesh, all);
-    std::array<double, 3> lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
-    for (const auto& p : reference.vertices)
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], double(p[a])), hi[a] = std::max(hi[a], double(p[a]));
-    const double diagonal = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
-    double worst = 0, sum = 0;
-    for (const auto& p : reference.vertices) {
-        const double d = std::sqrt(bvh.closest_point(detail::Point3{p[0], p[1], p[2]}).distance_squared);
-        worst = std::max(worst, d);
-        sum += d;
-    }
-    EXPECT_LT(worst / diagonal, 0.005);
-    EXPECT_LT(sum / double(reference.vertices.size()) / diagonal, 0.0002);
+    // The issue's bounds: every bun_zipper vertex within 0.5% of its diagonal, mean under 0.02%.
+    const test::ReferenceToSurface to = test::reference_to_surface(reference, r.mesh);
+    EXPECT_LT(to.max_percent, 0.5);
+    EXPECT_LT(to.mean_percent, 0.02);
+    // The other way, where bun_zipper has surface (not across its holes, which we close): the
+    // inward pockets reached 6.3% (1.6 cm, in the head, the far field following the planes of
+    // a few points with wrong normals). Measured since: 1.36% inward, 1.01% outward; the bound
+    // is that figure with some room, not a specification (the issue sets none this way).
+    const test::SurfaceToReference from = test::surface_to_reference(r.mesh, reference);
+    EXPECT_LT(from.inward_max_percent, 2.0) << "deepest at " << from.deepest[0] << " " << from.deepest[1] << " " << from.deepest[2];
+    EXPECT_LT(from.outward_max_percent, 2.0);
 }
 
 }  // namespace
