@@ -16,7 +16,7 @@
 #include <algorithm>
 #include <memory>
 
-#include "mesh/huge_pages.h"
+#include "vdbmesh/huge_pages.h"
 #include "mesh/ifc_key_index.h"
 #include "mesh/ifc_polygons.h"
 #include "mesh/marching_cubes.h"

@@ -1,6 +1,6 @@
 #include "mesh/ifc_key_index.h"
 
-#include "mesh/huge_pages.h"
+#include "vdbmesh/huge_pages.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

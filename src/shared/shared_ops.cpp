@@ -17,7 +17,7 @@
 #include <limits>
 #include <set>
 
-#include "mesh/huge_pages.h"
+#include "vdbmesh/huge_pages.h"
 #include "shared/result_cache.h"
 #include "shared/shared_mc.h"
 #include "vdbmesh/error.h"
@@ -435,7 +435,7 @@ Mesh shared_marching_cubes(const SharedTree& tree) {
     if (first_vertex.back() > std::numeric_limits<std::uint32_t>::max()) throw Error("shared marching cubes: more than 2^32 vertices");
     std::vector<std::array<std::uint32_t, 7>> following;
     Mesh mesh;
-    // Some hundred MB written once: huge pages save most of the page faults (mesh/huge_pages.h);
+    // Some hundred MB written once: huge pages save most of the page faults (vdbmesh/huge_pages.h);
     // the two arrays are allocated (and zeroed, serially each) side by side.
     tbb::parallel_invoke([&] { following = following_blocks(blocks); },
                          [&] {

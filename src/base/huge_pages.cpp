@@ -1,4 +1,4 @@
-#include "mesh/huge_pages.h"
+#include "vdbmesh/huge_pages.h"
 
 #include <cstdint>
 

@@ -1,8 +1,11 @@
 #pragma once
-// Private: large arrays first touched with few page faults. A fresh array of tens of MB costs
-// one page fault per 4 KB page when first written; on virtual machines each fault is dear
-// (the DC weld's arrays, about 100 MB for the bunny CT, spent half its time in them). Backed
-// by transparent huge pages, the same array costs one fault per 2 MB.
+/// @file huge_pages.h
+/// @brief Large arrays first touched with few page faults, for the meshers' outputs (DC's weld,
+/// the shared trees' flat meshes). A fresh array of tens of MB costs one page fault per 4 KB
+/// page when first written; on virtual machines each fault is dear (the DC weld's arrays,
+/// about 100 MB for the bunny CT, spent half its time in them). Backed by transparent huge
+/// pages, the same array costs one fault per 2 MB. In vdbmesh::detail: shared between the
+/// stages, not a stable API.
 
 #include <cstddef>
 #include <vector>
