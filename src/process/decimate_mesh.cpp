@@ -39,7 +39,7 @@ namespace {
 using detail::Quadric;
 using detail::Vec3d;
 using Ids = std::array<std::uint32_t, 3>;
-using Box = std::array<std::array<float, 3>, 2>;  ///< lo, hi
+using Box = detail::Box;
 
 constexpr std::uint32_t kNone = ~0u;
 constexpr double kMaxTurnDegrees = 75;  ///< largest change of a triangle's normal in one collapse
@@ -60,16 +60,10 @@ std::uint32_t prev(std::uint32_t c) { return c % 3 == 0 ? c + 2 : c - 1; }
 
 Box empty_box() {
     constexpr float inf = std::numeric_limits<float>::infinity();
-    return {{{inf, inf, inf}, {-inf, -inf, -inf}}};
+    return {{inf, inf, inf}, {-inf, -inf, -inf}};
 }
 void grow(Box& box, const std::array<float, 3>& p) {
-    for (int k = 0; k < 3; ++k) box[0][k] = std::min(box[0][k], p[k]), box[1][k] = std::max(box[1][k], p[k]);
-}
-bool overlap(const Box& a, const Box& b) {
-    for (int k = 0; k < 3; ++k) {
-        if (a[1][k] < b[0][k] || b[1][k] < a[0][k]) return false;
-    }
-    return true;
+    for (int k = 0; k < 3; ++k) box.lo[k] = std::min(box.lo[k], p[k]), box.hi[k] = std::max(box.hi[k], p[k]);
 }
 
 void check_closed_manifold(const Mesh& mesh) {
@@ -100,8 +94,8 @@ public:
         std::vector<float> extents(all.size());
         for (std::size_t i = 0; i < all.size(); ++i) {
             const Box& b = all[i].box;
-            grow(bounds, b[0]), grow(bounds, b[1]);
-            extents[i] = std::max({b[1][0] - b[0][0], b[1][1] - b[0][1], b[1][2] - b[0][2]});
+            grow(bounds, b.lo), grow(bounds, b.hi);
+            extents[i] = std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
         }
         if (!extents.empty()) {
             const auto most = extents.begin() + std::ptrdiff_t(std::size_t(0.99 * double(extents.size() - 1)));
@@ -112,8 +106,8 @@ public:
         for (;;) {
             std::uint64_t count = 1;
             for (int k = 0; k < 3; ++k) {
-                origin_[k] = all.empty() ? 0 : bounds[0][k];
-                dims_[k] = all.empty() ? 1 : std::int64_t(std::floor((double(bounds[1][k]) - origin_[k]) / cell_)) + 1;
+                origin_[k] = all.empty() ? 0 : bounds.lo[k];
+                dims_[k] = all.empty() ? 1 : std::int64_t(std::floor((double(bounds.hi[k]) - origin_[k]) / cell_)) + 1;
                 count *= std::uint64_t(dims_[k]);
             }
             if (count <= 8 * all.size() + 64) break;
@@ -135,8 +129,8 @@ public:
         // A box of a cell or less that meets @a box has its low corner in [box.lo - cell, box.hi];
         // a larger one is in the cells of a point they share.
         std::array<float, 3> lo;
-        for (int k = 0; k < 3; ++k) lo[k] = float(double(box[0][k]) - cell_);
-        const std::array<std::int64_t, 3> from = cell_coordinates(lo), to = cell_coordinates(box[1]);
+        for (int k = 0; k < 3; ++k) lo[k] = float(double(box.lo[k]) - cell_);
+        const std::array<std::int64_t, 3> from = cell_coordinates(lo), to = cell_coordinates(box.hi);
         for (std::int64_t z = from[2]; z <= to[2]; ++z) {
             for (std::int64_t y = from[1]; y <= to[1]; ++y) {
                 const std::size_t row = index({0, y, z});
@@ -153,11 +147,11 @@ private:
     /// larger than a cell.
     template <class Call>
     void for_cells(const Box& box, Call&& call) const {
-        const std::array<std::int64_t, 3> from = cell_coordinates(box[0]);
+        const std::array<std::int64_t, 3> from = cell_coordinates(box.lo);
         std::array<std::int64_t, 3> to = from;
         bool small = true;
-        for (int k = 0; k < 3; ++k) small &= double(box[1][k]) - box[0][k] <= cell_;
-        if (!small) to = cell_coordinates(box[1]);
+        for (int k = 0; k < 3; ++k) small &= double(box.hi[k]) - box.lo[k] <= cell_;
+        if (!small) to = cell_coordinates(box.hi);
         for (std::int64_t z = from[2]; z <= to[2]; ++z) {
             for (std::int64_t y = from[1]; y <= to[1]; ++y) {
                 for (std::int64_t x = from[0]; x <= to[0]; ++x) call(index({x, y, z}));
@@ -398,7 +392,7 @@ private:
         for (std::uint32_t i = 0; i < plans.size(); ++i) {
             if (plans[i].verdict != Verdict::passed) continue;
             passed.push_back({plans[i].star, i, {}});
-            for (int k = 0; k < 3; ++k) extent += double(plans[i].star[1][k]) - plans[i].star[0][k];
+            for (int k = 0; k < 3; ++k) extent += double(plans[i].star.hi[k]) - plans[i].star.lo[k];
         }
         plan_grid_.build(passed, extent / (3 * double(std::max<std::size_t>(passed.size(), 1))));
         std::vector<char> applied(plans.size(), 0);
@@ -413,7 +407,7 @@ private:
             }
             bool star_ready = false;
             const bool apart = plan_grid_.visit(p.star, [&](const BoxGrid::Entry& e) {
-                if (e.id >= i || !applied[e.id] || !overlap(e.box, p.star)) return true;
+                if (e.id >= i || !applied[e.id] || !detail::boxes_overlap(e.box, p.star)) return true;
                 if (!star_ready) new_star(p, s), star_ready = true;
                 return !crosses_star_of(vertex(next(plans[e.id].corner)), s);
             });
@@ -435,7 +429,7 @@ private:
             Box box = empty_box();  // (boxes_ is refreshed only at the next round)
             for (const std::uint32_t w : ids) grow(box, positions_[w]);
             for (std::size_t i = 0; i < s.star.size() && !crossed; ++i) {
-                crossed = overlap(s.boxes[i], box) && detail::triangles_intersect(s.ids[i], s.corners[i], ids, other);
+                crossed = detail::boxes_overlap(s.boxes[i], box) && detail::triangles_intersect(s.ids[i], s.corners[i], ids, other);
             }
         });
         return crossed;
@@ -449,8 +443,8 @@ private:
         for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
             if (!alive_[t]) continue;
             entries.push_back({boxes_[t], t, triangles_[t]});
-            extent += std::max({double(boxes_[t][1][0]) - boxes_[t][0][0], double(boxes_[t][1][1]) - boxes_[t][0][1],
-                                double(boxes_[t][1][2]) - boxes_[t][0][2]});
+            extent += std::max({double(boxes_[t].hi[0]) - boxes_[t].lo[0], double(boxes_[t].hi[1]) - boxes_[t].lo[1],
+                                double(boxes_[t].hi[2]) - boxes_[t].lo[2]});
         }
         triangle_grid_.build(entries, kCellEdges * extent / double(std::max<std::size_t>(entries.size(), 1)));
     }
@@ -547,7 +541,7 @@ private:
     bool intersection_free(const Plan& p, const Scratch& s) const {
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
         Box around_star = empty_box();
-        for (const Box& box : s.boxes) grow(around_star, box[0]), grow(around_star, box[1]);
+        for (const Box& box : s.boxes) grow(around_star, box.lo), grow(around_star, box.hi);
         if (!star_is_a_graph(a, s)) {
             for (std::size_t i = 0; i < s.star.size(); ++i) {
                 for (std::size_t j = 0; j < i; ++j) {
@@ -556,14 +550,14 @@ private:
             }
         }
         return triangle_grid_.visit(around_star, [&](const BoxGrid::Entry& e) {
-            if (!overlap(e.box, around_star)) return true;
+            if (!detail::boxes_overlap(e.box, around_star)) return true;
             const Ids& ids = e.ids;
             for (const std::uint32_t v : ids) {
                 if (v == a || v == b) return true;  // the old star, replaced
             }
             const detail::Triangle3 other{to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])};
             for (std::size_t i = 0; i < s.star.size(); ++i) {
-                if (overlap(s.boxes[i], e.box) && detail::triangles_intersect(s.ids[i], s.corners[i], ids, other)) return false;
+                if (detail::boxes_overlap(s.boxes[i], e.box) && detail::triangles_intersect(s.ids[i], s.corners[i], ids, other)) return false;
             }
             return true;
         });
@@ -575,7 +569,7 @@ private:
         new_star(p, s);
         if (!geometry_holds(s)) return Verdict::geometry;
         if (!intersection_free(p, s)) return Verdict::intersection;
-        for (const Box& b : s.boxes) grow(p.star, b[0]), grow(p.star, b[1]);
+        for (const Box& b : s.boxes) grow(p.star, b.lo), grow(p.star, b.hi);
         return Verdict::passed;
     }
 

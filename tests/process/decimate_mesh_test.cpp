@@ -44,7 +44,7 @@ TEST_P(DecimatePhantomTest, KeepsTheGuaranteesAtAFifthOfTheTriangles) {
     // the components still bound a volume (CGAL's "outward": every part nested as its orientation
     // says) is asked of the noise-free phantoms only: on the noisy one, with 3613 parts (specks and
     // bubbles), some tiny part ends up inside out or wrongly nested (the decimator of session 3 did
-    // the same; not solved yet, see /work/notes/issue11.md).
+    // the same; not solved yet: bench/README.md, "Decimation").
     EXPECT_TRUE(verdict.polygon_mesh && verdict.closed && !verdict.self_intersects && verdict.degenerate_faces == 0)
         << verdict.describe();
     if (GetParam().noise == 0) EXPECT_TRUE(verdict.clean()) << verdict.describe();
