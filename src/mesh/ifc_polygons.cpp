@@ -13,7 +13,11 @@
 //  - a crossed minimal edge e with a merged cell on some side: the fan around its crossing
 //    p_e: (p_e, v_i, v_i+1) when the segment v_i v_i+1 passes strictly inside their face
 //    (the face test; x_f is that crossing, and the triangle lies in the tetrahedron
-//    (e, v_i, v_i+1)), else (p_e, v_i, m_f), (p_e, m_f, v_i+1) with a face point m_f;
+//    (e, v_i, v_i+1)), else (p_e, v_i, m_f), (p_e, m_f, v_i+1) with a face point m_f, or,
+//    where the surface crosses the rim of their face f at p_e and one more crossing q,
+//    (p_e, v_i, q) and (p_e, q, v_i+1) over the chord p_e q, inside the pyramids (v_i, f) and
+//    (v_i+1, f), which then hold no other triangle (no face point cuts them): whichever of the
+//    two has the larger smallest angle (a face point next to a crossing is a sliver);
 //  - the same edge with only merged cells around it and every face test passed: the polygon
 //    v_1..v_k without p_e, triangulated from one corner, when the flip of the tetrahedra
 //    (e, v_i, v_i+1) into (e_0 | e_1, v_1, v_j, v_j+1) keeps every orientation (the edge
@@ -261,23 +265,38 @@ private:
     }
 
     // ---- faces between two merged cells ----
+    /// How the surface crosses the face between two merged cells.
+    enum class FaceKind {
+        direct,      ///< the segment between the vertices crosses the face inside: triangles (p_e, v_a, v_b)
+        face_point,  ///< through a face point m_f: (p_e, v_a, m_f), (p_e, m_f, v_b)
+        chord,       ///< along the chord of the face's two crossings p, q: (p, v_a, q), (p, q, v_b)
+    };
     struct FacePlan {
-        bool direct = false;  ///< the segment between the vertices crosses the face inside
-        std::uint64_t key = 0;
+        FaceKind kind = FaceKind::direct;
+        bool direct() const { return kind == FaceKind::direct; }
+        std::uint64_t key = 0;  ///< the face point's
         Point3d point{};
+        std::array<std::uint64_t, 2> chord_keys{};  ///< the crossings' (FaceKind::chord)
+    };
+    struct Chord {
+        std::array<Point3d, 2> ends;
+        std::array<std::uint64_t, 2> keys;
     };
 
-    /// The crossings of the two crossed grid edges on the perimeter of the face [lo, hi] (flat
-    /// along @a normal); none unless there are exactly two.
-    std::optional<std::array<Point3d, 2>> chord_ends(const Point3d& lo, const Point3d& hi, int normal) {
+    /// The crossings (and their keys) of the two crossed grid edges on the perimeter of the face
+    /// [lo, hi] (flat along @a normal); none unless there are exactly two.
+    std::optional<Chord> chord_ends(const Point3d& lo, const Point3d& hi, int normal) {
         const int u = (normal + 1) % 3, w = (normal + 2) % 3;
-        std::array<Point3d, 2> ends;
+        Chord chord;
         int count = 0;
         auto visit = [&](openvdb::Coord start, int axis) {
             const openvdb::Coord end = start.offsetBy(axis == 0, axis == 1, axis == 2);
             const double f0 = sample(start), f1 = sample(end);
             if (classifier_.inside(f0) == classifier_.inside(f1)) return;
-            if (count < 2) ends[count] = edge_crossing(to_point(start), f0, to_point(end), f1, iso_, crossing_margin_);
+            if (count < 2) {
+                chord.ends[count] = edge_crossing(to_point(start), f0, to_point(end), f1, iso_, crossing_margin_);
+                chord.keys[count] = edge_key(start, axis);
+            }
             ++count;
         };
         const openvdb::Coord corner{int(lo[0]), int(lo[1]), int(lo[2])};
@@ -293,7 +312,7 @@ private:
             }
         }
         if (count != 2) return std::nullopt;
-        return ends;
+        return chord;
     }
 
     /// The face point for the fans of the chord @a ends between the vertices @a va and @a vb:
@@ -303,7 +322,7 @@ private:
     /// four triangles (a chord end, a vertex, the point) have the largest smallest angle; then
     /// kept the interior margin inside the face [lo, hi] (flat along @a normal), which is convex.
     Point3d face_point(const std::array<Point3d, 2>& ends, const Point3d& through, const Point3d& va, const Point3d& vb,
-                       const Point3d& lo, const Point3d& hi, int normal) {
+                       const Point3d& lo, const Point3d& hi, int normal, double& smallest) {
         const Point3d mid = lerp(ends[0], ends[1], 0.5);
         const double mid_distance = surface_distance(mid);
         Point3d best = mid;
@@ -322,6 +341,8 @@ private:
         for (int k = 0; k < 3; ++k) {
             best[k] = k == normal ? lo[k] : std::clamp(best[k], lo[k] + kIfcInteriorMargin, hi[k] - kIfcInteriorMargin);
         }
+        smallest = 180;
+        for (const Point3d& e : ends) smallest = std::min({smallest, smallest_angle(e, va, best), smallest_angle(e, best, vb)});
         return best;
     }
 
@@ -357,21 +378,32 @@ private:
         const Point3d& vb = *b.vertex;
         const double t = (lo[normal] - va[normal]) / (vb[normal] - va[normal]);
         FacePlan plan;
-        plan.direct = true;
         for (int k = 0; k < 3; ++k) {
             if (k == normal) {
                 plan.point[k] = lo[k];
                 continue;
             }
             const double x = va[k] + t * (vb[k] - va[k]);
-            if (!(x > lo[k] + kIfcInteriorMargin && x < hi[k] - kIfcInteriorMargin)) plan.direct = false;
+            if (!(x > lo[k] + kIfcInteriorMargin && x < hi[k] - kIfcInteriorMargin)) plan.kind = FaceKind::face_point;
             plan.point[k] = std::clamp(x, lo[k] + kIfcInteriorMargin, hi[k] - kIfcInteriorMargin);
         }
-        if (!plan.direct) {
+        if (!plan.direct()) {
             // Near the chord of the surface's trace across the face (the clamped crossing
-            // alone can be a face's width away from the surface).
-            const auto chord = chord_ends(lo, hi, normal);
-            if (chord) plan.point = face_point(*chord, plan.point, va, vb, lo, hi, normal);
+            // alone can be a face's width away from the surface), or along the chord itself,
+            // whichever makes the larger smallest angle: a face point close to a crossing
+            // makes a sliver with the far vertex.
+            const std::optional<Chord> chord = chord_ends(lo, hi, normal);
+            if (chord) {
+                double face_point_angle = 0;
+                plan.point = face_point(chord->ends, plan.point, va, vb, lo, hi, normal, face_point_angle);
+                const double chord_angle =
+                    std::min(smallest_angle(chord->ends[0], va, chord->ends[1]), smallest_angle(chord->ends[0], chord->ends[1], vb));
+                if (chord_angle >= face_point_angle) {
+                    plan.kind = FaceKind::chord;
+                    plan.chord_keys = chord->keys;
+                    return plan;
+                }
+            }
             // Named by the smaller cell (the face is one of its faces: leaves do not nest, so
             // its minimum corner names it) and the side it faces.
             const CellView& owner = a.size <= b.size ? a : b;
@@ -390,7 +422,7 @@ private:
             if (!ring.cell[i].merged()) return false;
         }
         for (int i = 0; i < ring.count; ++i) {
-            if (!face_plan(ring.cell[i], ring.cell[(i + 1) % ring.count]).direct) return false;
+            if (!face_plan(ring.cell[i], ring.cell[(i + 1) % ring.count]).direct()) return false;
         }
         // The minimal edge: the part of the grid line all the ring's cells touch.
         Point3d e0 = to_point(e), e1 = e0;
@@ -467,11 +499,18 @@ private:
             const CellView& b = ring.cell[(i + 1) % ring.count];
             if (a.merged() && b.merged()) {
                 const FacePlan plan = face_plan(a, b);
-                if (plan.direct) {
+                if (plan.kind == FaceKind::direct) {
                     add_triangle(p, a.key(), b.key());
-                } else {
+                } else if (plan.kind == FaceKind::face_point) {
                     add_triangle(p, a.key(), plan.key);
                     add_triangle(p, plan.key, b.key());
+                } else {
+                    // The face's two triangles, made once, from the crossing with the smaller key.
+                    if (plan.chord_keys[0] != p && plan.chord_keys[1] != p) throw Error("contouring: a face's chord misses the edge round which it is made");
+                    const std::uint64_t q = plan.chord_keys[0] == p ? plan.chord_keys[1] : plan.chord_keys[0];
+                    if (q < p) continue;
+                    add_triangle(p, a.key(), q);
+                    add_triangle(p, q, b.key());
                 }
             } else if (a.merged() || b.merged()) {
                 // The unit cell's face holds the surface's segment p-q; the triangle over it
