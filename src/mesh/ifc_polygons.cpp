@@ -13,11 +13,10 @@
 //  - a crossed minimal edge e with a merged cell on some side: the fan around its crossing
 //    p_e: (p_e, v_i, v_i+1) when the segment v_i v_i+1 passes strictly inside their face
 //    (the face test; x_f is that crossing, and the triangle lies in the tetrahedron
-//    (e, v_i, v_i+1)), else (p_e, v_i, m_f), (p_e, m_f, v_i+1) with a face point m_f, or,
-//    where the surface crosses the rim of their face f at p_e and one more crossing q,
-//    (p_e, v_i, q) and (p_e, q, v_i+1) over the chord p_e q, inside the pyramids (v_i, f) and
-//    (v_i+1, f), which then hold no other triangle (no face point cuts them): whichever of the
-//    two has the larger smallest angle (a face point next to a crossing is a sliver);
+//    (e, v_i, v_i+1)), else the face's two triangles over the chord p_e q to the other
+//    crossing q on the face's rim (a merged cell's face carries one open chain, so there is
+//    exactly one): (p_e, v_i, q) and (p_e, q, v_i+1), inside the pyramids (v_i, f) and
+//    (v_i+1, f), which then hold no other triangle;
 //  - the same edge with only merged cells around it and every face test passed: the polygon
 //    v_1..v_k without p_e, triangulated from one corner, when the flip of the tetrahedra
 //    (e, v_i, v_i+1) into (e_0 | e_1, v_1, v_j, v_j+1) keeps every orientation (the edge
@@ -29,9 +28,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
+#include <string>
 
-#include "mesh/ifc_fan.h"
 #include "mesh/mc_table.h"
 #include "vdbmesh/error.h"
 
@@ -108,35 +106,8 @@ double orient(const Point3d& a, const Point3d& b, const Point3d& c, const Point3
     return b0 * (c1 * d2 - c2 * d1) - b1 * (c0 * d2 - c2 * d0) + b2 * (c0 * d1 - c1 * d0);
 }
 
-Point3d lerp(const Point3d& a, const Point3d& b, double t) {
-    return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
-}
-
 double squared_distance(const Point3d& a, const Point3d& b) {
     return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
-}
-
-double distance_to_segment(const Point3d& p, const Point3d& a, const Point3d& b) {
-    const double length2 = squared_distance(a, b);
-    double t = 0;
-    if (length2 > 0) t = ((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1]) + (p[2] - a[2]) * (b[2] - a[2])) / length2;
-    return std::sqrt(squared_distance(p, lerp(a, b, std::clamp(t, 0.0, 1.0))));
-}
-
-/// The smallest angle of triangle (a, b, c), degrees (0 when degenerate).
-double smallest_angle(const Point3d& a, const Point3d& b, const Point3d& c) {
-    const Point3d* p[3] = {&a, &b, &c};
-    double smallest = 180;
-    for (int k = 0; k < 3; ++k) {
-        const Point3d& o = *p[k];
-        const Point3d& q = *p[(k + 1) % 3];
-        const Point3d& r = *p[(k + 2) % 3];
-        const double lq = std::sqrt(squared_distance(o, q)), lr = std::sqrt(squared_distance(o, r));
-        if (lq == 0 || lr == 0) return 0;
-        const double c = ((q[0] - o[0]) * (r[0] - o[0]) + (q[1] - o[1]) * (r[1] - o[1]) + (q[2] - o[2]) * (r[2] - o[2])) / (lq * lr);
-        smallest = std::min(smallest, std::acos(std::clamp(c, -1.0, 1.0)) * 180 / 3.14159265358979323846);
-    }
-    return smallest;
 }
 
 class BlockContour {
@@ -144,7 +115,7 @@ public:
     BlockContour(const IfcSamples& s, const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor,
                  const IfcCellGrid& grid, std::size_t block, const openvdb::math::Transform& transform, double error,
                  IfcBlockOutput& out)
-        : s_(s), classifier_(classifier), accessor_(accessor), iso_(classifier.iso()), error_(error), crossing_margin_(std::min(error, kMaxCrossingMargin)), grid_(grid), block_(block),
+        : s_(s), classifier_(classifier), accessor_(accessor), iso_(classifier.iso()), crossing_margin_(std::min(error, kMaxCrossingMargin)), grid_(grid), block_(block),
           transform_(transform), out_(out) {}
 
     void run() {
@@ -265,40 +236,19 @@ private:
     }
 
     // ---- faces between two merged cells ----
-    /// How the surface crosses the face between two merged cells.
-    enum class FaceKind {
-        direct,      ///< the segment between the vertices crosses the face inside: triangles (p_e, v_a, v_b)
-        face_point,  ///< through a face point m_f: (p_e, v_a, m_f), (p_e, m_f, v_b)
-        chord,       ///< along the chord of the face's two crossings p, q: (p, v_a, q), (p, q, v_b)
-    };
+    /// How the surface crosses the face between two merged cells: through the segment between
+    /// their vertices (direct: triangles (p_e, v_a, v_b)), else along the chord of the face's two
+    /// rim crossings p, q: (p, v_a, q), (p, q, v_b).
     struct FacePlan {
-        FaceKind kind = FaceKind::direct;
-        bool direct() const { return kind == FaceKind::direct; }
-        std::uint64_t key = 0;  ///< the face point's
-        Point3d point{};
-        std::array<std::uint64_t, 2> chord_keys{};  ///< the crossings' (FaceKind::chord)
+        bool direct = true;
+        std::array<std::uint64_t, 2> chord_keys{};  ///< the crossings' keys, when not direct
     };
-    struct Chord {
-        std::array<Point3d, 2> ends;
-        std::array<std::uint64_t, 2> keys;
-    };
-
-    /// The crossings (and their keys) of the two crossed grid edges on the perimeter of the face
-    /// [lo, hi] (flat along @a normal); none unless there are exactly two.
-    std::optional<Chord> chord_ends(const Point3d& lo, const Point3d& hi, int normal) {
+    /// The keys of the two crossed grid edges on the rim of the face [lo, hi] (flat along
+    /// @a normal) of a merged cell: its face carries one open chain, whose ends they are.
+    std::array<std::uint64_t, 2> rim_crossings(const Point3d& lo, const Point3d& hi, int normal) {
         const int u = (normal + 1) % 3, w = (normal + 2) % 3;
-        Chord chord;
+        std::array<std::uint64_t, 2> keys{};
         int count = 0;
-        auto visit = [&](openvdb::Coord start, int axis) {
-            const openvdb::Coord end = start.offsetBy(axis == 0, axis == 1, axis == 2);
-            const double f0 = sample(start), f1 = sample(end);
-            if (classifier_.inside(f0) == classifier_.inside(f1)) return;
-            if (count < 2) {
-                chord.ends[count] = edge_crossing(to_point(start), f0, to_point(end), f1, iso_, crossing_margin_);
-                chord.keys[count] = edge_key(start, axis);
-            }
-            ++count;
-        };
         const openvdb::Coord corner{int(lo[0]), int(lo[1]), int(lo[2])};
         for (int along : {u, w}) {
             const int across = along == u ? w : u;
@@ -307,49 +257,15 @@ private:
                     openvdb::Coord start = corner;
                     start[along] += k;
                     start[across] += side * int(hi[across] - lo[across]);
-                    visit(start, along);
+                    const openvdb::Coord end = start.offsetBy(along == 0, along == 1, along == 2);
+                    if (classifier_.inside(sample(start)) == classifier_.inside(sample(end))) continue;
+                    if (count < 2) keys[count] = edge_key(start, along);
+                    ++count;
                 }
             }
         }
-        if (count != 2) return std::nullopt;
-        return chord;
-    }
-
-    /// The face point for the fans of the chord @a ends between the vertices @a va and @a vb:
-    /// of points between the chord's midpoint and @a through (where the segment va-vb meets the
-    /// face, clamped into it), no farther than the error from the chord and no farther from the
-    /// surface than the midpoint (first-order distance in the trilinear field), the one whose
-    /// four triangles (a chord end, a vertex, the point) have the largest smallest angle; then
-    /// kept the interior margin inside the face [lo, hi] (flat along @a normal), which is convex.
-    Point3d face_point(const std::array<Point3d, 2>& ends, const Point3d& through, const Point3d& va, const Point3d& vb,
-                       const Point3d& lo, const Point3d& hi, int normal, double& smallest) {
-        const Point3d mid = lerp(ends[0], ends[1], 0.5);
-        const double mid_distance = surface_distance(mid);
-        Point3d best = mid;
-        double best_angle = -1;
-        for (const double t : {0.0, 0.25, 0.5, 0.75, 1.0}) {
-            const Point3d m = lerp(mid, through, t);
-            if (t > 0 && distance_to_segment(m, ends[0], ends[1]) > error_) break;
-            if (t > 0 && surface_distance(m) > mid_distance) continue;
-            double angle = 180;
-            for (const Point3d& e : ends) angle = std::min({angle, smallest_angle(e, va, m), smallest_angle(e, m, vb)});
-            if (angle > best_angle) {
-                best_angle = angle;
-                best = m;
-            }
-        }
-        for (int k = 0; k < 3; ++k) {
-            best[k] = k == normal ? lo[k] : std::clamp(best[k], lo[k] + kIfcInteriorMargin, hi[k] - kIfcInteriorMargin);
-        }
-        smallest = 180;
-        for (const Point3d& e : ends) smallest = std::min({smallest, smallest_angle(e, va, best), smallest_angle(e, best, vb)});
-        return best;
-    }
-
-    /// First-order distance (voxels) from @a p to the trilinear isosurface of the unit cell holding it.
-    double surface_distance(const Point3d& p) {
-        const std::array<int, 3> cell = {int(std::floor(p[0])), int(std::floor(p[1])), int(std::floor(p[2]))};
-        return cell_surface_distance(p, cell, [&](int x, int y, int z) { return sample(openvdb::Coord(x, y, z)); }, iso_);
+        if (count != 2) throw Error("contouring: the face between two merged cells has " + std::to_string(count) + " crossed rim edges, not 2");
+        return keys;
     }
 
     /// The value meshers use at grid point @a ijk.
@@ -379,39 +295,11 @@ private:
         const double t = (lo[normal] - va[normal]) / (vb[normal] - va[normal]);
         FacePlan plan;
         for (int k = 0; k < 3; ++k) {
-            if (k == normal) {
-                plan.point[k] = lo[k];
-                continue;
-            }
+            if (k == normal) continue;
             const double x = va[k] + t * (vb[k] - va[k]);
-            if (!(x > lo[k] + kIfcInteriorMargin && x < hi[k] - kIfcInteriorMargin)) plan.kind = FaceKind::face_point;
-            plan.point[k] = std::clamp(x, lo[k] + kIfcInteriorMargin, hi[k] - kIfcInteriorMargin);
+            if (!(x > lo[k] + kIfcInteriorMargin && x < hi[k] - kIfcInteriorMargin)) plan.direct = false;
         }
-        if (!plan.direct()) {
-            // Near the chord of the surface's trace across the face (the clamped crossing
-            // alone can be a face's width away from the surface), or along the chord itself,
-            // whichever makes the larger smallest angle: a face point close to a crossing
-            // makes a sliver with the far vertex.
-            const std::optional<Chord> chord = chord_ends(lo, hi, normal);
-            if (chord) {
-                double face_point_angle = 0;
-                plan.point = face_point(chord->ends, plan.point, va, vb, lo, hi, normal, face_point_angle);
-                const double chord_angle =
-                    std::min(smallest_angle(chord->ends[0], va, chord->ends[1]), smallest_angle(chord->ends[0], chord->ends[1], vb));
-                if (chord_angle >= face_point_angle) {
-                    plan.kind = FaceKind::chord;
-                    plan.chord_keys = chord->keys;
-                    return plan;
-                }
-            }
-            // Named by the smaller cell (the face is one of its faces: leaves do not nest, so
-            // its minimum corner names it) and the side it faces.
-            const CellView& owner = a.size <= b.size ? a : b;
-            const CellView& other = a.size <= b.size ? b : a;
-            const bool positive = other.min[normal] >= owner.min[normal] + owner.size;
-            plan.key = make_key(2, unsigned(normal * 2 + positive), owner.min);
-            add_vertex(plan.key, plan.point);
-        }
+        if (!plan.direct) plan.chord_keys = rim_crossings(lo, hi, normal);
         return plan;
     }
 
@@ -422,7 +310,7 @@ private:
             if (!ring.cell[i].merged()) return false;
         }
         for (int i = 0; i < ring.count; ++i) {
-            if (!face_plan(ring.cell[i], ring.cell[(i + 1) % ring.count]).direct()) return false;
+            if (!face_plan(ring.cell[i], ring.cell[(i + 1) % ring.count]).direct) return false;
         }
         // The minimal edge: the part of the grid line all the ring's cells touch.
         Point3d e0 = to_point(e), e1 = e0;
@@ -499,19 +387,17 @@ private:
             const CellView& b = ring.cell[(i + 1) % ring.count];
             if (a.merged() && b.merged()) {
                 const FacePlan plan = face_plan(a, b);
-                if (plan.kind == FaceKind::direct) {
+                if (plan.direct) {
                     add_triangle(p, a.key(), b.key());
-                } else if (plan.kind == FaceKind::face_point) {
-                    add_triangle(p, a.key(), plan.key);
-                    add_triangle(p, plan.key, b.key());
-                } else {
-                    // The face's two triangles, made once, from the crossing with the smaller key.
-                    if (plan.chord_keys[0] != p && plan.chord_keys[1] != p) throw Error("contouring: a face's chord misses the edge round which it is made");
-                    const std::uint64_t q = plan.chord_keys[0] == p ? plan.chord_keys[1] : plan.chord_keys[0];
-                    if (q < p) continue;
-                    add_triangle(p, a.key(), q);
-                    add_triangle(p, q, b.key());
+                    continue;
                 }
+                // The face's two triangles over the chord p q, made once, from the crossing
+                // with the smaller key.
+                if (plan.chord_keys[0] != p && plan.chord_keys[1] != p) throw Error("contouring: a face's chord misses the edge round which it is made");
+                const std::uint64_t q = plan.chord_keys[0] == p ? plan.chord_keys[1] : plan.chord_keys[0];
+                if (q < p) continue;
+                add_triangle(p, a.key(), q);
+                add_triangle(p, q, b.key());
             } else if (a.merged() || b.merged()) {
                 // The unit cell's face holds the surface's segment p-q; the triangle over it
                 // is made once, from the edge with the smaller key.
@@ -528,7 +414,6 @@ private:
     const SampleClassifier& classifier_;
     openvdb::FloatGrid::ConstAccessor& accessor_;
     double iso_;
-    double error_;
     double crossing_margin_;  ///< of the edge's length, kept between a crossing and the edge's ends
     const IfcCellGrid& grid_;
     std::size_t block_;

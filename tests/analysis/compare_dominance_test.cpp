@@ -1,0 +1,124 @@
+// Issue 9's dominance figure, without its time column (times belong in bench/): on the bunny
+// CT and the walnut CT, a DC mesh at one of the issue's --error values has no more triangles,
+// no larger two-sided Hausdorff distance to the trilinear isosurface, no larger share of angles
+// under 10 degrees and no defect than volumeToMesh at adaptivity 0.1 and 0.25, measured by
+// compare_meshers() in one run. Which DC mesh wins each pair is the one bench/README.md names.
+// Before DC crossed a face its face test refuses along the chord of the face's two crossings
+// (session 9), the bunny pair at 0.1 failed on angles: DC 0.5 had 1.67% against 1.51%.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "test_data.h"
+#include "vdbmesh/compare.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/read.h"
+
+namespace vdbmesh {
+namespace {
+
+/// volumeToMesh at @a adaptivity, and the DC --error that must beat it on every count.
+struct Pair {
+    double adaptivity;
+    double error;
+};
+
+struct Scan {
+    std::string name;
+    std::vector<std::string> inputs;  ///< under ../shared/data: the scan, then further parts of a split raw scan
+    double iso;
+    std::optional<std::array<std::int64_t, 3>> raw_dims;  ///< a headerless big-endian int16 scan
+    std::vector<Pair> pairs;
+};
+
+std::ostream& operator<<(std::ostream& out, const Scan& scan) { return out << scan.name; }
+
+// Measured in session 9 by this test (triangles / Hausdorff voxels / angles under 10 degrees):
+//  bunny  a=0.1:  volumeToMesh 708,230 / 1.137 / 1.51%;  DC 0.5: 661,524 / 0.874 / 1.10%
+//  bunny  a=0.25: volumeToMesh 602,390 / 1.538 / 1.71%;  DC 1:   563,746 / 1.491 / 1.13%
+//  walnut a=0.1:  volumeToMesh 313,900 / 1.006 / 2.41%;  DC 0.5: 251,714 / 0.989 / 1.28%
+//  walnut a=0.25: volumeToMesh 263,456 / 1.353 / 2.85%;  DC 0.5
+// The Hausdorff distances are maxima over 100,000 samples each way, drawn from fixed seeds, so
+// the close pairs (walnut at 0.1, bunny at 0.25) are decided the same in every run.
+const std::vector<Scan> kScans = {
+    {"BunnyCt",
+     {"raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part1of2.raw.gz",
+      "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part2of2.raw.gz"},
+     1200.5,
+     std::array<std::int64_t, 3>{512, 512, 361},
+     {{0.1, 0.5}, {0.25, 1.0}}},
+    {"WalnutOpenQVis", {"openqvis_walnut_ct/walnut.dat"}, 4084.5, std::nullopt, {{0.1, 0.5}, {0.25, 0.5}}},
+};
+
+class CompareDominanceTest : public testing::TestWithParam<Scan> {
+protected:
+    tbb::global_control threads_{tbb::global_control::max_allowed_parallelism, 2};
+};
+
+const MeshComparison& find(const Comparison& comparison, MeshMethod method, double setting) {
+    for (const MeshComparison& m : comparison.meshes) {
+        if (m.method != method) continue;
+        if ((m.error && *m.error == setting) || (m.adaptivity && *m.adaptivity == setting)) return m;
+    }
+    throw std::runtime_error("no such mesh in the comparison");
+}
+
+TEST_P(CompareDominanceTest, SomeDcMeshBeatsVolumeToMeshOnEveryCount) {
+    const Scan& scan = GetParam();
+    std::vector<std::filesystem::path> paths;
+    for (const std::string& input : scan.inputs) {
+        VDBMESH_SHARED_DATA(path, input);
+        paths.push_back(path);
+    }
+    ReadOptions read;
+    if (scan.raw_dims) {
+        read.raw_dims = *scan.raw_dims;
+        read.raw_type = SampleType::i16;
+        read.raw_byte_order = ByteOrder::big;
+        read.raw_more_files.assign(paths.begin() + 1, paths.end());
+    }
+    ConvertOptions convert;
+    convert.iso = scan.iso;
+    const auto grid = convert_to_grid(*open_volume(paths.front(), read), convert);
+
+    CompareOptions options;
+    options.iso = scan.iso;
+    options.errors.clear();
+    options.adaptivities.clear();
+    for (const Pair& pair : scan.pairs) {
+        options.errors.push_back(pair.error);
+        options.adaptivities.push_back(pair.adaptivity);
+    }
+    options.marching_cubes = false;
+    const Comparison comparison = compare_meshers(*grid, options);
+
+    for (const Pair& pair : scan.pairs) {
+        const MeshComparison& dc = find(comparison, MeshMethod::dc, pair.error);
+        const MeshComparison& vdb = find(comparison, MeshMethod::openvdb, pair.adaptivity);
+        std::ostringstream name;
+        name << scan.name << ": DC " << pair.error << " against volumeToMesh " << pair.adaptivity;
+        const std::string label = name.str();
+        std::cout << "[ figures  ] " << label << ": triangles " << dc.analysis.triangles << " / " << vdb.analysis.triangles
+                  << ", Hausdorff " << dc.accuracy.distance.hausdorff << " / " << vdb.accuracy.distance.hausdorff
+                  << ", angles under 10 degrees " << dc.analysis.small_angle_share << " / " << vdb.analysis.small_angle_share << "\n";
+        EXPECT_LE(dc.analysis.triangles, vdb.analysis.triangles) << label;
+        EXPECT_LE(dc.accuracy.distance.hausdorff, vdb.accuracy.distance.hausdorff) << label;
+        EXPECT_LE(dc.analysis.small_angle_share, vdb.analysis.small_angle_share) << label;
+        EXPECT_TRUE(dc.analysis.is_clean()) << label;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedData, CompareDominanceTest, testing::ValuesIn(kScans),
+                         [](const testing::TestParamInfo<Scan>& info) { return info.param.name; });
+
+}  // namespace
+}  // namespace vdbmesh
