@@ -226,7 +226,8 @@ private:
     /// Hermite data of the crossed edges of the block's cells (samples 0..8).
     void collect_hermite() {
         crossings_.clear();
-        crossed_.fill(false);
+        hermite_.clear();
+        slot_.fill(kNoSlot);
         for (int x = 0; x <= kIfcBlock; ++x) {
             for (int y = 0; y <= kIfcBlock; ++y) {
                 // Bit z + 1 of along[axis]: the edge from (x, y, z) along axis is crossed; edges
@@ -242,8 +243,8 @@ private:
                     for (int axis = 0; axis < 3; ++axis) {
                         if (!((along[axis] >> (z + 1)) & 1u)) continue;
                         const int i = edge_index(x, y, z, axis);
-                        crossed_[i] = true;
-                        hermite_[i] = edge_hermite(*s_, iso_, x, y, z, axis);
+                        slot_[i] = std::uint16_t(hermite_.size());
+                        hermite_.push_back(edge_hermite(*s_, iso_, x, y, z, axis));
                         crossings_.push_back({std::uint8_t(x), std::uint8_t(y), std::uint8_t(z), std::uint8_t(axis)});
                     }
                 }
@@ -256,10 +257,11 @@ private:
     template <typename Test>
     bool all_crossings(const std::array<int, 3>& min, int size, Test&& test) const {
         if (size >= 4) {  // large cells: the block's list of crossings is shorter than the cell's edges
-            for (const auto& c : crossings_) {
+            for (std::size_t k = 0; k < crossings_.size(); ++k) {
+                const auto& c = crossings_[k];
                 bool in = true;
                 for (int a = 0; a < 3; ++a) in &= c[a] >= min[a] && c[a] < min[a] + size + (a != c[3]);
-                if (in && !test(hermite_[edge_index(c[0], c[1], c[2], c[3])])) return false;
+                if (in && !test(hermite_[k])) return false;
             }
             return true;
         }
@@ -270,7 +272,7 @@ private:
                     for (int axis = 0; axis < 3; ++axis) {
                         if (p[axis] == min[axis] + size) continue;
                         const int i = edge_index(x, y, z, axis);
-                        if (crossed_[i] && !test(hermite_[i])) return false;
+                        if (slot_[i] != kNoSlot && !test(hermite_[slot_[i]])) return false;
                     }
                 }
             }
@@ -297,9 +299,10 @@ private:
         // The plane's QEF is formed once and added to each cell (the same sums, bit for bit,
         // as adding the plane to each: every term starts from zero).
         std::fill(state_[0].begin(), state_[0].end(), CellState::empty);
-        for (const auto& c : crossings_) {
+        for (std::size_t k = 0; k < crossings_.size(); ++k) {
+            const auto& c = crossings_[k];
             const int axis = c[3], u = (axis + 1) % 3, w = (axis + 2) % 3;
-            const Hermite& h = hermite_[edge_index(c[0], c[1], c[2], axis)];
+            const Hermite& h = hermite_[k];
             Qef3 plane;
             plane.add_plane(h.point, h.normal);
             for (int q = 0; q < 4; ++q) {
@@ -425,9 +428,9 @@ private:
         for_each_cell_edge(min, size, [&](std::array<int, 3> p, int axis) {
             for (int k = 0; k < size && near; ++k, ++p[axis]) {
                 const int i = edge_index(p[0], p[1], p[2], axis);
-                if (!crossed_[i]) continue;
+                if (slot_[i] == kNoSlot) continue;
                 Point3d mid;
-                for (int a = 0; a < 3; ++a) mid[a] = 0.5 * (v[a] + hermite_[i].point[a]);
+                for (int a = 0; a < 3; ++a) mid[a] = 0.5 * (v[a] + hermite_[slot_[i]].point[a]);
                 near = surface_distance(mid) <= error_;
             }
         });
@@ -460,8 +463,8 @@ private:
                 p[across] += edge_side * size;
                 for (int k = 0; k < size; ++k, ++p[along]) {
                     const int i = edge_index(p[0], p[1], p[2], along);
-                    if (!crossed_[i]) continue;
-                    if (count < 2) ends[count] = hermite_[i].point;
+                    if (slot_[i] == kNoSlot) continue;
+                    if (count < 2) ends[count] = hermite_[slot_[i]].point;
                     ++count;
                 }
             }
@@ -519,8 +522,12 @@ private:
     const IfcSamples* s_ = nullptr;
     double iso_ = 0;
     double error_ = 0;
-    std::array<bool, kEdgeDim * kEdgeDim * kEdgeDim * 3> crossed_{};
-    std::array<Hermite, kEdgeDim * kEdgeDim * kEdgeDim * 3> hermite_;
+    /// Per grid edge of the block (edge_index()): its crossing's index in hermite_ and
+    /// crossings_, or kNoSlot. The Hermite data itself is kept packed, in scan order, so the
+    /// tests walk a few KB rather than a sparse 105 KB table.
+    static constexpr std::uint16_t kNoSlot = 0xffff;
+    std::array<std::uint16_t, kEdgeDim * kEdgeDim * kEdgeDim * 3> slot_{};
+    std::vector<Hermite> hermite_;
     std::vector<std::array<std::uint8_t, 4>> crossings_;  ///< the crossed edges: x, y, z, axis
     std::array<std::vector<CellState>, kIfcMaxLevel + 1> state_;
     std::array<std::vector<Qef3>, kIfcMaxLevel + 1> qef_;
