@@ -447,7 +447,19 @@ private:
                 if (face_chord(min, size, axis, side, ends) == 2) fan.add_chord(ends[0], ends[1]);
             }
         }
-        return all_crossings(min, size, [&](const Hermite& h) { return fan.near(h.point, 2 * error_); });
+        // A crossing on one of the cell's 12 edges ends the chords of both faces round it (the
+        // cell is simple: each face holds at most one chain), so it is a vertex of the fan.
+        Point3d lo, hi;
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = s_->origin[a] + min[a];
+            hi[a] = lo[a] + size;
+        }
+        const auto on_cell_edge = [&](const Point3d& p) {
+            int on_faces = 0;
+            for (int a = 0; a < 3; ++a) on_faces += p[a] == lo[a] || p[a] == hi[a];
+            return on_faces >= 2;
+        };
+        return all_crossings(min, size, [&](const Hermite& h) { return on_cell_edge(h.point) || fan.near(h.point, 2 * error_); });
     }
 
     /// The crossings on the perimeter of the cell's face normal to @a axis on @a side (0: low,
