@@ -230,6 +230,7 @@ private:
         slot_.fill(kNoSlot);
         for (int x = 0; x <= kIfcBlock; ++x) {
             for (int y = 0; y <= kIfcBlock; ++y) {
+                row_start_[x * kEdgeDim + y] = std::uint16_t(crossings_.size());
                 // Bit z + 1 of along[axis]: the edge from (x, y, z) along axis is crossed; edges
                 // leaving the block's samples 0..8 are not the block's.
                 std::array<unsigned, 3> along{};
@@ -250,30 +251,24 @@ private:
                 }
             }
         }
+        row_start_[kEdgeDim * kEdgeDim] = std::uint16_t(crossings_.size());
     }
 
     /// Whether @a test(hermite) holds for every crossed edge of the cell at local @a min of
     /// @a size; stops at the first that fails.
     template <typename Test>
     bool all_crossings(const std::array<int, 3>& min, int size, Test&& test) const {
-        if (size >= 4) {  // large cells: the block's list of crossings is shorter than the cell's edges
-            for (std::size_t k = 0; k < crossings_.size(); ++k) {
-                const auto& c = crossings_[k];
-                bool in = true;
-                for (int a = 0; a < 3; ++a) in &= c[a] >= min[a] && c[a] < min[a] + size + (a != c[3]);
-                if (in && !test(hermite_[k])) return false;
-            }
-            return true;
-        }
+        // The crossings are listed by row (x, y), so only the cell's rows are read; the order
+        // is the list's whatever the cell.
         for (int x = min[0]; x <= min[0] + size; ++x) {
             for (int y = min[1]; y <= min[1] + size; ++y) {
-                for (int z = min[2]; z <= min[2] + size; ++z) {
-                    const std::array<int, 3> p = {x, y, z};
-                    for (int axis = 0; axis < 3; ++axis) {
-                        if (p[axis] == min[axis] + size) continue;
-                        const int i = edge_index(x, y, z, axis);
-                        if (slot_[i] != kNoSlot && !test(hermite_[slot_[i]])) return false;
-                    }
+                const int row = x * kEdgeDim + y;
+                for (int k = row_start_[row]; k < row_start_[row + 1]; ++k) {
+                    const auto& c = crossings_[std::size_t(k)];
+                    const int axis = c[3];
+                    if (c[2] < min[2] || c[2] > min[2] + size - (axis == 2)) continue;
+                    if ((axis == 0 && x == min[0] + size) || (axis == 1 && y == min[1] + size)) continue;
+                    if (!test(hermite_[std::size_t(k)])) return false;
                 }
             }
         }
@@ -540,7 +535,9 @@ private:
     static constexpr std::uint16_t kNoSlot = 0xffff;
     std::array<std::uint16_t, kEdgeDim * kEdgeDim * kEdgeDim * 3> slot_{};
     std::vector<Hermite> hermite_;
-    std::vector<std::array<std::uint8_t, 4>> crossings_;  ///< the crossed edges: x, y, z, axis
+    std::vector<std::array<std::uint8_t, 4>> crossings_;
+    /// Where row (x, y) of crossings_ starts (index x * kEdgeDim + y; the last entry is the end).
+    std::array<std::uint16_t, kEdgeDim * kEdgeDim + 1> row_start_{};  ///< the crossed edges: x, y, z, axis
     std::array<std::vector<CellState>, kIfcMaxLevel + 1> state_;
     std::array<std::vector<Qef3>, kIfcMaxLevel + 1> qef_;
     std::array<std::array<bool, kIfcBlock * kIfcBlock * kIfcBlock>, kIfcMaxLevel + 1> simple_{};
