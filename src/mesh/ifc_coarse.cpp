@@ -108,20 +108,35 @@ private:
         for (int c = 0; c < 8; ++c) {
             if (surface[c]) qef.add(child[c]->qef);
         }
-        Point3d lo, hi;
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = min[a] + kIfcInteriorMargin;
-            hi[a] = min[a] + size - kIfcInteriorMargin;
+        std::array<double, 3> margins;
+        const openvdb::CoordBBox reach(min.offsetBy(-1), min.offsetBy(size + 1));  // the samples the tests read
+        const int tries = ifc_vertex_margins(size, reach, classifier_.scan_box() ? &*classifier_.scan_box() : nullptr, margins);
+        for (int t = 0; t < tries; ++t) {
+            Point3d lo, hi;
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = min[a] + margins[t];
+                hi[a] = min[a] + size - margins[t];
+            }
+            const Point3d vertex = qef.solve(lo, hi);
+            if (passes_accuracy_tests(qef, vertex, child, surface, min, size)) {
+                cell = {State::surface, qef, vertex};
+                return;
+            }
         }
-        const Point3d vertex = qef.solve(lo, hi);
-        if (qef.residual(vertex) > qef.count() * error_ * error_) return;
+    }
+
+    /// Whether the cell's vertex and fan stand for its surface within the error: the QEF's RMS,
+    /// the fan against the trilinear isosurface, the children's vertices and the grid lines'
+    /// crossings against the fan (sampled, as merge_ifc_coarse_cells() says).
+    bool passes_accuracy_tests(const Qef3& qef, const Point3d& vertex, const std::array<const Cell*, 8>& child,
+                               const std::array<bool, 8>& surface, const openvdb::Coord& min, int size) {
+        if (qef.residual(vertex) > qef.count() * error_ * error_) return false;
         IfcFan fan = make_fan(vertex, min, size);
-        if (!fan_near_surface(fan)) return;
+        if (!fan_near_surface(fan)) return false;
         for (int c = 0; c < 8; ++c) {
-            if (surface[c] && !fan.near(child[c]->vertex, error_)) return;
+            if (surface[c] && !fan.near(child[c]->vertex, error_)) return false;
         }
-        if (!lines_near_fan(fan, min, size)) return;
-        cell = {State::surface, qef, vertex};
+        return lines_near_fan(fan, min, size);
     }
 
     double value(const openvdb::Coord& ijk) { return classifier_.sample_value(ijk, accessor_.getValue(ijk)); }

@@ -86,8 +86,9 @@ void load_ifc_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleC
             }
         }
     }
+    samples.scan_box = classifier.scan_box() ? &*classifier.scan_box() : nullptr;
     const openvdb::CoordBBox window(samples.origin.offsetBy(-1), samples.origin.offsetBy(kIfcSampleDim - 2));
-    if (classifier.scan_box() && !classifier.scan_box()->isInside(window)) {
+    if (samples.scan_box && !samples.scan_box->isInside(window)) {
         // Samples beyond the scanned box take its outside value: whole rows where x or y is
         // beyond it, else the ends of the row beyond it along z.
         const openvdb::CoordBBox& box = *classifier.scan_box();
@@ -374,12 +375,18 @@ private:
         const int index = cell_index(level, i, j, k);
         // Cheapest and most often failing first.
         if (!simple_[level][index]) return false;
-        const Point3d vertex = solve_in_cell(qef_[level][index], min, size);
-        if (!within_error(vertex, min, size) || !fan_near_surface(vertex, min, size) || !surface_near_fan(vertex, min, size)) {
-            return false;
+        // The samples the tests read: the cell's, and one more round them for gradients.
+        const openvdb::Coord corner = s_->origin.offsetBy(min[0], min[1], min[2]);
+        std::array<double, 3> margins;
+        const int tries = ifc_vertex_margins(size, openvdb::CoordBBox(corner.offsetBy(-1), corner.offsetBy(size + 1)), s_->scan_box, margins);
+        for (int t = 0; t < tries; ++t) {
+            const Point3d vertex = solve_in_cell(qef_[level][index], min, size, margins[t]);
+            if (within_error(vertex, min, size) && fan_near_surface(vertex, min, size) && surface_near_fan(vertex, min, size)) {
+                vertex_[level][index] = vertex;
+                return true;
+            }
         }
-        vertex_[level][index] = vertex;
-        return true;
+        return false;
     }
 
     /// Calls @a visit(start, axis) for the start (local sample) and axis of each of the 12
@@ -397,11 +404,11 @@ private:
         }
     }
 
-    Point3d solve_in_cell(const Qef3& qef, const std::array<int, 3>& min, int size) const {
+    Point3d solve_in_cell(const Qef3& qef, const std::array<int, 3>& min, int size, double margin) const {
         Point3d lo, hi;
         for (int a = 0; a < 3; ++a) {
-            lo[a] = s_->origin[a] + min[a] + kIfcInteriorMargin;
-            hi[a] = s_->origin[a] + min[a] + size - kIfcInteriorMargin;
+            lo[a] = s_->origin[a] + min[a] + margin;
+            hi[a] = s_->origin[a] + min[a] + size - margin;
         }
         return qef.solve(lo, hi);
     }
