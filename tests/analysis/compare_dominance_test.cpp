@@ -11,7 +11,6 @@
 
 #include <array>
 #include <cstdint>
-#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -19,10 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "test_data.h"
+#include "shared_scan.h"
 #include "vdbmesh/compare.h"
-#include "vdbmesh/grid.h"
-#include "vdbmesh/read.h"
 
 namespace vdbmesh {
 namespace {
@@ -33,31 +30,30 @@ struct Pair {
     double error;
 };
 
-struct Scan {
-    std::string name;
-    std::vector<std::string> inputs;  ///< under ../shared/data: the scan, then further parts of a split raw scan
-    double iso;
-    std::optional<std::array<std::int64_t, 3>> raw_dims;  ///< a headerless big-endian int16 scan
-    std::vector<Pair> pairs;
-};
-
-std::ostream& operator<<(std::ostream& out, const Scan& scan) { return out << scan.name; }
-
 // Measured in session 9 by this test (triangles / Hausdorff voxels / angles under 10 degrees):
 //  bunny  a=0.1:  volumeToMesh 708,230 / 1.137 / 1.51%;  DC 0.5: 650,942 / 1.003 / 0.54%
 //  bunny  a=0.25: volumeToMesh 602,390 / 1.538 / 1.71%;  DC 1:   557,586 / 1.114 / 0.41%
 //  walnut a=0.1:  volumeToMesh 313,900 / 1.006 / 2.41%;  DC 0.5: 249,400 / 0.972 / 0.53%
 //  walnut a=0.25: volumeToMesh 263,456 / 1.353 / 2.85%;  DC 0.5
 // The Hausdorff distances are maxima over 100,000 samples each way, drawn from fixed seeds, so
-// the close pairs (walnut at 0.1, bunny at 0.25) are decided the same in every run.
+// the close pair (walnut at 0.1) is decided the same in every run.
+
+/// A scan of the shared data and the pairs it must win.
+struct Scan {
+    test::SharedScan scan;
+    std::vector<Pair> pairs;
+};
+
+std::ostream& operator<<(std::ostream& out, const Scan& scan) { return out << scan.scan.name; }
+
 const std::vector<Scan> kScans = {
-    {"BunnyCt",
-     {"raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part1of2.raw.gz",
-      "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part2of2.raw.gz"},
-     1200.5,
-     std::array<std::int64_t, 3>{512, 512, 361},
+    {{"BunnyCt",
+      {"raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part1of2.raw.gz",
+       "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part2of2.raw.gz"},
+      1200.5,
+      std::array<std::int64_t, 3>{512, 512, 361}},
      {{0.1, 0.5}, {0.25, 1.0}}},
-    {"WalnutOpenQVis", {"openqvis_walnut_ct/walnut.dat"}, 4084.5, std::nullopt, {{0.1, 0.5}, {0.25, 0.5}}},
+    {{"WalnutOpenQVis", {"openqvis_walnut_ct/walnut.dat"}, 4084.5, std::nullopt}, {{0.1, 0.5}, {0.25, 0.5}}},
 };
 
 class CompareDominanceTest : public testing::TestWithParam<Scan> {
@@ -75,24 +71,12 @@ const MeshComparison& find(const Comparison& comparison, MeshMethod method, doub
 
 TEST_P(CompareDominanceTest, SomeDcMeshBeatsVolumeToMeshOnEveryCount) {
     const Scan& scan = GetParam();
-    std::vector<std::filesystem::path> paths;
-    for (const std::string& input : scan.inputs) {
-        VDBMESH_SHARED_DATA(path, input);
-        paths.push_back(path);
-    }
-    ReadOptions read;
-    if (scan.raw_dims) {
-        read.raw_dims = *scan.raw_dims;
-        read.raw_type = SampleType::i16;
-        read.raw_byte_order = ByteOrder::big;
-        read.raw_more_files.assign(paths.begin() + 1, paths.end());
-    }
-    ConvertOptions convert;
-    convert.iso = scan.iso;
-    const auto grid = convert_to_grid(*open_volume(paths.front(), read), convert);
+    openvdb::FloatGrid::Ptr grid;
+    ASSERT_NO_FATAL_FAILURE(test::convert_shared_scan(scan.scan, grid));
+    if (!grid) return;  // skipped: the shared data is missing
 
     CompareOptions options;
-    options.iso = scan.iso;
+    options.iso = scan.scan.iso;
     options.errors.clear();
     options.adaptivities.clear();
     for (const Pair& pair : scan.pairs) {
@@ -106,7 +90,7 @@ TEST_P(CompareDominanceTest, SomeDcMeshBeatsVolumeToMeshOnEveryCount) {
         const MeshComparison& dc = find(comparison, MeshMethod::dc, pair.error);
         const MeshComparison& vdb = find(comparison, MeshMethod::openvdb, pair.adaptivity);
         std::ostringstream name;
-        name << scan.name << ": DC " << pair.error << " against volumeToMesh " << pair.adaptivity;
+        name << scan.scan.name << ": DC " << pair.error << " against volumeToMesh " << pair.adaptivity;
         const std::string label = name.str();
         std::cout << "[ figures  ] " << label << ": triangles " << dc.analysis.triangles << " / " << vdb.analysis.triangles
                   << ", Hausdorff " << dc.accuracy.distance.hausdorff << " / " << vdb.accuracy.distance.hausdorff
@@ -119,7 +103,7 @@ TEST_P(CompareDominanceTest, SomeDcMeshBeatsVolumeToMeshOnEveryCount) {
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedData, CompareDominanceTest, testing::ValuesIn(kScans),
-                         [](const testing::TestParamInfo<Scan>& info) { return info.param.name; });
+                         [](const testing::TestParamInfo<Scan>& info) { return info.param.scan.name; });
 
 }  // namespace
 }  // namespace vdbmesh

@@ -13,7 +13,6 @@
 
 #include <array>
 #include <cstdint>
-#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -22,37 +21,23 @@
 
 #include "cgal_judge.h"
 #include "same_triangles.h"
-#include "test_data.h"
+#include "shared_scan.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/compare.h"
-#include "vdbmesh/grid.h"
 #include "vdbmesh/mesher.h"
-#include "vdbmesh/read.h"
 
 namespace vdbmesh {
 namespace {
 
-/// Headerless raw layout (--raw-dims, --raw-type i16, --raw-endian big).
-struct RawLayout {
-    std::array<std::int64_t, 3> dims;
-};
+using test::SharedScan;
 
-struct RealScan {
-    std::string name;                 ///< the test's name
-    std::vector<std::string> inputs;  ///< under ../shared/data: the scan, then further parts of a split raw scan
-    double iso;
-    std::optional<RawLayout> raw;     ///< for the headerless big-endian int16 scans
-};
-
-std::ostream& operator<<(std::ostream& out, const RealScan& scan) { return out << scan.name; }
-
-const std::vector<RealScan> kScans = {
+const std::vector<SharedScan> kScans = {
     {"BunnyCt",
      {"raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part1of2.raw.gz",
       "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part2of2.raw.gz"},
      1200.5,
-     RawLayout{{512, 512, 361}}},
-    {"CThead", {"raw_stanford_cthead/CThead_256x256x113_int16be.raw.gz"}, 600.5, RawLayout{{256, 256, 113}}},
+     std::array<std::int64_t, 3>{512, 512, 361}},
+    {"CThead", {"raw_stanford_cthead/CThead_256x256x113_int16be.raw.gz"}, 600.5, std::array<std::int64_t, 3>{256, 256, 113}},
     {"EngineNifti", {"nifti_engine_ct/engine.nii.gz"}, 100.5, std::nullopt},
     {"WalnutOpenQVis", {"openqvis_walnut_ct/walnut.dat"}, 4084.5, std::nullopt},
     {"CtPitchNifti", {"nifti_ct_pitch_phantom/CT_pitch.nii.gz"}, 100.5, std::nullopt},
@@ -87,17 +72,6 @@ const std::array<Method, 3> kMethods = {{
     {"mc", MeshMethod::mc, 0.0},
 }};
 
-ReadOptions read_options(const RealScan& scan, const std::vector<std::filesystem::path>& paths) {
-    ReadOptions options;
-    if (scan.raw) {
-        options.raw_dims = scan.raw->dims;
-        options.raw_type = SampleType::i16;
-        options.raw_byte_order = ByteOrder::big;
-        options.raw_more_files.assign(paths.begin() + 1, paths.end());
-    }
-    return options;
-}
-
 /// The figures `vdbmesh check` prints that tell why a mesh is not clean.
 std::string describe(const MeshAnalysis& r) {
     std::ostringstream out;
@@ -108,30 +82,16 @@ std::string describe(const MeshAnalysis& r) {
     return out.str();
 }
 
-/// The scan converted at its isovalue into @a grid (left empty when the data is missing and
-/// the test skips; a failure when VDBMESH_REQUIRE_DATA=1).
-void convert_scan(const RealScan& scan, openvdb::FloatGrid::Ptr& grid) {
-    std::vector<std::filesystem::path> paths;
-    for (const std::string& input : scan.inputs) {
-        VDBMESH_SHARED_DATA(path, input);
-        paths.push_back(path);
-    }
-    const auto reader = open_volume(paths.front(), read_options(scan, paths));
-    ConvertOptions convert;
-    convert.iso = scan.iso;
-    grid = convert_to_grid(*reader, convert);
-}
-
-class RealScanGuaranteesTest : public ::testing::TestWithParam<RealScan> {
+class RealScanGuaranteesTest : public ::testing::TestWithParam<SharedScan> {
 protected:
     // The two cores the suite is budgeted for; the meshes do not depend on it.
     tbb::global_control threads_{tbb::global_control::max_allowed_parallelism, 2};
 };
 
 TEST_P(RealScanGuaranteesTest, DmcAndMcMeshesAreClean) {
-    const RealScan& scan = GetParam();
+    const SharedScan& scan = GetParam();
     openvdb::FloatGrid::Ptr grid;
-    ASSERT_NO_FATAL_FAILURE(convert_scan(scan, grid));
+    ASSERT_NO_FATAL_FAILURE(test::convert_shared_scan(scan, grid));
     if (!grid) return;  // skipped: the shared data is missing
 
     std::vector<MeshAnalysis> reports;
@@ -175,9 +135,9 @@ TEST_P(RealScanGuaranteesTest, DmcAndMcMeshesAreClean) {
 // runs; CGAL judges it. It keeps every Marching Cubes component (a merged cell holds one disk of
 // surface) and, at error 0, is Marching Cubes.
 TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
-    const RealScan& scan = GetParam();
+    const SharedScan& scan = GetParam();
     openvdb::FloatGrid::Ptr grid;
-    ASSERT_NO_FATAL_FAILURE(convert_scan(scan, grid));
+    ASSERT_NO_FATAL_FAILURE(test::convert_shared_scan(scan, grid));
     if (!grid) return;  // skipped: the shared data is missing
     MeshOptions options;
     options.iso = scan.iso;
@@ -217,7 +177,7 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedData, RealScanGuaranteesTest, ::testing::ValuesIn(kScans),
-                         [](const ::testing::TestParamInfo<RealScan>& info) { return info.param.name; });
+                         [](const ::testing::TestParamInfo<SharedScan>& info) { return info.param.name; });
 
 }  // namespace
 }  // namespace vdbmesh

@@ -1,0 +1,31 @@
+#pragma once
+// Test helper: a real scan of the shared data (../shared/data) converted at its isovalue, as
+// the guarantee and figure tests on real scans read them.
+
+#include <openvdb/openvdb.h>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace vdbmesh::test {
+
+struct SharedScan {
+    std::string name;                 ///< the test's name
+    std::vector<std::string> inputs;  ///< under ../shared/data: the scan, then further parts of a split raw scan
+    double iso;
+    /// For a headerless big-endian int16 scan: its dims.
+    std::optional<std::array<std::int64_t, 3>> raw_i16_dims;
+};
+
+inline std::ostream& operator<<(std::ostream& out, const SharedScan& scan) { return out << scan.name; }
+
+/// The scan converted at its isovalue into @a grid. Left empty when the data is missing and the
+/// test skips (a failure when VDBMESH_REQUIRE_DATA=1): call it through ASSERT_NO_FATAL_FAILURE
+/// and return when @a grid is empty.
+void convert_shared_scan(const SharedScan& scan, openvdb::FloatGrid::Ptr& grid);
+
+}  // namespace vdbmesh::test
