@@ -118,8 +118,9 @@ struct IfcCellGrid {
     IfcBlockCells& block_for_writing(std::size_t b);
 };
 
-/// How far a merged cell's vertex and a face point stay inside their cell or face (voxels):
-/// far above the float rounding of the output, so containment survives it.
+/// How far a merged cell's vertex stays inside its cell at least, and the segment between two
+/// cells' vertices inside their shared face for the face test (voxels): far above the float
+/// rounding of the output, so containment survives it.
 inline constexpr double kIfcInteriorMargin = 1e-2;
 
 /// How far inside its cell a merged cell's vertex is kept, in the order tried: the first whose
