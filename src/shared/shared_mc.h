@@ -26,10 +26,17 @@ inline constexpr std::uint16_t kMcNoEdge = 0xffff;
 /// @a corners plus the number of its first vertex, then overwrites the borrowed corners with
 /// the neighbours' vertices (found through their index_of).
 struct BlockMc {
-    std::vector<std::uint16_t> edges;  ///< owned crossing edges ((x * 8 + y) * 8 + z) * 3 + axis, sorted
-    std::vector<double> t;             ///< their crossing parameters
-    std::vector<std::uint16_t> index_of;  ///< per edge code (8 * 8 * 8 * 3): its index in edges, or kMcNoEdge
-    /// Triangles: an own vertex as its index in edges; a borrowed one as 0 (see borrowed_corners).
+    /// An owned crossing: its edge's first corner (from the block origin) and the crossing
+    /// parameter on the edge's axis (0 on the others): placed at o, the vertex is
+    /// (o + corner) + along per axis, as mesh_grid computes it.
+    struct OwnedVertex {
+        std::array<std::int32_t, 3> corner;
+        std::array<double, 3> along;
+    };
+    /// The crossings of the owned edges, by edge code ((x * 8 + y) * 8 + z) * 3 + axis.
+    std::vector<OwnedVertex> owned;
+    std::vector<std::uint16_t> index_of;  ///< per edge code (8 * 8 * 8 * 3): its index in owned, or kMcNoEdge
+    /// Triangles: an own vertex as its index in owned; a borrowed one as 0 (see borrowed_corners).
     std::vector<std::array<std::uint32_t, 3>> corners;
     /// Borrowed vertices in order of first use: (d << 16) | edge code in block d (bits as in Key8).
     std::vector<std::uint32_t> borrowed;

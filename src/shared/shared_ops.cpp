@@ -13,8 +13,10 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <set>
 
 #include "vdbmesh/huge_pages.h"
@@ -107,13 +109,15 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key) {
                     const int i0 = index(x, y, z), i1 = index(x + (axis == 0), y + (axis == 1), z + (axis == 2));
                     if (inside[i0] == inside[i1]) continue;
                     const std::uint16_t code = std::uint16_t(((x * 8 + y) * 8 + z) * 3 + axis);
-                    own[code] = std::uint16_t(out.edges.size());
-                    out.edges.push_back(code);
-                    out.t.push_back(crossing(x, y, z, axis));
+                    own[code] = std::uint16_t(out.owned.size());
+                    detail::BlockMc::OwnedVertex v = {{x, y, z}, {0.0, 0.0, 0.0}};
+                    v.along[axis] = crossing(x, y, z, axis);
+                    out.owned.push_back(v);
                 }
     out.index_of.assign(own.begin(), own.end());
     // Local part: every edge the triangles use, own or not, in index space from the origin.
     std::vector<std::int32_t> part_index(S * S * S * 3, -1), borrowed_index(S * S * S * 3, -1);
+    std::vector<std::array<double, 3>> part_points;  // part_vertices in double, for the area
     auto local_point = [&](int x, int y, int z, int axis) {
         std::array<double, 3> p = {double(x), double(y), double(z)};
         p[axis] += crossing(x, y, z, axis);
@@ -139,9 +143,10 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key) {
                             part_index[slot] = std::int32_t(out.part_vertices.size());
                             const auto q = local_point(v[0], v[1], v[2], axis);
                             out.part_vertices.push_back({float(q[0]), float(q[1]), float(q[2])});
+                            part_points.push_back(q);
                         }
                         local[k] = std::uint32_t(part_index[slot]);
-                        p[k] = local_point(v[0], v[1], v[2], axis);
+                        p[k] = part_points[local[k]];
                         unsigned block = 0;
                         for (int a = 0; a < 3; ++a) {
                             if (v[a] == 8) {
@@ -251,7 +256,7 @@ const std::vector<McCaches::BlockRef>& blocks_of_level1(const SharedTree& tree, 
                     const Key8 k = children.key(x, y, z);
                     if (detail::quiet_key(tree, k)) continue;
                     const detail::BlockMc& mc = block_of(tree, caches, k);
-                    if (!mc.edges.empty() || !mc.corners.empty()) list.push_back({std::uint32_t((x * 16 + y) * 16 + z), &mc});
+                    if (!mc.owned.empty() || !mc.corners.empty()) list.push_back({std::uint32_t((x * 16 + y) * 16 + z), &mc});
                 }
         return list;
     });
@@ -296,16 +301,23 @@ std::vector<PlacedBlock> placed_in_origin_order(const std::vector<std::pair<Coor
 
 /// Every surface block of the tree with its cached result, sorted by origin.
 std::vector<PlacedBlock> surface_blocks(const SharedTree& tree, McCaches& caches) {
-    std::vector<std::pair<Coord3, Key8>> level1;  // neighbourhoods of level-1 positions
-    for (const auto& [origin, key] : detail::root_neighbourhoods(tree)) {
-        const detail::ChildGrid children(tree, 2, key);
-        for (int x = 0; x < 32; ++x)
-            for (int y = 0; y < 32; ++y)
-                for (int z = 0; z < 32; ++z) {
-                    const Key8 k = children.key(x, y, z);
-                    if (!detail::quiet_key(tree, k)) level1.push_back({{origin[0] + x * 128, origin[1] + y * 128, origin[2] + z * 128}, k});
-                }
-    }
+    // The neighbourhoods of level-1 positions, gathered in parallel per slab of a root
+    // neighbourhood's children (fixed x) and joined in slab order.
+    const auto roots = detail::root_neighbourhoods(tree);
+    std::vector<std::unique_ptr<const detail::ChildGrid>> children(roots.size());
+    tbb::parallel_for(std::size_t(0), roots.size(), [&](std::size_t r) { children[r] = std::make_unique<const detail::ChildGrid>(tree, 2, roots[r].second); });
+    std::vector<std::vector<std::pair<Coord3, Key8>>> slabs(roots.size() * 32);
+    tbb::parallel_for(std::size_t(0), slabs.size(), [&](std::size_t i) {
+        const Coord3& origin = roots[i / 32].first;
+        const int x = int(i % 32);
+        for (int y = 0; y < 32; ++y)
+            for (int z = 0; z < 32; ++z) {
+                const Key8 k = children[i / 32]->key(x, y, z);
+                if (!detail::quiet_key(tree, k)) slabs[i].push_back({{origin[0] + x * 128, origin[1] + y * 128, origin[2] + z * 128}, k});
+            }
+    });
+    std::vector<std::pair<Coord3, Key8>> level1;
+    for (const auto& slab : slabs) level1.insert(level1.end(), slab.begin(), slab.end());
     // Root neighbourhoods at the same x give children at different x: sorted here.
     std::sort(level1.begin(), level1.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<const std::vector<McCaches::BlockRef>*> lists(level1.size());
@@ -341,30 +353,68 @@ double shared_area(const SharedTree& tree) {
 namespace {
 
 constexpr std::uint32_t kNoBlock = ~0u;
+constexpr std::size_t kMaxBlockVertices = 8 * 8 * 8 * 3, kMaxBlockTriangles = 8 * 8 * 8 * 5;
 
-/// For each block, the indices of the 7 blocks after it (d = 1..7 at d - 1, bits as in Key8),
-/// kNoBlock where there is none. The origins shifted by one offset are sorted as the blocks
-/// are, so each chunk of blocks finds them in one sweep from a binary search.
-std::vector<std::array<std::uint32_t, 7>> following_blocks(const std::vector<PlacedBlock>& blocks) {
-    std::vector<std::array<std::uint32_t, 7>> out(blocks.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 4096), [&](const auto& range) {
-        for (unsigned d = 1; d < 8; ++d) {
-            auto shifted = [&](std::size_t b) {
-                const Coord3& o = blocks[b].origin;
-                return Coord3{o[0] + 8 * int(d & 1), o[1] + 8 * int((d >> 1) & 1), o[2] + 8 * int(d >> 2)};
-            };
-            std::size_t j = std::size_t(std::lower_bound(blocks.begin(), blocks.end(), shifted(range.begin()),
-                                                         [](const PlacedBlock& p, const Coord3& o) { return p.origin < o; }) -
-                                        blocks.begin());
-            for (std::size_t b = range.begin(); b != range.end(); ++b) {
-                const Coord3 target = shifted(b);
-                while (j < blocks.size() && blocks[j].origin < target) ++j;
-                out[b][d - 1] = j < blocks.size() && blocks[j].origin == target ? std::uint32_t(j) : kNoBlock;
-            }
+/// The pages of an array that one thread appends to, faulted in a little ahead of it by
+/// another thread with time to spare: the kernel's zeroing of fresh pages (about half the cost
+/// of a first write) moves to that thread, while the pages are still in cache when the writer
+/// reaches them (faulted far ahead, they are not, and the writer saved little: measured).
+/// Only page faults move: what is written, and by which thread, stays the same. Nobody waits.
+class PagesAhead {
+public:
+    PagesAhead(const void* data, std::size_t bytes)
+        : base_(reinterpret_cast<std::uintptr_t>(data)), end_(base_ + bytes), written_(base_) {
+        next_ = (base_ + kHugePage - 1) & ~(kHugePage - 1);  // whole huge pages; the writer faults the first one
+    }
+    /// By the writer: its bytes written so far.
+    void written(std::size_t bytes) { written_.store(base_ + bytes, std::memory_order_relaxed); }
+    /// Whether the writer has written less than @a fraction of the array.
+    bool behind(double fraction) const {
+        return double(written_.load(std::memory_order_relaxed) - base_) < fraction * double(end_ - base_);
+    }
+    /// By the helper: faults the pages up to kAhead past the writer.
+    void keep_ahead() {
+        const std::uintptr_t w = written_.load(std::memory_order_relaxed);
+        if (next_ < w) next_ = (w + kHugePage - 1) & ~(kHugePage - 1);  // the writer went past
+        for (const std::uintptr_t limit = std::min(end_, w + kAhead); next_ < limit; next_ += kHugePage) {
+            detail::populate_pages(reinterpret_cast<void*>(next_), std::min(kHugePage, end_ - next_));
         }
-    });
-    return out;
-}
+    }
+
+private:
+    static constexpr std::uintptr_t kHugePage = std::uintptr_t(2) << 20, kAhead = 4 * kHugePage;
+    std::uintptr_t base_, end_, next_;
+    std::atomic<std::uintptr_t> written_;  // base_ + bytes written
+};
+
+/// The 7 blocks after each block in turn (d = 1..7 at d - 1, bits as in Key8; kNoBlock where
+/// there is none), found by one sweep along the blocks: the origins shifted by one offset are
+/// sorted as the blocks are, so each direction's cursor only moves forward.
+class FollowingSweep {
+public:
+    explicit FollowingSweep(const std::vector<PlacedBlock>& blocks) : blocks_(blocks) { cursor_.fill(0); }
+    /// The blocks after block @a b; @a b must not decrease from one call to the next.
+    std::array<std::uint32_t, 7> after(std::size_t b) {
+        std::array<std::uint32_t, 7> out;
+        const Coord3& o = blocks_[b].origin;
+        for (unsigned d = 1; d < 8; ++d) {
+            const Coord3 target = {o[0] + 8 * int(d & 1), o[1] + 8 * int((d >> 1) & 1), o[2] + 8 * int(d >> 2)};
+            std::size_t& j = cursor_[d - 1];
+            while (j < blocks_.size() && before(blocks_[j].origin, target)) ++j;
+            out[d - 1] = j < blocks_.size() && same(blocks_[j].origin, target) ? std::uint32_t(j) : kNoBlock;
+        }
+        return out;
+    }
+
+private:
+    // Written out: std::array's == is a memcmp call, which dominated the sweep.
+    static bool before(const Coord3& a, const Coord3& b) {
+        return a[0] != b[0] ? a[0] < b[0] : a[1] != b[1] ? a[1] < b[1] : a[2] < b[2];
+    }
+    static bool same(const Coord3& a, const Coord3& b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
+    const std::vector<PlacedBlock>& blocks_;
+    std::array<std::size_t, 7> cursor_;
+};
 
 /// Offsets of each block's first vertex and first triangle in the flat mesh (one more entry
 /// at the end: the totals).
@@ -372,7 +422,7 @@ void number_blocks(const std::vector<PlacedBlock>& blocks, std::vector<std::size
     first_vertex.assign(blocks.size() + 1, 0);
     first_triangle.assign(blocks.size() + 1, 0);
     for (std::size_t b = 0; b < blocks.size(); ++b) {
-        first_vertex[b + 1] = first_vertex[b] + blocks[b].mc->edges.size();
+        first_vertex[b + 1] = first_vertex[b] + blocks[b].mc->owned.size();
         first_triangle[b + 1] = first_triangle[b] + blocks[b].mc->corners.size();
     }
 }
@@ -381,29 +431,23 @@ void number_blocks(const std::vector<PlacedBlock>& blocks, std::vector<std::size
 /// (build_shared_tree()): index * h, as OpenVDB's UniformScaleMap computes it, so that the
 /// vertices are mesh_grid's bit for bit.
 void write_vertices(const PlacedBlock& block, double h, std::array<float, 3>* out) {
-    const detail::BlockMc& mc = *block.mc;
     const Coord3& o = block.origin;
-    for (std::size_t e = 0; e < mc.edges.size(); ++e) {
-        const unsigned code = mc.edges[e];
-        const unsigned axis = code % 3, cell = code / 3;
-        // x + 0.0 off the axis, as edge_crossing() computes p0 + t * (p1 - p0); no array
-        // indexed by the axis (its store and reload stalled this loop).
-        const double t = mc.t[e];
-        const double x = double(o[0] + int(cell >> 6)) + (axis == 0 ? t : 0.0);
-        const double y = double(o[1] + int((cell >> 3) & 7)) + (axis == 1 ? t : 0.0);
-        const double z = double(o[2] + int(cell & 7)) + (axis == 2 ? t : 0.0);
-        out[e] = {float(x * h), float(y * h), float(z * h)};
+    const auto& owned = block.mc->owned;
+    for (std::size_t e = 0; e < owned.size(); ++e) {
+        const auto& v = owned[e];
+        out[e] = {float((double(o[0] + v.corner[0]) + v.along[0]) * h), float((double(o[1] + v.corner[1]) + v.along[1]) * h),
+                  float((double(o[2] + v.corner[2]) + v.along[2]) * h)};
     }
 }
 
 /// The mesh indices of the vertices block @a b borrows, in BlockMc::borrowed order.
-void borrowed_vertices(const std::vector<PlacedBlock>& blocks, const std::vector<std::array<std::uint32_t, 7>>& following,
+void borrowed_vertices(const std::vector<PlacedBlock>& blocks, const std::array<std::uint32_t, 7>& following,
                        const std::vector<std::size_t>& first_vertex, std::size_t b, std::vector<std::uint32_t>& out) {
     const detail::BlockMc& mc = *blocks[b].mc;
     out.resize(mc.borrowed.size());
     for (std::size_t j = 0; j < mc.borrowed.size(); ++j) {
         const unsigned d = mc.borrowed[j] >> 16, code = mc.borrowed[j] & 0xffffu;
-        const std::uint32_t n = following[b][d - 1];
+        const std::uint32_t n = following[d - 1];
         if (n == kNoBlock) throw Error("shared marching cubes: a triangle refers to a missing block");
         const std::uint16_t index = blocks[n].mc->index_of[code];
         if (index == detail::kMcNoEdge) throw Error("shared marching cubes: a triangle refers to a missing vertex");
@@ -421,39 +465,61 @@ void write_triangles(const detail::BlockMc& mc, std::uint32_t first_vertex, cons
     for (const auto& c : mc.borrowed_corners) out[c.triangle][c.corner] = borrowed[c.borrowed];
 }
 
+/// The @a count vertices of the placed blocks in order, appended to @a out (reserved). While it is
+/// ahead of the triangles (in the fraction of its output written), it faults their pages ahead
+/// of their writer: the triangles are twice the bytes.
+void append_vertices(const std::vector<PlacedBlock>& blocks, double h, std::size_t count, std::vector<std::array<float, 3>>& out,
+                     PagesAhead& triangle_pages) {
+    std::vector<std::array<float, 3>> block(kMaxBlockVertices);
+    const double total = double(count);
+    for (const PlacedBlock& b : blocks) {
+        write_vertices(b, h, block.data());
+        out.insert(out.end(), block.data(), block.data() + b.mc->owned.size());
+        if (triangle_pages.behind(double(out.size()) / total)) triangle_pages.keep_ahead();
+    }
+}
+
+/// The triangles of the placed blocks in order, appended to @a out (reserved); their progress
+/// is published to @a pages.
+void append_triangles(const std::vector<PlacedBlock>& blocks, const std::vector<std::size_t>& first_vertex,
+                      std::vector<std::array<std::uint32_t, 3>>& out, PagesAhead& pages) {
+    std::vector<std::array<std::uint32_t, 3>> block(kMaxBlockTriangles);
+    std::vector<std::uint32_t> borrowed;
+    FollowingSweep following(blocks);
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+        borrowed_vertices(blocks, following.after(b), first_vertex, b, borrowed);
+        write_triangles(*blocks[b].mc, std::uint32_t(first_vertex[b]), borrowed, block.data());
+        out.insert(out.end(), block.data(), block.data() + blocks[b].mc->corners.size());
+        pages.written(out.size() * sizeof(out[0]));
+    }
+}
+
 }  // namespace
 
 // The flat mesh: every placed block numbers the vertices it owns from its offset (prefix sums
 // over the blocks in origin order) and finds the ones it borrows in the neighbours' cached
-// index_of; vertices and triangles are written per block in parallel at their offsets. No
-// table of global edges, no welding afterwards: the same welded mesh for any thread count.
+// index_of. No table of global edges, no welding afterwards: the same welded mesh for any
+// thread count.
+//
+// The output (730 MB for the 512^3 gyroid) is most of the time, so it is written once: Mesh
+// holds std::vectors, whose resize() would zero every element first (serially), so the
+// vectors are reserved (on huge pages) and each block's elements appended, computed in a small
+// buffer and copied in; appending within the capacity constructs each element once, with its
+// value, legally, and the page faults follow the writes. Appending is serial per vector, so
+// the vertices and the triangles are written side by side, the vertex writer also taking some
+// page faults off the triangle writer (PagesAhead).
 Mesh shared_marching_cubes(const SharedTree& tree) {
     McCaches caches;
     const std::vector<PlacedBlock> blocks = surface_blocks(tree, caches);
     std::vector<std::size_t> first_vertex, first_triangle;
     number_blocks(blocks, first_vertex, first_triangle);
     if (first_vertex.back() > std::numeric_limits<std::uint32_t>::max()) throw Error("shared marching cubes: more than 2^32 vertices");
-    std::vector<std::array<std::uint32_t, 7>> following;
     Mesh mesh;
-    // Some hundred MB written once: huge pages save most of the page faults (vdbmesh/huge_pages.h);
-    // the two arrays are allocated (and zeroed, serially each) side by side.
-    tbb::parallel_invoke([&] { following = following_blocks(blocks); },
-                         [&] {
-                             detail::reserve_on_huge_pages(mesh.vertices, first_vertex.back());
-                             mesh.vertices.resize(first_vertex.back());
-                         },
-                         [&] {
-                             detail::reserve_on_huge_pages(mesh.triangles, first_triangle.back());
-                             mesh.triangles.resize(first_triangle.back());
-                         });
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 64), [&](const auto& range) {
-        std::vector<std::uint32_t> borrowed;
-        for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            write_vertices(blocks[b], tree.voxel_size, mesh.vertices.data() + first_vertex[b]);
-            borrowed_vertices(blocks, following, first_vertex, b, borrowed);
-            write_triangles(*blocks[b].mc, std::uint32_t(first_vertex[b]), borrowed, mesh.triangles.data() + first_triangle[b]);
-        }
-    });
+    detail::reserve_on_huge_pages(mesh.vertices, first_vertex.back());
+    detail::reserve_on_huge_pages(mesh.triangles, first_triangle.back());
+    PagesAhead triangle_pages(mesh.triangles.data(), first_triangle.back() * sizeof(mesh.triangles[0]));
+    tbb::parallel_invoke([&] { append_vertices(blocks, tree.voxel_size, first_vertex.back(), mesh.vertices, triangle_pages); },
+                         [&] { append_triangles(blocks, first_vertex, mesh.triangles, triangle_pages); });
     return mesh;
 }
 
