@@ -46,6 +46,8 @@ struct BlockMc {
         std::uint16_t borrowed;  ///< index in borrowed
     };
     std::vector<BorrowedCorner> borrowed_corners;  ///< in triangle order
+    // The block's own mesh, for the instanced output and the area (block_marching_cubes()'s
+    // with_part).
     double area = 0;                                       ///< in index units
     std::vector<std::array<float, 3>> part_vertices;       ///< every corner, index space from the block origin
     std::vector<std::array<std::uint32_t, 3>> part_triangles;
@@ -73,7 +75,8 @@ private:
 bool quiet_key(const SharedTree& tree, const Key8& key);
 /// The level-2 neighbourhoods that may hold surface: every root entry and the positions before it.
 std::vector<std::pair<Coord3, Key8>> root_neighbourhoods(const SharedTree& tree);
-/// Marching Cubes (inside: value < 0) of the block whose leaf-level neighbourhood is @a key.
-BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key);
+/// Marching Cubes (inside: value < 0) of the block whose leaf-level neighbourhood is @a key;
+/// its part and area only @a with_part (left empty and 0 otherwise).
+BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key, bool with_part);
 
 }  // namespace vdbmesh::detail

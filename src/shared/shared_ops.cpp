@@ -78,7 +78,7 @@ std::vector<std::pair<Coord3, Key8>> root_neighbourhoods(const SharedTree& tree)
     return out;
 }
 
-BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key) {
+BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key, bool with_part) {
     // The 9^3 samples the block's cells read.
     constexpr int S = 9;
     std::array<double, S * S * S> value;
@@ -123,12 +123,23 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key) {
         p[axis] += crossing(x, y, z, axis);
         return p;
     };
+    // The cells' cases first: the triangle count sizes the outputs once.
+    std::array<const McCase*, 8 * 8 * 8> cases;
+    std::size_t triangle_count = 0;
     for (int x = 0; x < 8; ++x)
         for (int y = 0; y < 8; ++y)
             for (int z = 0; z < 8; ++z) {
                 unsigned config = 0;
                 for (unsigned c = 0; c < 8; ++c) config |= unsigned(inside[index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))]) << c;
-                const McCase& cell_case = mc_case(config);
+                cases[(x * 8 + y) * 8 + z] = &mc_case(config);
+                triangle_count += std::size_t(cases[(x * 8 + y) * 8 + z]->triangle_count);
+            }
+    out.corners.reserve(triangle_count);
+    if (with_part) out.part_triangles.reserve(triangle_count);
+    for (int x = 0; x < 8; ++x)
+        for (int y = 0; y < 8; ++y)
+            for (int z = 0; z < 8; ++z) {
+                const McCase& cell_case = *cases[(x * 8 + y) * 8 + z];
                 for (int t = 0; t < cell_case.triangle_count; ++t) {
                     std::array<std::uint32_t, 3> corner;
                     std::array<std::uint32_t, 3> local;
@@ -139,14 +150,16 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key) {
                         const int axis = (c0 ^ c1) == 1 ? 0 : (c0 ^ c1) == 2 ? 1 : 2;
                         int v[3] = {x + int(c0 & 1), y + int((c0 >> 1) & 1), z + int(c0 >> 2)};
                         const int slot = index(v[0], v[1], v[2]) * 3 + axis;
-                        if (part_index[slot] < 0) {
-                            part_index[slot] = std::int32_t(out.part_vertices.size());
-                            const auto q = local_point(v[0], v[1], v[2], axis);
-                            out.part_vertices.push_back({float(q[0]), float(q[1]), float(q[2])});
-                            part_points.push_back(q);
+                        if (with_part) {
+                            if (part_index[slot] < 0) {
+                                part_index[slot] = std::int32_t(out.part_vertices.size());
+                                const auto q = local_point(v[0], v[1], v[2], axis);
+                                out.part_vertices.push_back({float(q[0]), float(q[1]), float(q[2])});
+                                part_points.push_back(q);
+                            }
+                            local[k] = std::uint32_t(part_index[slot]);
+                            p[k] = part_points[local[k]];
                         }
-                        local[k] = std::uint32_t(part_index[slot]);
-                        p[k] = part_points[local[k]];
                         unsigned block = 0;
                         for (int a = 0; a < 3; ++a) {
                             if (v[a] == 8) {
@@ -165,6 +178,7 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key) {
                         }
                     }
                     out.corners.push_back(corner);
+                    if (!with_part) continue;
                     out.part_triangles.push_back(local);
                     const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
                     const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
@@ -218,6 +232,9 @@ namespace {
 /// The caches of one Marching Cubes run: leaf-level block results, and per level 1 and 2 the
 /// area of a neighbourhood, and per level 1 the list of its surface blocks.
 struct McCaches {
+    /// Whether the blocks get their part (BlockMc::part_vertices, part_triangles) and area:
+    /// the instanced mesh and the area read them, the flat mesh does not.
+    bool parts = true;
     detail::ResultCache<8, detail::BlockMc> blocks;
     detail::ResultCache<8, double> area1, area2;
     struct BlockRef {
@@ -228,7 +245,7 @@ struct McCaches {
 };
 
 const detail::BlockMc& block_of(const SharedTree& tree, McCaches& caches, const Key8& key) {
-    return caches.blocks.get(key, [&] { return detail::block_marching_cubes(tree, key); });
+    return caches.blocks.get(key, [&] { return detail::block_marching_cubes(tree, key, caches.parts); });
 }
 
 double area_of(const SharedTree& tree, McCaches& caches, int level, const Key8& key) {
@@ -272,7 +289,10 @@ struct PlacedBlock {
 /// row (x, y) are a run of each list, taken node by node along z.
 std::vector<PlacedBlock> placed_in_origin_order(const std::vector<std::pair<Coord3, Key8>>& level1,
                                                 const std::vector<const std::vector<McCaches::BlockRef>*>& lists) {
+    std::size_t count = 0;
+    for (const auto* list : lists) count += list->size();
     std::vector<PlacedBlock> blocks;
+    blocks.reserve(count);
     std::vector<std::size_t> cursor(level1.size(), 0);
     for (std::size_t gx = 0; gx < level1.size();) {
         std::size_t gx_end = gx;  // the nodes at this x
@@ -510,6 +530,7 @@ void append_triangles(const std::vector<PlacedBlock>& blocks, const std::vector<
 // page faults off the triangle writer (PagesAhead).
 Mesh shared_marching_cubes(const SharedTree& tree) {
     McCaches caches;
+    caches.parts = false;
     const std::vector<PlacedBlock> blocks = surface_blocks(tree, caches);
     std::vector<std::size_t> first_vertex, first_triangle;
     number_blocks(blocks, first_vertex, first_triangle);
