@@ -67,8 +67,13 @@ public:
                 refs_[i + 1], refs_[i + m_ * m_ + 1], refs_[i + m_ + 1], refs_[i + m_ * m_ + m_ + 1]};
     }
 
+    /// Whether the neighbourhood of child (x, y, z) lies inside the parent's own node and that
+    /// node is a tile: then it is quiet (quiet_key()), without looking.
+    bool inside_tile(int x, int y, int z) const { return tile_ && x < m_ - 2 && y < m_ - 2 && z < m_ - 2; }
+
 private:
     int m_;  // n + 1
+    bool tile_;  // the parent's own node (d = 0) is a tile
     std::vector<SharedRef> refs_;
 };
 /// Whether a neighbourhood is all tiles on one side of the surface (no surface in it).

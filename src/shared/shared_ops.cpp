@@ -40,7 +40,8 @@ const std::vector<SharedRef>& children_of(const SharedTree& tree, int level, Sha
 
 }  // namespace
 
-ChildGrid::ChildGrid(const SharedTree& tree, int level, const Key8& parent) : m_(kSharedChildren[level] + 1) {
+ChildGrid::ChildGrid(const SharedTree& tree, int level, const Key8& parent)
+    : m_(kSharedChildren[level] + 1), tile_(is_tile(parent[0])) {
     const int n = m_ - 1;
     refs_.resize(std::size_t(m_) * m_ * m_);
     for (int x = 0; x < m_; ++x)
@@ -270,6 +271,7 @@ const std::vector<McCaches::BlockRef>& blocks_of_level1(const SharedTree& tree, 
         for (int x = 0; x < 16; ++x)
             for (int y = 0; y < 16; ++y)
                 for (int z = 0; z < 16; ++z) {
+                    if (children.inside_tile(x, y, z)) continue;
                     const Key8 k = children.key(x, y, z);
                     if (detail::quiet_key(tree, k)) continue;
                     const detail::BlockMc& mc = block_of(tree, caches, k);
@@ -332,6 +334,7 @@ std::vector<PlacedBlock> surface_blocks(const SharedTree& tree, McCaches& caches
         const int x = int(i % 32);
         for (int y = 0; y < 32; ++y)
             for (int z = 0; z < 32; ++z) {
+                if (children[i / 32]->inside_tile(x, y, z)) continue;
                 const Key8 k = children[i / 32]->key(x, y, z);
                 if (!detail::quiet_key(tree, k)) slabs[i].push_back({{origin[0] + x * 128, origin[1] + y * 128, origin[2] + z * 128}, k});
             }
