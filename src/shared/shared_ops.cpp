@@ -117,7 +117,7 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key, bool with_
                 }
     out.index_of.assign(own.begin(), own.end());
     // Local part: every edge the triangles use, own or not, in index space from the origin.
-    std::vector<std::int32_t> part_index(S * S * S * 3, -1), borrowed_index(S * S * S * 3, -1);
+    std::vector<std::int32_t> part_index(with_part ? S * S * S * 3 : 0, -1), borrowed_index(S * S * S * 3, -1);
     std::vector<std::array<double, 3>> part_points;  // part_vertices in double, for the area
     auto local_point = [&](int x, int y, int z, int axis) {
         std::array<double, 3> p = {double(x), double(y), double(z)};
@@ -463,18 +463,26 @@ void write_vertices(const PlacedBlock& block, double h, std::array<float, 3>* ou
     }
 }
 
-/// The mesh indices of the vertices block @a b borrows, in BlockMc::borrowed order.
+/// The mesh indices of the vertices block @a b borrows, in BlockMc::borrowed order. The
+/// neighbours' first vertices and edge tables are looked up once per direction (per borrowed
+/// vertex, the chain of loads stood out in profiles).
 void borrowed_vertices(const std::vector<PlacedBlock>& blocks, const std::array<std::uint32_t, 7>& following,
                        const std::vector<std::size_t>& first_vertex, std::size_t b, std::vector<std::uint32_t>& out) {
+    std::array<const std::uint16_t*, 7> index_of{};
+    std::array<std::uint32_t, 7> first{};
+    for (std::size_t d = 0; d < 7; ++d) {
+        if (following[d] == kNoBlock) continue;
+        index_of[d] = blocks[following[d]].mc->index_of.data();
+        first[d] = std::uint32_t(first_vertex[following[d]]);
+    }
     const detail::BlockMc& mc = *blocks[b].mc;
     out.resize(mc.borrowed.size());
     for (std::size_t j = 0; j < mc.borrowed.size(); ++j) {
-        const unsigned d = mc.borrowed[j] >> 16, code = mc.borrowed[j] & 0xffffu;
-        const std::uint32_t n = following[d - 1];
-        if (n == kNoBlock) throw Error("shared marching cubes: a triangle refers to a missing block");
-        const std::uint16_t index = blocks[n].mc->index_of[code];
+        const unsigned d = (mc.borrowed[j] >> 16) - 1, code = mc.borrowed[j] & 0xffffu;
+        if (index_of[d] == nullptr) throw Error("shared marching cubes: a triangle refers to a missing block");
+        const std::uint16_t index = index_of[d][code];
         if (index == detail::kMcNoEdge) throw Error("shared marching cubes: a triangle refers to a missing vertex");
-        out[j] = std::uint32_t(first_vertex[n] + index);
+        out[j] = first[d] + index;
     }
 }
 
