@@ -115,7 +115,15 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key, bool with_
                     v.along[axis] = crossing(x, y, z, axis);
                     out.owned.push_back(v);
                 }
-    out.index_of.assign(own.begin(), own.end());
+    for (int face = 0; face < 3; ++face)
+        for (int u = 0; u < 8; ++u)
+            for (int v = 0; v < 8; ++v) {
+                int c[3];
+                c[face] = 0;
+                c[face == 0 ? 1 : 0] = u;
+                c[face == 2 ? 1 : 2] = v;
+                for (int axis = 0; axis < 3; ++axis) out.face_index[face_slot(face, c, axis)] = own[((c[0] * 8 + c[1]) * 8 + c[2]) * 3 + axis];
+            }
     // Local part: every edge the triangles use, own or not, in index space from the origin.
     std::vector<std::int32_t> part_index(with_part ? S * S * S * 3 : 0, -1), borrowed_index(S * S * S * 3, -1);
     std::vector<std::array<double, 3>> part_points;  // part_vertices in double, for the area
@@ -173,7 +181,8 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key, bool with_
                         if (block != 0) {
                             if (borrowed_index[slot] < 0) {
                                 borrowed_index[slot] = std::int32_t(out.borrowed.size());
-                                out.borrowed.push_back((block << 16) | code);
+                                const int face = block & 1 ? 0 : block & 2 ? 1 : 2;  // v[face] is 0
+                                out.borrowed.push_back((block << 16) | unsigned(face_slot(face, v, axis)));
                             }
                             out.borrowed_corners.push_back({std::uint32_t(out.corners.size()), std::uint16_t(k), std::uint16_t(borrowed_index[slot])});
                         }
@@ -464,23 +473,23 @@ void write_vertices(const PlacedBlock& block, double h, std::array<float, 3>* ou
 }
 
 /// The mesh indices of the vertices block @a b borrows, in BlockMc::borrowed order. The
-/// neighbours' first vertices and edge tables are looked up once per direction (per borrowed
+/// neighbours' first vertices and face tables are looked up once per direction (per borrowed
 /// vertex, the chain of loads stood out in profiles).
 void borrowed_vertices(const std::vector<PlacedBlock>& blocks, const std::array<std::uint32_t, 7>& following,
                        const std::vector<std::size_t>& first_vertex, std::size_t b, std::vector<std::uint32_t>& out) {
-    std::array<const std::uint16_t*, 7> index_of{};
+    std::array<const std::uint16_t*, 7> face_index{};
     std::array<std::uint32_t, 7> first{};
     for (std::size_t d = 0; d < 7; ++d) {
         if (following[d] == kNoBlock) continue;
-        index_of[d] = blocks[following[d]].mc->index_of.data();
+        face_index[d] = blocks[following[d]].mc->face_index.data();
         first[d] = std::uint32_t(first_vertex[following[d]]);
     }
     const detail::BlockMc& mc = *blocks[b].mc;
     out.resize(mc.borrowed.size());
     for (std::size_t j = 0; j < mc.borrowed.size(); ++j) {
-        const unsigned d = (mc.borrowed[j] >> 16) - 1, code = mc.borrowed[j] & 0xffffu;
-        if (index_of[d] == nullptr) throw Error("shared marching cubes: a triangle refers to a missing block");
-        const std::uint16_t index = index_of[d][code];
+        const unsigned d = (mc.borrowed[j] >> 16) - 1, slot = mc.borrowed[j] & 0xffffu;
+        if (face_index[d] == nullptr) throw Error("shared marching cubes: a triangle refers to a missing block");
+        const std::uint16_t index = face_index[d][slot];
         if (index == detail::kMcNoEdge) throw Error("shared marching cubes: a triangle refers to a missing vertex");
         out[j] = first[d] + index;
     }
@@ -529,7 +538,7 @@ void append_triangles(const std::vector<PlacedBlock>& blocks, const std::vector<
 
 // The flat mesh: every placed block numbers the vertices it owns from its offset (prefix sums
 // over the blocks in origin order) and finds the ones it borrows in the neighbours' cached
-// index_of. No table of global edges, no welding afterwards: the same welded mesh for any
+// face_index. No table of global edges, no welding afterwards: the same welded mesh for any
 // thread count.
 //
 // The output (730 MB for the 512^3 gyroid) is most of the time, so it is written once: Mesh
