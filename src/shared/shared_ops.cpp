@@ -83,7 +83,9 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key, bool with_
     // The 9^3 samples the block's cells read.
     constexpr int S = 9;
     std::array<double, S * S * S> value;
-    std::array<bool, S * S * S> inside;
+    // Inside (value < 0) as bits: bit z of rows[x * S + y]. Most rows of a block see no sign
+    // change, and the edge and cell scans below skip them whole.
+    std::array<std::uint16_t, S * S> rows{};
     auto index = [](int x, int y, int z) { return (x * S + y) * S + z; };
     for (int x = 0; x < S; ++x)
         for (int y = 0; y < S; ++y)
@@ -93,7 +95,7 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key, bool with_
                 const float v = is_tile(r) ? tree.tiles[r & ~kSharedTile].value
                                            : tree.leaves[r].values[((x & 7) * 8 + (y & 7)) * 8 + (z & 7)];
                 value[index(x, y, z)] = double(v);
-                inside[index(x, y, z)] = double(v) < 0.0;
+                if (double(v) < 0.0) rows[x * S + y] |= std::uint16_t(1u << z);
             }
     BlockMc out;
     auto crossing = [&](int x, int y, int z, int axis) {
@@ -104,17 +106,21 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key, bool with_
     std::array<std::uint16_t, 8 * 8 * 8 * 3> own;
     own.fill(detail::kMcNoEdge);
     for (int x = 0; x < 8; ++x)
-        for (int y = 0; y < 8; ++y)
-            for (int z = 0; z < 8; ++z)
+        for (int y = 0; y < 8; ++y) {
+            // Bit z of crosses[axis]: the edge from (x, y, z) along axis crosses.
+            const unsigned r = rows[x * S + y];
+            const unsigned crosses[3] = {(r ^ rows[(x + 1) * S + y]) & 0xffu, (r ^ rows[x * S + y + 1]) & 0xffu, (r ^ (r >> 1)) & 0xffu};
+            for (unsigned any = crosses[0] | crosses[1] | crosses[2]; any != 0; any &= any - 1) {
+                const int z = __builtin_ctz(any);
                 for (int axis = 0; axis < 3; ++axis) {
-                    const int i0 = index(x, y, z), i1 = index(x + (axis == 0), y + (axis == 1), z + (axis == 2));
-                    if (inside[i0] == inside[i1]) continue;
-                    const std::uint16_t code = std::uint16_t(((x * 8 + y) * 8 + z) * 3 + axis);
-                    own[code] = std::uint16_t(out.owned.size());
+                    if (!((crosses[axis] >> z) & 1u)) continue;
+                    own[((x * 8 + y) * 8 + z) * 3 + axis] = std::uint16_t(out.owned.size());
                     detail::BlockMc::OwnedVertex v = {{x, y, z}, {0.0, 0.0, 0.0}};
                     v.along[axis] = crossing(x, y, z, axis);
                     out.owned.push_back(v);
                 }
+            }
+        }
     for (int face = 0; face < 3; ++face)
         for (int u = 0; u < 8; ++u)
             for (int v = 0; v < 8; ++v) {
@@ -132,70 +138,79 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key, bool with_
         p[axis] += crossing(x, y, z, axis);
         return p;
     };
-    // The cells' cases first: the triangle count sizes the outputs once.
-    std::array<const McCase*, 8 * 8 * 8> cases;
-    std::size_t triangle_count = 0;
+    // The cells with corners on both sides, in (x, y, z) order, with their cases (cells with all
+    // corners on one side have none); the triangle count sizes the outputs once.
+    struct Cell {
+        std::uint16_t position;  // (x * 8 + y) * 8 + z
+        const McCase* cell_case;
+    };
+    std::array<Cell, 8 * 8 * 8> cells;
+    std::size_t cell_count = 0, triangle_count = 0;
     for (int x = 0; x < 8; ++x)
-        for (int y = 0; y < 8; ++y)
-            for (int z = 0; z < 8; ++z) {
+        for (int y = 0; y < 8; ++y) {
+            // The cell's corner c = dx + 2 dy + 4 dz is bit z + dz of corner_rows[dx + 2 dy].
+            const unsigned corner_rows[4] = {rows[x * S + y], rows[(x + 1) * S + y], rows[x * S + y + 1], rows[(x + 1) * S + y + 1]};
+            const unsigned across = (corner_rows[0] ^ corner_rows[1]) | (corner_rows[0] ^ corner_rows[2]) | (corner_rows[0] ^ corner_rows[3]);
+            for (unsigned mixed = (across | (across >> 1) | (corner_rows[0] ^ (corner_rows[0] >> 1))) & 0xffu; mixed != 0; mixed &= mixed - 1) {
+                const int z = __builtin_ctz(mixed);
                 unsigned config = 0;
-                for (unsigned c = 0; c < 8; ++c) config |= unsigned(inside[index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))]) << c;
-                cases[(x * 8 + y) * 8 + z] = &mc_case(config);
-                triangle_count += std::size_t(cases[(x * 8 + y) * 8 + z]->triangle_count);
+                for (unsigned c = 0; c < 8; ++c) config |= ((corner_rows[c & 3] >> (z + int(c >> 2))) & 1u) << c;
+                cells[cell_count] = {std::uint16_t((x * 8 + y) * 8 + z), &mc_case(config)};
+                triangle_count += cells[cell_count++].cell_case->triangle_count;
             }
+        }
     out.corners.reserve(triangle_count);
     if (with_part) out.part_triangles.reserve(triangle_count);
-    for (int x = 0; x < 8; ++x)
-        for (int y = 0; y < 8; ++y)
-            for (int z = 0; z < 8; ++z) {
-                const McCase& cell_case = *cases[(x * 8 + y) * 8 + z];
-                for (int t = 0; t < cell_case.triangle_count; ++t) {
-                    std::array<std::uint32_t, 3> corner;
-                    std::array<std::uint32_t, 3> local;
-                    std::array<std::array<double, 3>, 3> p;
-                    for (int k = 0; k < 3; ++k) {
-                        const int edge = cell_case.triangles[t][k];
-                        const unsigned c0 = kEdgeCorners[edge][0], c1 = kEdgeCorners[edge][1];
-                        const int axis = (c0 ^ c1) == 1 ? 0 : (c0 ^ c1) == 2 ? 1 : 2;
-                        int v[3] = {x + int(c0 & 1), y + int((c0 >> 1) & 1), z + int(c0 >> 2)};
-                        const int slot = index(v[0], v[1], v[2]) * 3 + axis;
-                        if (with_part) {
-                            if (part_index[slot] < 0) {
-                                part_index[slot] = std::int32_t(out.part_vertices.size());
-                                const auto q = local_point(v[0], v[1], v[2], axis);
-                                out.part_vertices.push_back({float(q[0]), float(q[1]), float(q[2])});
-                                part_points.push_back(q);
-                            }
-                            local[k] = std::uint32_t(part_index[slot]);
-                            p[k] = part_points[local[k]];
-                        }
-                        unsigned block = 0;
-                        for (int a = 0; a < 3; ++a) {
-                            if (v[a] == 8) {
-                                v[a] = 0;
-                                block |= 1u << a;
-                            }
-                        }
-                        const std::uint16_t code = std::uint16_t(((v[0] * 8 + v[1]) * 8 + v[2]) * 3 + axis);
-                        corner[k] = block == 0 ? own[code] : 0;
-                        if (block != 0) {
-                            if (borrowed_index[slot] < 0) {
-                                borrowed_index[slot] = std::int32_t(out.borrowed.size());
-                                const int face = block & 1 ? 0 : block & 2 ? 1 : 2;  // v[face] is 0
-                                out.borrowed.push_back((block << 16) | unsigned(face_slot(face, v, axis)));
-                            }
-                            out.borrowed_corners.push_back({std::uint32_t(out.corners.size()), std::uint16_t(k), std::uint16_t(borrowed_index[slot])});
-                        }
+    for (std::size_t i = 0; i < cell_count; ++i) {
+        const int x = cells[i].position >> 6, y = (cells[i].position >> 3) & 7, z = cells[i].position & 7;
+        const McCase& cell_case = *cells[i].cell_case;
+        for (int t = 0; t < cell_case.triangle_count; ++t) {
+            std::array<std::uint32_t, 3> corner;
+            std::array<std::uint32_t, 3> local;
+            std::array<std::array<double, 3>, 3> p;
+            for (int k = 0; k < 3; ++k) {
+                const int edge = cell_case.triangles[t][k];
+                const unsigned c0 = kEdgeCorners[edge][0], c1 = kEdgeCorners[edge][1];
+                const int axis = (c0 ^ c1) == 1 ? 0 : (c0 ^ c1) == 2 ? 1 : 2;
+                int v[3] = {x + int(c0 & 1), y + int((c0 >> 1) & 1), z + int(c0 >> 2)};
+                const int slot = index(v[0], v[1], v[2]) * 3 + axis;
+                if (with_part) {
+                    if (part_index[slot] < 0) {
+                        part_index[slot] = std::int32_t(out.part_vertices.size());
+                        const auto q = local_point(v[0], v[1], v[2], axis);
+                        out.part_vertices.push_back({float(q[0]), float(q[1]), float(q[2])});
+                        part_points.push_back(q);
                     }
-                    out.corners.push_back(corner);
-                    if (!with_part) continue;
-                    out.part_triangles.push_back(local);
-                    const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
-                    const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
-                    const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-                    out.area += 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+                    local[k] = std::uint32_t(part_index[slot]);
+                    p[k] = part_points[local[k]];
+                }
+                unsigned block = 0;
+                for (int a = 0; a < 3; ++a) {
+                    if (v[a] == 8) {
+                        v[a] = 0;
+                        block |= 1u << a;
+                    }
+                }
+                const std::uint16_t code = std::uint16_t(((v[0] * 8 + v[1]) * 8 + v[2]) * 3 + axis);
+                corner[k] = block == 0 ? own[code] : 0;
+                if (block != 0) {
+                    if (borrowed_index[slot] < 0) {
+                        borrowed_index[slot] = std::int32_t(out.borrowed.size());
+                        const int face = block & 1 ? 0 : block & 2 ? 1 : 2;  // v[face] is 0
+                        out.borrowed.push_back((block << 16) | unsigned(face_slot(face, v, axis)));
+                    }
+                    out.borrowed_corners.push_back({std::uint32_t(out.corners.size()), std::uint16_t(k), std::uint16_t(borrowed_index[slot])});
                 }
             }
+            out.corners.push_back(corner);
+            if (!with_part) continue;
+            out.part_triangles.push_back(local);
+            const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+            const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+            const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+            out.area += 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        }
+    }
     return out;
 }
 
