@@ -43,12 +43,16 @@ const std::vector<SharedRef>& children_of(const SharedTree& tree, int level, Sha
 ChildGrid::ChildGrid(const SharedTree& tree, int level, const Key8& parent)
     : m_(kSharedChildren[level] + 1), tile_(is_tile(parent[0])) {
     const int n = m_ - 1;
+    // The parents' children (null for a tile) looked up once; coordinate n is a next parent's 0.
+    std::array<const SharedRef*, 8> children;
+    for (int d = 0; d < 8; ++d) children[d] = is_tile(parent[d]) ? nullptr : children_of(tree, level, parent[d]).data();
     refs_.resize(std::size_t(m_) * m_ * m_);
     for (int x = 0; x < m_; ++x)
         for (int y = 0; y < m_; ++y)
             for (int z = 0; z < m_; ++z) {
-                const SharedRef p = parent[(x == n) | ((y == n) << 1) | ((z == n) << 2)];
-                refs_[(std::size_t(x) * m_ + y) * m_ + z] = is_tile(p) ? p : children_of(tree, level, p)[((x % n) * n + y % n) * n + z % n];
+                const int d = (x == n) | ((y == n) << 1) | ((z == n) << 2);
+                const int i = ((x == n ? 0 : x) * n + (y == n ? 0 : y)) * n + (z == n ? 0 : z);
+                refs_[(std::size_t(x) * m_ + y) * m_ + z] = children[d] ? children[d][i] : parent[d];
             }
 }
 
