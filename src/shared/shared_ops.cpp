@@ -404,7 +404,9 @@ double shared_area(const SharedTree& tree) {
 namespace {
 
 constexpr std::uint32_t kNoBlock = ~0u;
-constexpr std::size_t kMaxBlockVertices = 8 * 8 * 8 * 3, kMaxBlockTriangles = 8 * 8 * 8 * 5;
+/// A block's most owned vertices (every edge) and triangles (every cell the most of a case).
+constexpr std::size_t kMaxBlockVertices = 8 * 8 * 8 * 3,
+                      kMaxBlockTriangles = 8 * 8 * 8 * std::tuple_size<decltype(detail::McCase::triangles)>::value;
 
 /// The pages of an array that one thread appends to, faulted in a little ahead of it by
 /// another thread with time to spare: the kernel's zeroing of fresh pages (about half the cost
