@@ -17,6 +17,12 @@ namespace vdbmesh::detail {
 /// many distributions) need. Nothing where the kernel does not support it.
 void advise_huge_pages(void* data, std::size_t bytes);
 
+/// Asks the kernel to back the whole 4 KB pages within [data, data + bytes) now, zeroed,
+/// without writing them (MADV_POPULATE_WRITE, Linux 5.14): the page faults of a fresh array
+/// taken ahead, by the calling thread. Nothing where the kernel does not support it (the
+/// pages are then faulted when first written).
+void populate_pages(void* data, std::size_t bytes);
+
 /// Reserves room for @a count elements in @a v (empty), advised as above, before any is
 /// written.
 template <class T>

@@ -25,6 +25,17 @@ struct IdKeyHash {
     }
 };
 
+/// Key equality written out: std::array's == is a memcmp call, which stood out in profiles of
+/// the lookups.
+template <std::size_t N>
+struct IdKeyEqual {
+    bool operator()(const std::array<std::uint32_t, N>& a, const std::array<std::uint32_t, N>& b) const {
+        std::uint32_t differ = 0;
+        for (std::size_t i = 0; i < N; ++i) differ |= a[i] ^ b[i];
+        return differ == 0;
+    }
+};
+
 /// A cache of values of type V under keys of N node ids.
 template <std::size_t N, class V>
 class ResultCache {
@@ -61,7 +72,7 @@ private:
     static constexpr std::size_t kShards = 64;
     struct Shard {
         std::shared_mutex mutex;
-        std::unordered_map<Key, std::unique_ptr<V>, IdKeyHash<N>> map;
+        std::unordered_map<Key, std::unique_ptr<V>, IdKeyHash<N>, IdKeyEqual<N>> map;
     };
     std::array<Shard, kShards> shards_;
     std::atomic<std::uint64_t> lookups_{0}, misses_{0};

@@ -13,8 +13,10 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <set>
 
 #include "vdbmesh/huge_pages.h"
@@ -38,14 +40,19 @@ const std::vector<SharedRef>& children_of(const SharedTree& tree, int level, Sha
 
 }  // namespace
 
-ChildGrid::ChildGrid(const SharedTree& tree, int level, const Key8& parent) : m_(kSharedChildren[level] + 1) {
+ChildGrid::ChildGrid(const SharedTree& tree, int level, const Key8& parent)
+    : m_(kSharedChildren[level] + 1), tile_(is_tile(parent[0])) {
     const int n = m_ - 1;
+    // The parents' children (null for a tile) looked up once; coordinate n is a next parent's 0.
+    std::array<const SharedRef*, 8> children;
+    for (int d = 0; d < 8; ++d) children[d] = is_tile(parent[d]) ? nullptr : children_of(tree, level, parent[d]).data();
     refs_.resize(std::size_t(m_) * m_ * m_);
     for (int x = 0; x < m_; ++x)
         for (int y = 0; y < m_; ++y)
             for (int z = 0; z < m_; ++z) {
-                const SharedRef p = parent[(x == n) | ((y == n) << 1) | ((z == n) << 2)];
-                refs_[(std::size_t(x) * m_ + y) * m_ + z] = is_tile(p) ? p : children_of(tree, level, p)[((x % n) * n + y % n) * n + z % n];
+                const int d = (x == n) | ((y == n) << 1) | ((z == n) << 2);
+                const int i = ((x == n ? 0 : x) * n + (y == n ? 0 : y)) * n + (z == n ? 0 : z);
+                refs_[(std::size_t(x) * m_ + y) * m_ + z] = children[d] ? children[d][i] : parent[d];
             }
 }
 
@@ -76,11 +83,13 @@ std::vector<std::pair<Coord3, Key8>> root_neighbourhoods(const SharedTree& tree)
     return out;
 }
 
-BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key) {
+BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key, bool with_part) {
     // The 9^3 samples the block's cells read.
     constexpr int S = 9;
     std::array<double, S * S * S> value;
-    std::array<bool, S * S * S> inside;
+    // Inside (value < 0) as bits: bit z of rows[x * S + y]. Most rows of a block see no sign
+    // change, and the edge and cell scans below skip them whole.
+    std::array<std::uint16_t, S * S> rows{};
     auto index = [](int x, int y, int z) { return (x * S + y) * S + z; };
     for (int x = 0; x < S; ++x)
         for (int y = 0; y < S; ++y)
@@ -90,7 +99,7 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key) {
                 const float v = is_tile(r) ? tree.tiles[r & ~kSharedTile].value
                                            : tree.leaves[r].values[((x & 7) * 8 + (y & 7)) * 8 + (z & 7)];
                 value[index(x, y, z)] = double(v);
-                inside[index(x, y, z)] = double(v) < 0.0;
+                if (double(v) < 0.0) rows[x * S + y] |= std::uint16_t(1u << z);
             }
     BlockMc out;
     auto crossing = [&](int x, int y, int z, int axis) {
@@ -101,72 +110,111 @@ BlockMc block_marching_cubes(const SharedTree& tree, const Key8& key) {
     std::array<std::uint16_t, 8 * 8 * 8 * 3> own;
     own.fill(detail::kMcNoEdge);
     for (int x = 0; x < 8; ++x)
-        for (int y = 0; y < 8; ++y)
-            for (int z = 0; z < 8; ++z)
+        for (int y = 0; y < 8; ++y) {
+            // Bit z of crosses[axis]: the edge from (x, y, z) along axis crosses.
+            const unsigned r = rows[x * S + y];
+            const unsigned crosses[3] = {(r ^ rows[(x + 1) * S + y]) & 0xffu, (r ^ rows[x * S + y + 1]) & 0xffu, (r ^ (r >> 1)) & 0xffu};
+            for (unsigned any = crosses[0] | crosses[1] | crosses[2]; any != 0; any &= any - 1) {
+                const int z = __builtin_ctz(any);
                 for (int axis = 0; axis < 3; ++axis) {
-                    const int i0 = index(x, y, z), i1 = index(x + (axis == 0), y + (axis == 1), z + (axis == 2));
-                    if (inside[i0] == inside[i1]) continue;
-                    const std::uint16_t code = std::uint16_t(((x * 8 + y) * 8 + z) * 3 + axis);
-                    own[code] = std::uint16_t(out.edges.size());
-                    out.edges.push_back(code);
-                    out.t.push_back(crossing(x, y, z, axis));
+                    if (!((crosses[axis] >> z) & 1u)) continue;
+                    own[((x * 8 + y) * 8 + z) * 3 + axis] = std::uint16_t(out.owned.size());
+                    detail::BlockMc::OwnedVertex v = {{x, y, z}, {0.0, 0.0, 0.0}};
+                    v.along[axis] = crossing(x, y, z, axis);
+                    out.owned.push_back(v);
                 }
-    out.index_of.assign(own.begin(), own.end());
+            }
+        }
+    for (int face = 0; face < 3; ++face)
+        for (int u = 0; u < 8; ++u)
+            for (int v = 0; v < 8; ++v) {
+                int c[3];
+                c[face] = 0;
+                c[face == 0 ? 1 : 0] = u;
+                c[face == 2 ? 1 : 2] = v;
+                for (int axis = 0; axis < 3; ++axis) out.face_index[face_slot(face, c, axis)] = own[((c[0] * 8 + c[1]) * 8 + c[2]) * 3 + axis];
+            }
     // Local part: every edge the triangles use, own or not, in index space from the origin.
-    std::vector<std::int32_t> part_index(S * S * S * 3, -1), borrowed_index(S * S * S * 3, -1);
+    std::vector<std::int32_t> part_index(with_part ? S * S * S * 3 : 0, -1), borrowed_index(S * S * S * 3, -1);
+    std::vector<std::array<double, 3>> part_points;  // part_vertices in double, for the area
     auto local_point = [&](int x, int y, int z, int axis) {
         std::array<double, 3> p = {double(x), double(y), double(z)};
         p[axis] += crossing(x, y, z, axis);
         return p;
     };
+    // The cells with corners on both sides, in (x, y, z) order, with their cases (cells with all
+    // corners on one side have none); the triangle count sizes the outputs once.
+    struct Cell {
+        std::uint16_t position;  // (x * 8 + y) * 8 + z
+        const McCase* cell_case;
+    };
+    std::array<Cell, 8 * 8 * 8> cells;
+    std::size_t cell_count = 0, triangle_count = 0;
     for (int x = 0; x < 8; ++x)
-        for (int y = 0; y < 8; ++y)
-            for (int z = 0; z < 8; ++z) {
+        for (int y = 0; y < 8; ++y) {
+            // The cell's corner c = dx + 2 dy + 4 dz is bit z + dz of corner_rows[dx + 2 dy].
+            const unsigned corner_rows[4] = {rows[x * S + y], rows[(x + 1) * S + y], rows[x * S + y + 1], rows[(x + 1) * S + y + 1]};
+            const unsigned across = (corner_rows[0] ^ corner_rows[1]) | (corner_rows[0] ^ corner_rows[2]) | (corner_rows[0] ^ corner_rows[3]);
+            for (unsigned mixed = (across | (across >> 1) | (corner_rows[0] ^ (corner_rows[0] >> 1))) & 0xffu; mixed != 0; mixed &= mixed - 1) {
+                const int z = __builtin_ctz(mixed);
                 unsigned config = 0;
-                for (unsigned c = 0; c < 8; ++c) config |= unsigned(inside[index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))]) << c;
-                const McCase& cell_case = mc_case(config);
-                for (int t = 0; t < cell_case.triangle_count; ++t) {
-                    std::array<std::uint32_t, 3> corner;
-                    std::array<std::uint32_t, 3> local;
-                    std::array<std::array<double, 3>, 3> p;
-                    for (int k = 0; k < 3; ++k) {
-                        const int edge = cell_case.triangles[t][k];
-                        const unsigned c0 = kEdgeCorners[edge][0], c1 = kEdgeCorners[edge][1];
-                        const int axis = (c0 ^ c1) == 1 ? 0 : (c0 ^ c1) == 2 ? 1 : 2;
-                        int v[3] = {x + int(c0 & 1), y + int((c0 >> 1) & 1), z + int(c0 >> 2)};
-                        const int slot = index(v[0], v[1], v[2]) * 3 + axis;
-                        if (part_index[slot] < 0) {
-                            part_index[slot] = std::int32_t(out.part_vertices.size());
-                            const auto q = local_point(v[0], v[1], v[2], axis);
-                            out.part_vertices.push_back({float(q[0]), float(q[1]), float(q[2])});
-                        }
-                        local[k] = std::uint32_t(part_index[slot]);
-                        p[k] = local_point(v[0], v[1], v[2], axis);
-                        unsigned block = 0;
-                        for (int a = 0; a < 3; ++a) {
-                            if (v[a] == 8) {
-                                v[a] = 0;
-                                block |= 1u << a;
-                            }
-                        }
-                        const std::uint16_t code = std::uint16_t(((v[0] * 8 + v[1]) * 8 + v[2]) * 3 + axis);
-                        corner[k] = block == 0 ? own[code] : 0;
-                        if (block != 0) {
-                            if (borrowed_index[slot] < 0) {
-                                borrowed_index[slot] = std::int32_t(out.borrowed.size());
-                                out.borrowed.push_back((block << 16) | code);
-                            }
-                            out.borrowed_corners.push_back({std::uint32_t(out.corners.size()), std::uint16_t(k), std::uint16_t(borrowed_index[slot])});
-                        }
+                for (unsigned c = 0; c < 8; ++c) config |= ((corner_rows[c & 3] >> (z + int(c >> 2))) & 1u) << c;
+                cells[cell_count] = {std::uint16_t((x * 8 + y) * 8 + z), &mc_case(config)};
+                triangle_count += cells[cell_count++].cell_case->triangle_count;
+            }
+        }
+    out.corners.reserve(triangle_count);
+    if (with_part) out.part_triangles.reserve(triangle_count);
+    for (std::size_t i = 0; i < cell_count; ++i) {
+        const int x = cells[i].position >> 6, y = (cells[i].position >> 3) & 7, z = cells[i].position & 7;
+        const McCase& cell_case = *cells[i].cell_case;
+        for (int t = 0; t < cell_case.triangle_count; ++t) {
+            std::array<std::uint32_t, 3> corner;
+            std::array<std::uint32_t, 3> local;
+            std::array<std::array<double, 3>, 3> p;
+            for (int k = 0; k < 3; ++k) {
+                const int edge = cell_case.triangles[t][k];
+                const unsigned c0 = kEdgeCorners[edge][0], c1 = kEdgeCorners[edge][1];
+                const int axis = (c0 ^ c1) == 1 ? 0 : (c0 ^ c1) == 2 ? 1 : 2;
+                int v[3] = {x + int(c0 & 1), y + int((c0 >> 1) & 1), z + int(c0 >> 2)};
+                const int slot = index(v[0], v[1], v[2]) * 3 + axis;
+                if (with_part) {
+                    if (part_index[slot] < 0) {
+                        part_index[slot] = std::int32_t(out.part_vertices.size());
+                        const auto q = local_point(v[0], v[1], v[2], axis);
+                        out.part_vertices.push_back({float(q[0]), float(q[1]), float(q[2])});
+                        part_points.push_back(q);
                     }
-                    out.corners.push_back(corner);
-                    out.part_triangles.push_back(local);
-                    const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
-                    const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
-                    const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-                    out.area += 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+                    local[k] = std::uint32_t(part_index[slot]);
+                    p[k] = part_points[local[k]];
+                }
+                unsigned block = 0;
+                for (int a = 0; a < 3; ++a) {
+                    if (v[a] == 8) {
+                        v[a] = 0;
+                        block |= 1u << a;
+                    }
+                }
+                const std::uint16_t code = std::uint16_t(((v[0] * 8 + v[1]) * 8 + v[2]) * 3 + axis);
+                corner[k] = block == 0 ? own[code] : 0;
+                if (block != 0) {
+                    if (borrowed_index[slot] < 0) {
+                        borrowed_index[slot] = std::int32_t(out.borrowed.size());
+                        const int face = block & 1 ? 0 : block & 2 ? 1 : 2;  // v[face] is 0
+                        out.borrowed.push_back((block << 16) | unsigned(face_slot(face, v, axis)));
+                    }
+                    out.borrowed_corners.push_back({std::uint32_t(out.corners.size()), std::uint16_t(k), std::uint16_t(borrowed_index[slot])});
                 }
             }
+            out.corners.push_back(corner);
+            if (!with_part) continue;
+            out.part_triangles.push_back(local);
+            const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+            const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+            const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+            out.area += 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        }
+    }
     return out;
 }
 
@@ -213,6 +261,9 @@ namespace {
 /// The caches of one Marching Cubes run: leaf-level block results, and per level 1 and 2 the
 /// area of a neighbourhood, and per level 1 the list of its surface blocks.
 struct McCaches {
+    /// Whether the blocks get their part (BlockMc::part_vertices, part_triangles) and area:
+    /// the instanced mesh and the area read them, the flat mesh does not.
+    bool parts = true;
     detail::ResultCache<8, detail::BlockMc> blocks;
     detail::ResultCache<8, double> area1, area2;
     struct BlockRef {
@@ -223,7 +274,7 @@ struct McCaches {
 };
 
 const detail::BlockMc& block_of(const SharedTree& tree, McCaches& caches, const Key8& key) {
-    return caches.blocks.get(key, [&] { return detail::block_marching_cubes(tree, key); });
+    return caches.blocks.get(key, [&] { return detail::block_marching_cubes(tree, key, caches.parts); });
 }
 
 double area_of(const SharedTree& tree, McCaches& caches, int level, const Key8& key) {
@@ -248,10 +299,11 @@ const std::vector<McCaches::BlockRef>& blocks_of_level1(const SharedTree& tree, 
         for (int x = 0; x < 16; ++x)
             for (int y = 0; y < 16; ++y)
                 for (int z = 0; z < 16; ++z) {
+                    if (children.inside_tile(x, y, z)) continue;
                     const Key8 k = children.key(x, y, z);
                     if (detail::quiet_key(tree, k)) continue;
                     const detail::BlockMc& mc = block_of(tree, caches, k);
-                    if (!mc.edges.empty() || !mc.corners.empty()) list.push_back({std::uint32_t((x * 16 + y) * 16 + z), &mc});
+                    if (!mc.owned.empty() || !mc.corners.empty()) list.push_back({std::uint32_t((x * 16 + y) * 16 + z), &mc});
                 }
         return list;
     });
@@ -267,7 +319,10 @@ struct PlacedBlock {
 /// row (x, y) are a run of each list, taken node by node along z.
 std::vector<PlacedBlock> placed_in_origin_order(const std::vector<std::pair<Coord3, Key8>>& level1,
                                                 const std::vector<const std::vector<McCaches::BlockRef>*>& lists) {
+    std::size_t count = 0;
+    for (const auto* list : lists) count += list->size();
     std::vector<PlacedBlock> blocks;
+    blocks.reserve(count);
     std::vector<std::size_t> cursor(level1.size(), 0);
     for (std::size_t gx = 0; gx < level1.size();) {
         std::size_t gx_end = gx;  // the nodes at this x
@@ -296,16 +351,24 @@ std::vector<PlacedBlock> placed_in_origin_order(const std::vector<std::pair<Coor
 
 /// Every surface block of the tree with its cached result, sorted by origin.
 std::vector<PlacedBlock> surface_blocks(const SharedTree& tree, McCaches& caches) {
-    std::vector<std::pair<Coord3, Key8>> level1;  // neighbourhoods of level-1 positions
-    for (const auto& [origin, key] : detail::root_neighbourhoods(tree)) {
-        const detail::ChildGrid children(tree, 2, key);
-        for (int x = 0; x < 32; ++x)
-            for (int y = 0; y < 32; ++y)
-                for (int z = 0; z < 32; ++z) {
-                    const Key8 k = children.key(x, y, z);
-                    if (!detail::quiet_key(tree, k)) level1.push_back({{origin[0] + x * 128, origin[1] + y * 128, origin[2] + z * 128}, k});
-                }
-    }
+    // The neighbourhoods of level-1 positions, gathered in parallel per slab of a root
+    // neighbourhood's children (fixed x) and joined in slab order.
+    const auto roots = detail::root_neighbourhoods(tree);
+    std::vector<std::unique_ptr<const detail::ChildGrid>> children(roots.size());
+    tbb::parallel_for(std::size_t(0), roots.size(), [&](std::size_t r) { children[r] = std::make_unique<const detail::ChildGrid>(tree, 2, roots[r].second); });
+    std::vector<std::vector<std::pair<Coord3, Key8>>> slabs(roots.size() * 32);
+    tbb::parallel_for(std::size_t(0), slabs.size(), [&](std::size_t i) {
+        const Coord3& origin = roots[i / 32].first;
+        const int x = int(i % 32);
+        for (int y = 0; y < 32; ++y)
+            for (int z = 0; z < 32; ++z) {
+                if (children[i / 32]->inside_tile(x, y, z)) continue;
+                const Key8 k = children[i / 32]->key(x, y, z);
+                if (!detail::quiet_key(tree, k)) slabs[i].push_back({{origin[0] + x * 128, origin[1] + y * 128, origin[2] + z * 128}, k});
+            }
+    });
+    std::vector<std::pair<Coord3, Key8>> level1;
+    for (const auto& slab : slabs) level1.insert(level1.end(), slab.begin(), slab.end());
     // Root neighbourhoods at the same x give children at different x: sorted here.
     std::sort(level1.begin(), level1.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<const std::vector<McCaches::BlockRef>*> lists(level1.size());
@@ -341,30 +404,70 @@ double shared_area(const SharedTree& tree) {
 namespace {
 
 constexpr std::uint32_t kNoBlock = ~0u;
+/// A block's most owned vertices (every edge) and triangles (every cell the most of a case).
+constexpr std::size_t kMaxBlockVertices = 8 * 8 * 8 * 3,
+                      kMaxBlockTriangles = 8 * 8 * 8 * std::tuple_size<decltype(detail::McCase::triangles)>::value;
 
-/// For each block, the indices of the 7 blocks after it (d = 1..7 at d - 1, bits as in Key8),
-/// kNoBlock where there is none. The origins shifted by one offset are sorted as the blocks
-/// are, so each chunk of blocks finds them in one sweep from a binary search.
-std::vector<std::array<std::uint32_t, 7>> following_blocks(const std::vector<PlacedBlock>& blocks) {
-    std::vector<std::array<std::uint32_t, 7>> out(blocks.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 4096), [&](const auto& range) {
-        for (unsigned d = 1; d < 8; ++d) {
-            auto shifted = [&](std::size_t b) {
-                const Coord3& o = blocks[b].origin;
-                return Coord3{o[0] + 8 * int(d & 1), o[1] + 8 * int((d >> 1) & 1), o[2] + 8 * int(d >> 2)};
-            };
-            std::size_t j = std::size_t(std::lower_bound(blocks.begin(), blocks.end(), shifted(range.begin()),
-                                                         [](const PlacedBlock& p, const Coord3& o) { return p.origin < o; }) -
-                                        blocks.begin());
-            for (std::size_t b = range.begin(); b != range.end(); ++b) {
-                const Coord3 target = shifted(b);
-                while (j < blocks.size() && blocks[j].origin < target) ++j;
-                out[b][d - 1] = j < blocks.size() && blocks[j].origin == target ? std::uint32_t(j) : kNoBlock;
-            }
+/// The pages of an array that one thread appends to, faulted in a little ahead of it by
+/// another thread with time to spare: the kernel's zeroing of fresh pages (about half the cost
+/// of a first write) moves to that thread, while the pages are still in cache when the writer
+/// reaches them (faulted far ahead, they are not, and the writer saved little: measured).
+/// Only page faults move: what is written, and by which thread, stays the same. Nobody waits.
+class PagesAhead {
+public:
+    PagesAhead(const void* data, std::size_t bytes)
+        : base_(reinterpret_cast<std::uintptr_t>(data)), end_(base_ + bytes), written_(base_) {
+        next_ = (base_ + kHugePage - 1) & ~(kHugePage - 1);  // whole huge pages; the writer faults the first one
+    }
+    /// By the writer: its bytes written so far.
+    void written(std::size_t bytes) { written_.store(base_ + bytes, std::memory_order_relaxed); }
+    /// Whether the writer has written less than @a fraction of the array.
+    bool behind(double fraction) const {
+        return double(written_.load(std::memory_order_relaxed) - base_) < fraction * double(end_ - base_);
+    }
+    /// By the helper: faults the pages up to kAhead past the writer.
+    void keep_ahead() {
+        const std::uintptr_t w = written_.load(std::memory_order_relaxed);
+        if (next_ < w) next_ = (w + kHugePage - 1) & ~(kHugePage - 1);  // the writer went past
+        for (const std::uintptr_t limit = std::min(end_, w + kAhead); next_ < limit; next_ += kHugePage) {
+            detail::populate_pages(reinterpret_cast<void*>(next_), std::min(kHugePage, end_ - next_));
         }
-    });
-    return out;
-}
+    }
+
+private:
+    static constexpr std::uintptr_t kHugePage = std::uintptr_t(2) << 20, kAhead = 4 * kHugePage;
+    std::uintptr_t base_, end_, next_;
+    std::atomic<std::uintptr_t> written_;  // base_ + bytes written
+};
+
+/// The 7 blocks after each block in turn (d = 1..7 at d - 1, bits as in Key8; kNoBlock where
+/// there is none), found by one sweep along the blocks: the origins shifted by one offset are
+/// sorted as the blocks are, so each direction's cursor only moves forward.
+class FollowingSweep {
+public:
+    explicit FollowingSweep(const std::vector<PlacedBlock>& blocks) : blocks_(blocks) { cursor_.fill(0); }
+    /// The blocks after block @a b; @a b must not decrease from one call to the next.
+    std::array<std::uint32_t, 7> after(std::size_t b) {
+        std::array<std::uint32_t, 7> out;
+        const Coord3& o = blocks_[b].origin;
+        for (unsigned d = 1; d < 8; ++d) {
+            const Coord3 target = {o[0] + 8 * int(d & 1), o[1] + 8 * int((d >> 1) & 1), o[2] + 8 * int(d >> 2)};
+            std::size_t& j = cursor_[d - 1];
+            while (j < blocks_.size() && before(blocks_[j].origin, target)) ++j;
+            out[d - 1] = j < blocks_.size() && same(blocks_[j].origin, target) ? std::uint32_t(j) : kNoBlock;
+        }
+        return out;
+    }
+
+private:
+    // Written out: std::array's == is a memcmp call, which dominated the sweep.
+    static bool before(const Coord3& a, const Coord3& b) {
+        return a[0] != b[0] ? a[0] < b[0] : a[1] != b[1] ? a[1] < b[1] : a[2] < b[2];
+    }
+    static bool same(const Coord3& a, const Coord3& b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
+    const std::vector<PlacedBlock>& blocks_;
+    std::array<std::size_t, 7> cursor_;
+};
 
 /// Offsets of each block's first vertex and first triangle in the flat mesh (one more entry
 /// at the end: the totals).
@@ -372,7 +475,7 @@ void number_blocks(const std::vector<PlacedBlock>& blocks, std::vector<std::size
     first_vertex.assign(blocks.size() + 1, 0);
     first_triangle.assign(blocks.size() + 1, 0);
     for (std::size_t b = 0; b < blocks.size(); ++b) {
-        first_vertex[b + 1] = first_vertex[b] + blocks[b].mc->edges.size();
+        first_vertex[b + 1] = first_vertex[b] + blocks[b].mc->owned.size();
         first_triangle[b + 1] = first_triangle[b] + blocks[b].mc->corners.size();
     }
 }
@@ -381,33 +484,35 @@ void number_blocks(const std::vector<PlacedBlock>& blocks, std::vector<std::size
 /// (build_shared_tree()): index * h, as OpenVDB's UniformScaleMap computes it, so that the
 /// vertices are mesh_grid's bit for bit.
 void write_vertices(const PlacedBlock& block, double h, std::array<float, 3>* out) {
-    const detail::BlockMc& mc = *block.mc;
     const Coord3& o = block.origin;
-    for (std::size_t e = 0; e < mc.edges.size(); ++e) {
-        const unsigned code = mc.edges[e];
-        const unsigned axis = code % 3, cell = code / 3;
-        // x + 0.0 off the axis, as edge_crossing() computes p0 + t * (p1 - p0); no array
-        // indexed by the axis (its store and reload stalled this loop).
-        const double t = mc.t[e];
-        const double x = double(o[0] + int(cell >> 6)) + (axis == 0 ? t : 0.0);
-        const double y = double(o[1] + int((cell >> 3) & 7)) + (axis == 1 ? t : 0.0);
-        const double z = double(o[2] + int(cell & 7)) + (axis == 2 ? t : 0.0);
-        out[e] = {float(x * h), float(y * h), float(z * h)};
+    const auto& owned = block.mc->owned;
+    for (std::size_t e = 0; e < owned.size(); ++e) {
+        const auto& v = owned[e];
+        out[e] = {float((double(o[0] + v.corner[0]) + v.along[0]) * h), float((double(o[1] + v.corner[1]) + v.along[1]) * h),
+                  float((double(o[2] + v.corner[2]) + v.along[2]) * h)};
     }
 }
 
-/// The mesh indices of the vertices block @a b borrows, in BlockMc::borrowed order.
-void borrowed_vertices(const std::vector<PlacedBlock>& blocks, const std::vector<std::array<std::uint32_t, 7>>& following,
+/// The mesh indices of the vertices block @a b borrows, in BlockMc::borrowed order. The
+/// neighbours' first vertices and face tables are looked up once per direction (per borrowed
+/// vertex, the chain of loads stood out in profiles).
+void borrowed_vertices(const std::vector<PlacedBlock>& blocks, const std::array<std::uint32_t, 7>& following,
                        const std::vector<std::size_t>& first_vertex, std::size_t b, std::vector<std::uint32_t>& out) {
+    std::array<const std::uint16_t*, 7> face_index{};
+    std::array<std::uint32_t, 7> first{};
+    for (std::size_t d = 0; d < 7; ++d) {
+        if (following[d] == kNoBlock) continue;
+        face_index[d] = blocks[following[d]].mc->face_index.data();
+        first[d] = std::uint32_t(first_vertex[following[d]]);
+    }
     const detail::BlockMc& mc = *blocks[b].mc;
     out.resize(mc.borrowed.size());
     for (std::size_t j = 0; j < mc.borrowed.size(); ++j) {
-        const unsigned d = mc.borrowed[j] >> 16, code = mc.borrowed[j] & 0xffffu;
-        const std::uint32_t n = following[b][d - 1];
-        if (n == kNoBlock) throw Error("shared marching cubes: a triangle refers to a missing block");
-        const std::uint16_t index = blocks[n].mc->index_of[code];
+        const unsigned d = (mc.borrowed[j] >> 16) - 1, slot = mc.borrowed[j] & 0xffffu;
+        if (face_index[d] == nullptr) throw Error("shared marching cubes: a triangle refers to a missing block");
+        const std::uint16_t index = face_index[d][slot];
         if (index == detail::kMcNoEdge) throw Error("shared marching cubes: a triangle refers to a missing vertex");
-        out[j] = std::uint32_t(first_vertex[n] + index);
+        out[j] = first[d] + index;
     }
 }
 
@@ -421,39 +526,62 @@ void write_triangles(const detail::BlockMc& mc, std::uint32_t first_vertex, cons
     for (const auto& c : mc.borrowed_corners) out[c.triangle][c.corner] = borrowed[c.borrowed];
 }
 
+/// The @a count vertices of the placed blocks in order, appended to @a out (reserved). While it is
+/// ahead of the triangles (in the fraction of its output written), it faults their pages ahead
+/// of their writer: the triangles are twice the bytes.
+void append_vertices(const std::vector<PlacedBlock>& blocks, double h, std::size_t count, std::vector<std::array<float, 3>>& out,
+                     PagesAhead& triangle_pages) {
+    std::vector<std::array<float, 3>> block(kMaxBlockVertices);
+    const double total = double(count);
+    for (const PlacedBlock& b : blocks) {
+        write_vertices(b, h, block.data());
+        out.insert(out.end(), block.data(), block.data() + b.mc->owned.size());
+        if (triangle_pages.behind(double(out.size()) / total)) triangle_pages.keep_ahead();
+    }
+}
+
+/// The triangles of the placed blocks in order, appended to @a out (reserved); their progress
+/// is published to @a pages.
+void append_triangles(const std::vector<PlacedBlock>& blocks, const std::vector<std::size_t>& first_vertex,
+                      std::vector<std::array<std::uint32_t, 3>>& out, PagesAhead& pages) {
+    std::vector<std::array<std::uint32_t, 3>> block(kMaxBlockTriangles);
+    std::vector<std::uint32_t> borrowed;
+    FollowingSweep following(blocks);
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+        borrowed_vertices(blocks, following.after(b), first_vertex, b, borrowed);
+        write_triangles(*blocks[b].mc, std::uint32_t(first_vertex[b]), borrowed, block.data());
+        out.insert(out.end(), block.data(), block.data() + blocks[b].mc->corners.size());
+        pages.written(out.size() * sizeof(out[0]));
+    }
+}
+
 }  // namespace
 
 // The flat mesh: every placed block numbers the vertices it owns from its offset (prefix sums
 // over the blocks in origin order) and finds the ones it borrows in the neighbours' cached
-// index_of; vertices and triangles are written per block in parallel at their offsets. No
-// table of global edges, no welding afterwards: the same welded mesh for any thread count.
+// face_index. No table of global edges, no welding afterwards: the same welded mesh for any
+// thread count.
+//
+// The output (730 MB for the 512^3 gyroid) is most of the time, so it is written once: Mesh
+// holds std::vectors, whose resize() would zero every element first (serially), so the
+// vectors are reserved (on huge pages) and each block's elements appended, computed in a small
+// buffer and copied in; appending within the capacity constructs each element once, with its
+// value, legally, and the page faults follow the writes. Appending is serial per vector, so
+// the vertices and the triangles are written side by side, the vertex writer also taking some
+// page faults off the triangle writer (PagesAhead).
 Mesh shared_marching_cubes(const SharedTree& tree) {
     McCaches caches;
+    caches.parts = false;
     const std::vector<PlacedBlock> blocks = surface_blocks(tree, caches);
     std::vector<std::size_t> first_vertex, first_triangle;
     number_blocks(blocks, first_vertex, first_triangle);
     if (first_vertex.back() > std::numeric_limits<std::uint32_t>::max()) throw Error("shared marching cubes: more than 2^32 vertices");
-    std::vector<std::array<std::uint32_t, 7>> following;
     Mesh mesh;
-    // Some hundred MB written once: huge pages save most of the page faults (vdbmesh/huge_pages.h);
-    // the two arrays are allocated (and zeroed, serially each) side by side.
-    tbb::parallel_invoke([&] { following = following_blocks(blocks); },
-                         [&] {
-                             detail::reserve_on_huge_pages(mesh.vertices, first_vertex.back());
-                             mesh.vertices.resize(first_vertex.back());
-                         },
-                         [&] {
-                             detail::reserve_on_huge_pages(mesh.triangles, first_triangle.back());
-                             mesh.triangles.resize(first_triangle.back());
-                         });
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 64), [&](const auto& range) {
-        std::vector<std::uint32_t> borrowed;
-        for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            write_vertices(blocks[b], tree.voxel_size, mesh.vertices.data() + first_vertex[b]);
-            borrowed_vertices(blocks, following, first_vertex, b, borrowed);
-            write_triangles(*blocks[b].mc, std::uint32_t(first_vertex[b]), borrowed, mesh.triangles.data() + first_triangle[b]);
-        }
-    });
+    detail::reserve_on_huge_pages(mesh.vertices, first_vertex.back());
+    detail::reserve_on_huge_pages(mesh.triangles, first_triangle.back());
+    PagesAhead triangle_pages(mesh.triangles.data(), first_triangle.back() * sizeof(mesh.triangles[0]));
+    tbb::parallel_invoke([&] { append_vertices(blocks, tree.voxel_size, first_vertex.back(), mesh.vertices, triangle_pages); },
+                         [&] { append_triangles(blocks, first_vertex, mesh.triangles, triangle_pages); });
     return mesh;
 }
 
