@@ -29,6 +29,7 @@
 #include <string>
 
 #include "process/quadric.h"
+#include "process/separating_plane.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/geometry.h"
 #include "vdbmesh/process.h"
@@ -66,6 +67,27 @@ void grow(Box& box, const std::array<float, 3>& p) {
     for (int k = 0; k < 3; ++k) box.lo[k] = std::min(box.lo[k], p[k]), box.hi[k] = std::max(box.hi[k], p[k]);
 }
 
+/// Whether two triangles with corner ids meet beyond what they share (detail::triangles_intersect),
+/// a separating plane tried first.
+bool triangles_cross(const Ids& t_ids, const detail::Triangle3& t, const Ids& u_ids, const detail::Triangle3& u) {
+    int shared = 0, t_corner = 0, u_corner = 0;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            if (t_ids[i] == u_ids[j]) ++shared, t_corner = i, u_corner = j;
+        }
+    }
+    if (shared == 0 && detail::certainly_apart(t, u)) return false;
+    if (shared == 1 && detail::certainly_meet_only_at(t, t_corner, u[(u_corner + 1) % 3], u[(u_corner + 2) % 3])) return false;
+    if (shared == 2) {
+        // t runs s0 -> s1 -> apex; u shares the edge the other way.
+        int apex = 0, u_apex = 0;
+        while (t_ids[apex] == u_ids[0] || t_ids[apex] == u_ids[1] || t_ids[apex] == u_ids[2]) ++apex;
+        while (u_ids[u_apex] == t_ids[0] || u_ids[u_apex] == t_ids[1] || u_ids[u_apex] == t_ids[2]) ++u_apex;
+        if (detail::certainly_meet_only_on_edge(t[(apex + 1) % 3], t[(apex + 2) % 3], t[apex], u[u_apex])) return false;
+    }
+    return detail::triangles_intersect(t_ids, t, u_ids, u);
+}
+
 void check_closed_manifold(const Mesh& mesh) {
     const detail::Topology topology = detail::analyze_topology(mesh);
     if (topology.boundary_edges || topology.nonmanifold_edges || topology.nonmanifold_vertices || topology.misoriented_edges) {
@@ -77,23 +99,17 @@ void check_closed_manifold(const Mesh& mesh) {
 }
 
 /// Boxes with ids in a uniform grid, each in the cell of its low corner (one larger than a cell:
-/// in every cell it meets), for finding the boxes that may meet a box. Built at once and
-/// read-only after.
+/// in every cell it meets), for finding the boxes that meet a box. Built at once and read-only
+/// after. The boxes and the ids are kept apart, so a query reads only the boxes it passes over.
 class BoxGrid {
 public:
-    struct Entry {
-        Box box;
-        std::uint32_t id;
-        Ids ids;  ///< for triangles, their corners (read without a detour through the mesh)
-    };
-
     /// @a cell: the cell size, made at least the largest extent of 99% of the boxes, and coarser
     /// where the boxes are spread thin (at most about eight cells per box).
-    void build(const std::vector<Entry>& all, double cell) {
+    void build(const std::vector<Box>& boxes, const std::vector<std::uint32_t>& ids, double cell) {
         Box bounds = empty_box();
-        std::vector<float> extents(all.size());
-        for (std::size_t i = 0; i < all.size(); ++i) {
-            const Box& b = all[i].box;
+        std::vector<float> extents(boxes.size());
+        for (std::size_t i = 0; i < boxes.size(); ++i) {
+            const Box& b = boxes[i];
             grow(bounds, b.lo), grow(bounds, b.hi);
             extents[i] = std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
         }
@@ -106,23 +122,26 @@ public:
         for (;;) {
             std::uint64_t count = 1;
             for (int k = 0; k < 3; ++k) {
-                origin_[k] = all.empty() ? 0 : bounds.lo[k];
-                dims_[k] = all.empty() ? 1 : std::int64_t(std::floor((double(bounds.hi[k]) - origin_[k]) / cell_)) + 1;
+                origin_[k] = boxes.empty() ? 0 : bounds.lo[k];
+                dims_[k] = boxes.empty() ? 1 : std::int64_t(std::floor((double(bounds.hi[k]) - origin_[k]) / cell_)) + 1;
                 count *= std::uint64_t(dims_[k]);
             }
-            if (count <= 8 * all.size() + 64) break;
+            if (count <= 8 * boxes.size() + 64) break;
             cell_ *= 1.25;
         }
         const std::size_t cells = std::size_t(dims_[0] * dims_[1] * dims_[2]);
         start_.assign(cells + 1, 0);
-        for (const Entry& e : all) for_cells(e.box, [&](std::size_t c) { ++start_[c + 1]; });
+        for (const Box& b : boxes) for_cells(b, [&](std::size_t c) { ++start_[c + 1]; });
         for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
-        entries_.resize(start_[cells]);
+        boxes_.resize(start_[cells]);
+        ids_.resize(start_[cells]);
         std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-        for (const Entry& e : all) for_cells(e.box, [&](std::size_t c) { entries_[fill[c]++] = e; });
+        for (std::size_t i = 0; i < boxes.size(); ++i) {
+            for_cells(boxes[i], [&](std::size_t c) { boxes_[fill[c]] = boxes[i], ids_[fill[c]++] = ids[i]; });
+        }
     }
 
-    /// Calls visit(entry) for each entry whose box may meet @a box (one larger than a cell may
+    /// Calls visit(id, box) for each entry whose box meets @a box (one larger than a cell may
     /// come more than once); stops when visit returns false. Returns whether it went through.
     template <class Visit>
     bool visit(const Box& box, Visit&& visit) const {
@@ -135,7 +154,7 @@ public:
             for (std::int64_t y = from[1]; y <= to[1]; ++y) {
                 const std::size_t row = index({0, y, z});
                 for (std::uint32_t i = start_[row + std::size_t(from[0])]; i < start_[row + std::size_t(to[0]) + 1]; ++i) {
-                    if (!visit(entries_[i])) return false;
+                    if (detail::boxes_overlap(boxes_[i], box) && !visit(ids_[i], boxes_[i])) return false;
                 }
             }
         }
@@ -173,7 +192,8 @@ private:
     std::array<double, 3> origin_{};
     std::array<std::int64_t, 3> dims_{1, 1, 1};
     std::vector<std::uint32_t> start_;  ///< entries of cell c: [start_[c], start_[c + 1])
-    std::vector<Entry> entries_;
+    std::vector<Box> boxes_;
+    std::vector<std::uint32_t> ids_;
 };
 
 /// An edge a round considers, at the corner opposite it where it runs from its lower vertex
@@ -387,14 +407,15 @@ private:
     /// collapses of the round, which no check has met: a plan whose new triangles cross those of
     /// one applied before waits for the next round.
     void apply_round(std::vector<Plan>& plans, DecimateReport& report, Scratch& s) {
-        std::vector<BoxGrid::Entry> passed;
+        std::vector<Box> boxes;
+        std::vector<std::uint32_t> passed;
         double extent = 0;
         for (std::uint32_t i = 0; i < plans.size(); ++i) {
             if (plans[i].verdict != Verdict::passed) continue;
-            passed.push_back({plans[i].star, i, {}});
+            boxes.push_back(plans[i].star), passed.push_back(i);
             for (int k = 0; k < 3; ++k) extent += double(plans[i].star.hi[k]) - plans[i].star.lo[k];
         }
-        plan_grid_.build(passed, extent / (3 * double(std::max<std::size_t>(passed.size(), 1))));
+        plan_grid_.build(boxes, passed, extent / (3 * double(std::max<std::size_t>(passed.size(), 1))));
         std::vector<char> applied(plans.size(), 0);
         for (std::uint32_t i = 0; i < plans.size() && alive_count_ > target_; ++i) {
             const Plan& p = plans[i];
@@ -406,10 +427,10 @@ private:
                 continue;
             }
             bool star_ready = false;
-            const bool apart = plan_grid_.visit(p.star, [&](const BoxGrid::Entry& e) {
-                if (e.id >= i || !applied[e.id] || !detail::boxes_overlap(e.box, p.star)) return true;
+            const bool apart = plan_grid_.visit(p.star, [&](std::uint32_t j, const Box&) {
+                if (j >= i || !applied[j]) return true;
                 if (!star_ready) new_star(p, s), star_ready = true;
-                return !crosses_star_of(vertex(next(plans[e.id].corner)), s);
+                return !crosses_star_of(vertex(next(plans[j].corner)), s);
             });
             if (!apart) continue;
             report.max_error = std::max(report.max_error, std::sqrt(error_[p.corner]));
@@ -429,7 +450,7 @@ private:
             Box box = empty_box();  // (boxes_ is refreshed only at the next round)
             for (const std::uint32_t w : ids) grow(box, positions_[w]);
             for (std::size_t i = 0; i < s.star.size() && !crossed; ++i) {
-                crossed = detail::boxes_overlap(s.boxes[i], box) && detail::triangles_intersect(s.ids[i], s.corners[i], ids, other);
+                crossed = detail::boxes_overlap(s.boxes[i], box) && triangles_cross(s.ids[i], s.corners[i], ids, other);
             }
         });
         return crossed;
@@ -437,16 +458,17 @@ private:
 
     /// The alive triangles with their boxes, in cells of kCellEdges mean edge lengths.
     void build_triangle_grid() {
-        std::vector<BoxGrid::Entry> entries;
-        entries.reserve(alive_count_);
+        std::vector<Box> boxes;
+        std::vector<std::uint32_t> ids;
+        boxes.reserve(alive_count_), ids.reserve(alive_count_);
         double extent = 0;
         for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
             if (!alive_[t]) continue;
-            entries.push_back({boxes_[t], t, triangles_[t]});
+            boxes.push_back(boxes_[t]), ids.push_back(t);
             extent += std::max({double(boxes_[t].hi[0]) - boxes_[t].lo[0], double(boxes_[t].hi[1]) - boxes_[t].lo[1],
                                 double(boxes_[t].hi[2]) - boxes_[t].lo[2]});
         }
-        triangle_grid_.build(entries, kCellEdges * extent / double(std::max<std::size_t>(entries.size(), 1)));
+        triangle_grid_.build(boxes, ids, kCellEdges * extent / double(std::max<std::size_t>(ids.size(), 1)));
     }
 
     bool link_condition(std::uint32_t corner, Scratch& s) const {
@@ -549,15 +571,16 @@ private:
                 }
             }
         }
-        return triangle_grid_.visit(around_star, [&](const BoxGrid::Entry& e) {
-            if (!detail::boxes_overlap(e.box, around_star)) return true;
-            const Ids& ids = e.ids;
+        return triangle_grid_.visit(around_star, [&](std::uint32_t t, const Box& box) {
+            const Ids& ids = triangles_[t];
             for (const std::uint32_t v : ids) {
                 if (v == a || v == b) return true;  // the old star, replaced
             }
             const detail::Triangle3 other{to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])};
             for (std::size_t i = 0; i < s.star.size(); ++i) {
-                if (detail::boxes_overlap(s.boxes[i], e.box) && detail::triangles_intersect(s.ids[i], s.corners[i], ids, other)) return false;
+                if (detail::boxes_overlap(s.boxes[i], box)) {
+                    if (triangles_cross(s.ids[i], s.corners[i], ids, other)) return false;
+                }
             }
             return true;
         });

@@ -1,0 +1,80 @@
+#pragma once
+// Private: quick, conservative proofs that two triangles do not meet (or meet only at a shared
+// corner), by a plane that separates them, decided in plain double arithmetic with a bound on
+// its rounding. Any plane proves it, however it was chosen, so the plane is a guess (from the
+// triangles' centroids); when the rounding leaves a doubt the answer is "not proven" and the
+// caller runs the exact test. The decimator asks these first: most triangles it tests are
+// near but clearly apart, and the exact tests then go deep (nearly coplanar neighbours).
+
+#include <cmath>
+#include <limits>
+
+#include "vdbmesh/geometry.h"
+
+namespace vdbmesh::detail {
+
+/// The value of axis . (p - origin) and a bound on its rounding error. The difference of the
+/// coordinates and the three products and two sums each round once, so the error is below
+/// 4 eps (1 + eps) times the sum of the terms' magnitudes; 8 eps leaves a margin.
+struct SignedDistance {
+    double value, error;
+};
+inline SignedDistance along(const Point3& axis, const Point3& origin, const Point3& p) {
+    const double w0 = p[0] - origin[0], w1 = p[1] - origin[1], w2 = p[2] - origin[2];
+    const double t0 = axis[0] * w0, t1 = axis[1] * w1, t2 = axis[2] * w2;
+    constexpr double kBound = 8 * std::numeric_limits<double>::epsilon();
+    return {t0 + t1 + t2, kBound * (std::fabs(t0) + std::fabs(t1) + std::fabs(t2))};
+}
+
+inline Point3 centroid(const Triangle3& t) {
+    return {(t[0][0] + t[1][0] + t[2][0]) / 3, (t[0][1] + t[1][1] + t[2][1]) / 3, (t[0][2] + t[1][2] + t[2][2]) / 3};
+}
+
+/// True when a plane certainly has all of @a t strictly on one side and all of @a u strictly
+/// on the other (then the closed triangles share no point). The plane is across the line
+/// between the centroids.
+inline bool certainly_apart(const Triangle3& t, const Triangle3& u) {
+    const Point3 origin = centroid(t), to = centroid(u);
+    const Point3 axis{to[0] - origin[0], to[1] - origin[1], to[2] - origin[2]};
+    double t_high = -std::numeric_limits<double>::infinity(), u_low = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+        const SignedDistance a = along(axis, origin, t[k]), b = along(axis, origin, u[k]);
+        t_high = std::max(t_high, a.value + a.error);
+        u_low = std::min(u_low, b.value - b.error);
+    }
+    return t_high < u_low;
+}
+
+/// True when the triangles t and (corner, u1, u2), sharing @a corner = t[k], certainly meet only
+/// there: a plane through the corner has t's two other corners strictly on one side and u1, u2
+/// strictly on the other (every other point of a triangle is a convex combination giving weight
+/// to a far corner). The plane is across the difference of the directions from the corner to
+/// the middles of the far edges.
+inline bool certainly_meet_only_at(const Triangle3& t, int k, const Point3& u1, const Point3& u2) {
+    const Point3& corner = t[k];
+    const Point3& t1 = t[k == 2 ? 0 : k + 1];
+    const Point3& t2 = t[k == 0 ? 2 : k - 1];
+    Point3 to_t, to_u;
+    for (int i = 0; i < 3; ++i) to_t[i] = t1[i] + t2[i] - 2 * corner[i], to_u[i] = u1[i] + u2[i] - 2 * corner[i];
+    // |to_u| to_t - |to_t| to_u: the difference of the unit directions, scaled.
+    const double t_length = std::sqrt(to_t[0] * to_t[0] + to_t[1] * to_t[1] + to_t[2] * to_t[2]);
+    const double u_length = std::sqrt(to_u[0] * to_u[0] + to_u[1] * to_u[1] + to_u[2] * to_u[2]);
+    const Point3 axis{to_t[0] * u_length - to_u[0] * t_length, to_t[1] * u_length - to_u[1] * t_length,
+                      to_t[2] * u_length - to_u[2] * t_length};
+    const SignedDistance a = along(axis, corner, t1), b = along(axis, corner, t2);
+    const SignedDistance c = along(axis, corner, u1), d = along(axis, corner, u2);
+    return a.value > a.error && b.value > b.error && -c.value > c.error && -d.value > d.error;
+}
+
+/// True when the triangles (s0, s1, p) and (s1, s0, q), sharing the edge s0 s1, certainly meet
+/// only on it: p and q lie strictly on either side (exact orientations) of a plane through the
+/// edge, the one through a point off t's plane along its normal (then every other point of
+/// each triangle does, being a convex combination giving weight to p, or to q).
+inline bool certainly_meet_only_on_edge(const Point3& s0, const Point3& s1, const Point3& p, const Point3& q) {
+    const Point3 e{s1[0] - s0[0], s1[1] - s0[1], s1[2] - s0[2]}, f{p[0] - s0[0], p[1] - s0[1], p[2] - s0[2]};
+    const Point3 off{s0[0] + e[1] * f[2] - e[2] * f[1], s0[1] + e[2] * f[0] - e[0] * f[2], s0[2] + e[0] * f[1] - e[1] * f[0]};
+    const int p_side = orient3d(s0, s1, off, p);
+    return p_side != 0 && orient3d(s0, s1, off, q) == -p_side;
+}
+
+}  // namespace vdbmesh::detail
