@@ -211,6 +211,7 @@ struct Plan {
     std::uint32_t corner = kNone;
     Box star = empty_box();  ///< the box of the new star (once checked)
     Verdict verdict = Verdict::unchecked;
+    std::vector<std::uint32_t> crossed;  ///< earlier passed plans of the round whose new stars cross this one's
 };
 
 /// Per-thread scratch of the checks.
@@ -221,6 +222,7 @@ struct Scratch {
     std::vector<Ids> ids;             ///< their corners' vertices after the collapse
     std::vector<detail::Triangle3> corners;
     std::vector<Box> boxes;
+    std::vector<std::array<Vec3d, 2>> spokes;  ///< per star triangle, from the kept vertex to its other corners
 };
 
 class Decimator {
@@ -269,7 +271,8 @@ public:
                 Scratch& s = scratch.local();
                 for (std::size_t i = range.begin(); i != range.end(); ++i) plans[i].verdict = check(plans[i], s);
             });
-            apply_round(plans, report, own);
+            find_crossings(plans, scratch);
+            apply_round(plans, report);
         }
         return compact();
     }
@@ -402,11 +405,12 @@ private:
         }
     }
 
-    /// Applies the plans that passed their checks, in order of cost, while triangles are to go.
-    /// Their stars share no vertex, so each check still holds but for the new triangles of two
-    /// collapses of the round, which no check has met: a plan whose new triangles cross those of
-    /// one applied before waits for the next round.
-    void apply_round(std::vector<Plan>& plans, DecimateReport& report, Scratch& s) {
+    /// For each plan that passed its checks, the earlier ones that did too and whose new stars
+    /// cross its own: their stars share no vertex, so each check still holds but for the new
+    /// triangles of two collapses of the round, which no check has met. Both new stars are
+    /// read from the mesh at the start of the round: no other collapse of the round changes
+    /// them (their vertices are neither collapse's ends nor its ends' neighbours).
+    void find_crossings(std::vector<Plan>& plans, tbb::enumerable_thread_specific<Scratch>& scratch) {
         std::vector<Box> boxes;
         std::vector<std::uint32_t> passed;
         double extent = 0;
@@ -416,6 +420,26 @@ private:
             for (int k = 0; k < 3; ++k) extent += double(plans[i].star.hi[k]) - plans[i].star.lo[k];
         }
         plan_grid_.build(boxes, passed, extent / (3 * double(std::max<std::size_t>(passed.size(), 1))));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, passed.size(), 64), [&](const auto& range) {
+            Scratch& s = scratch.local();
+            for (std::size_t n = range.begin(); n != range.end(); ++n) {
+                Plan& p = plans[passed[n]];
+                p.crossed.clear();
+                bool star_ready = false;
+                plan_grid_.visit(p.star, [&](std::uint32_t j, const Box&) {
+                    if (j >= passed[n]) return true;
+                    if (!star_ready) new_star(p, s), star_ready = true;
+                    if (crosses_new_star(plans[j], s)) p.crossed.push_back(j);
+                    return true;
+                });
+                std::sort(p.crossed.begin(), p.crossed.end());  // (the grid may list a plan twice)
+            }
+        });
+    }
+
+    /// Applies the plans that passed their checks, in order of cost, while triangles are to go;
+    /// a plan whose new star crosses that of one applied before waits for the next round.
+    void apply_round(const std::vector<Plan>& plans, DecimateReport& report) {
         std::vector<char> applied(plans.size(), 0);
         for (std::uint32_t i = 0; i < plans.size() && alive_count_ > target_; ++i) {
             const Plan& p = plans[i];
@@ -426,13 +450,7 @@ private:
                                                     : report.rejected_intersection);
                 continue;
             }
-            bool star_ready = false;
-            const bool apart = plan_grid_.visit(p.star, [&](std::uint32_t j, const Box&) {
-                if (j >= i || !applied[j]) return true;
-                if (!star_ready) new_star(p, s), star_ready = true;
-                return !crosses_star_of(vertex(next(plans[j].corner)), s);
-            });
-            if (!apart) continue;
+            if (std::any_of(p.crossed.begin(), p.crossed.end(), [&](std::uint32_t j) { return applied[j] != 0; })) continue;
             report.max_error = std::max(report.max_error, std::sqrt(error_[p.corner]));
             apply(p);
             applied[i] = 1;
@@ -440,17 +458,13 @@ private:
         }
     }
 
-    /// Whether a triangle of the new star in @a s crosses one around vertex @a v (of another
-    /// star: no vertex in common).
-    bool crosses_star_of(std::uint32_t v, const Scratch& s) const {
+    /// Whether a triangle of the new star in @a s crosses one of the new star of plan @a q (the
+    /// two share no vertex).
+    bool crosses_new_star(const Plan& q, const Scratch& s) const {
         bool crossed = false;
-        around(v, [&](std::uint32_t c) {
-            const Ids& ids = triangles_[c / 3];
-            const detail::Triangle3 other{to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])};
-            Box box = empty_box();  // (boxes_ is refreshed only at the next round)
-            for (const std::uint32_t w : ids) grow(box, positions_[w]);
+        each_new_triangle(q, [&](std::uint32_t, const Ids& ids, const detail::Triangle3& corners, const Box& box) {
             for (std::size_t i = 0; i < s.star.size() && !crossed; ++i) {
-                crossed = detail::boxes_overlap(s.boxes[i], box) && triangles_cross(s.ids[i], s.corners[i], ids, other);
+                crossed = detail::boxes_overlap(s.boxes[i], box) && triangles_cross(s.ids[i], s.corners[i], ids, corners);
             }
         });
         return crossed;
@@ -483,13 +497,22 @@ private:
         return common == 2 && valence >= 4 + 3;
     }
 
-    /// The new star: the triangles around either end but off the edge, with b renamed a, the
+    /// The new star of @a p: the triangles around either end but off the edge, with b renamed a, the
     /// float corners with a moved to the new position, and their boxes.
     void new_star(const Plan& p, Scratch& s) const {
+        s.star.clear(), s.ids.clear(), s.corners.clear(), s.boxes.clear();
+        each_new_triangle(p, [&](std::uint32_t t, const Ids& ids, const detail::Triangle3& corners, const Box& box) {
+            s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(corners), s.boxes.push_back(box);
+        });
+    }
+
+    /// Calls visit(triangle, ids, corners, box) for each triangle of @a p's new star, as
+    /// new_star() describes it.
+    template <class Visit>
+    void each_new_triangle(const Plan& p, Visit&& visit) const {
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
         const std::array<float, 3>& position = position_[p.corner];
         const std::uint32_t t0 = p.corner / 3, t1 = opposite_[p.corner] / 3;
-        s.star.clear(), s.ids.clear(), s.corners.clear(), s.boxes.clear();
         for (const std::uint32_t v : {a, b}) {
             around(v, [&](std::uint32_t c) {
                 const std::uint32_t t = c / 3;
@@ -503,7 +526,7 @@ private:
                     corners[k] = to_double(q);
                     grow(box, q);
                 }
-                s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(corners), s.boxes.push_back(box);
+                visit(t, ids, corners, box);
             });
         }
     }
@@ -523,8 +546,9 @@ private:
     /// crossings among its triangles: seen along one direction, each turns the same way (exact
     /// orientations) and their angles at the kept vertex add up to one turn (the sum is a whole
     /// number of turns, so rounding cannot mislead), so the fan projects one-to-one onto a plane.
-    bool star_is_a_graph(std::uint32_t a, const Scratch& s) const {
-        std::vector<std::array<Vec3d, 2>> spokes(s.star.size());  // from the kept vertex to the other two corners
+    bool star_is_a_graph(std::uint32_t a, Scratch& s) const {
+        std::vector<std::array<Vec3d, 2>>& spokes = s.spokes;
+        spokes.resize(s.star.size());
         Vec3d n{0, 0, 0};
         double reach = 0;
         for (std::size_t i = 0; i < s.star.size(); ++i) {
@@ -560,7 +584,7 @@ private:
     }
 
     /// The new triangles cross neither each other nor any triangle near them off the old star.
-    bool intersection_free(const Plan& p, const Scratch& s) const {
+    bool intersection_free(const Plan& p, Scratch& s) const {
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
         Box around_star = empty_box();
         for (const Box& box : s.boxes) grow(around_star, box.lo), grow(around_star, box.hi);
