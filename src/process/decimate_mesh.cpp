@@ -383,14 +383,28 @@ private:
         }
     }
 
+    /// The edges that may collapse, in the order of their corners (whatever the thread count:
+    /// each block of triangles is counted, then written at its offset).
     void gather_candidates(std::vector<Candidate>& candidates) const {
-        candidates.clear();
-        for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
-            if (!alive_[t]) continue;
-            for (std::uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
-                if (vertex(next(c)) < vertex(prev(c)) && !rejected_[c] && error_[c] <= max_error_squared_) candidates.push_back({cost_[c], c});
+        constexpr std::uint32_t kBlock = 16384;
+        const auto triangles = std::uint32_t(triangles_.size());
+        const std::uint32_t blocks = (triangles + kBlock - 1) / kBlock;
+        const auto each = [&](std::uint32_t block, auto&& call) {
+            for (std::uint32_t t = block * kBlock; t < std::min(triangles, (block + 1) * kBlock); ++t) {
+                if (!alive_[t]) continue;
+                for (std::uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
+                    if (vertex(next(c)) < vertex(prev(c)) && !rejected_[c] && error_[c] <= max_error_squared_) call(c);
+                }
             }
-        }
+        };
+        std::vector<std::size_t> offsets(blocks + 1, 0);
+        tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t b) { each(b, [&](std::uint32_t) { ++offsets[b + 1]; }); });
+        for (std::uint32_t b = 0; b < blocks; ++b) offsets[b + 1] += offsets[b];
+        candidates.resize(offsets[blocks]);
+        tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t b) {
+            std::size_t at = offsets[b];
+            each(b, [&](std::uint32_t c) { candidates[at++] = {cost_[c], c}; });
+        });
     }
 
     // ---- a round ----
