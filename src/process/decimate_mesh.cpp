@@ -59,6 +59,8 @@ Vec3d cross(const Vec3d& a, const Vec3d& b) { return {a[1] * b[2] - a[2] * b[1],
 double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 Vec3d to_double(const std::array<float, 3>& p) { return {p[0], p[1], p[2]}; }
 std::array<float, 3> to_float(const Vec3d& p) { return {float(p[0]), float(p[1]), float(p[2])}; }
+using FloatTriangle = std::array<std::array<float, 3>, 3>;
+detail::Triangle3 to_double(const FloatTriangle& t) { return {to_double(t[0]), to_double(t[1]), to_double(t[2])}; }
 
 std::uint32_t next(std::uint32_t c) { return c % 3 == 2 ? c - 2 : c + 1; }
 std::uint32_t prev(std::uint32_t c) { return c % 3 == 0 ? c + 2 : c - 1; }
@@ -452,7 +454,7 @@ private:
                 plan_grid_.visit(p.star, [&](std::uint32_t j, const Box&) {
                     if (j >= passed[n]) return true;
                     if (!star_ready) new_star(p, s), star_ready = true;
-                    if (crosses_new_star(plans[j], s)) p.crossed.push_back(j);
+                    if (crosses_new_star(plans[j], p.star, s)) p.crossed.push_back(j);
                     return true;
                 });
                 std::sort(p.crossed.begin(), p.crossed.end());  // (the grid may list a plan twice)
@@ -483,9 +485,12 @@ private:
 
     /// Whether a triangle of the new star in @a s crosses one of the new star of plan @a q (the
     /// two share no vertex).
-    bool crosses_new_star(const Plan& q, const Scratch& s) const {
+    /// @a star: the box of the new star in @a s.
+    bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) const {
         bool crossed = false;
-        each_new_triangle(q, [&](std::uint32_t, const Ids& ids, const detail::Triangle3& corners, const Box& box) {
+        each_new_triangle(q, [&](std::uint32_t, const Ids& ids, const FloatTriangle& points, const Box& box) {
+            if (crossed || !detail::boxes_overlap(star, box)) return;
+            const detail::Triangle3 corners = to_double(points);
             for (std::size_t i = 0; i < s.star.size() && !crossed; ++i) {
                 crossed = detail::boxes_overlap(s.boxes[i], box) && triangles_cross(s.ids[i], s.corners[i], ids, corners);
             }
@@ -546,12 +551,12 @@ private:
     /// float corners with a moved to the new position, and their boxes.
     void new_star(const Plan& p, Scratch& s) const {
         s.star.clear(), s.ids.clear(), s.corners.clear(), s.boxes.clear();
-        each_new_triangle(p, [&](std::uint32_t t, const Ids& ids, const detail::Triangle3& corners, const Box& box) {
-            s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(corners), s.boxes.push_back(box);
+        each_new_triangle(p, [&](std::uint32_t t, const Ids& ids, const FloatTriangle& points, const Box& box) {
+            s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(to_double(points)), s.boxes.push_back(box);
         });
     }
 
-    /// Calls visit(triangle, ids, corners, box) for each triangle of @a p's new star, as
+    /// Calls visit(triangle, ids, points, box) for each triangle of @a p's new star, as
     /// new_star() describes it.
     template <class Visit>
     void each_new_triangle(const Plan& p, Visit&& visit) const {
@@ -563,15 +568,14 @@ private:
                 const std::uint32_t t = c / 3;
                 if (t == t0 || t == t1) return;
                 Ids ids = triangles_[t];
-                detail::Triangle3 corners;
+                FloatTriangle points;
                 Box box = empty_box();
                 for (int k = 0; k < 3; ++k) {
                     if (ids[k] == b) ids[k] = a;
-                    const std::array<float, 3>& q = ids[k] == a ? position : positions_[ids[k]];
-                    corners[k] = to_double(q);
-                    grow(box, q);
+                    points[k] = ids[k] == a ? position : positions_[ids[k]];
+                    grow(box, points[k]);
                 }
-                visit(t, ids, corners, box);
+                visit(t, ids, points, box);
             });
         }
     }
