@@ -214,12 +214,20 @@ struct Candidate {
 
 enum class Verdict : std::uint8_t { unchecked, passed, topology, geometry, intersection };
 
+/// A triangle of a collapse's new star: its vertices, their float points and box.
+struct NewTriangle {
+    Ids ids;
+    FloatTriangle points;
+    Box box;
+};
+
 /// A collapse a round may make.
 struct Plan {
     std::uint32_t corner = kNone;
     Box star = empty_box();  ///< the box of the new star (once checked)
     Verdict verdict = Verdict::unchecked;
     std::vector<std::uint32_t> crossed;  ///< earlier passed plans of the round whose new stars cross this one's
+    std::vector<NewTriangle> new_star;   ///< (once passed) for the crossing tests
 };
 
 /// Per-thread scratch of the checks.
@@ -229,6 +237,7 @@ struct Scratch {
     std::vector<std::uint32_t> star;  ///< the triangles of the new star
     std::vector<Ids> ids;             ///< their corners' vertices after the collapse
     std::vector<detail::Triangle3> corners;
+    std::vector<FloatTriangle> points;  ///< the corners as floats (as they will be written)
     std::vector<Box> boxes;
     std::vector<std::array<Vec3d, 2>> spokes;  ///< per star triangle, from the kept vertex to its other corners
 };
@@ -453,7 +462,11 @@ private:
                 bool star_ready = false;
                 plan_grid_.visit(p.star, [&](std::uint32_t j, const Box&) {
                     if (j >= passed[n]) return true;
-                    if (!star_ready) new_star(p, s), star_ready = true;
+                    if (!star_ready) {
+                        s.ids.clear(), s.corners.clear(), s.boxes.clear();
+                        for (const NewTriangle& t : p.new_star) s.ids.push_back(t.ids), s.corners.push_back(to_double(t.points)), s.boxes.push_back(t.box);
+                        star_ready = true;
+                    }
                     if (crosses_new_star(plans[j], p.star, s)) p.crossed.push_back(j);
                     return true;
                 });
@@ -486,16 +499,15 @@ private:
     /// Whether a triangle of the new star in @a s crosses one of the new star of plan @a q (the
     /// two share no vertex).
     /// @a star: the box of the new star in @a s.
-    bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) const {
-        bool crossed = false;
-        each_new_triangle(q, [&](std::uint32_t, const Ids& ids, const FloatTriangle& points, const Box& box) {
-            if (crossed || !detail::boxes_overlap(star, box)) return;
-            const detail::Triangle3 corners = to_double(points);
-            for (std::size_t i = 0; i < s.star.size() && !crossed; ++i) {
-                crossed = detail::boxes_overlap(s.boxes[i], box) && triangles_cross(s.ids[i], s.corners[i], ids, corners);
+    static bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) {
+        for (const NewTriangle& t : q.new_star) {
+            if (!detail::boxes_overlap(star, t.box)) continue;
+            const detail::Triangle3 corners = to_double(t.points);
+            for (std::size_t i = 0; i < s.ids.size(); ++i) {
+                if (detail::boxes_overlap(s.boxes[i], t.box) && triangles_cross(s.ids[i], s.corners[i], t.ids, corners)) return true;
             }
-        });
-        return crossed;
+        }
+        return false;
     }
 
     /// The alive triangles with their boxes, in cells of kCellEdges mean extents: those that
@@ -550,16 +562,7 @@ private:
     /// The new star of @a p: the triangles around either end but off the edge, with b renamed a, the
     /// float corners with a moved to the new position, and their boxes.
     void new_star(const Plan& p, Scratch& s) const {
-        s.star.clear(), s.ids.clear(), s.corners.clear(), s.boxes.clear();
-        each_new_triangle(p, [&](std::uint32_t t, const Ids& ids, const FloatTriangle& points, const Box& box) {
-            s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(to_double(points)), s.boxes.push_back(box);
-        });
-    }
-
-    /// Calls visit(triangle, ids, points, box) for each triangle of @a p's new star, as
-    /// new_star() describes it.
-    template <class Visit>
-    void each_new_triangle(const Plan& p, Visit&& visit) const {
+        s.star.clear(), s.ids.clear(), s.corners.clear(), s.points.clear(), s.boxes.clear();
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
         const std::array<float, 3>& position = position_[p.corner];
         const std::uint32_t t0 = p.corner / 3, t1 = opposite_[p.corner] / 3;
@@ -575,7 +578,8 @@ private:
                     points[k] = ids[k] == a ? position : positions_[ids[k]];
                     grow(box, points[k]);
                 }
-                visit(t, ids, points, box);
+                s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(to_double(points)), s.points.push_back(points);
+                s.boxes.push_back(box);
             });
         }
     }
@@ -665,7 +669,11 @@ private:
         new_star(p, s);
         if (!geometry_holds(s)) return Verdict::geometry;
         if (!intersection_free(p, s)) return Verdict::intersection;
-        for (const Box& b : s.boxes) grow(p.star, b.lo), grow(p.star, b.hi);
+        p.new_star.clear();
+        for (std::size_t i = 0; i < s.ids.size(); ++i) {
+            grow(p.star, s.boxes[i].lo), grow(p.star, s.boxes[i].hi);
+            p.new_star.push_back({s.ids[i], s.points[i], s.boxes[i]});
+        }
         return Verdict::passed;
     }
 
