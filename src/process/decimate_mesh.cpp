@@ -83,7 +83,11 @@ bool triangles_cross(const Ids& t_ids, const detail::Triangle3& t, const Ids& u_
         }
     }
     if (shared == 0 && detail::certainly_apart(t, u)) return false;
-    if (shared == 1 && detail::certainly_meet_only_at(t, t_corner, u[(u_corner + 1) % 3], u[(u_corner + 2) % 3])) return false;
+    if (shared == 1) {
+        const detail::Point3 &u1 = u[(u_corner + 1) % 3], &u2 = u[(u_corner + 2) % 3];
+        // (the planes of the triangles first: the cheaper proof, and enough where the surface bends)
+        if (detail::certainly_apart_of_plane(t, t_corner, u1, u2) || detail::certainly_meet_only_at(t, t_corner, u1, u2)) return false;
+    }
     if (shared == 2) {
         // t runs s0 -> s1 -> apex; u shares the edge the other way.
         int apex = 0, u_apex = 0;
@@ -137,13 +141,23 @@ public:
         }
         const std::size_t cells = std::size_t(dims_[0] * dims_[1] * dims_[2]);
         start_.assign(cells + 1, 0);
-        for (const Box& b : boxes) for_cells(b, [&](std::size_t c) { ++start_[c + 1]; });
+        // The cell of each box of a cell or less (found once, in parallel); kNone for larger ones.
+        std::vector<std::uint32_t> cell_of(boxes.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 8192), [&](const auto& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) cell_of[i] = small(boxes[i]) ? std::uint32_t(index(cell_coordinates(boxes[i].lo))) : kNone;
+        });
+        for (std::size_t i = 0; i < boxes.size(); ++i) {
+            if (cell_of[i] != kNone) ++start_[cell_of[i] + 1];
+            else for_cells(boxes[i], [&](std::size_t c) { ++start_[c + 1]; });
+        }
         for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
         boxes_.resize(start_[cells]);
         ids_.resize(start_[cells]);
         std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
         for (std::size_t i = 0; i < boxes.size(); ++i) {
-            for_cells(boxes[i], [&](std::size_t c) { boxes_[fill[c]] = boxes[i], ids_[fill[c]++] = ids[i]; });
+            const auto put = [&](std::size_t c) { boxes_[fill[c]] = boxes[i], ids_[fill[c]++] = ids[i]; };
+            if (cell_of[i] != kNone) put(cell_of[i]);
+            else for_cells(boxes[i], put);
         }
     }
 
@@ -175,15 +189,18 @@ private:
     template <class Call>
     void for_cells(const Box& box, Call&& call) const {
         const std::array<std::int64_t, 3> from = cell_coordinates(box.lo);
-        std::array<std::int64_t, 3> to = from;
-        bool small = true;
-        for (int k = 0; k < 3; ++k) small &= double(box.hi[k]) - box.lo[k] <= cell_;
-        if (!small) to = cell_coordinates(box.hi);
+        const std::array<std::int64_t, 3> to = small(box) ? from : cell_coordinates(box.hi);
         for (std::int64_t z = from[2]; z <= to[2]; ++z) {
             for (std::int64_t y = from[1]; y <= to[1]; ++y) {
                 for (std::int64_t x = from[0]; x <= to[0]; ++x) call(index({x, y, z}));
             }
         }
+    }
+
+    bool small(const Box& box) const {
+        bool small = true;
+        for (int k = 0; k < 3; ++k) small &= double(box.hi[k]) - box.lo[k] <= cell_;
+        return small;
     }
 
     std::array<std::int64_t, 3> cell_coordinates(const std::array<float, 3>& p) const {

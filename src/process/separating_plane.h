@@ -26,6 +26,32 @@ inline SignedDistance along(const Point3& axis, const Point3& origin, const Poin
     return {t0 + t1 + t2, kBound * (std::fabs(t0) + std::fabs(t1) + std::fabs(t2))};
 }
 
+/// The sign of orient3d(a, b, c, d) when the plain double evaluation certainly has it, else 0
+/// (unknown): the filter of the exact predicate with a margin over J. R. Shewchuk's bound
+/// (7 + 56 eps) eps times the permanent.
+inline int certain_orientation(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+    const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+    const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+    const double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
+    const double det = wx * (uy * vz - uz * vy) + wy * (uz * vx - ux * vz) + wz * (ux * vy - uy * vx);
+    const double permanent = std::fabs(wx) * (std::fabs(uy * vz) + std::fabs(uz * vy)) +
+                             std::fabs(wy) * (std::fabs(uz * vx) + std::fabs(ux * vz)) +
+                             std::fabs(wz) * (std::fabs(ux * vy) + std::fabs(uy * vx));
+    constexpr double kBound = 1e-15;
+    return det > kBound * permanent ? 1 : det < -kBound * permanent ? -1 : 0;
+}
+
+/// True when the triangles t and (corner, u1, u2), sharing @a corner = t[k], certainly meet only
+/// there because u1 and u2 lie strictly on the same side of t's plane, or t's other corners on
+/// the same side of u's plane.
+inline bool certainly_apart_of_plane(const Triangle3& t, int k, const Point3& u1, const Point3& u2) {
+    const int s1 = certain_orientation(t[0], t[1], t[2], u1);
+    if (s1 != 0 && s1 == certain_orientation(t[0], t[1], t[2], u2)) return true;
+    const Point3& corner = t[k];
+    const int s2 = certain_orientation(corner, u1, u2, t[k == 2 ? 0 : k + 1]);
+    return s2 != 0 && s2 == certain_orientation(corner, u1, u2, t[k == 0 ? 2 : k - 1]);
+}
+
 inline Point3 centroid(const Triangle3& t) {
     return {(t[0][0] + t[1][0] + t[2][0]) / 3, (t[0][1] + t[1][1] + t[2][1]) / 3, (t[0][2] + t[1][2] + t[2][2]) / 3};
 }
