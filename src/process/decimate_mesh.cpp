@@ -412,26 +412,26 @@ private:
     }
 
     /// The edges that may collapse, in the order of their corners (whatever the thread count:
-    /// each block of triangles is counted, then written at its offset).
-    void gather_candidates(std::vector<Candidate>& candidates) const {
+    /// each block of triangles is gathered on its own, then the blocks are put end to end).
+    void gather_candidates(std::vector<Candidate>& candidates) {
         constexpr std::uint32_t kBlock = 16384;
         const auto triangles = std::uint32_t(triangles_.size());
-        const std::uint32_t blocks = (triangles + kBlock - 1) / kBlock;
-        const auto each = [&](std::uint32_t block, auto&& call) {
-            for (std::uint32_t t = block * kBlock; t < std::min(triangles, (block + 1) * kBlock); ++t) {
+        block_candidates_.resize((triangles + kBlock - 1) / kBlock);
+        tbb::parallel_for(std::size_t(0), block_candidates_.size(), [&](std::size_t block) {
+            std::vector<Candidate>& found = block_candidates_[block];
+            found.clear();
+            for (auto t = std::uint32_t(block * kBlock); t < std::min(triangles, std::uint32_t((block + 1) * kBlock)); ++t) {
                 if (!alive_[t]) continue;
                 for (std::uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
-                    if (vertex(next(c)) < vertex(prev(c)) && !rejected_[c] && error_[c] <= max_error_squared_) call(c);
+                    if (vertex(next(c)) < vertex(prev(c)) && !rejected_[c] && error_[c] <= max_error_squared_) found.push_back({cost_[c], c});
                 }
             }
-        };
-        std::vector<std::size_t> offsets(blocks + 1, 0);
-        tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t b) { each(b, [&](std::uint32_t) { ++offsets[b + 1]; }); });
-        for (std::uint32_t b = 0; b < blocks; ++b) offsets[b + 1] += offsets[b];
-        candidates.resize(offsets[blocks]);
-        tbb::parallel_for(std::uint32_t(0), blocks, [&](std::uint32_t b) {
-            std::size_t at = offsets[b];
-            each(b, [&](std::uint32_t c) { candidates[at++] = {cost_[c], c}; });
+        });
+        std::vector<std::size_t> offsets(block_candidates_.size() + 1, 0);
+        for (std::size_t b = 0; b < block_candidates_.size(); ++b) offsets[b + 1] = offsets[b] + block_candidates_[b].size();
+        candidates.resize(offsets.back());
+        tbb::parallel_for(std::size_t(0), block_candidates_.size(), [&](std::size_t b) {
+            std::copy(block_candidates_[b].begin(), block_candidates_[b].end(), candidates.begin() + std::ptrdiff_t(offsets[b]));
         });
     }
 
@@ -742,6 +742,7 @@ private:
     std::vector<char> rejected_;        ///< per corner: its edge's collapse failed a check since it last changed
     std::vector<Box> boxes_;            ///< per triangle
     std::vector<std::uint32_t> dirty_;  ///< triangles changed in the round (to refresh)
+    std::vector<std::vector<Candidate>> block_candidates_;  ///< gather_candidates() per block of triangles
     std::vector<char> moved_;                 ///< per triangle: changed since settled_grid_ was built
     std::vector<std::uint32_t> moved_list_;  ///< those triangles (some removed since)
     BoxGrid settled_grid_, moved_grid_, plan_grid_;

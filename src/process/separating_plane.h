@@ -99,6 +99,8 @@ inline bool certainly_meet_only_at(const Triangle3& t, int k, const Point3& u1, 
 inline bool certainly_meet_only_on_edge(const Point3& s0, const Point3& s1, const Point3& p, const Point3& q) {
     const Point3 e{s1[0] - s0[0], s1[1] - s0[1], s1[2] - s0[2]}, f{p[0] - s0[0], p[1] - s0[1], p[2] - s0[2]};
     const Point3 off{s0[0] + e[1] * f[2] - e[2] * f[1], s0[1] + e[2] * f[0] - e[0] * f[2], s0[2] + e[0] * f[1] - e[1] * f[0]};
+    const int p_certain = certain_orientation(s0, s1, off, p);
+    if (p_certain != 0 && certain_orientation(s0, s1, off, q) == -p_certain) return true;
     const int p_side = orient3d(s0, s1, off, p);
     return p_side != 0 && orient3d(s0, s1, off, q) == -p_side;
 }
