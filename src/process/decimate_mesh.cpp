@@ -82,7 +82,7 @@ bool triangles_cross(const Ids& t_ids, const detail::Triangle3& t, const Ids& u_
             if (t_ids[i] == u_ids[j]) ++shared, t_corner = i, u_corner = j;
         }
     }
-    if (shared == 0 && detail::certainly_apart(t, u)) return false;
+    if (shared == 0 && (detail::certainly_apart(t, u) || detail::certainly_apart_by_plane(t, u))) return false;
     if (shared == 1) {
         const detail::Point3 &u1 = u[(u_corner + 1) % 3], &u2 = u[(u_corner + 2) % 3];
         // (the planes of the triangles first: the cheaper proof, and enough where the surface bends)

@@ -41,6 +41,20 @@ inline int certain_orientation(const Point3& a, const Point3& b, const Point3& c
     return det > kBound * permanent ? 1 : det < -kBound * permanent ? -1 : 0;
 }
 
+/// True when all of @a u lies certainly strictly on one side of t's plane, or all of t on one
+/// side of u's (then the triangles share no point).
+inline bool certainly_apart_by_plane(const Triangle3& t, const Triangle3& u) {
+    for (int pass = 0; pass < 2; ++pass) {
+        const Triangle3& a = pass == 0 ? t : u;
+        const Triangle3& b = pass == 0 ? u : t;
+        const int side = certain_orientation(a[0], a[1], a[2], b[0]);
+        if (side != 0 && certain_orientation(a[0], a[1], a[2], b[1]) == side && certain_orientation(a[0], a[1], a[2], b[2]) == side) {
+            return true;
+        }
+    }
+    return false;
+}
+
 /// True when the triangles t and (corner, u1, u2), sharing @a corner = t[k], certainly meet only
 /// there because u1 and u2 lie strictly on the same side of t's plane, or t's other corners on
 /// the same side of u's plane.
