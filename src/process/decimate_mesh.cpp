@@ -108,14 +108,16 @@ void check_closed_manifold(const Mesh& mesh) {
     }
 }
 
-/// Boxes with ids in a uniform grid, each in the cell of its low corner (one larger than a cell:
-/// in every cell it meets), for finding the boxes that meet a box. Built at once and read-only
-/// after. The boxes and the ids are kept apart, so a query reads only the boxes it passes over.
+/// Boxes with payloads (what a query needs of each) in a uniform grid, each in the cell of its
+/// low corner (one larger than a cell: in every cell it meets), for finding the boxes that meet
+/// a box. Built at once and read-only after. The boxes and the payloads are kept apart, so a
+/// query reads only the boxes it passes over.
+template <class Payload>
 class BoxGrid {
 public:
     /// @a cell: the cell size, made at least the largest extent of 99% of the boxes, and coarser
     /// where the boxes are spread thin (at most about eight cells per box).
-    void build(const std::vector<Box>& boxes, const std::vector<std::uint32_t>& ids, double cell) {
+    void build(const std::vector<Box>& boxes, const std::vector<Payload>& payloads, double cell) {
         Box bounds = empty_box();
         std::vector<float> extents(boxes.size());
         for (std::size_t i = 0; i < boxes.size(); ++i) {
@@ -152,10 +154,10 @@ public:
         }
         for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
         boxes_.resize(start_[cells]);
-        ids_.resize(start_[cells]);
+        payloads_.resize(start_[cells]);
         std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
         for (std::size_t i = 0; i < boxes.size(); ++i) {
-            const auto put = [&](std::size_t c) { boxes_[fill[c]] = boxes[i], ids_[fill[c]++] = ids[i]; };
+            const auto put = [&](std::size_t c) { boxes_[fill[c]] = boxes[i], payloads_[fill[c]++] = payloads[i]; };
             if (cell_of[i] != kNone) put(cell_of[i]);
             else for_cells(boxes[i], put);
         }
@@ -163,7 +165,7 @@ public:
 
     bool empty() const { return start_.empty(); }  ///< never built
 
-    /// Calls visit(id, box) for each entry whose box meets @a box (one larger than a cell may
+    /// Calls visit(payload, box) for each entry whose box meets @a box (one larger than a cell may
     /// come more than once); stops when visit returns false. Returns whether it went through.
     template <class Visit>
     bool visit(const Box& box, Visit&& visit) const {
@@ -176,7 +178,7 @@ public:
             for (std::int64_t y = from[1]; y <= to[1]; ++y) {
                 const std::size_t row = index({0, y, z});
                 for (std::uint32_t i = start_[row + std::size_t(from[0])]; i < start_[row + std::size_t(to[0]) + 1]; ++i) {
-                    if (detail::boxes_overlap(boxes_[i], box) && !visit(ids_[i], boxes_[i])) return false;
+                    if (detail::boxes_overlap(boxes_[i], box) && !visit(payloads_[i], boxes_[i])) return false;
                 }
             }
         }
@@ -218,7 +220,13 @@ private:
     std::array<std::int64_t, 3> dims_{1, 1, 1};
     std::vector<std::uint32_t> start_;  ///< entries of cell c: [start_[c], start_[c + 1])
     std::vector<Box> boxes_;
-    std::vector<std::uint32_t> ids_;
+    std::vector<Payload> payloads_;
+};
+
+/// What the triangle grids hold of a triangle besides its box.
+struct GridTriangle {
+    std::uint32_t triangle;
+    Ids ids;  ///< its vertices (read without a detour through the mesh)
 };
 
 /// An edge a round considers, at the corner opposite it where it runs from its lower vertex
@@ -531,7 +539,6 @@ private:
     /// moved since the settled grid was built in a grid of their own, rebuilt each round; the
     /// settled grid rebuilt only once a quarter of the triangles has moved.
     void build_triangle_grids() {
-        std::vector<Box> boxes;
         std::vector<std::uint32_t> ids;
         const bool all = settled_grid_.empty() || moved_list_.size() > alive_count_ / 4;
         if (all) {
@@ -545,22 +552,24 @@ private:
                               moved_list_.end());
             ids = moved_list_;
         }
+        std::vector<Box> boxes(ids.size());
+        std::vector<GridTriangle> payloads(ids.size());
         double extent = 0;
-        boxes.reserve(ids.size());
-        for (const std::uint32_t t : ids) {
-            boxes.push_back(boxes_[t]);
+        for (std::size_t i = 0; i < ids.size(); ++i) {
+            const std::uint32_t t = ids[i];
+            boxes[i] = boxes_[t], payloads[i] = {t, triangles_[t]};
             extent += std::max({double(boxes_[t].hi[0]) - boxes_[t].lo[0], double(boxes_[t].hi[1]) - boxes_[t].lo[1],
                                 double(boxes_[t].hi[2]) - boxes_[t].lo[2]});
         }
-        (all ? settled_grid_ : moved_grid_).build(boxes, ids, kCellEdges * extent / double(std::max<std::size_t>(ids.size(), 1)));
+        (all ? settled_grid_ : moved_grid_).build(boxes, payloads, kCellEdges * extent / double(std::max<std::size_t>(ids.size(), 1)));
         if (all) moved_grid_.build({}, {}, 1);
     }
 
-    /// Calls visit(triangle, box) for each alive triangle whose box meets @a box, until it returns
+    /// Calls visit(GridTriangle, box) for each alive triangle whose box meets @a box, until it returns
     /// false; returns whether it went through.
     template <class Visit>
     bool visit_triangles(const Box& box, Visit&& visit) const {
-        return settled_grid_.visit(box, [&](std::uint32_t t, const Box& b) { return !alive_[t] || moved_[t] || visit(t, b); }) &&
+        return settled_grid_.visit(box, [&](const GridTriangle& t, const Box& b) { return moved_[t.triangle] || visit(t, b); }) &&
                moved_grid_.visit(box, visit);
     }
 
@@ -665,8 +674,8 @@ private:
                 }
             }
         }
-        return visit_triangles(around_star, [&](std::uint32_t t, const Box& box) {
-            const Ids& ids = triangles_[t];
+        return visit_triangles(around_star, [&](const GridTriangle& t, const Box& box) {
+            const Ids& ids = t.ids;
             for (const std::uint32_t v : ids) {
                 if (v == a || v == b) return true;  // the old star, replaced
             }
@@ -710,6 +719,7 @@ private:
         vertex_corner_[vertex(o)] = next(x1);
         vertex_corner_[b] = kNone;
         alive_[corner / 3] = alive_[o / 3] = 0;
+        moved_[corner / 3] = moved_[o / 3] = 1;  // (off the settled grid from now on)
         alive_count_ -= 2;
         positions_[a] = position_[p.corner];
         quadrics_[a] = quadrics_[a] + quadrics_[b];
@@ -743,9 +753,10 @@ private:
     std::vector<Box> boxes_;            ///< per triangle
     std::vector<std::uint32_t> dirty_;  ///< triangles changed in the round (to refresh)
     std::vector<std::vector<Candidate>> block_candidates_;  ///< gather_candidates() per block of triangles
-    std::vector<char> moved_;                 ///< per triangle: changed since settled_grid_ was built
+    std::vector<char> moved_;  ///< per triangle: changed (or removed) since settled_grid_ was built
     std::vector<std::uint32_t> moved_list_;  ///< those triangles (some removed since)
-    BoxGrid settled_grid_, moved_grid_, plan_grid_;
+    BoxGrid<GridTriangle> settled_grid_, moved_grid_;
+    BoxGrid<std::uint32_t> plan_grid_;
     std::size_t alive_count_;
     std::size_t target_;
     double max_error_squared_;
