@@ -296,9 +296,10 @@ public:
         own.mark.assign(positions_.size(), 0);
         while (alive_count_ > target_) {
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, dirty_.size(), 1024), [&](const auto& range) {
-                for (std::size_t i = range.begin(); i != range.end(); ++i) refresh(dirty_[i]);
+                for (std::size_t i = range.begin(); i != range.end(); ++i) refresh(dirty_[i] / 3, dirty_[i]);
             });
-            for (const std::uint32_t t : dirty_) {
+            for (const std::uint32_t c : dirty_) {
+                const std::uint32_t t = c / 3;
                 if (!moved_[t]) moved_[t] = 1, moved_list_.push_back(t);
             }
             dirty_.clear();
@@ -403,14 +404,15 @@ private:
     }
 
     /// Triangle @a t's box and the costs of its edges (each at the corner where it runs from the
-    /// lower vertex); none of them refused any more.
-    void refresh(std::uint32_t t) {
+    /// lower vertex) but the one opposite corner @a unchanged (its ends have neither moved nor
+    /// merged: its cached cost holds); none of them refused any more.
+    void refresh(std::uint32_t t, std::uint32_t unchanged = kNone) {
         boxes_[t] = empty_box();
         for (std::uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
             grow(boxes_[t], positions_[vertex(c)]);
             rejected_[c] = 0;
             const std::uint32_t a = vertex(next(c)), b = vertex(prev(c));
-            if (a > b) continue;
+            if (a > b || c == unchanged) continue;
             position_[c] = placement(a, b);
             const double error = (quadrics_[a] + quadrics_[b]).error(to_double(position_[c]));
             const Vec3d edge = sub(point(a), point(b));
@@ -723,7 +725,7 @@ private:
         alive_count_ -= 2;
         positions_[a] = position_[p.corner];
         quadrics_[a] = quadrics_[a] + quadrics_[b];
-        around(a, [&](std::uint32_t c) { dirty_.push_back(c / 3); });
+        around(a, [&](std::uint32_t c) { dirty_.push_back(c); });
     }
 
     Mesh compact() const {
@@ -751,7 +753,7 @@ private:
     std::vector<std::array<float, 3>> position_;  ///< per corner: where that edge's collapse puts the vertex
     std::vector<char> rejected_;        ///< per corner: its edge's collapse failed a check since it last changed
     std::vector<Box> boxes_;            ///< per triangle
-    std::vector<std::uint32_t> dirty_;  ///< triangles changed in the round (to refresh)
+    std::vector<std::uint32_t> dirty_;  ///< corners at the kept vertices of the round's collapses (their triangles to refresh)
     std::vector<std::vector<Candidate>> block_candidates_;  ///< gather_candidates() per block of triangles
     std::vector<char> moved_;  ///< per triangle: changed (or removed) since settled_grid_ was built
     std::vector<std::uint32_t> moved_list_;  ///< those triangles (some removed since)
