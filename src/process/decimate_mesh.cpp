@@ -6,16 +6,19 @@
 // star of no edge picked before (as meshoptimizer locks vertices). Those are checked in parallel
 // against the mesh as it was at the start of the round, then applied in order of cost. No collapse
 // of the round changes what another's checks read (its ends' rings, its star) but for the new
-// triangles of two collapses, which are tested against each other as they are applied. So the
-// result does not depend on the thread count. Each collapse is checked where it changes the mesh,
-// on the float coordinates that will be written:
+// triangles of two collapses: those crossings are found in parallel too, between the new stars as
+// the checks built them, and a plan crossing one applied before it waits. So the result does not
+// depend on the thread count. Each collapse is checked where it changes the mesh, on the float
+// coordinates that will be written:
 // - topology: the link condition (the ends' neighbours in common are exactly the two opposite
 //   corners; T. K. Dey et al., "Topology preserving edge contraction", 1999), which keeps a
 //   closed 2-manifold one;
 // - geometry: no triangle of the new star is degenerate (exact collinearity) or turns by more
 //   than kMaxTurnDegrees;
-// - intersections: each new triangle against the others of the star and against the triangles a
-//   grid (rebuilt each round) finds near it, with the exact tests of `vdbmesh check`.
+// - intersections: each new triangle against the others of the star and against the triangles
+//   the grids find near it (one of all triangles, rebuilt once a quarter of them has moved, and
+//   one of those moved since, rebuilt each round), with the exact tests of `vdbmesh check`; a
+//   plane that certainly separates the two triangles (separating_plane.h) spares most of them.
 // The mesh is held as a corner table (each corner's opposite corner across its edge), flat arrays
 // throughout.
 #include <tbb/blocked_range.h>
@@ -467,10 +470,11 @@ private:
     }
 
     /// For each plan that passed its checks, the earlier ones that did too and whose new stars
-    /// cross its own: their stars share no vertex, so each check still holds but for the new
-    /// triangles of two collapses of the round, which no check has met. Both new stars are
-    /// read from the mesh at the start of the round: no other collapse of the round changes
-    /// them (their vertices are neither collapse's ends nor its ends' neighbours).
+    /// cross its own: no plan's ends are in another's star, so each check still holds but for
+    /// the new triangles of two collapses of the round, which no check has met. Both new stars
+    /// are as the checks built them from the mesh at the start of the round: no other collapse
+    /// of the round changes them (their vertices are neither collapse's ends nor its ends'
+    /// neighbours; two stars may share link vertices, which the exact tests allow for).
     void find_crossings(std::vector<Plan>& plans, tbb::enumerable_thread_specific<Scratch>& scratch) {
         std::vector<Box> boxes;
         std::vector<std::uint32_t> passed;
@@ -523,9 +527,8 @@ private:
         }
     }
 
-    /// Whether a triangle of the new star in @a s crosses one of the new star of plan @a q (the
-    /// two share no vertex).
-    /// @a star: the box of the new star in @a s.
+    /// Whether a triangle of the new star in @a s (whose box is @a star) crosses one of the new
+    /// star of plan @a q (neither holds the other's kept vertex).
     static bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) {
         for (const NewTriangle& t : q.new_star) {
             if (!detail::boxes_overlap(star, t.box)) continue;
