@@ -27,6 +27,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -279,15 +280,18 @@ public:
           position_(3 * mesh.triangles.size()),
           rejected_(3 * mesh.triangles.size(), 0), boxes_(mesh.triangles.size()), moved_(mesh.triangles.size(), 0), alive_count_(mesh.triangles.size()),
           target_(std::size_t(std::ceil(options.keep_fraction * double(mesh.triangles.size())))),
-          max_error_squared_(options.max_error * options.max_error) {
-        link_corners();
+          max_error_squared_(options.max_error * options.max_error), closed_manifold_(link_corners()) {}
+
+    /// Whether every edge has exactly two triangles, running either way, and every vertex one
+    /// fan: the mesh is closed, manifold and oriented (what the decimation needs), found on the
+    /// way to the corner table. When not, detail::analyze_topology() says what is wrong.
+    bool closed_manifold() const { return closed_manifold_; }
+
+    Mesh run(DecimateReport& report) {
         gather_quadrics();
         tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(triangles_.size()), 4096), [&](const auto& range) {
             for (std::uint32_t t = range.begin(); t != range.end(); ++t) refresh(t);
         });
-    }
-
-    Mesh run(DecimateReport& report) {
         tbb::enumerable_thread_specific<Scratch> scratch([&] {
             Scratch s;
             s.mark.assign(positions_.size(), 0);
@@ -333,7 +337,8 @@ private:
 
     /// Each corner's opposite: the corner of the other triangle on the edge opposite it (that
     /// edge runs vertex(next c) -> vertex(prev c), and the other way in the other triangle).
-    void link_corners() {
+    /// Returns closed_manifold().
+    bool link_corners() {
         const std::size_t n = positions_.size();
         const auto corners = std::uint32_t(3 * triangles_.size());
         std::vector<std::uint32_t> start(n + 1, 0);
@@ -342,16 +347,32 @@ private:
         std::vector<std::uint32_t> at(start[n]);  // the corners at each vertex
         std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
         for (std::uint32_t c = 0; c < corners; ++c) at[fill[vertex(c)]++] = c;
+        std::atomic<bool> paired{true};
         tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, corners, 4096), [&](const auto& range) {
             for (std::uint32_t c = range.begin(); c != range.end(); ++c) {
                 // The other triangle has a corner at w = vertex(prev c) followed by one at u.
                 const std::uint32_t u = vertex(next(c)), w = vertex(prev(c));
+                int found = 0;
                 for (std::uint32_t i = start[w]; i < start[w + 1]; ++i) {
-                    if (vertex(next(at[i])) == u) opposite_[c] = prev(at[i]);
+                    if (vertex(next(at[i])) == u) opposite_[c] = prev(at[i]), ++found;
                 }
+                if (found != 1) paired = false;
             }
         });
         for (std::uint32_t c = 0; c < corners; ++c) vertex_corner_[vertex(c)] = c;
+        if (!paired) return false;
+        // Each edge paired once (so opposite_ is an involution and every walk round a vertex
+        // closes): a vertex is manifold when its walk meets all its corners.
+        std::atomic<bool> fans{true};
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+            for (std::size_t v = range.begin(); v != range.end(); ++v) {
+                if (start[v] == start[v + 1]) continue;
+                std::uint32_t count = 0;
+                around(std::uint32_t(v), [&](std::uint32_t) { ++count; });
+                if (count != start[v + 1] - start[v]) fans = false;
+            }
+        });
+        return fans;
     }
 
     /// The next corner at the same vertex (across the edge to vertex(next c)).
@@ -765,6 +786,7 @@ private:
     std::size_t alive_count_;
     std::size_t target_;
     double max_error_squared_;
+    bool closed_manifold_;
 };
 
 }  // namespace
@@ -775,9 +797,10 @@ Mesh decimate_mesh(const Mesh& mesh, const DecimateOptions& options, DecimateRep
     }
     if (!(options.max_error >= 0)) throw UsageError("decimate: expected a maximum error >= 0, got " + std::to_string(options.max_error));
     detail::check_indices(mesh);
-    check_closed_manifold(mesh);
+    Decimator decimator(mesh, options);
+    if (!decimator.closed_manifold()) check_closed_manifold(mesh);  // throws, naming the faults
     DecimateReport local;
-    Mesh result = Decimator(mesh, options).run(local);
+    Mesh result = decimator.run(local);
     if (report) *report = local;
     return result;
 }
