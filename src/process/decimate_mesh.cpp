@@ -302,6 +302,7 @@ public:
         Scratch own;
         own.mark.assign(positions_.size(), 0);
         while (alive_count_ > target_) {
+            tbb::parallel_sort(dirty_.begin(), dirty_.end());  // (in memory order, as the checks below)
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, dirty_.size(), 1024), [&](const auto& range) {
                 for (std::size_t i = range.begin(); i != range.end(); ++i) refresh(dirty_[i] / 3, dirty_[i]);
             });
@@ -320,11 +321,16 @@ public:
             tbb::parallel_sort(candidates.begin(), candidates.end());
             choose_apart(candidates, plans, own);
             build_triangle_grids();
+            // Checked in the order of their triangles, which keeps neighbours together in memory
+            // (the checks are independent of each other; the cost order scatters them).
+            std::vector<std::uint32_t> in_place(plans.size());
+            for (std::uint32_t i = 0; i < plans.size(); ++i) in_place[i] = i;
+            tbb::parallel_sort(in_place.begin(), in_place.end(), [&](std::uint32_t i, std::uint32_t j) { return plans[i].corner < plans[j].corner; });
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, plans.size(), 32), [&](const auto& range) {
                 Scratch& s = scratch.local();
-                for (std::size_t i = range.begin(); i != range.end(); ++i) plans[i].verdict = check(plans[i], s);
+                for (std::size_t n = range.begin(); n != range.end(); ++n) plans[in_place[n]].verdict = check(plans[in_place[n]], s);
             });
-            find_crossings(plans, scratch);
+            find_crossings(plans, in_place, scratch);
             apply_round(plans, report);
         }
         return compact();
@@ -496,7 +502,9 @@ private:
     /// are as the checks built them from the mesh at the start of the round: no other collapse
     /// of the round changes them (their vertices are neither collapse's ends nor its ends'
     /// neighbours; two stars may share link vertices, which the exact tests allow for).
-    void find_crossings(std::vector<Plan>& plans, tbb::enumerable_thread_specific<Scratch>& scratch) {
+    /// @a in_place: the plans in the order to visit them (any order gives the same crossings).
+    void find_crossings(std::vector<Plan>& plans, const std::vector<std::uint32_t>& in_place,
+                        tbb::enumerable_thread_specific<Scratch>& scratch) {
         std::vector<Box> boxes;
         std::vector<std::uint32_t> passed;
         double extent = 0;
@@ -506,14 +514,16 @@ private:
             for (int k = 0; k < 3; ++k) extent += double(plans[i].star.hi[k]) - plans[i].star.lo[k];
         }
         plan_grid_.build(boxes, passed, extent / (3 * double(std::max<std::size_t>(passed.size(), 1))));
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, passed.size(), 64), [&](const auto& range) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in_place.size(), 64), [&](const auto& range) {
             Scratch& s = scratch.local();
             for (std::size_t n = range.begin(); n != range.end(); ++n) {
-                Plan& p = plans[passed[n]];
+                const std::uint32_t i = in_place[n];
+                Plan& p = plans[i];
+                if (p.verdict != Verdict::passed) continue;
                 p.crossed.clear();
                 bool star_ready = false;
                 plan_grid_.visit(p.star, [&](std::uint32_t j, const Box&) {
-                    if (j >= passed[n]) return true;
+                    if (j >= i) return true;
                     if (!star_ready) {
                         s.ids.clear(), s.corners.clear(), s.boxes.clear();
                         for (const NewTriangle& t : p.new_star) s.ids.push_back(t.ids), s.corners.push_back(to_double(t.points)), s.boxes.push_back(t.box);
