@@ -538,10 +538,15 @@ private:
     }
 
     /// Applies the plans that passed their checks, in order of cost, while triangles are to go;
-    /// a plan whose new star crosses that of one applied before waits for the next round.
+    /// a plan whose new star crosses that of one applied before waits for the next round. The
+    /// cost order decides which apply; they are then applied in the order of their triangles
+    /// (neighbours together in memory): their stars are apart, so the mesh comes out the same
+    /// but for which corner vertex_corner_ names at a link vertex two stars share.
     void apply_round(const std::vector<Plan>& plans, DecimateReport& report) {
         std::vector<char> applied(plans.size(), 0);
-        for (std::uint32_t i = 0; i < plans.size() && alive_count_ > target_; ++i) {
+        std::vector<std::uint32_t> chosen;
+        std::size_t alive = alive_count_;
+        for (std::uint32_t i = 0; i < plans.size() && alive > target_; ++i) {
             const Plan& p = plans[i];
             if (p.verdict != Verdict::passed) {
                 rejected_[p.corner] = 1;
@@ -551,9 +556,14 @@ private:
                 continue;
             }
             if (std::any_of(p.crossed.begin(), p.crossed.end(), [&](std::uint32_t j) { return applied[j] != 0; })) continue;
-            report.max_error = std::max(report.max_error, std::sqrt(error_[p.corner]));
-            apply(p);
             applied[i] = 1;
+            chosen.push_back(p.corner);
+            alive -= 2;
+        }
+        tbb::parallel_sort(chosen.begin(), chosen.end());
+        for (const std::uint32_t corner : chosen) {
+            report.max_error = std::max(report.max_error, std::sqrt(error_[corner]));
+            apply(corner);
             ++report.collapses;
         }
     }
@@ -739,11 +749,11 @@ private:
         return Verdict::passed;
     }
 
-    /// The collapse of the edge opposite p.corner, from a (kept) to b, whose triangles are
+    /// The collapse of the edge opposite @a corner, from a (kept) to b, whose triangles are
     /// t0 = (a, b, c) and t1 = (b, a, d): b's corners become a's, and the two edges left of each
     /// removed triangle are joined.
-    void apply(const Plan& p) {
-        const std::uint32_t corner = p.corner, o = opposite_[corner];
+    void apply(std::uint32_t corner) {
+        const std::uint32_t o = opposite_[corner];
         const std::uint32_t a = vertex(next(corner)), b = vertex(prev(corner));
         around(b, [&](std::uint32_t c) { triangles_[c / 3][c % 3] = a; });
         const std::uint32_t x0 = opposite_[next(corner)], y0 = opposite_[prev(corner)];  // across b-c and c-a
@@ -757,7 +767,7 @@ private:
         alive_[corner / 3] = alive_[o / 3] = 0;
         moved_[corner / 3] = moved_[o / 3] = 1;  // (off the settled grid from now on)
         alive_count_ -= 2;
-        positions_[a] = position_[p.corner];
+        positions_[a] = position_[corner];
         quadrics_[a] = quadrics_[a] + quadrics_[b];
         around(a, [&](std::uint32_t c) { dirty_.push_back(c); });
     }
