@@ -26,20 +26,30 @@ inline SignedDistance along(const Point3& axis, const Point3& origin, const Poin
     return {t0 + t1 + t2, kBound * (std::fabs(t0) + std::fabs(t1) + std::fabs(t2))};
 }
 
-/// The sign of orient3d(a, b, c, d) when the plain double evaluation certainly has it, else 0
-/// (unknown): the filter of the exact predicate with a margin over J. R. Shewchuk's bound
-/// (7 + 56 eps) eps times the permanent.
-inline int certain_orientation(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
-    const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-    const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-    const double wx = d[0] - a[0], wy = d[1] - a[1], wz = d[2] - a[2];
-    const double det = wx * (uy * vz - uz * vy) + wy * (uz * vx - ux * vz) + wz * (ux * vy - uy * vx);
-    const double permanent = std::fabs(wx) * (std::fabs(uy * vz) + std::fabs(uz * vy)) +
-                             std::fabs(wy) * (std::fabs(uz * vx) + std::fabs(ux * vz)) +
-                             std::fabs(wz) * (std::fabs(ux * vy) + std::fabs(uy * vx));
-    constexpr double kBound = 1e-15;
-    return det > kBound * permanent ? 1 : det < -kBound * permanent ? -1 : 0;
-}
+/// The plane of a triangle (a, b, c), for the signs of orient3d(a, b, c, d) at many points d
+/// when the plain double evaluation certainly has them, else 0 (unknown): the exact predicate's
+/// own filter, a margin over J. R. Shewchuk's bound (7 + 56 eps) eps times the permanent, with
+/// the triangle's part of the products computed once.
+class CertainPlane {
+public:
+    CertainPlane(const Point3& a, const Point3& b, const Point3& c) : a_(a) {
+        const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+        const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+        m_ = {uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx};
+        p_ = {std::fabs(uy * vz) + std::fabs(uz * vy), std::fabs(uz * vx) + std::fabs(ux * vz), std::fabs(ux * vy) + std::fabs(uy * vx)};
+    }
+
+    int side(const Point3& d) const {
+        const double wx = d[0] - a_[0], wy = d[1] - a_[1], wz = d[2] - a_[2];
+        const double det = wx * m_[0] + wy * m_[1] + wz * m_[2];
+        const double permanent = std::fabs(wx) * p_[0] + std::fabs(wy) * p_[1] + std::fabs(wz) * p_[2];
+        constexpr double kBound = 1e-15;
+        return det > kBound * permanent ? 1 : det < -kBound * permanent ? -1 : 0;
+    }
+
+private:
+    Point3 a_, m_, p_;
+};
 
 /// True when all of @a u lies certainly strictly on one side of t's plane, or all of t on one
 /// side of u's (then the triangles share no point).
@@ -47,10 +57,9 @@ inline bool certainly_apart_by_plane(const Triangle3& t, const Triangle3& u) {
     for (int pass = 0; pass < 2; ++pass) {
         const Triangle3& a = pass == 0 ? t : u;
         const Triangle3& b = pass == 0 ? u : t;
-        const int side = certain_orientation(a[0], a[1], a[2], b[0]);
-        if (side != 0 && certain_orientation(a[0], a[1], a[2], b[1]) == side && certain_orientation(a[0], a[1], a[2], b[2]) == side) {
-            return true;
-        }
+        const CertainPlane plane(a[0], a[1], a[2]);
+        const int side = plane.side(b[0]);
+        if (side != 0 && plane.side(b[1]) == side && plane.side(b[2]) == side) return true;
     }
     return false;
 }
@@ -59,11 +68,12 @@ inline bool certainly_apart_by_plane(const Triangle3& t, const Triangle3& u) {
 /// there because u1 and u2 lie strictly on the same side of t's plane, or t's other corners on
 /// the same side of u's plane.
 inline bool certainly_apart_of_plane(const Triangle3& t, int k, const Point3& u1, const Point3& u2) {
-    const int s1 = certain_orientation(t[0], t[1], t[2], u1);
-    if (s1 != 0 && s1 == certain_orientation(t[0], t[1], t[2], u2)) return true;
-    const Point3& corner = t[k];
-    const int s2 = certain_orientation(corner, u1, u2, t[k == 2 ? 0 : k + 1]);
-    return s2 != 0 && s2 == certain_orientation(corner, u1, u2, t[k == 0 ? 2 : k - 1]);
+    const CertainPlane t_plane(t[0], t[1], t[2]);
+    const int s1 = t_plane.side(u1);
+    if (s1 != 0 && s1 == t_plane.side(u2)) return true;
+    const CertainPlane u_plane(t[k], u1, u2);
+    const int s2 = u_plane.side(t[k == 2 ? 0 : k + 1]);
+    return s2 != 0 && s2 == u_plane.side(t[k == 0 ? 2 : k - 1]);
 }
 
 inline Point3 centroid(const Triangle3& t) {
@@ -113,8 +123,9 @@ inline bool certainly_meet_only_at(const Triangle3& t, int k, const Point3& u1, 
 inline bool certainly_meet_only_on_edge(const Point3& s0, const Point3& s1, const Point3& p, const Point3& q) {
     const Point3 e{s1[0] - s0[0], s1[1] - s0[1], s1[2] - s0[2]}, f{p[0] - s0[0], p[1] - s0[1], p[2] - s0[2]};
     const Point3 off{s0[0] + e[1] * f[2] - e[2] * f[1], s0[1] + e[2] * f[0] - e[0] * f[2], s0[2] + e[0] * f[1] - e[1] * f[0]};
-    const int p_certain = certain_orientation(s0, s1, off, p);
-    if (p_certain != 0 && certain_orientation(s0, s1, off, q) == -p_certain) return true;
+    const CertainPlane plane(s0, s1, off);
+    const int p_certain = plane.side(p);
+    if (p_certain != 0 && plane.side(q) == -p_certain) return true;
     const int p_side = orient3d(s0, s1, off, p);
     return p_side != 0 && orient3d(s0, s1, off, q) == -p_side;
 }
