@@ -6,16 +6,19 @@
 // star of no edge picked before (as meshoptimizer locks vertices). Those are checked in parallel
 // against the mesh as it was at the start of the round, then applied in order of cost. No collapse
 // of the round changes what another's checks read (its ends' rings, its star) but for the new
-// triangles of two collapses, which are tested against each other as they are applied. So the
-// result does not depend on the thread count. Each collapse is checked where it changes the mesh,
-// on the float coordinates that will be written:
+// triangles of two collapses: those crossings are found in parallel too, between the new stars as
+// the checks built them, and a plan crossing one applied before it waits. So the result does not
+// depend on the thread count. Each collapse is checked where it changes the mesh, on the float
+// coordinates that will be written:
 // - topology: the link condition (the ends' neighbours in common are exactly the two opposite
 //   corners; T. K. Dey et al., "Topology preserving edge contraction", 1999), which keeps a
 //   closed 2-manifold one;
 // - geometry: no triangle of the new star is degenerate (exact collinearity) or turns by more
 //   than kMaxTurnDegrees;
-// - intersections: each new triangle against the others of the star and against the triangles a
-//   grid (rebuilt each round) finds near it, with the exact tests of `vdbmesh check`.
+// - intersections: each new triangle against the others of the star and against the triangles
+//   the grids find near it (one of all triangles, rebuilt once a quarter of them has moved, and
+//   one of those moved since, rebuilt each round), with the exact tests of `vdbmesh check`; a
+//   plane that certainly separates the two triangles (separating_plane.h) spares most of them.
 // The mesh is held as a corner table (each corner's opposite corner across its edge), flat arrays
 // throughout.
 #include <tbb/blocked_range.h>
@@ -24,11 +27,13 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
 
 #include "process/quadric.h"
+#include "process/separating_plane.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/geometry.h"
 #include "vdbmesh/process.h"
@@ -48,12 +53,18 @@ constexpr double kMaxTurnDegrees = 75;  ///< largest change of a triangle's norm
 constexpr double kLengthWeight = 1e-3;
 constexpr double kCellEdges = 1;       ///< triangle grid cell size in mean triangle extents
 constexpr std::size_t kMinRound = 64;  ///< candidates a round takes at least
+/// ... and at least this share of the triangles: near the target a round applies only about a
+/// fifth of the few collapses still wanted, and every round costs passes over the whole mesh
+/// (CThead: 38 rounds without, 19 with, the largest quadric error 1% higher).
+constexpr std::size_t kMinRoundDivisor = 32;
 
 Vec3d sub(const Vec3d& a, const Vec3d& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 Vec3d cross(const Vec3d& a, const Vec3d& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
 double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 Vec3d to_double(const std::array<float, 3>& p) { return {p[0], p[1], p[2]}; }
 std::array<float, 3> to_float(const Vec3d& p) { return {float(p[0]), float(p[1]), float(p[2])}; }
+using FloatTriangle = std::array<std::array<float, 3>, 3>;
+detail::Triangle3 to_double(const FloatTriangle& t) { return {to_double(t[0]), to_double(t[1]), to_double(t[2])}; }
 
 std::uint32_t next(std::uint32_t c) { return c % 3 == 2 ? c - 2 : c + 1; }
 std::uint32_t prev(std::uint32_t c) { return c % 3 == 0 ? c + 2 : c - 1; }
@@ -66,6 +77,31 @@ void grow(Box& box, const std::array<float, 3>& p) {
     for (int k = 0; k < 3; ++k) box.lo[k] = std::min(box.lo[k], p[k]), box.hi[k] = std::max(box.hi[k], p[k]);
 }
 
+/// Whether two triangles with corner ids meet beyond what they share (detail::triangles_intersect),
+/// a separating plane tried first.
+bool triangles_cross(const Ids& t_ids, const detail::Triangle3& t, const Ids& u_ids, const detail::Triangle3& u) {
+    int shared = 0, t_corner = 0, u_corner = 0;
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            if (t_ids[i] == u_ids[j]) ++shared, t_corner = i, u_corner = j;
+        }
+    }
+    if (shared == 0 && (detail::certainly_apart(t, u) || detail::certainly_apart_by_plane(t, u))) return false;
+    if (shared == 1) {
+        const detail::Point3 &u1 = u[(u_corner + 1) % 3], &u2 = u[(u_corner + 2) % 3];
+        // (the planes of the triangles first: the cheaper proof, and enough where the surface bends)
+        if (detail::certainly_apart_of_plane(t, t_corner, u1, u2) || detail::certainly_meet_only_at(t, t_corner, u1, u2)) return false;
+    }
+    if (shared == 2) {
+        // t runs s0 -> s1 -> apex; u shares the edge the other way.
+        int apex = 0, u_apex = 0;
+        while (t_ids[apex] == u_ids[0] || t_ids[apex] == u_ids[1] || t_ids[apex] == u_ids[2]) ++apex;
+        while (u_ids[u_apex] == t_ids[0] || u_ids[u_apex] == t_ids[1] || u_ids[u_apex] == t_ids[2]) ++u_apex;
+        if (detail::certainly_meet_only_on_edge(t[(apex + 1) % 3], t[(apex + 2) % 3], t[apex], u[u_apex])) return false;
+    }
+    return detail::triangles_intersect(t_ids, t, u_ids, u);
+}
+
 void check_closed_manifold(const Mesh& mesh) {
     const detail::Topology topology = detail::analyze_topology(mesh);
     if (topology.boundary_edges || topology.nonmanifold_edges || topology.nonmanifold_vertices || topology.misoriented_edges) {
@@ -76,24 +112,20 @@ void check_closed_manifold(const Mesh& mesh) {
     }
 }
 
-/// Boxes with ids in a uniform grid, each in the cell of its low corner (one larger than a cell:
-/// in every cell it meets), for finding the boxes that may meet a box. Built at once and
-/// read-only after.
+/// Boxes with payloads (what a query needs of each) in a uniform grid, each in the cell of its
+/// low corner (one larger than a cell: in every cell it meets), for finding the boxes that meet
+/// a box. Built at once and read-only after. The boxes and the payloads are kept apart, so a
+/// query reads only the boxes it passes over.
+template <class Payload>
 class BoxGrid {
 public:
-    struct Entry {
-        Box box;
-        std::uint32_t id;
-        Ids ids;  ///< for triangles, their corners (read without a detour through the mesh)
-    };
-
     /// @a cell: the cell size, made at least the largest extent of 99% of the boxes, and coarser
     /// where the boxes are spread thin (at most about eight cells per box).
-    void build(const std::vector<Entry>& all, double cell) {
+    void build(const std::vector<Box>& boxes, const std::vector<Payload>& payloads, double cell) {
         Box bounds = empty_box();
-        std::vector<float> extents(all.size());
-        for (std::size_t i = 0; i < all.size(); ++i) {
-            const Box& b = all[i].box;
+        std::vector<float> extents(boxes.size());
+        for (std::size_t i = 0; i < boxes.size(); ++i) {
+            const Box& b = boxes[i];
             grow(bounds, b.lo), grow(bounds, b.hi);
             extents[i] = std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
         }
@@ -106,23 +138,38 @@ public:
         for (;;) {
             std::uint64_t count = 1;
             for (int k = 0; k < 3; ++k) {
-                origin_[k] = all.empty() ? 0 : bounds.lo[k];
-                dims_[k] = all.empty() ? 1 : std::int64_t(std::floor((double(bounds.hi[k]) - origin_[k]) / cell_)) + 1;
+                origin_[k] = boxes.empty() ? 0 : bounds.lo[k];
+                dims_[k] = boxes.empty() ? 1 : std::int64_t(std::floor((double(bounds.hi[k]) - origin_[k]) / cell_)) + 1;
                 count *= std::uint64_t(dims_[k]);
             }
-            if (count <= 8 * all.size() + 64) break;
+            if (count <= 8 * boxes.size() + 64) break;
             cell_ *= 1.25;
         }
         const std::size_t cells = std::size_t(dims_[0] * dims_[1] * dims_[2]);
         start_.assign(cells + 1, 0);
-        for (const Entry& e : all) for_cells(e.box, [&](std::size_t c) { ++start_[c + 1]; });
+        // The cell of each box of a cell or less (found once, in parallel); kNone for larger ones.
+        std::vector<std::uint32_t> cell_of(boxes.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 8192), [&](const auto& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) cell_of[i] = small(boxes[i]) ? std::uint32_t(index(cell_coordinates(boxes[i].lo))) : kNone;
+        });
+        for (std::size_t i = 0; i < boxes.size(); ++i) {
+            if (cell_of[i] != kNone) ++start_[cell_of[i] + 1];
+            else for_cells(boxes[i], [&](std::size_t c) { ++start_[c + 1]; });
+        }
         for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
-        entries_.resize(start_[cells]);
+        boxes_.resize(start_[cells]);
+        payloads_.resize(start_[cells]);
         std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-        for (const Entry& e : all) for_cells(e.box, [&](std::size_t c) { entries_[fill[c]++] = e; });
+        for (std::size_t i = 0; i < boxes.size(); ++i) {
+            const auto put = [&](std::size_t c) { boxes_[fill[c]] = boxes[i], payloads_[fill[c]++] = payloads[i]; };
+            if (cell_of[i] != kNone) put(cell_of[i]);
+            else for_cells(boxes[i], put);
+        }
     }
 
-    /// Calls visit(entry) for each entry whose box may meet @a box (one larger than a cell may
+    bool empty() const { return start_.empty(); }  ///< never built
+
+    /// Calls visit(payload, box) for each entry whose box meets @a box (one larger than a cell may
     /// come more than once); stops when visit returns false. Returns whether it went through.
     template <class Visit>
     bool visit(const Box& box, Visit&& visit) const {
@@ -135,7 +182,7 @@ public:
             for (std::int64_t y = from[1]; y <= to[1]; ++y) {
                 const std::size_t row = index({0, y, z});
                 for (std::uint32_t i = start_[row + std::size_t(from[0])]; i < start_[row + std::size_t(to[0]) + 1]; ++i) {
-                    if (!visit(entries_[i])) return false;
+                    if (detail::boxes_overlap(boxes_[i], box) && !visit(payloads_[i], boxes_[i])) return false;
                 }
             }
         }
@@ -148,15 +195,18 @@ private:
     template <class Call>
     void for_cells(const Box& box, Call&& call) const {
         const std::array<std::int64_t, 3> from = cell_coordinates(box.lo);
-        std::array<std::int64_t, 3> to = from;
-        bool small = true;
-        for (int k = 0; k < 3; ++k) small &= double(box.hi[k]) - box.lo[k] <= cell_;
-        if (!small) to = cell_coordinates(box.hi);
+        const std::array<std::int64_t, 3> to = small(box) ? from : cell_coordinates(box.hi);
         for (std::int64_t z = from[2]; z <= to[2]; ++z) {
             for (std::int64_t y = from[1]; y <= to[1]; ++y) {
                 for (std::int64_t x = from[0]; x <= to[0]; ++x) call(index({x, y, z}));
             }
         }
+    }
+
+    bool small(const Box& box) const {
+        bool small = true;
+        for (int k = 0; k < 3; ++k) small &= double(box.hi[k]) - box.lo[k] <= cell_;
+        return small;
     }
 
     std::array<std::int64_t, 3> cell_coordinates(const std::array<float, 3>& p) const {
@@ -173,7 +223,14 @@ private:
     std::array<double, 3> origin_{};
     std::array<std::int64_t, 3> dims_{1, 1, 1};
     std::vector<std::uint32_t> start_;  ///< entries of cell c: [start_[c], start_[c + 1])
-    std::vector<Entry> entries_;
+    std::vector<Box> boxes_;
+    std::vector<Payload> payloads_;
+};
+
+/// What the triangle grids hold of a triangle besides its box.
+struct GridTriangle {
+    std::uint32_t triangle;
+    Ids ids;  ///< its vertices (read without a detour through the mesh)
 };
 
 /// An edge a round considers, at the corner opposite it where it runs from its lower vertex
@@ -186,11 +243,20 @@ struct Candidate {
 
 enum class Verdict : std::uint8_t { unchecked, passed, topology, geometry, intersection };
 
+/// A triangle of a collapse's new star: its vertices, their float points and box.
+struct NewTriangle {
+    Ids ids;
+    FloatTriangle points;
+    Box box;
+};
+
 /// A collapse a round may make.
 struct Plan {
     std::uint32_t corner = kNone;
     Box star = empty_box();  ///< the box of the new star (once checked)
     Verdict verdict = Verdict::unchecked;
+    std::vector<std::uint32_t> crossed;  ///< earlier passed plans of the round whose new stars cross this one's
+    std::vector<NewTriangle> new_star;   ///< (once passed) for the crossing tests
 };
 
 /// Per-thread scratch of the checks.
@@ -200,7 +266,9 @@ struct Scratch {
     std::vector<std::uint32_t> star;  ///< the triangles of the new star
     std::vector<Ids> ids;             ///< their corners' vertices after the collapse
     std::vector<detail::Triangle3> corners;
+    std::vector<FloatTriangle> points;  ///< the corners as floats (as they will be written)
     std::vector<Box> boxes;
+    std::vector<std::array<Vec3d, 2>> spokes;  ///< per star triangle, from the kept vertex to its other corners
 };
 
 class Decimator {
@@ -210,17 +278,20 @@ public:
           opposite_(3 * mesh.triangles.size(), kNone), vertex_corner_(mesh.vertices.size(), kNone),
           quadrics_(mesh.vertices.size()), cost_(3 * mesh.triangles.size()), error_(3 * mesh.triangles.size()),
           position_(3 * mesh.triangles.size()),
-          rejected_(3 * mesh.triangles.size(), 0), boxes_(mesh.triangles.size()), alive_count_(mesh.triangles.size()),
+          rejected_(3 * mesh.triangles.size(), 0), boxes_(mesh.triangles.size()), moved_(mesh.triangles.size(), 0), alive_count_(mesh.triangles.size()),
           target_(std::size_t(std::ceil(options.keep_fraction * double(mesh.triangles.size())))),
-          max_error_squared_(options.max_error * options.max_error) {
-        link_corners();
+          max_error_squared_(options.max_error * options.max_error), closed_manifold_(link_corners()) {}
+
+    /// Whether every edge has exactly two triangles, running either way, and every vertex one
+    /// fan: the mesh is closed, manifold and oriented (what the decimation needs), found on the
+    /// way to the corner table. When not, detail::analyze_topology() says what is wrong.
+    bool closed_manifold() const { return closed_manifold_; }
+
+    Mesh run(DecimateReport& report) {
         gather_quadrics();
         tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(triangles_.size()), 4096), [&](const auto& range) {
             for (std::uint32_t t = range.begin(); t != range.end(); ++t) refresh(t);
         });
-    }
-
-    Mesh run(DecimateReport& report) {
         tbb::enumerable_thread_specific<Scratch> scratch([&] {
             Scratch s;
             s.mark.assign(positions_.size(), 0);
@@ -231,25 +302,36 @@ public:
         Scratch own;
         own.mark.assign(positions_.size(), 0);
         while (alive_count_ > target_) {
+            tbb::parallel_sort(dirty_.begin(), dirty_.end());  // (in memory order, as the checks below)
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, dirty_.size(), 1024), [&](const auto& range) {
-                for (std::size_t i = range.begin(); i != range.end(); ++i) refresh(dirty_[i]);
+                for (std::size_t i = range.begin(); i != range.end(); ++i) refresh(dirty_[i] / 3, dirty_[i]);
             });
+            for (const std::uint32_t c : dirty_) {
+                const std::uint32_t t = c / 3;
+                if (!moved_[t]) moved_[t] = 1, moved_list_.push_back(t);
+            }
             dirty_.clear();
             gather_candidates(candidates);
             if (candidates.empty()) break;
-            // The cheapest, about as many as the collapses still wanted.
+            // The cheapest, about as many as the collapses still wanted (and never very few).
             const std::size_t wanted = (alive_count_ - target_ + 1) / 2;
-            const std::size_t take = std::min(candidates.size(), std::max(kMinRound, wanted));
+            const std::size_t take = std::min(candidates.size(), std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor}));
             std::nth_element(candidates.begin(), candidates.begin() + std::ptrdiff_t(take - 1), candidates.end());
             candidates.resize(take);
             tbb::parallel_sort(candidates.begin(), candidates.end());
             choose_apart(candidates, plans, own);
-            build_triangle_grid();
+            build_triangle_grids();
+            // Checked in the order of their triangles, which keeps neighbours together in memory
+            // (the checks are independent of each other; the cost order scatters them).
+            std::vector<std::uint32_t> in_place(plans.size());
+            for (std::uint32_t i = 0; i < plans.size(); ++i) in_place[i] = i;
+            tbb::parallel_sort(in_place.begin(), in_place.end(), [&](std::uint32_t i, std::uint32_t j) { return plans[i].corner < plans[j].corner; });
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, plans.size(), 32), [&](const auto& range) {
                 Scratch& s = scratch.local();
-                for (std::size_t i = range.begin(); i != range.end(); ++i) plans[i].verdict = check(plans[i], s);
+                for (std::size_t n = range.begin(); n != range.end(); ++n) plans[in_place[n]].verdict = check(plans[in_place[n]], s);
             });
-            apply_round(plans, report, own);
+            find_crossings(plans, in_place, scratch);
+            apply_round(plans, report);
         }
         return compact();
     }
@@ -261,7 +343,8 @@ private:
 
     /// Each corner's opposite: the corner of the other triangle on the edge opposite it (that
     /// edge runs vertex(next c) -> vertex(prev c), and the other way in the other triangle).
-    void link_corners() {
+    /// Returns closed_manifold().
+    bool link_corners() {
         const std::size_t n = positions_.size();
         const auto corners = std::uint32_t(3 * triangles_.size());
         std::vector<std::uint32_t> start(n + 1, 0);
@@ -270,16 +353,32 @@ private:
         std::vector<std::uint32_t> at(start[n]);  // the corners at each vertex
         std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
         for (std::uint32_t c = 0; c < corners; ++c) at[fill[vertex(c)]++] = c;
+        std::atomic<bool> paired{true};
         tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, corners, 4096), [&](const auto& range) {
             for (std::uint32_t c = range.begin(); c != range.end(); ++c) {
                 // The other triangle has a corner at w = vertex(prev c) followed by one at u.
                 const std::uint32_t u = vertex(next(c)), w = vertex(prev(c));
+                int found = 0;
                 for (std::uint32_t i = start[w]; i < start[w + 1]; ++i) {
-                    if (vertex(next(at[i])) == u) opposite_[c] = prev(at[i]);
+                    if (vertex(next(at[i])) == u) opposite_[c] = prev(at[i]), ++found;
                 }
+                if (found != 1) paired = false;
             }
         });
         for (std::uint32_t c = 0; c < corners; ++c) vertex_corner_[vertex(c)] = c;
+        if (!paired) return false;
+        // Each edge paired once (so opposite_ is an involution and every walk round a vertex
+        // closes): a vertex is manifold when its walk meets all its corners.
+        std::atomic<bool> fans{true};
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+            for (std::size_t v = range.begin(); v != range.end(); ++v) {
+                if (start[v] == start[v + 1]) continue;
+                std::uint32_t count = 0;
+                around(std::uint32_t(v), [&](std::uint32_t) { ++count; });
+                if (count != start[v + 1] - start[v]) fans = false;
+            }
+        });
+        return fans;
     }
 
     /// The next corner at the same vertex (across the edge to vertex(next c)).
@@ -335,14 +434,15 @@ private:
     }
 
     /// Triangle @a t's box and the costs of its edges (each at the corner where it runs from the
-    /// lower vertex); none of them refused any more.
-    void refresh(std::uint32_t t) {
+    /// lower vertex) but the one opposite corner @a unchanged (its ends have neither moved nor
+    /// merged: its cached cost holds); none of them refused any more.
+    void refresh(std::uint32_t t, std::uint32_t unchanged = kNone) {
         boxes_[t] = empty_box();
         for (std::uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
             grow(boxes_[t], positions_[vertex(c)]);
             rejected_[c] = 0;
             const std::uint32_t a = vertex(next(c)), b = vertex(prev(c));
-            if (a > b) continue;
+            if (a > b || c == unchanged) continue;
             position_[c] = placement(a, b);
             const double error = (quadrics_[a] + quadrics_[b]).error(to_double(position_[c]));
             const Vec3d edge = sub(point(a), point(b));
@@ -351,14 +451,28 @@ private:
         }
     }
 
-    void gather_candidates(std::vector<Candidate>& candidates) const {
-        candidates.clear();
-        for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
-            if (!alive_[t]) continue;
-            for (std::uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
-                if (vertex(next(c)) < vertex(prev(c)) && !rejected_[c] && error_[c] <= max_error_squared_) candidates.push_back({cost_[c], c});
+    /// The edges that may collapse, in the order of their corners (whatever the thread count:
+    /// each block of triangles is gathered on its own, then the blocks are put end to end).
+    void gather_candidates(std::vector<Candidate>& candidates) {
+        constexpr std::uint32_t kBlock = 16384;
+        const auto triangles = std::uint32_t(triangles_.size());
+        block_candidates_.resize((triangles + kBlock - 1) / kBlock);
+        tbb::parallel_for(std::size_t(0), block_candidates_.size(), [&](std::size_t block) {
+            std::vector<Candidate>& found = block_candidates_[block];
+            found.clear();
+            for (auto t = std::uint32_t(block * kBlock); t < std::min(triangles, std::uint32_t((block + 1) * kBlock)); ++t) {
+                if (!alive_[t]) continue;
+                for (std::uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
+                    if (vertex(next(c)) < vertex(prev(c)) && !rejected_[c] && error_[c] <= max_error_squared_) found.push_back({cost_[c], c});
+                }
             }
-        }
+        });
+        std::vector<std::size_t> offsets(block_candidates_.size() + 1, 0);
+        for (std::size_t b = 0; b < block_candidates_.size(); ++b) offsets[b + 1] = offsets[b] + block_candidates_[b].size();
+        candidates.resize(offsets.back());
+        tbb::parallel_for(std::size_t(0), block_candidates_.size(), [&](std::size_t b) {
+            std::copy(block_candidates_[b].begin(), block_candidates_[b].end(), candidates.begin() + std::ptrdiff_t(offsets[b]));
+        });
     }
 
     // ---- a round ----
@@ -382,21 +496,57 @@ private:
         }
     }
 
-    /// Applies the plans that passed their checks, in order of cost, while triangles are to go.
-    /// Their stars share no vertex, so each check still holds but for the new triangles of two
-    /// collapses of the round, which no check has met: a plan whose new triangles cross those of
-    /// one applied before waits for the next round.
-    void apply_round(std::vector<Plan>& plans, DecimateReport& report, Scratch& s) {
-        std::vector<BoxGrid::Entry> passed;
+    /// For each plan that passed its checks, the earlier ones that did too and whose new stars
+    /// cross its own: no plan's ends are in another's star, so each check still holds but for
+    /// the new triangles of two collapses of the round, which no check has met. Both new stars
+    /// are as the checks built them from the mesh at the start of the round: no other collapse
+    /// of the round changes them (their vertices are neither collapse's ends nor its ends'
+    /// neighbours; two stars may share link vertices, which the exact tests allow for).
+    /// @a in_place: the plans in the order to visit them (any order gives the same crossings).
+    void find_crossings(std::vector<Plan>& plans, const std::vector<std::uint32_t>& in_place,
+                        tbb::enumerable_thread_specific<Scratch>& scratch) {
+        std::vector<Box> boxes;
+        std::vector<std::uint32_t> passed;
         double extent = 0;
         for (std::uint32_t i = 0; i < plans.size(); ++i) {
             if (plans[i].verdict != Verdict::passed) continue;
-            passed.push_back({plans[i].star, i, {}});
+            boxes.push_back(plans[i].star), passed.push_back(i);
             for (int k = 0; k < 3; ++k) extent += double(plans[i].star.hi[k]) - plans[i].star.lo[k];
         }
-        plan_grid_.build(passed, extent / (3 * double(std::max<std::size_t>(passed.size(), 1))));
+        plan_grid_.build(boxes, passed, extent / (3 * double(std::max<std::size_t>(passed.size(), 1))));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in_place.size(), 64), [&](const auto& range) {
+            Scratch& s = scratch.local();
+            for (std::size_t n = range.begin(); n != range.end(); ++n) {
+                const std::uint32_t i = in_place[n];
+                Plan& p = plans[i];
+                if (p.verdict != Verdict::passed) continue;
+                p.crossed.clear();
+                bool star_ready = false;
+                plan_grid_.visit(p.star, [&](std::uint32_t j, const Box&) {
+                    if (j >= i) return true;
+                    if (!star_ready) {
+                        s.ids.clear(), s.corners.clear(), s.boxes.clear();
+                        for (const NewTriangle& t : p.new_star) s.ids.push_back(t.ids), s.corners.push_back(to_double(t.points)), s.boxes.push_back(t.box);
+                        star_ready = true;
+                    }
+                    if (crosses_new_star(plans[j], p.star, s)) p.crossed.push_back(j);
+                    return true;
+                });
+                std::sort(p.crossed.begin(), p.crossed.end());  // (the grid may list a plan twice)
+            }
+        });
+    }
+
+    /// Applies the plans that passed their checks, in order of cost, while triangles are to go;
+    /// a plan whose new star crosses that of one applied before waits for the next round. The
+    /// cost order decides which apply; they are then applied in the order of their triangles
+    /// (neighbours together in memory): their stars are apart, so the mesh comes out the same
+    /// but for which corner vertex_corner_ names at a link vertex two stars share.
+    void apply_round(const std::vector<Plan>& plans, DecimateReport& report) {
         std::vector<char> applied(plans.size(), 0);
-        for (std::uint32_t i = 0; i < plans.size() && alive_count_ > target_; ++i) {
+        std::vector<std::uint32_t> chosen;
+        std::size_t alive = alive_count_;
+        for (std::uint32_t i = 0; i < plans.size() && alive > target_; ++i) {
             const Plan& p = plans[i];
             if (p.verdict != Verdict::passed) {
                 rejected_[p.corner] = 1;
@@ -405,48 +555,68 @@ private:
                                                     : report.rejected_intersection);
                 continue;
             }
-            bool star_ready = false;
-            const bool apart = plan_grid_.visit(p.star, [&](const BoxGrid::Entry& e) {
-                if (e.id >= i || !applied[e.id] || !detail::boxes_overlap(e.box, p.star)) return true;
-                if (!star_ready) new_star(p, s), star_ready = true;
-                return !crosses_star_of(vertex(next(plans[e.id].corner)), s);
-            });
-            if (!apart) continue;
-            report.max_error = std::max(report.max_error, std::sqrt(error_[p.corner]));
-            apply(p);
+            if (std::any_of(p.crossed.begin(), p.crossed.end(), [&](std::uint32_t j) { return applied[j] != 0; })) continue;
             applied[i] = 1;
+            chosen.push_back(p.corner);
+            alive -= 2;
+        }
+        tbb::parallel_sort(chosen.begin(), chosen.end());
+        for (const std::uint32_t corner : chosen) {
+            report.max_error = std::max(report.max_error, std::sqrt(error_[corner]));
+            apply(corner);
             ++report.collapses;
         }
     }
 
-    /// Whether a triangle of the new star in @a s crosses one around vertex @a v (of another
-    /// star: no vertex in common).
-    bool crosses_star_of(std::uint32_t v, const Scratch& s) const {
-        bool crossed = false;
-        around(v, [&](std::uint32_t c) {
-            const Ids& ids = triangles_[c / 3];
-            const detail::Triangle3 other{to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])};
-            Box box = empty_box();  // (boxes_ is refreshed only at the next round)
-            for (const std::uint32_t w : ids) grow(box, positions_[w]);
-            for (std::size_t i = 0; i < s.star.size() && !crossed; ++i) {
-                crossed = detail::boxes_overlap(s.boxes[i], box) && detail::triangles_intersect(s.ids[i], s.corners[i], ids, other);
+    /// Whether a triangle of the new star in @a s (whose box is @a star) crosses one of the new
+    /// star of plan @a q (neither holds the other's kept vertex).
+    static bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) {
+        for (const NewTriangle& t : q.new_star) {
+            if (!detail::boxes_overlap(star, t.box)) continue;
+            const detail::Triangle3 corners = to_double(t.points);
+            for (std::size_t i = 0; i < s.ids.size(); ++i) {
+                if (detail::boxes_overlap(s.boxes[i], t.box) && triangles_cross(s.ids[i], s.corners[i], t.ids, corners)) return true;
             }
-        });
-        return crossed;
+        }
+        return false;
     }
 
-    /// The alive triangles with their boxes, in cells of kCellEdges mean edge lengths.
-    void build_triangle_grid() {
-        std::vector<BoxGrid::Entry> entries;
-        entries.reserve(alive_count_);
+    /// The alive triangles with their boxes, in cells of kCellEdges mean extents: those that
+    /// moved since the settled grid was built in a grid of their own, rebuilt each round; the
+    /// settled grid rebuilt only once a quarter of the triangles has moved.
+    void build_triangle_grids() {
+        std::vector<std::uint32_t> ids;
+        const bool all = settled_grid_.empty() || moved_list_.size() > alive_count_ / 4;
+        if (all) {
+            for (const std::uint32_t t : moved_list_) moved_[t] = 0;
+            moved_list_.clear();
+            for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
+                if (alive_[t]) ids.push_back(t);
+            }
+        } else {
+            moved_list_.erase(std::remove_if(moved_list_.begin(), moved_list_.end(), [&](std::uint32_t t) { return !alive_[t]; }),
+                              moved_list_.end());
+            ids = moved_list_;
+        }
+        std::vector<Box> boxes(ids.size());
+        std::vector<GridTriangle> payloads(ids.size());
         double extent = 0;
-        for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
-            if (!alive_[t]) continue;
-            entries.push_back({boxes_[t], t, triangles_[t]});
+        for (std::size_t i = 0; i < ids.size(); ++i) {
+            const std::uint32_t t = ids[i];
+            boxes[i] = boxes_[t], payloads[i] = {t, triangles_[t]};
             extent += std::max({double(boxes_[t].hi[0]) - boxes_[t].lo[0], double(boxes_[t].hi[1]) - boxes_[t].lo[1],
                                 double(boxes_[t].hi[2]) - boxes_[t].lo[2]});
         }
-        triangle_grid_.build(entries, kCellEdges * extent / double(std::max<std::size_t>(entries.size(), 1)));
+        (all ? settled_grid_ : moved_grid_).build(boxes, payloads, kCellEdges * extent / double(std::max<std::size_t>(ids.size(), 1)));
+        if (all) moved_grid_.build({}, {}, 1);
+    }
+
+    /// Calls visit(GridTriangle, box) for each alive triangle whose box meets @a box, until it returns
+    /// false; returns whether it went through.
+    template <class Visit>
+    bool visit_triangles(const Box& box, Visit&& visit) const {
+        return settled_grid_.visit(box, [&](const GridTriangle& t, const Box& b) { return moved_[t.triangle] || visit(t, b); }) &&
+               moved_grid_.visit(box, visit);
     }
 
     bool link_condition(std::uint32_t corner, Scratch& s) const {
@@ -461,27 +631,27 @@ private:
         return common == 2 && valence >= 4 + 3;
     }
 
-    /// The new star: the triangles around either end but off the edge, with b renamed a, the
+    /// The new star of @a p: the triangles around either end but off the edge, with b renamed a, the
     /// float corners with a moved to the new position, and their boxes.
     void new_star(const Plan& p, Scratch& s) const {
+        s.star.clear(), s.ids.clear(), s.corners.clear(), s.points.clear(), s.boxes.clear();
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
         const std::array<float, 3>& position = position_[p.corner];
         const std::uint32_t t0 = p.corner / 3, t1 = opposite_[p.corner] / 3;
-        s.star.clear(), s.ids.clear(), s.corners.clear(), s.boxes.clear();
         for (const std::uint32_t v : {a, b}) {
             around(v, [&](std::uint32_t c) {
                 const std::uint32_t t = c / 3;
                 if (t == t0 || t == t1) return;
                 Ids ids = triangles_[t];
-                detail::Triangle3 corners;
+                FloatTriangle points;
                 Box box = empty_box();
                 for (int k = 0; k < 3; ++k) {
                     if (ids[k] == b) ids[k] = a;
-                    const std::array<float, 3>& q = ids[k] == a ? position : positions_[ids[k]];
-                    corners[k] = to_double(q);
-                    grow(box, q);
+                    points[k] = ids[k] == a ? position : positions_[ids[k]];
+                    grow(box, points[k]);
                 }
-                s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(corners), s.boxes.push_back(box);
+                s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(to_double(points)), s.points.push_back(points);
+                s.boxes.push_back(box);
             });
         }
     }
@@ -501,8 +671,9 @@ private:
     /// crossings among its triangles: seen along one direction, each turns the same way (exact
     /// orientations) and their angles at the kept vertex add up to one turn (the sum is a whole
     /// number of turns, so rounding cannot mislead), so the fan projects one-to-one onto a plane.
-    bool star_is_a_graph(std::uint32_t a, const Scratch& s) const {
-        std::vector<std::array<Vec3d, 2>> spokes(s.star.size());  // from the kept vertex to the other two corners
+    bool star_is_a_graph(std::uint32_t a, Scratch& s) const {
+        std::vector<std::array<Vec3d, 2>>& spokes = s.spokes;
+        spokes.resize(s.star.size());
         Vec3d n{0, 0, 0};
         double reach = 0;
         for (std::size_t i = 0; i < s.star.size(); ++i) {
@@ -538,7 +709,7 @@ private:
     }
 
     /// The new triangles cross neither each other nor any triangle near them off the old star.
-    bool intersection_free(const Plan& p, const Scratch& s) const {
+    bool intersection_free(const Plan& p, Scratch& s) const {
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
         Box around_star = empty_box();
         for (const Box& box : s.boxes) grow(around_star, box.lo), grow(around_star, box.hi);
@@ -549,15 +720,16 @@ private:
                 }
             }
         }
-        return triangle_grid_.visit(around_star, [&](const BoxGrid::Entry& e) {
-            if (!detail::boxes_overlap(e.box, around_star)) return true;
-            const Ids& ids = e.ids;
+        return visit_triangles(around_star, [&](const GridTriangle& t, const Box& box) {
+            const Ids& ids = t.ids;
             for (const std::uint32_t v : ids) {
                 if (v == a || v == b) return true;  // the old star, replaced
             }
             const detail::Triangle3 other{to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])};
             for (std::size_t i = 0; i < s.star.size(); ++i) {
-                if (detail::boxes_overlap(s.boxes[i], e.box) && detail::triangles_intersect(s.ids[i], s.corners[i], ids, other)) return false;
+                if (detail::boxes_overlap(s.boxes[i], box)) {
+                    if (triangles_cross(s.ids[i], s.corners[i], ids, other)) return false;
+                }
             }
             return true;
         });
@@ -569,15 +741,19 @@ private:
         new_star(p, s);
         if (!geometry_holds(s)) return Verdict::geometry;
         if (!intersection_free(p, s)) return Verdict::intersection;
-        for (const Box& b : s.boxes) grow(p.star, b.lo), grow(p.star, b.hi);
+        p.new_star.clear();
+        for (std::size_t i = 0; i < s.ids.size(); ++i) {
+            grow(p.star, s.boxes[i].lo), grow(p.star, s.boxes[i].hi);
+            p.new_star.push_back({s.ids[i], s.points[i], s.boxes[i]});
+        }
         return Verdict::passed;
     }
 
-    /// The collapse of the edge opposite p.corner, from a (kept) to b, whose triangles are
+    /// The collapse of the edge opposite @a corner, from a (kept) to b, whose triangles are
     /// t0 = (a, b, c) and t1 = (b, a, d): b's corners become a's, and the two edges left of each
     /// removed triangle are joined.
-    void apply(const Plan& p) {
-        const std::uint32_t corner = p.corner, o = opposite_[corner];
+    void apply(std::uint32_t corner) {
+        const std::uint32_t o = opposite_[corner];
         const std::uint32_t a = vertex(next(corner)), b = vertex(prev(corner));
         around(b, [&](std::uint32_t c) { triangles_[c / 3][c % 3] = a; });
         const std::uint32_t x0 = opposite_[next(corner)], y0 = opposite_[prev(corner)];  // across b-c and c-a
@@ -589,10 +765,11 @@ private:
         vertex_corner_[vertex(o)] = next(x1);
         vertex_corner_[b] = kNone;
         alive_[corner / 3] = alive_[o / 3] = 0;
+        moved_[corner / 3] = moved_[o / 3] = 1;  // (off the settled grid from now on)
         alive_count_ -= 2;
-        positions_[a] = position_[p.corner];
+        positions_[a] = position_[corner];
         quadrics_[a] = quadrics_[a] + quadrics_[b];
-        around(a, [&](std::uint32_t c) { dirty_.push_back(c / 3); });
+        around(a, [&](std::uint32_t c) { dirty_.push_back(c); });
     }
 
     Mesh compact() const {
@@ -620,11 +797,16 @@ private:
     std::vector<std::array<float, 3>> position_;  ///< per corner: where that edge's collapse puts the vertex
     std::vector<char> rejected_;        ///< per corner: its edge's collapse failed a check since it last changed
     std::vector<Box> boxes_;            ///< per triangle
-    std::vector<std::uint32_t> dirty_;  ///< triangles changed in the round (to refresh)
-    BoxGrid triangle_grid_, plan_grid_;
+    std::vector<std::uint32_t> dirty_;  ///< corners at the kept vertices of the round's collapses (their triangles to refresh)
+    std::vector<std::vector<Candidate>> block_candidates_;  ///< gather_candidates() per block of triangles
+    std::vector<char> moved_;  ///< per triangle: changed (or removed) since settled_grid_ was built
+    std::vector<std::uint32_t> moved_list_;  ///< those triangles (some removed since)
+    BoxGrid<GridTriangle> settled_grid_, moved_grid_;
+    BoxGrid<std::uint32_t> plan_grid_;
     std::size_t alive_count_;
     std::size_t target_;
     double max_error_squared_;
+    bool closed_manifold_;
 };
 
 }  // namespace
@@ -635,9 +817,10 @@ Mesh decimate_mesh(const Mesh& mesh, const DecimateOptions& options, DecimateRep
     }
     if (!(options.max_error >= 0)) throw UsageError("decimate: expected a maximum error >= 0, got " + std::to_string(options.max_error));
     detail::check_indices(mesh);
-    check_closed_manifold(mesh);
+    Decimator decimator(mesh, options);
+    if (!decimator.closed_manifold()) check_closed_manifold(mesh);  // throws, naming the faults
     DecimateReport local;
-    Mesh result = Decimator(mesh, options).run(local);
+    Mesh result = decimator.run(local);
     if (report) *report = local;
     return result;
 }

@@ -115,6 +115,28 @@ TEST(DecimateMeshTest, TetrahedronCannotCollapse) {
 TEST(DecimateMeshTest, OpenMeshAndBadOptionsAreRefused) {
     Mesh open{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}}};
     EXPECT_THROW(decimate_mesh(open, DecimateOptions{}), Error);
+    // Closed but not manifold or not oriented: the refusal names what analyze_topology() finds.
+    const Mesh tetrahedron{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}};
+    const auto refusal = [](const Mesh& mesh) {
+        try {
+            decimate_mesh(mesh, DecimateOptions{});
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    Mesh bow_tie = tetrahedron;  // a second tetrahedron sharing vertex 3 only
+    for (const auto& p : std::vector<std::array<float, 3>>{{0, 0, 2}, {1, 0, 2}, {0, 1, 2}}) bow_tie.vertices.push_back(p);
+    for (const auto& t : tetrahedron.triangles) {
+        std::array<std::uint32_t, 3> moved = t;
+        for (auto& v : moved) v = v == 3 ? 3 : v == 0 ? 4 : v == 1 ? 5 : 6;
+        bow_tie.triangles.push_back(moved);
+    }
+    EXPECT_NE(refusal(bow_tie).find("1 non-manifold vertices"), std::string::npos) << refusal(bow_tie);
+    Mesh flipped = tetrahedron;
+    std::swap(flipped.triangles[3][1], flipped.triangles[3][2]);
+    EXPECT_NE(refusal(flipped).find("misoriented edges"), std::string::npos) << refusal(flipped);
+    EXPECT_EQ(refusal(tetrahedron), "accepted");
     DecimateOptions above_one;
     above_one.keep_fraction = 1.5;
     EXPECT_THROW(decimate_mesh(Mesh{}, above_one), UsageError);
