@@ -108,7 +108,7 @@ private:
         for (int c = 0; c < 8; ++c) {
             if (surface[c]) qef.add(child[c]->qef);
         }
-        std::array<double, 3> margins;
+        std::array<double, 2> margins;
         const openvdb::CoordBBox reach(min.offsetBy(-1), min.offsetBy(size + 1));  // the samples the tests read
         const int tries = ifc_vertex_margins(size, reach, classifier_.scan_box() ? &*classifier_.scan_box() : nullptr, margins);
         for (int t = 0; t < tries; ++t) {

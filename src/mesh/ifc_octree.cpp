@@ -377,7 +377,7 @@ private:
         if (!simple_[level][index]) return false;
         // The samples the tests read: the cell's, and one more round them for gradients.
         const openvdb::Coord corner = s_->origin.offsetBy(min[0], min[1], min[2]);
-        std::array<double, 3> margins;
+        std::array<double, 2> margins;
         const int tries = ifc_vertex_margins(size, openvdb::CoordBBox(corner.offsetBy(-1), corner.offsetBy(size + 1)), s_->scan_box, margins);
         for (int t = 0; t < tries; ++t) {
             const Point3d vertex = solve_in_cell(qef_[level][index], min, size, margins[t]);
