@@ -14,7 +14,9 @@
 //   corners; T. K. Dey et al., "Topology preserving edge contraction", 1999), which keeps a
 //   closed 2-manifold one;
 // - geometry: no triangle of the new star is degenerate (exact collinearity) or turns by more
-//   than kMaxTurnDegrees;
+//   than kMaxTurnDegrees, and no component's enclosed volume changes sign (a nearly flat speck
+//   can turn inside out while each triangle turns little; checked in the sequential apply, on
+//   each component's volume kept up to date by the collapses' changes);
 // - intersections: each new triangle against the others of the star and against the triangles
 //   the grids find near it (one of all triangles, rebuilt once a quarter of them has moved, and
 //   one of those moved since, rebuilt each round), with the exact tests of `vdbmesh check`; a
@@ -257,6 +259,7 @@ struct Plan {
     Verdict verdict = Verdict::unchecked;
     std::vector<std::uint32_t> crossed;  ///< earlier passed plans of the round whose new stars cross this one's
     std::vector<NewTriangle> new_star;   ///< (once passed) for the crossing tests
+    double volume_change = 0;            ///< (once passed) six times the change of the enclosed volume
 };
 
 /// Per-thread scratch of the checks.
@@ -289,6 +292,7 @@ public:
 
     Mesh run(DecimateReport& report) {
         gather_quadrics();
+        measure_components();
         tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(triangles_.size()), 4096), [&](const auto& range) {
             for (std::uint32_t t = range.begin(); t != range.end(); ++t) refresh(t);
         });
@@ -556,6 +560,13 @@ private:
                 continue;
             }
             if (std::any_of(p.crossed.begin(), p.crossed.end(), [&](std::uint32_t j) { return applied[j] != 0; })) continue;
+            double& volume = volume_[component_[vertex(next(p.corner))]];
+            if (volume != 0 && (volume + p.volume_change) * volume <= 0) {  // the component would turn inside out
+                rejected_[p.corner] = 1;
+                ++report.rejected_geometry;
+                continue;
+            }
+            volume += p.volume_change;
             applied[i] = 1;
             chosen.push_back(p.corner);
             alive -= 2;
@@ -735,12 +746,54 @@ private:
         });
     }
 
+    /// Each vertex's component (triangles joined by shared vertices) and each component's
+    /// enclosed volume (six times, the sum of its triangles' determinants).
+    void measure_components() {
+        std::vector<std::uint32_t> parent(positions_.size());
+        for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+        const auto root = [&](std::uint32_t v) {
+            while (parent[v] != v) v = parent[v] = parent[parent[v]];
+            return v;
+        };
+        for (const Ids& t : triangles_) parent[root(t[1])] = root(t[0]), parent[root(t[2])] = root(t[0]);
+        component_.assign(positions_.size(), kNone);
+        volume_.clear();
+        for (std::uint32_t v = 0; v < parent.size(); ++v) {
+            const std::uint32_t r = root(v);
+            if (component_[r] == kNone) component_[r] = std::uint32_t(volume_.size()), volume_.push_back(0);
+            component_[v] = component_[r];
+        }
+        for (const Ids& t : triangles_) volume_[component_[t[0]]] += dot(point(t[0]), cross(point(t[1]), point(t[2])));
+    }
+
+    /// Six times the change of the enclosed volume the collapse of @a p makes: its new star (in
+    /// @a s) less the triangles round both ends, both taken from the kept end's old position
+    /// (they share their boundary, so the difference does not depend on the origin).
+    double volume_change(const Plan& p, const Scratch& s) const {
+        const Vec3d origin = point(vertex(next(p.corner)));
+        const auto determinant = [&](const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+            return dot(sub(a, origin), cross(sub(b, origin), sub(c, origin)));
+        };
+        double change = 0;
+        for (std::size_t i = 0; i < s.star.size(); ++i) {
+            const Ids& old = triangles_[s.star[i]];
+            change += determinant(s.corners[i][0], s.corners[i][1], s.corners[i][2]) -
+                      determinant(point(old[0]), point(old[1]), point(old[2]));
+        }
+        for (const std::uint32_t t : {p.corner / 3, opposite_[p.corner] / 3}) {
+            const Ids& old = triangles_[t];
+            change -= determinant(point(old[0]), point(old[1]), point(old[2]));
+        }
+        return change;
+    }
+
     /// The verdict on @a p, and the box of its new star.
     Verdict check(Plan& p, Scratch& s) const {
         if (!link_condition(p.corner, s)) return Verdict::topology;
         new_star(p, s);
         if (!geometry_holds(s)) return Verdict::geometry;
         if (!intersection_free(p, s)) return Verdict::intersection;
+        p.volume_change = volume_change(p, s);
         p.new_star.clear();
         for (std::size_t i = 0; i < s.ids.size(); ++i) {
             grow(p.star, s.boxes[i].lo), grow(p.star, s.boxes[i].hi);
@@ -803,6 +856,8 @@ private:
     std::vector<std::uint32_t> moved_list_;  ///< those triangles (some removed since)
     BoxGrid<GridTriangle> settled_grid_, moved_grid_;
     BoxGrid<std::uint32_t> plan_grid_;
+    std::vector<std::uint32_t> component_;  ///< per vertex
+    std::vector<double> volume_;            ///< per component: six times its enclosed volume
     std::size_t alive_count_;
     std::size_t target_;
     double max_error_squared_;
