@@ -13,30 +13,14 @@
 #include <tuple>
 
 #include "vdbmesh/geometry.h"
+#include "vdbmesh/union_find.h"
 
 namespace vdbmesh::detail {
 namespace {
 
-/// Union-find with path halving; the smaller index becomes the root (deterministic).
-class DisjointSets {
-public:
-    explicit DisjointSets(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0u); }
-    std::uint32_t find(std::uint32_t v) {
-        while (parent_[v] != v) v = parent_[v] = parent_[parent_[v]];
-        return v;
-    }
-    void unite(std::uint32_t a, std::uint32_t b) {
-        a = find(a), b = find(b);
-        if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-    }
-
-private:
-    std::vector<std::uint32_t> parent_;
-};
-
 void count_edges(const Mesh& mesh, Topology& topology) {
     const MeshEdges edges = mesh_edges(mesh);
-    DisjointSets boundary(mesh.vertices.size());
+    UnionFind boundary(mesh.vertices.size());
     std::vector<char> on_boundary(mesh.vertices.size(), 0);
     topology.edges = edges.size();
     for (std::size_t e = 0; e < edges.size(); ++e) {
@@ -107,7 +91,7 @@ std::size_t count_fans(const Mesh& mesh, const VertexTriangles& around, std::uin
 }
 
 void label_components(const Mesh& mesh, Topology& topology) {
-    DisjointSets sets(mesh.vertices.size());
+    UnionFind sets(mesh.vertices.size());
     std::vector<char> referenced(mesh.vertices.size(), 0);
     for (const auto& t : mesh.triangles) {
         sets.unite(t[0], t[1]);

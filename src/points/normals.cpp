@@ -15,6 +15,7 @@
 #include "points_internal.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/points.h"
+#include "vdbmesh/union_find.h"
 
 namespace vdbmesh {
 
@@ -218,12 +219,7 @@ std::size_t remove_small_clusters(PointCloud& cloud, double min_fraction, int ne
     std::vector<double> sorted = nearest;
     std::nth_element(sorted.begin(), sorted.begin() + long(n / 2), sorted.end());
     const double radius = radius_factor * sorted[n / 2];
-    std::vector<std::uint32_t> parent(n);
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
+    detail::UnionFind sets(n);
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t m = 0; m < k; ++m) {
             const std::uint32_t j = graph[i * k + m];
@@ -232,15 +228,14 @@ std::size_t remove_small_clusters(PointCloud& cloud, double min_fraction, int ne
             const Vec3d& b = cloud.points[j];
             const double d2 = (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
             if (d2 > radius * radius) continue;
-            const std::uint32_t x = find(std::uint32_t(i)), y = find(j);
-            if (x != y) parent[std::max(x, y)] = std::min(x, y);  // deterministic roots
+            sets.unite(std::uint32_t(i), j);
         }
     std::vector<std::size_t> size(n, 0);
-    for (std::size_t i = 0; i < n; ++i) ++size[find(std::uint32_t(i))];
+    for (std::size_t i = 0; i < n; ++i) ++size[sets.find(std::uint32_t(i))];
     const double limit = min_fraction * double(n);
     std::vector<char> keep(n);
     std::size_t kept = 0;
-    for (std::size_t i = 0; i < n; ++i) kept += (keep[i] = double(size[find(std::uint32_t(i))]) >= limit);
+    for (std::size_t i = 0; i < n; ++i) kept += (keep[i] = double(size[sets.find(std::uint32_t(i))]) >= limit);
     if (kept == n || kept == 0) return 0;
     points_detail::keep_points(cloud, keep);
     return n - kept;

@@ -9,13 +9,13 @@
 #include <cmath>
 #include <functional>
 #include <map>
-#include <numeric>
 
 #include "points_internal.h"
 #include "vdbmesh/geometry.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/points.h"
+#include "vdbmesh/union_find.h"
 
 namespace vdbmesh {
 
@@ -25,21 +25,12 @@ namespace {
 /// @a fraction of the largest. Returns how many were dropped.
 std::size_t drop_small_components(Mesh& mesh, double fraction, const std::function<bool(const Vec3d&)>& near_points) {
     const std::size_t nv = mesh.vertices.size();
-    std::vector<std::uint32_t> parent(nv);
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
-    for (const auto& t : mesh.triangles) {
-        const std::uint32_t a = find(t[0]), b = find(t[1]), c = find(t[2]);
-        parent[b] = a;
-        parent[find(c)] = find(a);
-    }
+    detail::UnionFind sets(nv);
+    for (const auto& t : mesh.triangles) sets.unite(t[0], t[1]), sets.unite(t[0], t[2]);
     std::map<std::uint32_t, double> volume;
     std::map<std::uint32_t, std::pair<std::size_t, std::size_t>> support;  // vertices near the points, all
     for (std::size_t v = 0; v < nv; ++v) {
-        auto& s = support[find(std::uint32_t(v))];
+        auto& s = support[sets.find(std::uint32_t(v))];
         const auto& p = mesh.vertices[v];
         s.first += near_points({p[0], p[1], p[2]});
         ++s.second;
@@ -51,7 +42,7 @@ std::size_t drop_small_components(Mesh& mesh, double fraction, const std::functi
         const double v = (double(p[0]) * (double(q[1]) * r[2] - double(q[2]) * r[1]) -
                           double(p[1]) * (double(q[0]) * r[2] - double(q[2]) * r[0]) +
                           double(p[2]) * (double(q[0]) * r[1] - double(q[1]) * r[0])) / 6.0;
-        volume[find(t[0])] += v;
+        volume[sets.find(t[0])] += v;
     }
     if (volume.empty()) return 0;
     double largest = 0;
@@ -68,7 +59,7 @@ std::size_t drop_small_components(Mesh& mesh, double fraction, const std::functi
     std::vector<std::uint32_t> remap(nv, std::uint32_t(-1));
     Mesh out;
     for (const auto& t : mesh.triangles) {
-        if (!keep[find(t[0])]) continue;
+        if (!keep[sets.find(t[0])]) continue;
         std::array<std::uint32_t, 3> u;
         for (int k = 0; k < 3; ++k) {
             if (remap[t[k]] == std::uint32_t(-1)) {

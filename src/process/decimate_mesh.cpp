@@ -39,6 +39,7 @@
 #include "vdbmesh/error.h"
 #include "vdbmesh/geometry.h"
 #include "vdbmesh/process.h"
+#include "vdbmesh/union_find.h"
 
 namespace vdbmesh {
 namespace {
@@ -749,20 +750,11 @@ private:
     /// Each vertex's component (triangles joined by shared vertices) and each component's
     /// enclosed volume (six times, the sum of its triangles' determinants).
     void measure_components() {
-        std::vector<std::uint32_t> parent(positions_.size());
-        for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
-        const auto root = [&](std::uint32_t v) {
-            while (parent[v] != v) v = parent[v] = parent[parent[v]];
-            return v;
-        };
-        for (const Ids& t : triangles_) parent[root(t[1])] = root(t[0]), parent[root(t[2])] = root(t[0]);
-        component_.assign(positions_.size(), kNone);
-        volume_.clear();
-        for (std::uint32_t v = 0; v < parent.size(); ++v) {
-            const std::uint32_t r = root(v);
-            if (component_[r] == kNone) component_[r] = std::uint32_t(volume_.size()), volume_.push_back(0);
-            component_[v] = component_[r];
-        }
+        detail::UnionFind sets(positions_.size());
+        for (const Ids& t : triangles_) sets.unite(t[0], t[1]), sets.unite(t[0], t[2]);
+        std::uint32_t count = 0;
+        component_ = sets.labels(count);
+        volume_.assign(count, 0);
         for (const Ids& t : triangles_) volume_[component_[t[0]]] += dot(point(t[0]), cross(point(t[1]), point(t[2])));
     }
 

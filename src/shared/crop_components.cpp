@@ -21,7 +21,7 @@
 #include <tuple>
 
 #include "shared/run_labels.h"
-#include "shared/union_find.h"
+#include "vdbmesh/union_find.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/shared_tree.h"
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "shared/union_find.h"
+#include "vdbmesh/union_find.h"
 
 namespace vdbmesh::detail {
 

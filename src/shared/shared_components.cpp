@@ -14,7 +14,7 @@
 
 #include "shared/result_cache.h"
 #include "shared/run_labels.h"
-#include "shared/union_find.h"
+#include "vdbmesh/union_find.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/shared_tree.h"
 

@@ -1,6 +1,8 @@
 #pragma once
-// Private: union-find over 0..n-1 whose roots are the smallest elements, so that the labels it
-// hands out follow element order (and so never depend on the order of the unions).
+/// @file union_find.h
+/// @brief Union-find over 0..n-1 whose roots are the smallest elements, so that the roots and
+/// the labels it hands out follow element order (and so never depend on the order of the
+/// unions). In vdbmesh::detail: shared between the stages, not a stable API.
 
 #include <cstdint>
 #include <numeric>
