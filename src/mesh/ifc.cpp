@@ -1,13 +1,12 @@
 // Intersection-free octree contouring, the driver: per block in parallel, the octree; per
 // lower internal node in parallel, the cells across blocks; per block, the triangles with
 // keyed vertices; then one weld of the keys. Blocks and nodes are visited in a fixed order
-// and keys are sorted, so the mesh does not depend on the thread count.
+// and every vertex list has a fixed order, so the mesh does not depend on the thread count.
 
 #include "mesh/ifc.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -55,25 +54,48 @@ void for_each_surface_block(const openvdb::FloatGrid& grid, const SampleClassifi
     });
 }
 
-/// One vertex per key, numbered in key order; vertices no triangle uses are dropped. Each
-/// block's output is released once read, so no part of it is held twice.
-Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
-    std::vector<std::size_t> first_triangle(outputs.size() + 1, 0);
-    for (std::size_t b = 0; b < outputs.size(); ++b) first_triangle[b + 1] = first_triangle[b] + outputs[b].triangles.size();
-    std::vector<std::size_t> first_vertex(outputs.size() + 1, 0);
-    for (std::size_t b = 0; b < outputs.size(); ++b) first_vertex[b + 1] = first_vertex[b] + outputs[b].vertices.size();
-    std::vector<IfcVertex> vertices;
-    reserve_on_huge_pages(vertices, first_vertex.back());
-    vertices.resize(first_vertex.back());
+/// The blocks' vertices, each key once: in block order, then the cells larger than a block in
+/// key order. A block lists each of its keys once, and only those cells are listed by several
+/// blocks (ifc_key_of_coarse_cell()), so no global sort is needed. Each block's list is
+/// released once copied.
+std::vector<IfcVertex> gather_vertices(std::vector<IfcBlockOutput>& outputs) {
+    std::vector<std::size_t> first_own(outputs.size() + 1, 0), first_coarse(outputs.size() + 1, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            std::copy(outputs[b].vertices.begin(), outputs[b].vertices.end(), vertices.begin() + std::ptrdiff_t(first_vertex[b]));
+            const auto& listed = outputs[b].vertices;
+            first_coarse[b + 1] = std::size_t(std::count_if(listed.begin(), listed.end(), [](const IfcVertex& v) { return ifc_key_of_coarse_cell(v.key); }));
+            first_own[b + 1] = listed.size() - first_coarse[b + 1];
+        }
+    });
+    for (std::size_t b = 0; b < outputs.size(); ++b) {
+        first_own[b + 1] += first_own[b];
+        first_coarse[b + 1] += first_coarse[b];
+    }
+    const std::size_t own_count = first_own.back();
+    std::vector<IfcVertex> vertices;
+    reserve_on_huge_pages(vertices, own_count + first_coarse.back());
+    vertices.resize(own_count + first_coarse.back());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+            auto own = vertices.begin() + std::ptrdiff_t(first_own[b]);
+            auto coarse = vertices.begin() + std::ptrdiff_t(own_count + first_coarse[b]);
+            for (const IfcVertex& v : outputs[b].vertices) *(ifc_key_of_coarse_cell(v.key) ? coarse++ : own++) = v;
             outputs[b].vertices = {};
         }
     });
-    tbb::parallel_sort(vertices.begin(), vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key < b.key; });
-    vertices.erase(std::unique(vertices.begin(), vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key == b.key; }),
+    const auto coarse_begin = vertices.begin() + std::ptrdiff_t(own_count);
+    std::sort(coarse_begin, vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key < b.key; });
+    vertices.erase(std::unique(coarse_begin, vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key == b.key; }),
                    vertices.end());
+    return vertices;
+}
+
+/// One vertex per key, numbered as gather_vertices() lists them; vertices no triangle uses are
+/// dropped. Each block's output is released once read, so no part of it is held twice.
+Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
+    std::vector<std::size_t> first_triangle(outputs.size() + 1, 0);
+    for (std::size_t b = 0; b < outputs.size(); ++b) first_triangle[b + 1] = first_triangle[b] + outputs[b].triangles.size();
+    const std::vector<IfcVertex> vertices = gather_vertices(outputs);
     if (vertices.size() >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
     const IfcKeyIndex index_of(vertices);
     Mesh mesh;

@@ -86,6 +86,8 @@ std::uint64_t make_key(unsigned kind, unsigned payload, const openvdb::Coord& p)
 }
 std::uint64_t edge_key(const openvdb::Coord& min_sample, int axis) { return make_key(0, unsigned(axis), min_sample); }
 
+constexpr unsigned kCellKind = 1;
+
 /// A leaf cell of the octree as seen from an edge: a unit Marching Cubes cell or a merged cell.
 struct CellView {
     openvdb::Coord min;
@@ -94,7 +96,7 @@ struct CellView {
     const Point3d* vertex = nullptr;  ///< merged cells
     bool merged() const { return vertex != nullptr; }
     bool operator==(const CellView& o) const { return min == o.min && size == o.size; }
-    std::uint64_t key() const { return make_key(1, unsigned(level), min); }
+    std::uint64_t key() const { return make_key(kCellKind, unsigned(level), min); }
 };
 
 Point3d to_point(const openvdb::Coord& c) { return {double(c.x()), double(c.y()), double(c.z())}; }
@@ -122,7 +124,7 @@ public:
         const std::array<std::ptrdiff_t, 27> around = grid_.neighbours(block_);
         for (int n = 0; n < 27; ++n) neighbour_[n] = around[n] < 0 ? nullptr : &grid_.block(std::size_t(around[n]));
         const IfcBlockCells& cells = grid_.block(block_);
-        for (const IfcCell& cell : cells.cells) add_vertex(make_key(1, cell.level, cell.min), cell.vertex);
+        for (const IfcCell& cell : cells.cells) add_vertex(make_key(kCellKind, cell.level, cell.min), cell.vertex);
         // Per unit cell in order: its Marching Cubes triangles when it is a unit cell, then its
         // three crossed edges; rows of bits skip the cells and edges without surface.
         static constexpr unsigned kBlockBits = ((1u << kIfcBlock) - 1) << 1;  // z = 0..7 at bits 1..8
@@ -422,6 +424,10 @@ private:
 };
 
 }  // namespace
+
+bool ifc_key_of_coarse_cell(std::uint64_t key) {
+    return (key >> 62) == kCellKind && ((key >> 57) & 31u) > unsigned(kIfcMaxLevel);
+}
 
 void contour_ifc_block(const IfcSamples& samples, const SampleClassifier& classifier,
                        openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid, std::size_t block,

@@ -18,8 +18,13 @@ struct IfcVertex {
     std::array<float, 3> position;  ///< world space
 };
 
+/// Whether @a key names a merged cell larger than a block: each block it covers lists its
+/// vertex. Every other key is listed by one block only (a grid edge's crossing by the block
+/// of its minimum sample, a cell of a block by that block), at most once.
+bool ifc_key_of_coarse_cell(std::uint64_t key);
+
 struct IfcBlockOutput {
-    std::vector<IfcVertex> vertices;                     ///< may repeat a key (same position)
+    std::vector<IfcVertex> vertices;                     ///< unique keys but those of coarse cells
     std::vector<std::array<std::uint64_t, 3>> triangles;  ///< counter-clockwise seen from outside
 };
 
