@@ -118,10 +118,18 @@ Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
             keyed = {};
         }
     });
+    const std::size_t used_count = std::size_t(std::count(used.begin(), used.end(), std::uint8_t(1)));
+    reserve_on_huge_pages(mesh.vertices, used_count);
+    if (used_count == vertices.size()) {  // as on every scan measured: no renumbering
+        mesh.vertices.resize(used_count);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertices.size()), [&](const auto& range) {
+            for (std::size_t v = range.begin(); v != range.end(); ++v) mesh.vertices[v] = vertices[v].position;
+        });
+        return mesh;
+    }
     std::vector<std::uint32_t> new_index;
     reserve_on_huge_pages(new_index, vertices.size());
     new_index.resize(vertices.size());
-    reserve_on_huge_pages(mesh.vertices, std::size_t(std::count(used.begin(), used.end(), std::uint8_t(1))));
     for (std::size_t v = 0; v < vertices.size(); ++v) {
         new_index[v] = std::uint32_t(mesh.vertices.size());
         if (used[v]) mesh.vertices.push_back(vertices[v].position);
