@@ -30,4 +30,32 @@ private:
     int count_ = 0;
 };
 
+// Inline: the octree adds a plane per crossing and sums every cell's children, in loops the
+// compiler can then unroll.
+inline void Qef3::add_plane(const Point3d& p, const Point3d& n) {
+    const double d = n[0] * p[0] + n[1] * p[1] + n[2] * p[2];
+    ata_[0] += n[0] * n[0];
+    ata_[1] += n[0] * n[1];
+    ata_[2] += n[0] * n[2];
+    ata_[3] += n[1] * n[1];
+    ata_[4] += n[1] * n[2];
+    ata_[5] += n[2] * n[2];
+    for (int a = 0; a < 3; ++a) {
+        atb_[a] += n[a] * d;
+        point_sum_[a] += p[a];
+    }
+    btb_ += d * d;
+    ++count_;
+}
+
+inline void Qef3::add(const Qef3& other) {
+    for (int i = 0; i < 6; ++i) ata_[i] += other.ata_[i];
+    for (int a = 0; a < 3; ++a) {
+        atb_[a] += other.atb_[a];
+        point_sum_[a] += other.point_sum_[a];
+    }
+    btb_ += other.btb_;
+    count_ += other.count_;
+}
+
 }  // namespace vdbmesh::detail

@@ -25,11 +25,12 @@ public:
     /// Bit i set for each of the @a count (at most 32) values that is inside, as inside() says.
     std::uint32_t inside_bits(const float* values, int count) const {
         std::uint32_t bits = 0;
-        // The side is tested outside the loop so that the loop is branch-free.
+        // Compared as floats with the nearest float beyond the isovalue (the same answers as in
+        // double), and the side tested outside the loop, so that the loop vectorises.
         if (above_) {
-            for (int i = 0; i < count; ++i) bits |= std::uint32_t(double(values[i]) > iso_) << i;
+            for (int i = 0; i < count; ++i) bits |= std::uint32_t(values[i] >= first_inside_) << i;
         } else {
-            for (int i = 0; i < count; ++i) bits |= std::uint32_t(double(values[i]) < iso_) << i;
+            for (int i = 0; i < count; ++i) bits |= std::uint32_t(values[i] <= first_inside_) << i;
         }
         return bits;
     }
@@ -47,6 +48,9 @@ public:
 private:
     double iso_;
     bool above_;
+    /// The float nearest the isovalue on the inside side (strictly beyond it): a float is
+    /// inside iff it is this one or beyond.
+    float first_inside_;
     std::optional<openvdb::CoordBBox> box_;
 };
 
