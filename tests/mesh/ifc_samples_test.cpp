@@ -9,6 +9,9 @@
 
 #include <openvdb/openvdb.h>
 
+#include <array>
+#include <cmath>
+#include <limits>
 #include <random>
 
 #include "mesh/ifc_block.h"
@@ -124,6 +127,34 @@ TEST(IfcSamplesTest, ABoxCuttingThroughBlocksIsReadAsOutsideBeyondIt) {
         ASSERT_TRUE(stored_scan_box(*grid));
         int skipped = 0;
         check_grid(*grid, skipped);
+    }
+}
+
+TEST(IfcSamplesTest, RowsOfBitsClassifyFloatsAsTheDoubleComparisonDoes) {
+    // inside_bits() compares floats with the nearest float beyond the isovalue; inside()
+    // compares doubles. Isovalues on a float, half way between two, just off one, and
+    // beyond the float range; values at, next to and far from them, and the infinities.
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    const float one_up = std::nextafter(1200.5f, 2000.0f);
+    for (double iso : {1200.5, (double(1200.5f) + double(one_up)) / 2, 1200.5 + 1e-9, 0.1, -3.0, 1e39}) {
+        for (Inside inside : {Inside::above, Inside::below}) {
+            MeshOptions options;
+            options.iso = iso;
+            options.inside = inside;
+            const SampleClassifier classifier(*grid, options);
+            const float nearest = float(iso);
+            const float inf = std::numeric_limits<float>::infinity();
+            const std::array<float, 11> values = {nearest, std::nextafter(nearest, inf), std::nextafter(nearest, -inf), one_up, 1200.5f,
+                                                  0.0f, -inf, inf, 1e30f, -1e30f, float(iso * 2)};
+            const std::uint32_t bits = classifier.inside_bits(values.data(), int(values.size()));
+            int inside_count = 0;
+            for (std::size_t i = 0; i < values.size(); ++i) {
+                EXPECT_EQ(bool((bits >> i) & 1u), classifier.inside(values[i])) << "iso " << iso << " value " << values[i];
+                inside_count += classifier.inside(values[i]);
+            }
+            EXPECT_GT(inside_count, 0);
+            EXPECT_LT(inside_count, int(values.size()));
+        }
     }
 }
 
