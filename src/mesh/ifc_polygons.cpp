@@ -75,13 +75,21 @@ constexpr double kMaxCrossingMargin = 0.25;
 constexpr int kCoordBits = 19;
 constexpr std::int64_t kCoordBias = std::int64_t(1) << (kCoordBits - 1);
 
+/// Throws unless every key a block at @a origin makes fits in kCoordBits per axis: keys name
+/// grid points at most a lower internal node (a coarse cell's face) beyond the block.
+void check_key_range(const openvdb::Coord& origin) {
+    constexpr std::int64_t kReach = (kIfcBlock << (kIfcCoarseMaxLevel - kIfcMaxLevel)) + kIfcBlock;
+    for (int a = 0; a < 3; ++a) {
+        if (origin[a] - kReach + kCoordBias < 0 || origin[a] + kReach + kCoordBias >= (std::int64_t(1) << kCoordBits)) {
+            throw Error("contouring: grid coordinates beyond +-2^18");
+        }
+    }
+}
+
+/// The key of a grid point of a block that passed check_key_range().
 std::uint64_t make_key(unsigned kind, unsigned payload, const openvdb::Coord& p) {
     std::uint64_t key = (std::uint64_t(kind) << 62) | (std::uint64_t(payload) << 57);
-    for (int a = 0; a < 3; ++a) {
-        const std::int64_t c = std::int64_t(p[a]) + kCoordBias;
-        if (c < 0 || c >= (std::int64_t(1) << kCoordBits)) throw Error("contouring: grid coordinates beyond +-2^18");
-        key |= std::uint64_t(c) << (kCoordBits * (2 - a));
-    }
+    for (int a = 0; a < 3; ++a) key |= std::uint64_t(std::int64_t(p[a]) + kCoordBias) << (kCoordBits * (2 - a));
     return key;
 }
 std::uint64_t edge_key(const openvdb::Coord& min_sample, int axis) { return make_key(0, unsigned(axis), min_sample); }
@@ -121,6 +129,7 @@ public:
           transform_(transform), out_(out) {}
 
     void run() {
+        check_key_range(s_.origin);
         const std::array<std::ptrdiff_t, 27> around = grid_.neighbours(block_);
         for (int n = 0; n < 27; ++n) neighbour_[n] = around[n] < 0 ? nullptr : &grid_.block(std::size_t(around[n]));
         const IfcBlockCells& cells = grid_.block(block_);
@@ -170,7 +179,9 @@ private:
         CellView view;
         view.min = unit;
         const openvdb::Coord offset = origin - s_.origin;  // within one block of ours: edges touch no farther
-        const IfcBlockCells* block = neighbour_[(offset.x() / kIfcBlock + 1) * 9 + (offset.y() / kIfcBlock + 1) * 3 + offset.z() / kIfcBlock + 1];
+        // Offsets are whole blocks (-8, 0 or 8): an arithmetic shift divides them exactly.
+        static_assert(kIfcBlock == 8, "a block is 2^3 cells");
+        const IfcBlockCells* block = neighbour_[((offset.x() >> 3) + 1) * 9 + ((offset.y() >> 3) + 1) * 3 + (offset.z() >> 3) + 1];
         if (!block) return view;  // a block without surface: all unit cells
         const IfcBlockCells& cells = *block;
         const openvdb::Coord local = unit - origin;

@@ -7,6 +7,9 @@
 
 #include <cstdint>
 #include <optional>
+#ifdef __SSE__
+#include <xmmintrin.h>
+#endif
 
 #include "mesh/edge_crossing.h"
 #include "vdbmesh/mesher.h"
@@ -24,14 +27,19 @@ public:
     bool inside(double value) const { return is_inside_value(value, iso_, above_); }
     /// Bit i set for each of the @a count (at most 32) values that is inside, as inside() says.
     std::uint32_t inside_bits(const float* values, int count) const {
-        std::uint32_t bits = 0;
         // Compared as floats with the nearest float beyond the isovalue (the same answers as in
-        // double), and the side tested outside the loop, so that the loop vectorises.
-        if (above_) {
-            for (int i = 0; i < count; ++i) bits |= std::uint32_t(values[i] >= first_inside_) << i;
-        } else {
-            for (int i = 0; i < count; ++i) bits |= std::uint32_t(values[i] <= first_inside_) << i;
+        // double), four at a time where SSE is there (every x86-64): the octree classifies
+        // 121 rows of 11 samples per block. A NaN is outside either way.
+        std::uint32_t bits = 0;
+        int i = 0;
+#ifdef __SSE__
+        const __m128 threshold = _mm_set1_ps(first_inside_);
+        for (; i + 4 <= count; i += 4) {
+            const __m128 v = _mm_loadu_ps(values + i);
+            bits |= std::uint32_t(_mm_movemask_ps(above_ ? _mm_cmpge_ps(v, threshold) : _mm_cmple_ps(v, threshold))) << i;
         }
+#endif
+        for (; i < count; ++i) bits |= std::uint32_t(above_ ? values[i] >= first_inside_ : values[i] <= first_inside_) << i;
         return bits;
     }
     /// The value meshers use for the sample at @a ijk holding @a value: itself inside the box,

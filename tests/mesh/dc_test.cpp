@@ -250,5 +250,30 @@ TEST(DcTest, ReportsItsPhasesAndRefusesAnOpenBoundary) {
     EXPECT_THROW(mesh_grid(*grid, open), UsageError);
 }
 
+TEST(DcTest, RefusesGridPointsBeyondItsKeysRange) {
+    // Vertex keys hold 19 bits per axis (+-2^18 voxels): a ball there is refused with a clear
+    // error, not welded wrongly; the same ball nearer the origin is meshed.
+    for (const int shift : {(1 << 18) - 16, 1 << 16}) {
+        auto grid = openvdb::FloatGrid::create(0.0f);
+        auto accessor = grid->getAccessor();
+        const Field field = ball(7.5, 4.2);
+        for (int x = 0; x < 16; ++x) {
+            for (int y = 0; y < 16; ++y) {
+                for (int z = 0; z < 16; ++z) accessor.setValueOn(openvdb::Coord(x + shift, y, z), float(field(x, y, z)));
+            }
+        }
+        if (shift > (1 << 17)) {
+            try {
+                mesh_grid(*grid, dc_options(0.5));
+                ADD_FAILURE() << "meshed a grid beyond the keys' range";
+            } catch (const Error& e) {
+                EXPECT_NE(std::string(e.what()).find("beyond +-2^18"), std::string::npos) << e.what();
+            }
+        } else {
+            EXPECT_GT(mesh_grid(*grid, dc_options(0.5)).mesh.triangles.size(), 0u) << shift;
+        }
+    }
+}
+
 }  // namespace
 }  // namespace vdbmesh
