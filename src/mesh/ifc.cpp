@@ -172,7 +172,11 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     });
     clock.lap(report, "contour");
     if (options.progress) options.progress(0.8);
-    cells = IfcCellGrid();  // not needed by the weld
+    // Not needed by the weld; the blocks' cells (one allocation each) are freed in parallel.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.blocks.size()), [&](const auto& range) {
+        for (std::size_t b = range.begin(); b != range.end(); ++b) cells.blocks[b].reset();
+    });
+    cells = IfcCellGrid();
     release_free_memory();
     Mesh mesh = weld(std::move(outputs));
     clock.lap(report, "weld");
