@@ -37,19 +37,19 @@ void release_free_memory() {
 #endif
 }
 
-/// Calls @a visit(samples, accessor, block) for every block holding surface among those
-/// @a candidate(block, accessor) accepts, in parallel.
+/// Calls @a visit(samples, block) for every block holding surface among those
+/// @a may_hold_surface(block, accessor) accepts, in parallel.
 template <typename Candidate, typename Visit>
 void for_each_surface_block(const openvdb::FloatGrid& grid, const SampleClassifier& classifier,
-                            const std::vector<openvdb::Coord>& origins, Candidate&& candidate, Visit&& visit) {
+                            const std::vector<openvdb::Coord>& origins, Candidate&& may_hold_surface, Visit&& visit) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, origins.size()), [&](const auto& range) {
         auto accessor = grid.getConstAccessor();
         auto samples = std::make_unique<IfcSamples>();
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            if (!candidate(b, accessor)) continue;
+            if (!may_hold_surface(b, accessor)) continue;
             samples->origin = origins[b];
             load_ifc_samples(accessor, classifier, *samples);
-            if (!samples->uniform()) visit(*samples, accessor, b);
+            if (!samples->uniform()) visit(*samples, b);
         }
     });
 }
@@ -154,21 +154,26 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     cells.origins = surface_blocks(grid, classifier);
     cells.blocks.resize(cells.origins.size());
     auto may_hold_surface = [&](std::size_t b, auto& accessor) { return block_may_hold_surface(accessor, classifier, cells.origins[b]); };
-    for_each_surface_block(grid, classifier, cells.origins, may_hold_surface, [&](const IfcSamples& samples, auto&, std::size_t b) {
-        build_ifc_cells(samples, options.iso, options.error, cells.block_for_writing(b));
+    for_each_surface_block(grid, classifier, cells.origins, may_hold_surface, [&](const IfcSamples& samples, std::size_t b) {
+        IfcBlockCells& block = cells.block_for_writing(b);
+        build_ifc_cells(samples, options.iso, options.error, block);
+        record_contour_samples(samples, options.iso, options.error, block);
     });
     clock.lap(report, "octree");
     merge_ifc_coarse_cells(grid, classifier, options.error, cells);
     clock.lap(report, "coarse");
     if (options.progress) options.progress(0.4);
     std::vector<IfcBlockOutput> outputs(cells.origins.size());
-    // A block the octree did not build has all its samples on one side (about a third of the
-    // candidates on the scans): it is not loaded again.
-    auto built_block = [&](std::size_t b, auto&) { return cells.blocks[b] != nullptr; };
-    for_each_surface_block(grid, classifier, cells.origins, built_block, [&](const IfcSamples& samples, auto& accessor, std::size_t b) {
-        contour_ifc_block(samples, classifier, accessor, cells, b, grid.transform(), options.error, outputs[b]);
-        outputs[b].vertices.shrink_to_fit();  // growth leaves up to half unused: it adds up over blocks
-        outputs[b].triangles.shrink_to_fit();
+    // Only the blocks the octree sampled hold surface of their own; their samples are not
+    // loaded again (record_contour_samples()).
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.origins.size()), [&](const auto& range) {
+        auto accessor = grid.getConstAccessor();
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+            if (!cells.blocks[b] || !cells.blocks[b]->sampled) continue;
+            contour_ifc_block(classifier, accessor, cells, b, grid.transform(), outputs[b]);
+            outputs[b].vertices.shrink_to_fit();  // growth leaves up to half unused: it adds up over blocks
+            outputs[b].triangles.shrink_to_fit();
+        }
     });
     clock.lap(report, "contour");
     if (options.progress) options.progress(0.8);

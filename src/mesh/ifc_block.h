@@ -96,6 +96,14 @@ struct IfcBlockCells {
     /// its surface: what merging across blocks starts from. A block never built holds no surface.
     bool root_leaf = true;
     Qef3 root_qef;
+    /// What the contour reads of the block's samples, kept from the octree's pass so that they
+    /// are not loaded twice (record_contour_samples(), ifc_polygons.h): whether there are any
+    /// (a block the coarse merge added holds no surface of its own), the window's rows of
+    /// inside bits, and the crossings of the block's own crossed edges along their axis, in
+    /// the contour's order.
+    bool sampled = false;
+    std::array<std::uint16_t, kIfcSampleDim * kIfcSampleDim> inside_rows{};
+    std::vector<double> crossings;
 
     static constexpr std::uint8_t kNoCell = 0xff;
     /// All unit cells, no surface: a block never built.

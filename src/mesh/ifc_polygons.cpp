@@ -120,13 +120,34 @@ double squared_distance(const Point3d& a, const Point3d& b) {
     return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
 }
 
+/// The contour's walk over a block: per unit cell in order, @a mixed_cell(x, y, z) where its
+/// corners differ, then @a crossed_edge(x, y, z, axis) for each of its three edges that is
+/// crossed (the block's own edges); rows of bits skip the cells and edges without surface.
+template <class MixedCell, class CrossedEdge>
+void walk_block(const IfcSamples& s, MixedCell&& mixed_cell, CrossedEdge&& crossed_edge) {
+    static constexpr unsigned kBlockBits = ((1u << kIfcBlock) - 1) << 1;  // z = 0..7 at bits 1..8
+    for (int x = 0; x < kIfcBlock; ++x) {
+        for (int y = 0; y < kIfcBlock; ++y) {
+            const unsigned mixed = s.mixed_cells_row(x, y) & kBlockBits;
+            const std::array<unsigned, 3> along = {s.crossed_row(x, y, 0) & kBlockBits, s.crossed_row(x, y, 1) & kBlockBits,
+                                                   s.crossed_row(x, y, 2) & kBlockBits};
+            for (unsigned any = mixed | along[0] | along[1] | along[2]; any != 0; any &= any - 1) {
+                const int z = __builtin_ctz(any) - 1;
+                if ((mixed >> (z + 1)) & 1u) mixed_cell(x, y, z);
+                for (int axis = 0; axis < 3; ++axis) {
+                    if ((along[axis] >> (z + 1)) & 1u) crossed_edge(x, y, z, axis);
+                }
+            }
+        }
+    }
+}
+
 class BlockContour {
 public:
+    /// @a s holds the block's origin and rows of inside bits (not its values).
     BlockContour(const IfcSamples& s, const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor,
-                 const IfcCellGrid& grid, std::size_t block, const openvdb::math::Transform& transform, double error,
-                 IfcBlockOutput& out)
-        : s_(s), classifier_(classifier), accessor_(accessor), iso_(classifier.iso()), crossing_margin_(std::min(error, kMaxCrossingMargin)), grid_(grid), block_(block),
-          transform_(transform), out_(out) {}
+                 const IfcCellGrid& grid, std::size_t block, const openvdb::math::Transform& transform, IfcBlockOutput& out)
+        : s_(s), classifier_(classifier), accessor_(accessor), grid_(grid), block_(block), transform_(transform), out_(out) {}
 
     void run() {
         check_key_range(s_.origin);
@@ -134,23 +155,14 @@ public:
         for (int n = 0; n < 27; ++n) neighbour_[n] = around[n] < 0 ? nullptr : &grid_.block(std::size_t(around[n]));
         const IfcBlockCells& cells = grid_.block(block_);
         for (const IfcCell& cell : cells.cells) add_vertex(make_key(kCellKind, cell.level, cell.min), cell.vertex);
-        // Per unit cell in order: its Marching Cubes triangles when it is a unit cell, then its
-        // three crossed edges; rows of bits skip the cells and edges without surface.
-        static constexpr unsigned kBlockBits = ((1u << kIfcBlock) - 1) << 1;  // z = 0..7 at bits 1..8
-        for (int x = 0; x < kIfcBlock; ++x) {
-            for (int y = 0; y < kIfcBlock; ++y) {
-                const unsigned mixed = s_.mixed_cells_row(x, y) & kBlockBits;
-                const std::array<unsigned, 3> along = {s_.crossed_row(x, y, 0) & kBlockBits, s_.crossed_row(x, y, 1) & kBlockBits,
-                                                       s_.crossed_row(x, y, 2) & kBlockBits};
-                for (unsigned any = mixed | along[0] | along[1] | along[2]; any != 0; any &= any - 1) {
-                    const int z = __builtin_ctz(any) - 1;
-                    if (((mixed >> (z + 1)) & 1u) && cells.level[IfcBlockCells::unit_index(x, y, z)] == 0) marching_cube(x, y, z);
-                    for (int axis = 0; axis < 3; ++axis) {
-                        if ((along[axis] >> (z + 1)) & 1u) crossed_edge(x, y, z, axis);
-                    }
-                }
-            }
-        }
+        crossings_ = &cells.crossings;
+        next_crossing_ = 0;
+        walk_block(
+            s_, [&](int x, int y, int z) { if (cells.level[IfcBlockCells::unit_index(x, y, z)] == 0) marching_cube(x, y, z); },
+            [&](int x, int y, int z, int axis) {
+                crossed_edge(x, y, z, axis);
+                ++next_crossing_;
+            });
     }
 
 private:
@@ -241,11 +253,11 @@ private:
         fan(ring, e, axis, outward_positive, p_key);
     }
 
+    /// The crossing of the block's own crossed edge being walked (recorded in walk order).
     Point3d crossing_point(int x, int y, int z, int axis) const {
-        const Point3d p0 = to_point(s_.origin.offsetBy(x, y, z));
-        Point3d p1 = p0;
-        p1[axis] += 1;
-        return edge_crossing(p0, s_.at(x, y, z), p1, s_.at(x + (axis == 0), y + (axis == 1), z + (axis == 2)), iso_, crossing_margin_);
+        Point3d p = to_point(s_.origin.offsetBy(x, y, z));
+        p[axis] = (*crossings_)[next_crossing_];
+        return p;
     }
 
     // ---- faces between two merged cells ----
@@ -271,7 +283,7 @@ private:
                     start[along] += k;
                     start[across] += side * int(hi[across] - lo[across]);
                     const openvdb::Coord end = start.offsetBy(along == 0, along == 1, along == 2);
-                    if (classifier_.inside(sample(start)) == classifier_.inside(sample(end))) continue;
+                    if (inside(start) == inside(end)) continue;
                     if (count < 2) keys[count] = edge_key(start, along);
                     ++count;
                 }
@@ -281,14 +293,15 @@ private:
         return keys;
     }
 
-    /// The value meshers use at grid point @a ijk.
-    double sample(const openvdb::Coord& ijk) {
+    /// Whether grid point @a ijk is inside: from the rows of bits in the block's window, else
+    /// from the grid.
+    bool inside(const openvdb::Coord& ijk) {
         const openvdb::Coord local = ijk - s_.origin;
         if (local.x() >= -1 && local.x() <= kIfcBlock + 1 && local.y() >= -1 && local.y() <= kIfcBlock + 1 &&
             local.z() >= -1 && local.z() <= kIfcBlock + 1) {
-            return s_.at(local.x(), local.y(), local.z());
+            return s_.in(local.x(), local.y(), local.z());
         }
-        return classifier_.sample_value(ijk, accessor_.getValue(ijk));
+        return classifier_.inside(classifier_.sample_value(ijk, accessor_.getValue(ijk)));
     }
 
     /// The face shared by merged cells @a a and @a b, decided the same whichever edge asks.
@@ -426,12 +439,12 @@ private:
     std::array<const IfcBlockCells*, 27> neighbour_;  ///< the blocks round this one (index 13), or null
     const SampleClassifier& classifier_;
     openvdb::FloatGrid::ConstAccessor& accessor_;
-    double iso_;
-    double crossing_margin_;  ///< of the edge's length, kept between a crossing and the edge's ends
     const IfcCellGrid& grid_;
     std::size_t block_;
     const openvdb::math::Transform& transform_;
     IfcBlockOutput& out_;
+    const std::vector<double>* crossings_ = nullptr;
+    std::size_t next_crossing_ = 0;  ///< index in crossings_ of the crossed edge being walked
 };
 
 }  // namespace
@@ -440,10 +453,30 @@ bool ifc_key_of_coarse_cell(std::uint64_t key) {
     return (key >> 62) == kCellKind && ((key >> 57) & 31u) > unsigned(kIfcMaxLevel);
 }
 
-void contour_ifc_block(const IfcSamples& samples, const SampleClassifier& classifier,
-                       openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid, std::size_t block,
-                       const openvdb::math::Transform& transform, double error, IfcBlockOutput& out) {
-    BlockContour(samples, classifier, accessor, grid, block, transform, error, out).run();
+void record_contour_samples(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells) {
+    cells.sampled = true;
+    cells.inside_rows = samples.inside_rows;
+    std::size_t count = 0;
+    walk_block(samples, [](int, int, int) {}, [&](int, int, int, int) { ++count; });
+    cells.crossings.clear();
+    cells.crossings.reserve(count);
+    const double margin = std::min(error, kMaxCrossingMargin);  // of the edge's length, kept from its ends
+    walk_block(samples, [](int, int, int) {}, [&](int x, int y, int z, int axis) {
+        const Point3d p0 = to_point(samples.origin.offsetBy(x, y, z));
+        Point3d p1 = p0;
+        p1[axis] += 1;
+        const Point3d p = edge_crossing(p0, samples.at(x, y, z), p1, samples.at(x + (axis == 0), y + (axis == 1), z + (axis == 2)), iso, margin);
+        cells.crossings.push_back(p[axis]);
+    });
+}
+
+void contour_ifc_block(const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid,
+                       std::size_t block, const openvdb::math::Transform& transform, IfcBlockOutput& out) {
+    thread_local IfcSamples rows;  // the rows of bits only: the contour reads no value
+    const IfcBlockCells& cells = grid.block(block);
+    rows.origin = grid.origins[block];
+    rows.inside_rows = cells.inside_rows;
+    BlockContour(rows, classifier, accessor, grid, block, transform, out).run();
 }
 
 }  // namespace vdbmesh::detail

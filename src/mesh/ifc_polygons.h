@@ -28,11 +28,15 @@ struct IfcBlockOutput {
     std::vector<std::array<std::uint64_t, 3>> triangles;  ///< counter-clockwise seen from outside
 };
 
-/// Triangles of the block at @a samples.origin: Marching Cubes in its unit cells, and the
-/// polygons of the crossed grid edges it owns (minimum sample in the block) that touch a
+/// Keeps in @a cells what contour_ifc_block() reads of the block's @a samples: their rows of
+/// inside bits, and where the surface crosses each crossed edge the block owns (minimum sample
+/// in the block) at @a error.
+void record_contour_samples(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells);
+
+/// Triangles of block @a block of @a grid (recorded by record_contour_samples()): Marching
+/// Cubes in its unit cells, and the polygons of the crossed grid edges it owns that touch a
 /// merged cell.
-void contour_ifc_block(const IfcSamples& samples, const SampleClassifier& classifier,
-                       openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid, std::size_t block,
-                       const openvdb::math::Transform& transform, double error, IfcBlockOutput& out);
+void contour_ifc_block(const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid,
+                       std::size_t block, const openvdb::math::Transform& transform, IfcBlockOutput& out);
 
 }  // namespace vdbmesh::detail
