@@ -107,7 +107,14 @@ Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
             auto& keyed = outputs[b].triangles;
+            constexpr std::size_t kAhead = 8;  // triangles: about the latency of a miss
+            for (std::size_t t = 0; t < std::min(kAhead, keyed.size()); ++t) {
+                for (const std::uint64_t key : keyed[t]) index_of.prefetch(key);
+            }
             for (std::size_t t = 0; t < keyed.size(); ++t) {
+                if (t + kAhead < keyed.size()) {
+                    for (const std::uint64_t key : keyed[t + kAhead]) index_of.prefetch(key);
+                }
                 for (int k = 0; k < 3; ++k) {
                     const std::uint32_t index = index_of.find(keyed[t][k]);
                     if (index == IfcKeyIndex::kMissing) throw Error("contouring: a triangle refers to a missing vertex");

@@ -7,39 +7,38 @@
 
 namespace vdbmesh::detail {
 
-IfcKeyIndex::IfcKeyIndex(const std::vector<IfcVertex>& vertices) : vertices_(vertices) {
+IfcKeyIndex::IfcKeyIndex(const std::vector<IfcVertex>& vertices) {
     int bits = 1;
     while ((std::size_t(1) << bits) < 2 * vertices.size()) ++bits;
     const std::size_t slot_count = std::size_t(1) << bits;
     mask_ = slot_count - 1;
     shift_ = 64 - bits;
-    slots_.reset(new std::atomic<std::uint32_t>[slot_count]);
-    advise_huge_pages(slots_.get(), slot_count * sizeof(std::atomic<std::uint32_t>));
+    slots_.reset(new Slot[slot_count]);
+    advise_huge_pages(slots_.get(), slot_count * sizeof(Slot));
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, slot_count), [&](const auto& range) {
-        for (std::size_t s = range.begin(); s != range.end(); ++s) slots_[s].store(kMissing, std::memory_order_relaxed);
+        for (std::size_t s = range.begin(); s != range.end(); ++s) slots_[s].key.store(kEmpty, std::memory_order_relaxed);
     });
     // Which vertex lands in which slot depends on the threads' order; what find() returns
-    // does not (keys are unique).
+    // does not (keys are unique). A slot's index is written by the thread that claimed its key
+    // and read only after the loop has ended.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertices.size()), [&](const auto& range) {
         for (std::size_t v = range.begin(); v != range.end(); ++v) {
             for (std::size_t s = first_slot(vertices[v].key);; s = (s + 1) & mask_) {
-                std::uint32_t empty = kMissing;
-                if (slots_[s].compare_exchange_strong(empty, std::uint32_t(v), std::memory_order_relaxed)) break;
+                std::uint64_t empty = kEmpty;
+                if (slots_[s].key.compare_exchange_strong(empty, vertices[v].key, std::memory_order_relaxed)) {
+                    slots_[s].index = std::uint32_t(v);
+                    break;
+                }
             }
         }
     });
 }
 
-std::size_t IfcKeyIndex::first_slot(std::uint64_t key) const {
-    // Fibonacci hashing: keys of neighbouring grid edges differ in their low bits, which the
-    // multiplication spreads over the high bits taken here.
-    return std::size_t((key * 0x9e3779b97f4a7c15ull) >> shift_);
-}
-
 std::uint32_t IfcKeyIndex::find(std::uint64_t key) const {
     for (std::size_t s = first_slot(key);; s = (s + 1) & mask_) {
-        const std::uint32_t v = slots_[s].load(std::memory_order_relaxed);
-        if (v == kMissing || vertices_[v].key == key) return v;
+        const std::uint64_t held = slots_[s].key.load(std::memory_order_relaxed);
+        if (held == key) return slots_[s].index;
+        if (held == kEmpty) return kMissing;
     }
 }
 
