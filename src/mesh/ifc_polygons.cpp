@@ -456,17 +456,20 @@ bool ifc_key_of_coarse_cell(std::uint64_t key) {
 void record_contour_samples(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells) {
     cells.sampled = true;
     cells.inside_rows = samples.inside_rows;
+    static constexpr unsigned kBlockBits = ((1u << kIfcBlock) - 1) << 1;  // as walk_block()
     std::size_t count = 0;
-    walk_block(samples, [](int, int, int) {}, [&](int, int, int, int) { ++count; });
+    for (int x = 0; x < kIfcBlock; ++x) {
+        for (int y = 0; y < kIfcBlock; ++y) {
+            for (int axis = 0; axis < 3; ++axis) count += std::size_t(__builtin_popcount(samples.crossed_row(x, y, axis) & kBlockBits));
+        }
+    }
     cells.crossings.clear();
     cells.crossings.reserve(count);
     const double margin = std::min(error, kMaxCrossingMargin);  // of the edge's length, kept from its ends
     walk_block(samples, [](int, int, int) {}, [&](int x, int y, int z, int axis) {
-        const Point3d p0 = to_point(samples.origin.offsetBy(x, y, z));
-        Point3d p1 = p0;
-        p1[axis] += 1;
-        const Point3d p = edge_crossing(p0, samples.at(x, y, z), p1, samples.at(x + (axis == 0), y + (axis == 1), z + (axis == 2)), iso, margin);
-        cells.crossings.push_back(p[axis]);
+        // edge_crossing() along a grid edge: its minimum sample plus the parameter.
+        const double t = crossing_parameter(samples.at(x, y, z), samples.at(x + (axis == 0), y + (axis == 1), z + (axis == 2)), iso, margin);
+        cells.crossings.push_back(double(samples.origin[axis] + (axis == 0 ? x : axis == 1 ? y : z)) + t);
     });
 }
 
