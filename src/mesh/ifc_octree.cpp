@@ -267,6 +267,7 @@ private:
                 for (int k = row_start_[row]; k < row_start_[row + 1]; ++k) {
                     const auto& c = crossings_[std::size_t(k)];
                     const int axis = c[3];
+                    if (c[2] > min[2] + size) break;  // a row's crossings go up in z
                     if (c[2] < min[2] || c[2] > min[2] + size - (axis == 2)) continue;
                     if ((axis == 0 && x == min[0] + size) || (axis == 1 && y == min[1] + size)) continue;
                     if (!test(hermite_[std::size_t(k)])) return false;
