@@ -73,6 +73,7 @@ constexpr double kMaxCrossingMargin = 0.25;
 
 // ---- Vertex keys: kind (2 bits), payload (5 bits), x, y, z (19 bits each, biased) ----
 constexpr int kCoordBits = 19;
+constexpr int kKindShift = 62, kPayloadShift = 57;
 constexpr std::int64_t kCoordBias = std::int64_t(1) << (kCoordBits - 1);
 
 /// Throws unless every key a block at @a origin makes fits in kCoordBits per axis: keys name
@@ -88,11 +89,33 @@ void check_key_range(const openvdb::Coord& origin) {
 
 /// The key of a grid point of a block that passed check_key_range().
 std::uint64_t make_key(unsigned kind, unsigned payload, const openvdb::Coord& p) {
-    std::uint64_t key = (std::uint64_t(kind) << 62) | (std::uint64_t(payload) << 57);
+    std::uint64_t key = (std::uint64_t(kind) << kKindShift) | (std::uint64_t(payload) << kPayloadShift);
     for (int a = 0; a < 3; ++a) key |= std::uint64_t(std::int64_t(p[a]) + kCoordBias) << (kCoordBits * (2 - a));
     return key;
 }
 std::uint64_t edge_key(const openvdb::Coord& min_sample, int axis) { return make_key(0, unsigned(axis), min_sample); }
+
+/// What to add to a key to move its grid point by (dx, dy, dz) (a few voxels): the biased
+/// fields take it without a carry into the next field, the block having passed
+/// check_key_range().
+constexpr std::uint64_t key_offset(int dx, int dy, int dz) {
+    return std::uint64_t(std::int64_t(dx) * (std::int64_t(1) << (2 * kCoordBits)) + std::int64_t(dy) * (std::int64_t(1) << kCoordBits) + dz);
+}
+
+/// Per Marching Cubes edge (mc_case.h numbering): its key less the key of its cell's minimum
+/// corner, as edge_key() of its first corner would give.
+const std::array<std::uint64_t, 12>& mc_edge_key_offsets() {
+    static const std::array<std::uint64_t, 12> offsets = [] {
+        std::array<std::uint64_t, 12> result{};
+        for (int e = 0; e < 12; ++e) {
+            const unsigned c0 = kEdgeCorners[e][0], c1 = kEdgeCorners[e][1];
+            const unsigned axis = (c0 ^ c1) == 1 ? 0 : (c0 ^ c1) == 2 ? 1 : 2;
+            result[std::size_t(e)] = (std::uint64_t(axis) << kPayloadShift) + key_offset(int(c0 & 1), int((c0 >> 1) & 1), int(c0 >> 2));
+        }
+        return result;
+    }();
+    return offsets;
+}
 
 constexpr unsigned kCellKind = 1;
 
@@ -151,6 +174,7 @@ public:
 
     void run() {
         check_key_range(s_.origin);
+        origin_key_ = edge_key(s_.origin, 0);
         const std::array<std::ptrdiff_t, 27> around = grid_.neighbours(block_);
         for (int n = 0; n < 27; ++n) neighbour_[n] = around[n] < 0 ? nullptr : &grid_.block(std::size_t(around[n]));
         const IfcBlockCells& cells = grid_.block(block_);
@@ -174,14 +198,11 @@ private:
 
     void marching_cube(int x, int y, int z) {
         const McCase& c = mc_case(s_.config(x, y, z));
+        const std::uint64_t cell_key = origin_key_ + key_offset(x, y, z);
+        const auto& offsets = mc_edge_key_offsets();
         for (int t = 0; t < c.triangle_count; ++t) {
-            std::array<std::uint64_t, 3> keys;
-            for (int k = 0; k < 3; ++k) {
-                const unsigned c0 = kEdgeCorners[c.triangles[t][k]][0], c1 = kEdgeCorners[c.triangles[t][k]][1];
-                const int axis = (c0 ^ c1) == 1 ? 0 : (c0 ^ c1) == 2 ? 1 : 2;
-                keys[k] = edge_key(s_.origin.offsetBy(x + int(c0 & 1), y + int((c0 >> 1) & 1), z + int(c0 >> 2)), axis);
-            }
-            add_triangle(keys[0], keys[1], keys[2]);
+            const auto& edges = c.triangles[t];
+            add_triangle(cell_key + offsets[std::size_t(edges[0])], cell_key + offsets[std::size_t(edges[1])], cell_key + offsets[std::size_t(edges[2])]);
         }
     }
 
@@ -216,7 +237,7 @@ private:
     void crossed_edge(int x, int y, int z, int axis) {
         const int u = (axis + 1) % 3, w = (axis + 2) % 3;
         const openvdb::Coord e = s_.origin.offsetBy(x, y, z);
-        const std::uint64_t p_key = edge_key(e, axis);
+        const std::uint64_t p_key = origin_key_ + (std::uint64_t(axis) << kPayloadShift) + key_offset(x, y, z);
         // Quadrants counter-clockwise round +axis (u x w = axis): (+,+), (-,+), (-,-), (+,-).
         static constexpr int kDu[4] = {0, -1, -1, 0}, kDw[4] = {0, 0, -1, -1};
         std::array<CellView, 4> quadrant;
@@ -443,6 +464,7 @@ private:
     std::size_t block_;
     const openvdb::math::Transform& transform_;
     IfcBlockOutput& out_;
+    std::uint64_t origin_key_ = 0;  ///< edge_key() of the block's origin along x
     const std::vector<double>* crossings_ = nullptr;
     std::size_t next_crossing_ = 0;  ///< index in crossings_ of the crossed edge being walked
 };
@@ -450,7 +472,7 @@ private:
 }  // namespace
 
 bool ifc_key_of_coarse_cell(std::uint64_t key) {
-    return (key >> 62) == kCellKind && ((key >> 57) & 31u) > unsigned(kIfcMaxLevel);
+    return (key >> kKindShift) == kCellKind && ((key >> kPayloadShift) & 31u) > unsigned(kIfcMaxLevel);
 }
 
 void record_contour_samples(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells) {
