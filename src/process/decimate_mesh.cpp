@@ -82,18 +82,19 @@ void grow(Box& box, const std::array<float, 3>& p) {
 
 /// Whether two triangles with corner ids meet beyond what they share (detail::triangles_intersect),
 /// a separating plane tried first.
-bool triangles_cross(const Ids& t_ids, const detail::Triangle3& t, const Ids& u_ids, const detail::Triangle3& u) {
+bool triangles_cross(const Ids& t_ids, const detail::PreparedTriangle& prepared_t, const Ids& u_ids, const detail::PreparedTriangle& prepared_u) {
+    const detail::Triangle3 &t = prepared_t.corners, &u = prepared_u.corners;
     int shared = 0, t_corner = 0, u_corner = 0;
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
             if (t_ids[i] == u_ids[j]) ++shared, t_corner = i, u_corner = j;
         }
     }
-    if (shared == 0 && (detail::certainly_apart(t, u) || detail::certainly_apart_by_plane(t, u))) return false;
+    if (shared == 0 && (detail::certainly_apart(prepared_t, prepared_u) || detail::certainly_apart_by_plane(prepared_t, prepared_u))) return false;
     if (shared == 1) {
         const detail::Point3 &u1 = u[(u_corner + 1) % 3], &u2 = u[(u_corner + 2) % 3];
         // (the planes of the triangles first: the cheaper proof, and enough where the surface bends)
-        if (detail::certainly_apart_of_plane(t, t_corner, u1, u2) || detail::certainly_meet_only_at(t, t_corner, u1, u2)) return false;
+        if (detail::certainly_apart_of_plane(prepared_t, t_corner, prepared_u, u_corner) || detail::certainly_meet_only_at(t, t_corner, u1, u2)) return false;
     }
     if (shared == 2) {
         // t runs s0 -> s1 -> apex; u shares the edge the other way.
@@ -230,6 +231,41 @@ private:
     std::vector<Payload> payloads_;
 };
 
+/// Boxes in columns, to find at once which of them meet a box (without a branch per box).
+class BoxColumns {
+public:
+    void assign(const std::vector<Box>& boxes) {
+        for (int k = 0; k < 3; ++k) {
+            lo_[k].resize(boxes.size()), hi_[k].resize(boxes.size());
+            for (std::size_t i = 0; i < boxes.size(); ++i) lo_[k][i] = boxes[i].lo[k], hi_[k][i] = boxes[i].hi[k];
+        }
+    }
+
+    /// Calls call(i) for each box i that meets @a box, in order, until it returns false;
+    /// returns whether it went through.
+    template <class Call>
+    bool for_meeting(const Box& box, Call&& call) const {
+        const std::size_t size = lo_[0].size();
+        for (std::size_t base = 0; base < size; base += 64) {
+            const std::size_t count = std::min<std::size_t>(64, size - base);
+            std::uint64_t meeting = 0;
+            for (std::size_t i = 0; i < count; ++i) {
+                const std::size_t j = base + i;
+                const bool meets = (lo_[0][j] <= box.hi[0]) & (box.lo[0] <= hi_[0][j]) & (lo_[1][j] <= box.hi[1]) &
+                                   (box.lo[1] <= hi_[1][j]) & (lo_[2][j] <= box.hi[2]) & (box.lo[2] <= hi_[2][j]);
+                meeting |= std::uint64_t(meets) << i;
+            }
+            for (; meeting != 0; meeting &= meeting - 1) {
+                if (!call(base + std::size_t(__builtin_ctzll(meeting)))) return false;
+            }
+        }
+        return true;
+    }
+
+private:
+    std::array<std::vector<float>, 3> lo_, hi_;
+};
+
 /// What the triangle grids hold of a triangle besides its box.
 struct GridTriangle {
     std::uint32_t triangle;
@@ -270,6 +306,8 @@ struct Scratch {
     std::vector<std::uint32_t> star;  ///< the triangles of the new star
     std::vector<Ids> ids;             ///< their corners' vertices after the collapse
     std::vector<detail::Triangle3> corners;
+    std::vector<detail::PreparedTriangle> prepared;  ///< the corners with their planes (for the intersection tests)
+    BoxColumns box_columns;                          ///< the boxes (for the intersection tests)
     std::vector<FloatTriangle> points;  ///< the corners as floats (as they will be written)
     std::vector<Box> boxes;
     std::vector<std::array<Vec3d, 2>> spokes;  ///< per star triangle, from the kept vertex to its other corners
@@ -532,6 +570,7 @@ private:
                     if (!star_ready) {
                         s.ids.clear(), s.corners.clear(), s.boxes.clear();
                         for (const NewTriangle& t : p.new_star) s.ids.push_back(t.ids), s.corners.push_back(to_double(t.points)), s.boxes.push_back(t.box);
+                        prepare_star(s);
                         star_ready = true;
                     }
                     if (crosses_new_star(plans[j], p.star, s)) p.crossed.push_back(j);
@@ -585,10 +624,8 @@ private:
     static bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) {
         for (const NewTriangle& t : q.new_star) {
             if (!detail::boxes_overlap(star, t.box)) continue;
-            const detail::Triangle3 corners = to_double(t.points);
-            for (std::size_t i = 0; i < s.ids.size(); ++i) {
-                if (detail::boxes_overlap(s.boxes[i], t.box) && triangles_cross(s.ids[i], s.corners[i], t.ids, corners)) return true;
-            }
+            const detail::PreparedTriangle corners(to_double(t.points));
+            if (!s.box_columns.for_meeting(t.box, [&](std::size_t i) { return !triangles_cross(s.ids[i], s.prepared[i], t.ids, corners); })) return true;
         }
         return false;
     }
@@ -720,11 +757,19 @@ private:
         return angles < 3 * 3.14159265358979323846;
     }
 
+    /// s.prepared and s.box_columns from s.corners and s.boxes.
+    static void prepare_star(Scratch& s) {
+        s.prepared.clear();
+        for (const detail::Triangle3& t : s.corners) s.prepared.emplace_back(t);
+        s.box_columns.assign(s.boxes);
+    }
+
     /// The new triangles cross neither each other nor any triangle near them off the old star.
     bool intersection_free(const Plan& p, Scratch& s) const {
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
         Box around_star = empty_box();
         for (const Box& box : s.boxes) grow(around_star, box.lo), grow(around_star, box.hi);
+        prepare_star(s);
         if (!star_is_a_graph(a, s)) {
             for (std::size_t i = 0; i < s.star.size(); ++i) {
                 for (std::size_t j = 0; j < i; ++j) {
@@ -737,13 +782,8 @@ private:
             for (const std::uint32_t v : ids) {
                 if (v == a || v == b) return true;  // the old star, replaced
             }
-            const detail::Triangle3 other{to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])};
-            for (std::size_t i = 0; i < s.star.size(); ++i) {
-                if (detail::boxes_overlap(s.boxes[i], box)) {
-                    if (triangles_cross(s.ids[i], s.corners[i], ids, other)) return false;
-                }
-            }
-            return true;
+            const detail::PreparedTriangle other({to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])});
+            return s.box_columns.for_meeting(box, [&](std::size_t i) { return !triangles_cross(s.ids[i], s.prepared[i], ids, other); });
         });
     }
 
