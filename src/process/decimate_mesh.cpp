@@ -26,6 +26,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -359,11 +360,16 @@ public:
             // The cheapest, about as many as the collapses still wanted (and never very few).
             const std::size_t wanted = (alive_count_ - target_ + 1) / 2;
             const std::size_t take = std::min(candidates.size(), std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor}));
-            std::nth_element(candidates.begin(), candidates.begin() + std::ptrdiff_t(take - 1), candidates.end());
-            candidates.resize(take);
-            tbb::parallel_sort(candidates.begin(), candidates.end());
-            choose_apart(candidates, plans, own);
-            build_triangle_grids();
+            // The grids the checks read are built beside the choice (both mostly sequential), which
+            // reads neither them nor what building them writes.
+            tbb::parallel_invoke(
+                [&] {
+                    std::nth_element(candidates.begin(), candidates.begin() + std::ptrdiff_t(take - 1), candidates.end());
+                    candidates.resize(take);
+                    tbb::parallel_sort(candidates.begin(), candidates.end());
+                    choose_apart(candidates, plans, own);
+                },
+                [&] { build_triangle_grids(); });
             // Checked in the order of their triangles, which keeps neighbours together in memory
             // (the checks are independent of each other; the cost order scatters them).
             std::vector<std::uint32_t> in_place(plans.size());
