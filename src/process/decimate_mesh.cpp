@@ -536,8 +536,17 @@ private:
         for (const Candidate& candidate : candidates) {
             const std::uint32_t ends[2] = {vertex(next(candidate.corner)), vertex(prev(candidate.corner))};
             if (s.mark[ends[0]] == stamp || s.mark[ends[1]] == stamp) continue;
-            for (const std::uint32_t v : ends) {
-                around(v, [&](std::uint32_t c) { s.mark[vertex(next(c))] = stamp; });
+            // Both ends' rings walked side by side: two chains of loads in flight, not one.
+            const std::uint32_t first[2] = {vertex_corner_[ends[0]], vertex_corner_[ends[1]]};
+            std::uint32_t c[2] = {first[0], first[1]};
+            bool done[2] = {false, false};
+            while (!done[0] || !done[1]) {
+                for (int k = 0; k < 2; ++k) {
+                    if (done[k]) continue;
+                    s.mark[vertex(next(c[k]))] = stamp;
+                    c[k] = swing(c[k]);
+                    done[k] = c[k] == first[k];
+                }
             }
             Plan plan;
             plan.corner = candidate.corner;
