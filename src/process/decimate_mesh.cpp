@@ -679,6 +679,7 @@ private:
     /// false; returns whether it went through.
     template <class Visit>
     bool visit_triangles(const Box& box, Visit&& visit) const {
+        if (moved_list_.empty()) return settled_grid_.visit(box, visit);  // (just rebuilt: none moved since)
         return settled_grid_.visit(box, [&](const GridTriangle& t, const Box& b) { return moved_[t.triangle] || visit(t, b); }) &&
                moved_grid_.visit(box, visit);
     }
