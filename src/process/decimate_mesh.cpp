@@ -684,27 +684,24 @@ private:
                moved_grid_.visit(box, visit);
     }
 
-    bool link_condition(std::uint32_t corner, Scratch& s) const {
-        const std::uint32_t a = vertex(next(corner)), b = vertex(prev(corner));
-        const std::uint32_t c = vertex(corner), d = vertex(opposite_[corner]);
-        if (c == d) return false;
-        const std::uint32_t stamp = ++s.stamp;
-        std::size_t valence = 0, common = 0;
-        around(a, [&](std::uint32_t k) { s.mark[vertex(next(k))] = stamp, ++valence; });
-        around(b, [&](std::uint32_t k) { common += s.mark[vertex(next(k))] == stamp, ++valence; });
-        // Only the two opposite corners in common; the kept vertex keeps three neighbours at least.
-        return common == 2 && valence >= 4 + 3;
-    }
-
-    /// The new star of @a p: the triangles around either end but off the edge, with b renamed a, the
-    /// float corners with a moved to the new position, and their boxes.
-    void new_star(const Plan& p, Scratch& s) const {
-        s.star.clear(), s.ids.clear(), s.corners.clear(), s.points.clear(), s.boxes.clear();
+    /// Whether the edge of @a p meets the link condition (its ends' neighbours in common are only
+    /// the two opposite corners; the kept vertex keeps three neighbours at least), and its new
+    /// star, from one walk round each end: the triangles around either end but off the edge, with
+    /// b renamed a, the float corners with a moved to the new position, and their boxes.
+    bool linked_new_star(const Plan& p, Scratch& s) const {
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
+        if (vertex(p.corner) == vertex(opposite_[p.corner])) return false;
+        s.star.clear(), s.ids.clear(), s.corners.clear(), s.points.clear(), s.boxes.clear();
         const std::array<float, 3>& position = position_[p.corner];
         const std::uint32_t t0 = p.corner / 3, t1 = opposite_[p.corner] / 3;
+        const std::uint32_t stamp = ++s.stamp;
+        std::size_t valence = 0, common = 0;
         for (const std::uint32_t v : {a, b}) {
             around(v, [&](std::uint32_t c) {
+                const std::uint32_t neighbour = vertex(next(c));
+                if (v == a) s.mark[neighbour] = stamp;
+                else common += s.mark[neighbour] == stamp;
+                ++valence;
                 const std::uint32_t t = c / 3;
                 if (t == t0 || t == t1) return;
                 Ids ids = triangles_[t];
@@ -719,6 +716,7 @@ private:
                 s.boxes.push_back(box);
             });
         }
+        return common == 2 && valence >= 4 + 3;
     }
 
     bool geometry_holds(const Scratch& s) const {
@@ -837,8 +835,7 @@ private:
 
     /// The verdict on @a p, and the box of its new star.
     Verdict check(Plan& p, Scratch& s) const {
-        if (!link_condition(p.corner, s)) return Verdict::topology;
-        new_star(p, s);
+        if (!linked_new_star(p, s)) return Verdict::topology;
         if (!geometry_holds(s)) return Verdict::geometry;
         if (!intersection_free(p, s)) return Verdict::intersection;
         p.volume_change = volume_change(p, s);
