@@ -599,8 +599,9 @@ private:
     /// Applies the plans that passed their checks, in order of cost, while triangles are to go;
     /// a plan whose new star crosses that of one applied before waits for the next round. The
     /// cost order decides which apply; they are then applied in the order of their triangles
-    /// (neighbours together in memory): their stars are apart, so the mesh comes out the same
-    /// but for which corner vertex_corner_ names at a link vertex two stars share.
+    /// (neighbours together in memory), side by side: their stars share no triangle, so no
+    /// collapse reads or writes what another writes but vertex_corner_ at a link vertex two
+    /// stars share, which is set after, in that order.
     void apply_round(const std::vector<Plan>& plans, DecimateReport& report) {
         std::vector<char> applied(plans.size(), 0);
         std::vector<std::uint32_t> chosen;
@@ -627,11 +628,18 @@ private:
             alive -= 2;
         }
         tbb::parallel_sort(chosen.begin(), chosen.end());
+        tbb::enumerable_thread_specific<std::vector<std::uint32_t>> dirty;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chosen.size(), 256), [&](const auto& range) {
+            std::vector<std::uint32_t>& local = dirty.local();
+            for (std::size_t i = range.begin(); i != range.end(); ++i) apply(chosen[i], local);
+        });
         for (const std::uint32_t corner : chosen) {
             report.max_error = std::max(report.max_error, std::sqrt(error_[corner]));
-            apply(corner);
-            ++report.collapses;
+            name_opposite_corners(corner);
         }
+        report.collapses += chosen.size();
+        alive_count_ -= 2 * chosen.size();
+        for (const std::vector<std::uint32_t>& local : dirty) dirty_.insert(dirty_.end(), local.begin(), local.end());  // (sorted before use)
     }
 
     /// Whether a triangle of the new star in @a s (whose box is @a star) crosses one of the new
@@ -849,8 +857,9 @@ private:
 
     /// The collapse of the edge opposite @a corner, from a (kept) to b, whose triangles are
     /// t0 = (a, b, c) and t1 = (b, a, d): b's corners become a's, and the two edges left of each
-    /// removed triangle are joined.
-    void apply(std::uint32_t corner) {
+    /// removed triangle are joined; the corners at a go to @a dirty. The corners c and d name
+    /// are left to name_opposite_corners().
+    void apply(std::uint32_t corner, std::vector<std::uint32_t>& dirty) {
         const std::uint32_t o = opposite_[corner];
         const std::uint32_t a = vertex(next(corner)), b = vertex(prev(corner));
         around(b, [&](std::uint32_t c) { triangles_[c / 3][c % 3] = a; });
@@ -859,15 +868,20 @@ private:
         opposite_[x0] = y0, opposite_[y0] = x0;
         opposite_[x1] = y1, opposite_[y1] = x1;
         vertex_corner_[a] = next(y0);  // y0's triangle runs (., a, c)
-        vertex_corner_[vertex(corner)] = next(x0);
-        vertex_corner_[vertex(o)] = next(x1);
         vertex_corner_[b] = kNone;
         alive_[corner / 3] = alive_[o / 3] = 0;
         moved_[corner / 3] = moved_[o / 3] = 1;  // (off the settled grid from now on)
-        alive_count_ -= 2;
         positions_[a] = position_[corner];
         quadrics_[a] = quadrics_[a] + quadrics_[b];
-        around(a, [&](std::uint32_t c) { dirty_.push_back(c); });
+        around(a, [&](std::uint32_t c) { dirty.push_back(c); });
+    }
+
+    /// After apply(@a corner): a corner at c and at d off the removed triangles (whose
+    /// opposite_ entries still name the corners across their edges).
+    void name_opposite_corners(std::uint32_t corner) {
+        const std::uint32_t o = opposite_[corner];
+        vertex_corner_[vertex(corner)] = next(opposite_[next(corner)]);
+        vertex_corner_[vertex(o)] = next(opposite_[next(o)]);
     }
 
     Mesh compact() const {
