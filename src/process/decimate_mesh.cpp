@@ -348,7 +348,13 @@ public:
         while (alive_count_ > target_) {
             tbb::parallel_sort(dirty_.begin(), dirty_.end());  // (in memory order, as the checks below)
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, dirty_.size(), 1024), [&](const auto& range) {
-                for (std::size_t i = range.begin(); i != range.end(); ++i) refresh(dirty_[i] / 3, dirty_[i]);
+                for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                    if (i + 8 < range.end()) {
+                        const Ids& ahead = triangles_[dirty_[i + 8] / 3];
+                        for (const std::uint32_t v : ahead) __builtin_prefetch(&quadrics_[v]), __builtin_prefetch(&positions_[v]);
+                    }
+                    refresh(dirty_[i] / 3, dirty_[i]);
+                }
             });
             for (const std::uint32_t c : dirty_) {
                 const std::uint32_t t = c / 3;
