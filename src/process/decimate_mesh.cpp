@@ -383,7 +383,10 @@ public:
             tbb::parallel_sort(in_place.begin(), in_place.end(), [&](std::uint32_t i, std::uint32_t j) { return plans[i].corner < plans[j].corner; });
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, plans.size(), 32), [&](const auto& range) {
                 Scratch& s = scratch.local();
-                for (std::size_t n = range.begin(); n != range.end(); ++n) plans[in_place[n]].verdict = check(plans[in_place[n]], s);
+                for (std::size_t n = range.begin(); n != range.end(); ++n) {
+                    if (n + 8 < range.end()) __builtin_prefetch(&plans[in_place[n + 8]], 1);  // (in cost order: anywhere)
+                    plans[in_place[n]].verdict = check(plans[in_place[n]], s);
+                }
             });
             find_crossings(plans, in_place, scratch);
             apply_round(plans, report);
