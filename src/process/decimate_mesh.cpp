@@ -651,7 +651,13 @@ private:
         tbb::enumerable_thread_specific<std::vector<std::uint32_t>> dirty;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chosen.size(), 256), [&](const auto& range) {
             std::vector<std::uint32_t>& local = dirty.local();
-            for (std::size_t i = range.begin(); i != range.end(); ++i) apply(chosen[i], local);
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                if (i + 8 < range.end()) {  // (the ends' quadrics are read at random)
+                    const std::uint32_t ahead = chosen[i + 8];
+                    for (const std::uint32_t v : {vertex(next(ahead)), vertex(prev(ahead))}) __builtin_prefetch(&quadrics_[v], 1), __builtin_prefetch(&vertex_corner_[v], 1);
+                }
+                apply(chosen[i], local);
+            }
         });
         for (const std::uint32_t corner : chosen) {
             report.max_error = std::max(report.max_error, std::sqrt(error_[corner]));
