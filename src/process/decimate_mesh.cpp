@@ -26,6 +26,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -82,18 +83,19 @@ void grow(Box& box, const std::array<float, 3>& p) {
 
 /// Whether two triangles with corner ids meet beyond what they share (detail::triangles_intersect),
 /// a separating plane tried first.
-bool triangles_cross(const Ids& t_ids, const detail::Triangle3& t, const Ids& u_ids, const detail::Triangle3& u) {
+bool triangles_cross(const Ids& t_ids, const detail::PreparedTriangle& prepared_t, const Ids& u_ids, const detail::PreparedTriangle& prepared_u) {
+    const detail::Triangle3 &t = prepared_t.corners, &u = prepared_u.corners;
     int shared = 0, t_corner = 0, u_corner = 0;
     for (int i = 0; i < 3; ++i) {
         for (int j = 0; j < 3; ++j) {
             if (t_ids[i] == u_ids[j]) ++shared, t_corner = i, u_corner = j;
         }
     }
-    if (shared == 0 && (detail::certainly_apart(t, u) || detail::certainly_apart_by_plane(t, u))) return false;
+    if (shared == 0 && (detail::certainly_apart(prepared_t, prepared_u) || detail::certainly_apart_by_plane(prepared_t, prepared_u))) return false;
     if (shared == 1) {
         const detail::Point3 &u1 = u[(u_corner + 1) % 3], &u2 = u[(u_corner + 2) % 3];
         // (the planes of the triangles first: the cheaper proof, and enough where the surface bends)
-        if (detail::certainly_apart_of_plane(t, t_corner, u1, u2) || detail::certainly_meet_only_at(t, t_corner, u1, u2)) return false;
+        if (detail::certainly_apart_of_plane(prepared_t, t_corner, prepared_u, u_corner) || detail::certainly_meet_only_at(t, t_corner, u1, u2)) return false;
     }
     if (shared == 2) {
         // t runs s0 -> s1 -> apex; u shares the edge the other way.
@@ -230,6 +232,41 @@ private:
     std::vector<Payload> payloads_;
 };
 
+/// Boxes in columns, to find at once which of them meet a box (without a branch per box).
+class BoxColumns {
+public:
+    void assign(const std::vector<Box>& boxes) {
+        for (int k = 0; k < 3; ++k) {
+            lo_[k].resize(boxes.size()), hi_[k].resize(boxes.size());
+            for (std::size_t i = 0; i < boxes.size(); ++i) lo_[k][i] = boxes[i].lo[k], hi_[k][i] = boxes[i].hi[k];
+        }
+    }
+
+    /// Calls call(i) for each box i that meets @a box, in order, until it returns false;
+    /// returns whether it went through.
+    template <class Call>
+    bool for_meeting(const Box& box, Call&& call) const {
+        const std::size_t size = lo_[0].size();
+        for (std::size_t base = 0; base < size; base += 64) {
+            const std::size_t count = std::min<std::size_t>(64, size - base);
+            std::uint64_t meeting = 0;
+            for (std::size_t i = 0; i < count; ++i) {
+                const std::size_t j = base + i;
+                const bool meets = (lo_[0][j] <= box.hi[0]) & (box.lo[0] <= hi_[0][j]) & (lo_[1][j] <= box.hi[1]) &
+                                   (box.lo[1] <= hi_[1][j]) & (lo_[2][j] <= box.hi[2]) & (box.lo[2] <= hi_[2][j]);
+                meeting |= std::uint64_t(meets) << i;
+            }
+            for (; meeting != 0; meeting &= meeting - 1) {
+                if (!call(base + std::size_t(__builtin_ctzll(meeting)))) return false;
+            }
+        }
+        return true;
+    }
+
+private:
+    std::array<std::vector<float>, 3> lo_, hi_;
+};
+
 /// What the triangle grids hold of a triangle besides its box.
 struct GridTriangle {
     std::uint32_t triangle;
@@ -270,6 +307,8 @@ struct Scratch {
     std::vector<std::uint32_t> star;  ///< the triangles of the new star
     std::vector<Ids> ids;             ///< their corners' vertices after the collapse
     std::vector<detail::Triangle3> corners;
+    std::vector<detail::PreparedTriangle> prepared;  ///< the corners with their planes (for the intersection tests)
+    BoxColumns box_columns;                          ///< the boxes (for the intersection tests)
     std::vector<FloatTriangle> points;  ///< the corners as floats (as they will be written)
     std::vector<Box> boxes;
     std::vector<std::array<Vec3d, 2>> spokes;  ///< per star triangle, from the kept vertex to its other corners
@@ -309,7 +348,13 @@ public:
         while (alive_count_ > target_) {
             tbb::parallel_sort(dirty_.begin(), dirty_.end());  // (in memory order, as the checks below)
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, dirty_.size(), 1024), [&](const auto& range) {
-                for (std::size_t i = range.begin(); i != range.end(); ++i) refresh(dirty_[i] / 3, dirty_[i]);
+                for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                    if (i + 8 < range.end()) {
+                        const Ids& ahead = triangles_[dirty_[i + 8] / 3];
+                        for (const std::uint32_t v : ahead) __builtin_prefetch(&quadrics_[v]), __builtin_prefetch(&positions_[v]);
+                    }
+                    refresh(dirty_[i] / 3, dirty_[i]);
+                }
             });
             for (const std::uint32_t c : dirty_) {
                 const std::uint32_t t = c / 3;
@@ -321,11 +366,16 @@ public:
             // The cheapest, about as many as the collapses still wanted (and never very few).
             const std::size_t wanted = (alive_count_ - target_ + 1) / 2;
             const std::size_t take = std::min(candidates.size(), std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor}));
-            std::nth_element(candidates.begin(), candidates.begin() + std::ptrdiff_t(take - 1), candidates.end());
-            candidates.resize(take);
-            tbb::parallel_sort(candidates.begin(), candidates.end());
-            choose_apart(candidates, plans, own);
-            build_triangle_grids();
+            // The grids the checks read are built beside the choice (both mostly sequential), which
+            // reads neither them nor what building them writes.
+            tbb::parallel_invoke(
+                [&] {
+                    std::nth_element(candidates.begin(), candidates.begin() + std::ptrdiff_t(take - 1), candidates.end());
+                    candidates.resize(take);
+                    tbb::parallel_sort(candidates.begin(), candidates.end());
+                    choose_apart(candidates, plans, own);
+                },
+                [&] { build_triangle_grids(); });
             // Checked in the order of their triangles, which keeps neighbours together in memory
             // (the checks are independent of each other; the cost order scatters them).
             std::vector<std::uint32_t> in_place(plans.size());
@@ -333,7 +383,10 @@ public:
             tbb::parallel_sort(in_place.begin(), in_place.end(), [&](std::uint32_t i, std::uint32_t j) { return plans[i].corner < plans[j].corner; });
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, plans.size(), 32), [&](const auto& range) {
                 Scratch& s = scratch.local();
-                for (std::size_t n = range.begin(); n != range.end(); ++n) plans[in_place[n]].verdict = check(plans[in_place[n]], s);
+                for (std::size_t n = range.begin(); n != range.end(); ++n) {
+                    if (n + 8 < range.end()) __builtin_prefetch(&plans[in_place[n + 8]], 1);  // (in cost order: anywhere)
+                    plans[in_place[n]].verdict = check(plans[in_place[n]], s);
+                }
             });
             find_crossings(plans, in_place, scratch);
             apply_round(plans, report);
@@ -489,11 +542,28 @@ private:
     void choose_apart(const std::vector<Candidate>& candidates, std::vector<Plan>& plans, Scratch& s) const {
         plans.clear();
         const std::uint32_t stamp = ++s.stamp;
-        for (const Candidate& candidate : candidates) {
+        for (std::size_t n = 0; n < candidates.size(); ++n) {
+            const Candidate& candidate = candidates[n];
+            // (in cost order the candidates lie anywhere: their triangles asked for 16 ahead, then
+            // their ends' marks and corners 8 ahead)
+            if (n + 16 < candidates.size()) __builtin_prefetch(&triangles_[candidates[n + 16].corner / 3]);
+            if (n + 8 < candidates.size()) {
+                const std::uint32_t ahead = candidates[n + 8].corner;
+                for (const std::uint32_t v : {vertex(next(ahead)), vertex(prev(ahead))}) __builtin_prefetch(&s.mark[v]), __builtin_prefetch(&vertex_corner_[v]);
+            }
             const std::uint32_t ends[2] = {vertex(next(candidate.corner)), vertex(prev(candidate.corner))};
             if (s.mark[ends[0]] == stamp || s.mark[ends[1]] == stamp) continue;
-            for (const std::uint32_t v : ends) {
-                around(v, [&](std::uint32_t c) { s.mark[vertex(next(c))] = stamp; });
+            // Both ends' rings walked side by side: two chains of loads in flight, not one.
+            const std::uint32_t first[2] = {vertex_corner_[ends[0]], vertex_corner_[ends[1]]};
+            std::uint32_t c[2] = {first[0], first[1]};
+            bool done[2] = {false, false};
+            while (!done[0] || !done[1]) {
+                for (int k = 0; k < 2; ++k) {
+                    if (done[k]) continue;
+                    s.mark[vertex(next(c[k]))] = stamp;
+                    c[k] = swing(c[k]);
+                    done[k] = c[k] == first[k];
+                }
             }
             Plan plan;
             plan.corner = candidate.corner;
@@ -522,6 +592,9 @@ private:
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in_place.size(), 64), [&](const auto& range) {
             Scratch& s = scratch.local();
             for (std::size_t n = range.begin(); n != range.end(); ++n) {
+                // (the plans lie in cost order: the one 8 ahead asked for, then its new star 4 ahead)
+                if (n + 8 < range.end()) __builtin_prefetch(&plans[in_place[n + 8]]);
+                if (n + 4 < range.end()) __builtin_prefetch(plans[in_place[n + 4]].new_star.data());
                 const std::uint32_t i = in_place[n];
                 Plan& p = plans[i];
                 if (p.verdict != Verdict::passed) continue;
@@ -532,6 +605,7 @@ private:
                     if (!star_ready) {
                         s.ids.clear(), s.corners.clear(), s.boxes.clear();
                         for (const NewTriangle& t : p.new_star) s.ids.push_back(t.ids), s.corners.push_back(to_double(t.points)), s.boxes.push_back(t.box);
+                        prepare_star(s);
                         star_ready = true;
                     }
                     if (crosses_new_star(plans[j], p.star, s)) p.crossed.push_back(j);
@@ -545,8 +619,9 @@ private:
     /// Applies the plans that passed their checks, in order of cost, while triangles are to go;
     /// a plan whose new star crosses that of one applied before waits for the next round. The
     /// cost order decides which apply; they are then applied in the order of their triangles
-    /// (neighbours together in memory): their stars are apart, so the mesh comes out the same
-    /// but for which corner vertex_corner_ names at a link vertex two stars share.
+    /// (neighbours together in memory), side by side: their stars share no triangle, so no
+    /// collapse reads or writes what another writes but vertex_corner_ at a link vertex two
+    /// stars share, which is set after, in that order.
     void apply_round(const std::vector<Plan>& plans, DecimateReport& report) {
         std::vector<char> applied(plans.size(), 0);
         std::vector<std::uint32_t> chosen;
@@ -573,11 +648,24 @@ private:
             alive -= 2;
         }
         tbb::parallel_sort(chosen.begin(), chosen.end());
+        tbb::enumerable_thread_specific<std::vector<std::uint32_t>> dirty;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chosen.size(), 256), [&](const auto& range) {
+            std::vector<std::uint32_t>& local = dirty.local();
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                if (i + 8 < range.end()) {  // (the ends' quadrics are read at random)
+                    const std::uint32_t ahead = chosen[i + 8];
+                    for (const std::uint32_t v : {vertex(next(ahead)), vertex(prev(ahead))}) __builtin_prefetch(&quadrics_[v], 1), __builtin_prefetch(&vertex_corner_[v], 1);
+                }
+                apply(chosen[i], local);
+            }
+        });
         for (const std::uint32_t corner : chosen) {
             report.max_error = std::max(report.max_error, std::sqrt(error_[corner]));
-            apply(corner);
-            ++report.collapses;
+            name_opposite_corners(corner);
         }
+        report.collapses += chosen.size();
+        alive_count_ -= 2 * chosen.size();
+        for (const std::vector<std::uint32_t>& local : dirty) dirty_.insert(dirty_.end(), local.begin(), local.end());  // (sorted before use)
     }
 
     /// Whether a triangle of the new star in @a s (whose box is @a star) crosses one of the new
@@ -585,10 +673,8 @@ private:
     static bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) {
         for (const NewTriangle& t : q.new_star) {
             if (!detail::boxes_overlap(star, t.box)) continue;
-            const detail::Triangle3 corners = to_double(t.points);
-            for (std::size_t i = 0; i < s.ids.size(); ++i) {
-                if (detail::boxes_overlap(s.boxes[i], t.box) && triangles_cross(s.ids[i], s.corners[i], t.ids, corners)) return true;
-            }
+            const detail::PreparedTriangle corners(to_double(t.points));
+            if (!s.box_columns.for_meeting(t.box, [&](std::size_t i) { return !triangles_cross(s.ids[i], s.prepared[i], t.ids, corners); })) return true;
         }
         return false;
     }
@@ -627,31 +713,29 @@ private:
     /// false; returns whether it went through.
     template <class Visit>
     bool visit_triangles(const Box& box, Visit&& visit) const {
+        if (moved_list_.empty()) return settled_grid_.visit(box, visit);  // (just rebuilt: none moved since)
         return settled_grid_.visit(box, [&](const GridTriangle& t, const Box& b) { return moved_[t.triangle] || visit(t, b); }) &&
                moved_grid_.visit(box, visit);
     }
 
-    bool link_condition(std::uint32_t corner, Scratch& s) const {
-        const std::uint32_t a = vertex(next(corner)), b = vertex(prev(corner));
-        const std::uint32_t c = vertex(corner), d = vertex(opposite_[corner]);
-        if (c == d) return false;
-        const std::uint32_t stamp = ++s.stamp;
-        std::size_t valence = 0, common = 0;
-        around(a, [&](std::uint32_t k) { s.mark[vertex(next(k))] = stamp, ++valence; });
-        around(b, [&](std::uint32_t k) { common += s.mark[vertex(next(k))] == stamp, ++valence; });
-        // Only the two opposite corners in common; the kept vertex keeps three neighbours at least.
-        return common == 2 && valence >= 4 + 3;
-    }
-
-    /// The new star of @a p: the triangles around either end but off the edge, with b renamed a, the
-    /// float corners with a moved to the new position, and their boxes.
-    void new_star(const Plan& p, Scratch& s) const {
-        s.star.clear(), s.ids.clear(), s.corners.clear(), s.points.clear(), s.boxes.clear();
+    /// Whether the edge of @a p meets the link condition (its ends' neighbours in common are only
+    /// the two opposite corners; the kept vertex keeps three neighbours at least), and its new
+    /// star, from one walk round each end: the triangles around either end but off the edge, with
+    /// b renamed a, the float corners with a moved to the new position, and their boxes.
+    bool linked_new_star(const Plan& p, Scratch& s) const {
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
+        if (vertex(p.corner) == vertex(opposite_[p.corner])) return false;
+        s.star.clear(), s.ids.clear(), s.corners.clear(), s.points.clear(), s.boxes.clear();
         const std::array<float, 3>& position = position_[p.corner];
         const std::uint32_t t0 = p.corner / 3, t1 = opposite_[p.corner] / 3;
+        const std::uint32_t stamp = ++s.stamp;
+        std::size_t valence = 0, common = 0;
         for (const std::uint32_t v : {a, b}) {
             around(v, [&](std::uint32_t c) {
+                const std::uint32_t neighbour = vertex(next(c));
+                if (v == a) s.mark[neighbour] = stamp;
+                else common += s.mark[neighbour] == stamp;
+                ++valence;
                 const std::uint32_t t = c / 3;
                 if (t == t0 || t == t1) return;
                 Ids ids = triangles_[t];
@@ -666,6 +750,7 @@ private:
                 s.boxes.push_back(box);
             });
         }
+        return common == 2 && valence >= 4 + 3;
     }
 
     bool geometry_holds(const Scratch& s) const {
@@ -720,11 +805,19 @@ private:
         return angles < 3 * 3.14159265358979323846;
     }
 
+    /// s.prepared and s.box_columns from s.corners and s.boxes.
+    static void prepare_star(Scratch& s) {
+        s.prepared.clear();
+        for (const detail::Triangle3& t : s.corners) s.prepared.emplace_back(t);
+        s.box_columns.assign(s.boxes);
+    }
+
     /// The new triangles cross neither each other nor any triangle near them off the old star.
     bool intersection_free(const Plan& p, Scratch& s) const {
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
         Box around_star = empty_box();
         for (const Box& box : s.boxes) grow(around_star, box.lo), grow(around_star, box.hi);
+        prepare_star(s);
         if (!star_is_a_graph(a, s)) {
             for (std::size_t i = 0; i < s.star.size(); ++i) {
                 for (std::size_t j = 0; j < i; ++j) {
@@ -737,13 +830,8 @@ private:
             for (const std::uint32_t v : ids) {
                 if (v == a || v == b) return true;  // the old star, replaced
             }
-            const detail::Triangle3 other{to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])};
-            for (std::size_t i = 0; i < s.star.size(); ++i) {
-                if (detail::boxes_overlap(s.boxes[i], box)) {
-                    if (triangles_cross(s.ids[i], s.corners[i], ids, other)) return false;
-                }
-            }
-            return true;
+            const detail::PreparedTriangle other({to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])});
+            return s.box_columns.for_meeting(box, [&](std::size_t i) { return !triangles_cross(s.ids[i], s.prepared[i], ids, other); });
         });
     }
 
@@ -781,8 +869,7 @@ private:
 
     /// The verdict on @a p, and the box of its new star.
     Verdict check(Plan& p, Scratch& s) const {
-        if (!link_condition(p.corner, s)) return Verdict::topology;
-        new_star(p, s);
+        if (!linked_new_star(p, s)) return Verdict::topology;
         if (!geometry_holds(s)) return Verdict::geometry;
         if (!intersection_free(p, s)) return Verdict::intersection;
         p.volume_change = volume_change(p, s);
@@ -796,8 +883,9 @@ private:
 
     /// The collapse of the edge opposite @a corner, from a (kept) to b, whose triangles are
     /// t0 = (a, b, c) and t1 = (b, a, d): b's corners become a's, and the two edges left of each
-    /// removed triangle are joined.
-    void apply(std::uint32_t corner) {
+    /// removed triangle are joined; the corners at a go to @a dirty. The corners c and d name
+    /// are left to name_opposite_corners().
+    void apply(std::uint32_t corner, std::vector<std::uint32_t>& dirty) {
         const std::uint32_t o = opposite_[corner];
         const std::uint32_t a = vertex(next(corner)), b = vertex(prev(corner));
         around(b, [&](std::uint32_t c) { triangles_[c / 3][c % 3] = a; });
@@ -806,15 +894,20 @@ private:
         opposite_[x0] = y0, opposite_[y0] = x0;
         opposite_[x1] = y1, opposite_[y1] = x1;
         vertex_corner_[a] = next(y0);  // y0's triangle runs (., a, c)
-        vertex_corner_[vertex(corner)] = next(x0);
-        vertex_corner_[vertex(o)] = next(x1);
         vertex_corner_[b] = kNone;
         alive_[corner / 3] = alive_[o / 3] = 0;
         moved_[corner / 3] = moved_[o / 3] = 1;  // (off the settled grid from now on)
-        alive_count_ -= 2;
         positions_[a] = position_[corner];
         quadrics_[a] = quadrics_[a] + quadrics_[b];
-        around(a, [&](std::uint32_t c) { dirty_.push_back(c); });
+        around(a, [&](std::uint32_t c) { dirty.push_back(c); });
+    }
+
+    /// After apply(@a corner): a corner at c and at d off the removed triangles (whose
+    /// opposite_ entries still name the corners across their edges).
+    void name_opposite_corners(std::uint32_t corner) {
+        const std::uint32_t o = opposite_[corner];
+        vertex_corner_[vertex(corner)] = next(opposite_[next(corner)]);
+        vertex_corner_[vertex(o)] = next(opposite_[next(o)]);
     }
 
     Mesh compact() const {

@@ -51,44 +51,50 @@ private:
     Point3 a_, m_, p_;
 };
 
+inline Point3 centroid(const Triangle3& t) {
+    return {(t[0][0] + t[1][0] + t[2][0]) / 3, (t[0][1] + t[1][1] + t[2][1]) / 3, (t[0][2] + t[1][2] + t[2][2]) / 3};
+}
+
+/// A triangle with what the proofs below read of it beside its corners (centroid, plane),
+/// computed once for the many pairs it takes part in.
+struct PreparedTriangle {
+    explicit PreparedTriangle(const Triangle3& t) : corners(t), centroid(detail::centroid(t)), plane(t[0], t[1], t[2]) {}
+    Triangle3 corners;
+    Point3 centroid;
+    CertainPlane plane;
+};
+
 /// True when all of @a u lies certainly strictly on one side of t's plane, or all of t on one
 /// side of u's (then the triangles share no point).
-inline bool certainly_apart_by_plane(const Triangle3& t, const Triangle3& u) {
+inline bool certainly_apart_by_plane(const PreparedTriangle& t, const PreparedTriangle& u) {
     for (int pass = 0; pass < 2; ++pass) {
-        const Triangle3& a = pass == 0 ? t : u;
-        const Triangle3& b = pass == 0 ? u : t;
-        const CertainPlane plane(a[0], a[1], a[2]);
-        const int side = plane.side(b[0]);
-        if (side != 0 && plane.side(b[1]) == side && plane.side(b[2]) == side) return true;
+        const PreparedTriangle& a = pass == 0 ? t : u;
+        const Triangle3& b = (pass == 0 ? u : t).corners;
+        const int side = a.plane.side(b[0]);
+        if (side != 0 && a.plane.side(b[1]) == side && a.plane.side(b[2]) == side) return true;
     }
     return false;
 }
 
-/// True when the triangles t and (corner, u1, u2), sharing @a corner = t[k], certainly meet only
-/// there because u1 and u2 lie strictly on the same side of t's plane, or t's other corners on
-/// the same side of u's plane.
-inline bool certainly_apart_of_plane(const Triangle3& t, int k, const Point3& u1, const Point3& u2) {
-    const CertainPlane t_plane(t[0], t[1], t[2]);
-    const int s1 = t_plane.side(u1);
-    if (s1 != 0 && s1 == t_plane.side(u2)) return true;
-    const CertainPlane u_plane(t[k], u1, u2);
-    const int s2 = u_plane.side(t[k == 2 ? 0 : k + 1]);
-    return s2 != 0 && s2 == u_plane.side(t[k == 0 ? 2 : k - 1]);
-}
-
-inline Point3 centroid(const Triangle3& t) {
-    return {(t[0][0] + t[1][0] + t[2][0]) / 3, (t[0][1] + t[1][1] + t[2][1]) / 3, (t[0][2] + t[1][2] + t[2][2]) / 3};
+/// True when the triangles t and u, sharing the corner t[k] = u[j], certainly meet only there
+/// because u's other corners lie strictly on the same side of t's plane, or t's other corners
+/// on the same side of u's plane.
+inline bool certainly_apart_of_plane(const PreparedTriangle& t, int k, const PreparedTriangle& u, int j) {
+    const int s1 = t.plane.side(u.corners[(j + 1) % 3]);
+    if (s1 != 0 && s1 == t.plane.side(u.corners[(j + 2) % 3])) return true;
+    const int s2 = u.plane.side(t.corners[(k + 1) % 3]);
+    return s2 != 0 && s2 == u.plane.side(t.corners[(k + 2) % 3]);
 }
 
 /// True when a plane certainly has all of @a t strictly on one side and all of @a u strictly
 /// on the other (then the closed triangles share no point). The plane is across the line
 /// between the centroids.
-inline bool certainly_apart(const Triangle3& t, const Triangle3& u) {
-    const Point3 origin = centroid(t), to = centroid(u);
-    const Point3 axis{to[0] - origin[0], to[1] - origin[1], to[2] - origin[2]};
+inline bool certainly_apart(const PreparedTriangle& t, const PreparedTriangle& u) {
+    const Point3& origin = t.centroid;
+    const Point3 axis{u.centroid[0] - origin[0], u.centroid[1] - origin[1], u.centroid[2] - origin[2]};
     double t_high = -std::numeric_limits<double>::infinity(), u_low = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 3; ++k) {
-        const SignedDistance a = along(axis, origin, t[k]), b = along(axis, origin, u[k]);
+        const SignedDistance a = along(axis, origin, t.corners[k]), b = along(axis, origin, u.corners[k]);
         t_high = std::max(t_high, a.value + a.error);
         u_low = std::min(u_low, b.value - b.error);
     }

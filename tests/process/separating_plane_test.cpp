@@ -41,8 +41,9 @@ Counts check_pairs(int shared, int pairs) {
         if (shared == 2) u[1] = t[2], u_ids[1] = 2;  // the edge t[2] -> t[0] of t, the other way in u
         if (detail::collinear(t[0], t[1], t[2]) || detail::collinear(u[0], u[1], u[2])) continue;
         bool proven = false;
-        if (shared == 0) proven = detail::certainly_apart(t, u) || detail::certainly_apart_by_plane(t, u);
-        if (shared == 1) proven = detail::certainly_apart_of_plane(t, 0, u[1], u[2]) || detail::certainly_meet_only_at(t, 0, u[1], u[2]);
+        const detail::PreparedTriangle prepared_t(t), prepared_u(u);
+        if (shared == 0) proven = detail::certainly_apart(prepared_t, prepared_u) || detail::certainly_apart_by_plane(prepared_t, prepared_u);
+        if (shared == 1) proven = detail::certainly_apart_of_plane(prepared_t, 0, prepared_u, 0) || detail::certainly_meet_only_at(t, 0, u[1], u[2]);
         if (shared == 2) proven = detail::certainly_meet_only_on_edge(t[2], t[0], t[1], u[2]);
         const bool crossing = detail::triangles_intersect(t_ids, t, u_ids, u);
         EXPECT_FALSE(proven && crossing) << "pair " << n << " (" << shared << " shared) proven apart but crossing";
@@ -65,13 +66,15 @@ TEST(SeparatingPlaneTest, TouchingIsNotApart) {
     // Touching counts as meeting (CGAL's convention): a corner of u on t's edge, and the same
     // point under two ids.
     const Triangle3 t{{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}};
-    const Triangle3 on_edge{{{0.5, 0, 0}, {0.5, -1, 0.5}, {0.5, -1, -0.5}}};
-    const Triangle3 at_corner{{{1, 0, 0}, {2, 0, 1}, {2, 1, 0}}};
-    EXPECT_FALSE(detail::certainly_apart(t, on_edge));
-    EXPECT_FALSE(detail::certainly_apart(t, at_corner));
-    EXPECT_TRUE(detail::certainly_apart(t, {{{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}}));
-    EXPECT_FALSE(detail::certainly_apart_by_plane(t, on_edge));
-    EXPECT_TRUE(detail::certainly_apart_by_plane(t, {{{5, 5, 1}, {-5, 5, 2}, {0, -5, 1}}}));
+    using Prepared = detail::PreparedTriangle;
+    const Prepared prepared_t(t);
+    const Prepared on_edge(Triangle3{{{0.5, 0, 0}, {0.5, -1, 0.5}, {0.5, -1, -0.5}}});
+    const Prepared at_corner(Triangle3{{{1, 0, 0}, {2, 0, 1}, {2, 1, 0}}});
+    EXPECT_FALSE(detail::certainly_apart(prepared_t, on_edge));
+    EXPECT_FALSE(detail::certainly_apart(prepared_t, at_corner));
+    EXPECT_TRUE(detail::certainly_apart(prepared_t, Prepared(Triangle3{{{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}})));
+    EXPECT_FALSE(detail::certainly_apart_by_plane(prepared_t, on_edge));
+    EXPECT_TRUE(detail::certainly_apart_by_plane(prepared_t, Prepared(Triangle3{{{5, 5, 1}, {-5, 5, 2}, {0, -5, 1}}})));
     // Coplanar neighbours across an edge are proven apart, folded onto each other are not.
     EXPECT_TRUE(detail::certainly_meet_only_on_edge(t[1], t[2], t[0], {1, 1, 0}));
     EXPECT_FALSE(detail::certainly_meet_only_on_edge(t[1], t[2], t[0], {0.2, 0.2, 0}));
