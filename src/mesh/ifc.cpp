@@ -13,6 +13,7 @@
 #endif
 
 #include <algorithm>
+#include <array>
 #include <memory>
 
 #include "vdbmesh/huge_pages.h"
@@ -30,7 +31,10 @@ namespace {
 /// Gives the pages of freed small allocations (the blocks' cells, 1.2 KB each, spread over the
 /// threads' heaps) back to the system before the weld allocates its large arrays; else they
 /// stay resident under them and raise the peak (bunny at --error 0.25: 194 MB without, 172 MB
-/// with, against volumeToMesh's 178 MB). It costs about 40 ms there.
+/// with, against volumeToMesh's 178 MB). It costs about 40 ms there, and 0.7 ms, a serial
+/// 1.5% of the whole, on the walnut, whose cells (10 MB) do not matter: so only above
+/// kTrimAboveBytes of cells.
+constexpr std::size_t kTrimAboveBytes = std::size_t(32) << 20;
 void release_free_memory() {
 #ifdef __GLIBC__
     malloc_trim(0);
@@ -54,11 +58,17 @@ void for_each_surface_block(const openvdb::FloatGrid& grid, const SampleClassifi
     });
 }
 
-/// The blocks' vertices, each key once: in block order, then the cells larger than a block in
-/// key order. A block lists each of its keys once, and only those cells are listed by several
-/// blocks (ifc_key_of_coarse_cell()), so no global sort is needed. Each block's list is
-/// released once copied.
-std::vector<IfcVertex> gather_vertices(std::vector<IfcBlockOutput>& outputs) {
+/// The blocks' vertices, each key once, as keys and positions apart (the positions become the
+/// mesh's): block after block, then the cells larger than a block in key order. A block lists
+/// each of its keys once, and only those cells are listed by several blocks
+/// (ifc_key_of_coarse_cell()), so no global sort is needed. Each block's list is released once
+/// copied.
+struct GatheredVertices {
+    std::vector<std::uint64_t> keys;
+    std::vector<std::array<float, 3>> positions;
+};
+
+GatheredVertices gather_vertices(std::vector<IfcBlockOutput>& outputs) {
     std::vector<std::size_t> first_own(outputs.size() + 1, 0), first_coarse(outputs.size() + 1, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
@@ -72,22 +82,33 @@ std::vector<IfcVertex> gather_vertices(std::vector<IfcBlockOutput>& outputs) {
         first_coarse[b + 1] += first_coarse[b];
     }
     const std::size_t own_count = first_own.back();
-    std::vector<IfcVertex> vertices;
-    reserve_on_huge_pages(vertices, own_count + first_coarse.back());
-    vertices.resize(own_count + first_coarse.back());
+    GatheredVertices gathered;
+    reserve_on_huge_pages(gathered.keys, own_count + first_coarse.back());
+    gathered.keys.resize(own_count);
+    reserve_on_huge_pages(gathered.positions, own_count + first_coarse.back());
+    gathered.positions.resize(own_count);
+    std::vector<IfcVertex> coarse(first_coarse.back());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            auto own = vertices.begin() + std::ptrdiff_t(first_own[b]);
-            auto coarse = vertices.begin() + std::ptrdiff_t(own_count + first_coarse[b]);
-            for (const IfcVertex& v : outputs[b].vertices) *(ifc_key_of_coarse_cell(v.key) ? coarse++ : own++) = v;
+            std::size_t own = first_own[b], next_coarse = first_coarse[b];
+            for (const IfcVertex& v : outputs[b].vertices) {
+                if (ifc_key_of_coarse_cell(v.key)) {
+                    coarse[next_coarse++] = v;
+                } else {
+                    gathered.keys[own] = v.key;
+                    gathered.positions[own++] = v.position;
+                }
+            }
             outputs[b].vertices = {};
         }
     });
-    const auto coarse_begin = vertices.begin() + std::ptrdiff_t(own_count);
-    std::sort(coarse_begin, vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key < b.key; });
-    vertices.erase(std::unique(coarse_begin, vertices.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key == b.key; }),
-                   vertices.end());
-    return vertices;
+    std::sort(coarse.begin(), coarse.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key < b.key; });
+    coarse.erase(std::unique(coarse.begin(), coarse.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key == b.key; }), coarse.end());
+    for (const IfcVertex& v : coarse) {
+        gathered.keys.push_back(v.key);
+        gathered.positions.push_back(v.position);
+    }
+    return gathered;
 }
 
 /// One vertex per key, numbered as gather_vertices() lists them; vertices no triangle uses are
@@ -95,15 +116,17 @@ std::vector<IfcVertex> gather_vertices(std::vector<IfcBlockOutput>& outputs) {
 Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
     std::vector<std::size_t> first_triangle(outputs.size() + 1, 0);
     for (std::size_t b = 0; b < outputs.size(); ++b) first_triangle[b + 1] = first_triangle[b] + outputs[b].triangles.size();
-    const std::vector<IfcVertex> vertices = gather_vertices(outputs);
-    if (vertices.size() >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
-    const IfcKeyIndex index_of(vertices);
+    GatheredVertices vertices = gather_vertices(outputs);
+    const std::size_t vertex_count = vertices.keys.size();
+    if (vertex_count >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
+    const IfcKeyIndex index_of(vertices.keys);
+    vertices.keys = {};
     Mesh mesh;
     reserve_on_huge_pages(mesh.triangles, first_triangle.back());
     mesh.triangles.resize(first_triangle.back());
     std::vector<std::uint8_t> used;
-    reserve_on_huge_pages(used, vertices.size());
-    used.resize(vertices.size(), 0);
+    reserve_on_huge_pages(used, vertex_count);
+    used.resize(vertex_count, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
             auto& keyed = outputs[b].triangles;
@@ -126,20 +149,17 @@ Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
         }
     });
     const std::size_t used_count = std::size_t(std::count(used.begin(), used.end(), std::uint8_t(1)));
-    reserve_on_huge_pages(mesh.vertices, used_count);
-    if (used_count == vertices.size()) {  // as on every scan measured: no renumbering
-        mesh.vertices.resize(used_count);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertices.size()), [&](const auto& range) {
-            for (std::size_t v = range.begin(); v != range.end(); ++v) mesh.vertices[v] = vertices[v].position;
-        });
+    if (used_count == vertex_count) {  // as on every scan measured: no renumbering
+        mesh.vertices = std::move(vertices.positions);
         return mesh;
     }
+    reserve_on_huge_pages(mesh.vertices, used_count);
     std::vector<std::uint32_t> new_index;
-    reserve_on_huge_pages(new_index, vertices.size());
-    new_index.resize(vertices.size());
-    for (std::size_t v = 0; v < vertices.size(); ++v) {
+    reserve_on_huge_pages(new_index, vertex_count);
+    new_index.resize(vertex_count);
+    for (std::size_t v = 0; v < vertex_count; ++v) {
         new_index[v] = std::uint32_t(mesh.vertices.size());
-        if (used[v]) mesh.vertices.push_back(vertices[v].position);
+        if (used[v]) mesh.vertices.push_back(vertices.positions[v]);
     }
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size()), [&](const auto& range) {
         for (std::size_t t = range.begin(); t != range.end(); ++t) {
@@ -188,8 +208,9 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.blocks.size()), [&](const auto& range) {
         for (std::size_t b = range.begin(); b != range.end(); ++b) cells.blocks[b].reset();
     });
+    const bool trim = cells.blocks.size() * sizeof(IfcBlockCells) > kTrimAboveBytes;
     cells = IfcCellGrid();
-    release_free_memory();
+    if (trim) release_free_memory();
     Mesh mesh = weld(std::move(outputs));
     clock.lap(report, "weld");
     if (options.progress) options.progress(1.0);

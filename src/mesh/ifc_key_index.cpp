@@ -7,9 +7,9 @@
 
 namespace vdbmesh::detail {
 
-IfcKeyIndex::IfcKeyIndex(const std::vector<IfcVertex>& vertices) {
+IfcKeyIndex::IfcKeyIndex(const std::vector<std::uint64_t>& keys) {
     int bits = 1;
-    while ((std::size_t(1) << bits) < 2 * vertices.size()) ++bits;
+    while ((std::size_t(1) << bits) < 2 * keys.size()) ++bits;
     const std::size_t slot_count = std::size_t(1) << bits;
     mask_ = slot_count - 1;
     shift_ = 64 - bits;
@@ -21,11 +21,11 @@ IfcKeyIndex::IfcKeyIndex(const std::vector<IfcVertex>& vertices) {
     // Which vertex lands in which slot depends on the threads' order; what find() returns
     // does not (keys are unique). A slot's index is written by the thread that claimed its key
     // and read only after the loop has ended.
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertices.size()), [&](const auto& range) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size()), [&](const auto& range) {
         for (std::size_t v = range.begin(); v != range.end(); ++v) {
-            for (std::size_t s = first_slot(vertices[v].key);; s = (s + 1) & mask_) {
+            for (std::size_t s = first_slot(keys[v]);; s = (s + 1) & mask_) {
                 std::uint64_t empty = kEmpty;
-                if (slots_[s].key.compare_exchange_strong(empty, vertices[v].key, std::memory_order_relaxed)) {
+                if (slots_[s].key.compare_exchange_strong(empty, keys[v], std::memory_order_relaxed)) {
                     slots_[s].index = std::uint32_t(v);
                     break;
                 }

@@ -10,15 +10,14 @@
 #include <memory>
 #include <vector>
 
-#include "mesh/ifc_polygons.h"
 
 namespace vdbmesh::detail {
 
 class IfcKeyIndex {
 public:
-    /// Indexes @a vertices (unique keys), built in parallel: 16 bytes per slot, at most half
-    /// full.
-    explicit IfcKeyIndex(const std::vector<IfcVertex>& vertices);
+    /// Indexes @a keys (unique; a key's index is its position), built in parallel: 16 bytes
+    /// per slot, at most half full.
+    explicit IfcKeyIndex(const std::vector<std::uint64_t>& keys);
     /// The index of the vertex with @a key, or kMissing.
     std::uint32_t find(std::uint64_t key) const;
     /// Asks the cache for the slot where find(@a key) starts.
