@@ -182,9 +182,7 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     cells.blocks.resize(cells.origins.size());
     auto may_hold_surface = [&](std::size_t b, auto& accessor) { return block_may_hold_surface(accessor, classifier, cells.origins[b]); };
     for_each_surface_block(grid, classifier, cells.origins, may_hold_surface, [&](const IfcSamples& samples, std::size_t b) {
-        IfcBlockCells& block = cells.block_for_writing(b);
-        build_ifc_cells(samples, options.iso, options.error, block);
-        record_contour_samples(samples, options.iso, options.error, block);
+        build_ifc_cells(samples, options.iso, options.error, cells.block_for_writing(b));
     });
     clock.lap(report, "octree");
     merge_ifc_coarse_cells(grid, classifier, options.error, cells);
@@ -192,7 +190,7 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     if (options.progress) options.progress(0.4);
     std::vector<IfcBlockOutput> outputs(cells.origins.size());
     // Only the blocks the octree sampled hold surface of their own; their samples are not
-    // loaded again (record_contour_samples()).
+    // loaded again (build_ifc_cells() kept what the contour reads).
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.origins.size()), [&](const auto& range) {
         auto accessor = grid.getConstAccessor();
         for (std::size_t b = range.begin(); b != range.end(); ++b) {

@@ -97,7 +97,7 @@ struct IfcBlockCells {
     bool root_leaf = true;
     Qef3 root_qef;
     /// What the contour reads of the block's samples, kept from the octree's pass so that they
-    /// are not loaded twice (record_contour_samples(), ifc_polygons.h): whether there are any
+    /// are not loaded twice (build_ifc_cells()): whether there are any
     /// (a block the coarse merge added holds no surface of its own), the window's rows of
     /// inside bits, and the crossings of the block's own crossed edges along their axis, in
     /// the contour's order.
@@ -150,8 +150,15 @@ inline int ifc_vertex_margins(int size, const openvdb::CoordBBox& reach, const o
     return count;
 }
 
+/// How far (a share of the edge) the mesh's crossings are kept from their edge's samples at
+/// @a error: a vertex moves at most that far along its edge, which keeps Marching Cubes' slivers
+/// from the ends of the edges (README, "fewer slivers than Marching Cubes").
+inline double ifc_crossing_margin(double error) { return std::min(error, 0.25); }
+
 /// Builds the cells of one block: merges where the QEF vertex stays within @a error (voxels)
-/// of every surface sample in the cell and the topology tests pass.
+/// of every surface sample in the cell and the topology tests pass. Keeps too what the
+/// contour reads of the samples (IfcBlockCells::sampled, inside_rows, crossings), on the
+/// same walk over the crossed edges.
 void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells);
 
 /// Merges on across blocks, bottom-up under each lower internal node (cells of 16 to 128

@@ -208,7 +208,9 @@ public:
         s_ = &samples;
         iso_ = iso;
         error_ = error;
-        collect_hermite();
+        out.sampled = true;
+        out.inside_rows = samples.inside_rows;
+        collect_hermite(out.crossings);
         init_unit_cells();
         sum_levels();
         refine(kIfcMaxLevel, 0, 0, 0);
@@ -224,11 +226,16 @@ private:
         return (i * n + j) * n + k;
     }
 
-    /// Hermite data of the crossed edges of the block's cells (samples 0..8).
-    void collect_hermite() {
+    /// Hermite data of the crossed edges of the block's cells (samples 0..8), and into
+    /// @a contour_crossings where the mesh crosses the block's own ones (minimum sample in
+    /// 0..7) along their axis, in the order (x, y, z, axis) the contour walks them, as
+    /// edge_crossing() computes it with ifc_crossing_margin().
+    void collect_hermite(std::vector<double>& contour_crossings) {
         crossings_.clear();
         hermite_.clear();
         slot_.fill(kNoSlot);
+        contour_crossings.clear();
+        const double margin = ifc_crossing_margin(error_);
         for (int x = 0; x <= kIfcBlock; ++x) {
             for (int y = 0; y <= kIfcBlock; ++y) {
                 row_start_[x * kEdgeDim + y] = std::uint16_t(crossings_.size());
@@ -248,6 +255,11 @@ private:
                         slot_[i] = std::uint16_t(hermite_.size());
                         hermite_.push_back(edge_hermite(*s_, iso_, x, y, z, axis));
                         crossings_.push_back({std::uint8_t(x), std::uint8_t(y), std::uint8_t(z), std::uint8_t(axis)});
+                        if (x < kIfcBlock && y < kIfcBlock && z < kIfcBlock) {
+                            const double f0 = s_->at(x, y, z), f1 = s_->at(x + (axis == 0), y + (axis == 1), z + (axis == 2));
+                            const int start[3] = {x, y, z};
+                            contour_crossings.push_back(double(s_->origin[axis] + start[axis]) + crossing_parameter(f0, f1, iso_, margin));
+                        }
                     }
                 }
             }

@@ -68,8 +68,6 @@ namespace {
 /// Six times a tetrahedron's volume (voxels^3) below which a flip is not trusted.
 constexpr double kOrientationFloor = 1e-3;
 
-/// Largest distance (voxels) a crossing is moved along its edge away from the nearer sample.
-constexpr double kMaxCrossingMargin = 0.25;
 
 // ---- Vertex keys: kind (2 bits), payload (5 bits), x, y, z (19 bits each, biased) ----
 constexpr int kCoordBits = 19;
@@ -473,26 +471,6 @@ private:
 
 bool ifc_key_of_coarse_cell(std::uint64_t key) {
     return (key >> kKindShift) == kCellKind && ((key >> kPayloadShift) & 31u) > unsigned(kIfcMaxLevel);
-}
-
-void record_contour_samples(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells) {
-    cells.sampled = true;
-    cells.inside_rows = samples.inside_rows;
-    static constexpr unsigned kBlockBits = ((1u << kIfcBlock) - 1) << 1;  // as walk_block()
-    std::size_t count = 0;
-    for (int x = 0; x < kIfcBlock; ++x) {
-        for (int y = 0; y < kIfcBlock; ++y) {
-            for (int axis = 0; axis < 3; ++axis) count += std::size_t(__builtin_popcount(samples.crossed_row(x, y, axis) & kBlockBits));
-        }
-    }
-    cells.crossings.clear();
-    cells.crossings.reserve(count);
-    const double margin = std::min(error, kMaxCrossingMargin);  // of the edge's length, kept from its ends
-    walk_block(samples, [](int, int, int) {}, [&](int x, int y, int z, int axis) {
-        // edge_crossing() along a grid edge: its minimum sample plus the parameter.
-        const double t = crossing_parameter(samples.at(x, y, z), samples.at(x + (axis == 0), y + (axis == 1), z + (axis == 2)), iso, margin);
-        cells.crossings.push_back(double(samples.origin[axis] + (axis == 0 ? x : axis == 1 ? y : z)) + t);
-    });
 }
 
 void contour_ifc_block(const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid,

@@ -28,12 +28,7 @@ struct IfcBlockOutput {
     std::vector<std::array<std::uint64_t, 3>> triangles;  ///< counter-clockwise seen from outside
 };
 
-/// Keeps in @a cells what contour_ifc_block() reads of the block's @a samples: their rows of
-/// inside bits, and where the surface crosses each crossed edge the block owns (minimum sample
-/// in the block) at @a error.
-void record_contour_samples(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells);
-
-/// Triangles of block @a block of @a grid (recorded by record_contour_samples()): Marching
+/// Triangles of block @a block of @a grid (its samples as build_ifc_cells() kept them): Marching
 /// Cubes in its unit cells, and the polygons of the crossed grid edges it owns that touch a
 /// merged cell.
 void contour_ifc_block(const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid,
