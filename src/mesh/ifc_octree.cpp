@@ -220,6 +220,8 @@ public:
 private:
     static constexpr int kEdgeDim = kIfcBlock + 1;
     static int edge_index(int x, int y, int z, int axis) { return ((x * kEdgeDim + y) * kEdgeDim + z) * 3 + axis; }
+    /// edge_index() of the next edge along each axis, less this one's.
+    static constexpr int kEdgeStride[3] = {kEdgeDim * kEdgeDim * 3, kEdgeDim * 3, 3};
     static int cells_per_axis(int level) { return kIfcBlock >> level; }
     static int cell_index(int level, int i, int j, int k) {
         const int n = cells_per_axis(level);
@@ -441,8 +443,8 @@ private:
         if (surface_distance(v) > error_) return false;
         bool near = true;
         for_each_cell_edge(min, size, [&](std::array<int, 3> p, int axis) {
-            for (int k = 0; k < size && near; ++k, ++p[axis]) {
-                const int i = edge_index(p[0], p[1], p[2], axis);
+            const int first = edge_index(p[0], p[1], p[2], axis);
+            for (int k = 0, i = first; k < size && near; ++k, i += kEdgeStride[axis]) {
                 if (slot_[i] == kNoSlot) continue;
                 Point3d mid;
                 for (int a = 0; a < 3; ++a) mid[a] = 0.5 * (v[a] + hermite_[slot_[i]].point[a]);
@@ -488,8 +490,8 @@ private:
                 std::array<int, 3> p = min;
                 p[axis] += side * size;
                 p[across] += edge_side * size;
-                for (int k = 0; k < size; ++k, ++p[along]) {
-                    const int i = edge_index(p[0], p[1], p[2], along);
+                const int first = edge_index(p[0], p[1], p[2], along);
+                for (int k = 0, i = first; k < size; ++k, i += kEdgeStride[along]) {
                     if (slot_[i] == kNoSlot) continue;
                     if (count < 2) ends[count] = hermite_[slot_[i]].point;
                     ++count;
