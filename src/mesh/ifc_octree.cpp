@@ -348,15 +348,19 @@ private:
         }
         for (int level = 1; level <= kIfcMaxLevel; ++level) {
             const int n = cells_per_axis(level);
+            const int m = 2 * n;  // children per axis
+            std::array<int, 8> child_offset;  // of child c from child 0, in its level's arrays
+            for (int c = 0; c < 8; ++c) child_offset[c] = ((c & 1) * m + ((c >> 1) & 1)) * m + (c >> 2);
             for (int i = 0; i < n; ++i) {
                 for (int j = 0; j < n; ++j) {
                     for (int k = 0; k < n; ++k) {
                         const int index = cell_index(level, i, j, k);
+                        const int first_child = cell_index(level - 1, 2 * i, 2 * j, 2 * k);
                         std::array<bool, 8> surface;
                         bool children_simple = true;
                         Qef3 sum;  // of the children holding surface: the others' QEFs are not kept
                         for (int c = 0; c < 8; ++c) {
-                            const int child = cell_index(level - 1, 2 * i + (c & 1), 2 * j + ((c >> 1) & 1), 2 * k + (c >> 2));
+                            const int child = first_child + child_offset[c];
                             surface[c] = state_[level - 1][child] == CellState::surface;
                             if (surface[c]) sum.add(qef_[level - 1][child]);
                             children_simple &= simple_[level - 1][child];
