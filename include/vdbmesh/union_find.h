@@ -4,8 +4,10 @@
 /// the labels it hands out follow element order (and so never depend on the order of the
 /// unions). In vdbmesh::detail: shared between the stages, not a stable API.
 
+#include <cstddef>
 #include <cstdint>
 #include <numeric>
+#include <utility>
 #include <vector>
 
 namespace vdbmesh::detail {

@@ -68,7 +68,6 @@ namespace {
 /// Six times a tetrahedron's volume (voxels^3) below which a flip is not trusted.
 constexpr double kOrientationFloor = 1e-3;
 
-
 // ---- Vertex keys: kind (2 bits), payload (5 bits), x, y, z (19 bits each, biased) ----
 constexpr int kCoordBits = 19;
 constexpr int kKindShift = 62, kPayloadShift = 57;
@@ -144,6 +143,8 @@ double squared_distance(const Point3d& a, const Point3d& b) {
 /// The contour's walk over a block: per unit cell in order, @a mixed_cell(x, y, z) where its
 /// corners differ, then @a crossed_edge(x, y, z, axis) for each of its three edges that is
 /// crossed (the block's own edges); rows of bits skip the cells and edges without surface.
+/// The crossed edges come in the order (x, y, z, axis) in which build_ifc_cells() records
+/// their crossings (IfcBlockCells::crossings).
 template <class MixedCell, class CrossedEdge>
 void walk_block(const IfcSamples& s, MixedCell&& mixed_cell, CrossedEdge&& crossed_edge) {
     static constexpr unsigned kBlockBits = ((1u << kIfcBlock) - 1) << 1;  // z = 0..7 at bits 1..8

@@ -195,12 +195,12 @@ public:
     }
 
 private:
-    /// Calls call(cell) for the cell of @a box's low corner, or each cell it meets if it is
-    /// larger than a cell.
+    /// Calls call(cell) for each cell a box larger than a cell meets (a smaller box is kept in
+    /// the cell of its low corner alone).
     template <class Call>
     void for_cells(const Box& box, Call&& call) const {
         const std::array<std::int64_t, 3> from = cell_coordinates(box.lo);
-        const std::array<std::int64_t, 3> to = small(box) ? from : cell_coordinates(box.hi);
+        const std::array<std::int64_t, 3> to = cell_coordinates(box.hi);
         for (std::int64_t z = from[2]; z <= to[2]; ++z) {
             for (std::int64_t y = from[1]; y <= to[1]; ++y) {
                 for (std::int64_t x = from[0]; x <= to[0]; ++x) call(index({x, y, z}));
@@ -611,7 +611,6 @@ private:
                     if (crosses_new_star(plans[j], p.star, s)) p.crossed.push_back(j);
                     return true;
                 });
-                std::sort(p.crossed.begin(), p.crossed.end());  // (the grid may list a plan twice)
             }
         });
     }

@@ -9,10 +9,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include <array>
-#include <cstdint>
 #include <iostream>
-#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -47,13 +44,8 @@ struct Scan {
 std::ostream& operator<<(std::ostream& out, const Scan& scan) { return out << scan.scan.name; }
 
 const std::vector<Scan> kScans = {
-    {{"BunnyCt",
-      {"raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part1of2.raw.gz",
-       "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part2of2.raw.gz"},
-      1200.5,
-      std::array<std::int64_t, 3>{512, 512, 361}},
-     {{0.1, 0.5}, {0.25, 1.0}}},
-    {{"WalnutOpenQVis", {"openqvis_walnut_ct/walnut.dat"}, 4084.5, std::nullopt}, {{0.1, 0.5}, {0.25, 0.5}}},
+    {test::shared_scan("BunnyCt"), {{0.1, 0.5}, {0.25, 1.0}}},
+    {test::shared_scan("WalnutOpenQVis"), {{0.1, 0.5}, {0.25, 0.5}}},
 };
 
 class CompareDominanceTest : public testing::TestWithParam<Scan> {

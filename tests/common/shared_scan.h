@@ -23,6 +23,11 @@ struct SharedScan {
 
 inline std::ostream& operator<<(std::ostream& out, const SharedScan& scan) { return out << scan.name; }
 
+/// The real scans of the shared data the tests use, each with its isovalue.
+const std::vector<SharedScan>& shared_scans();
+/// The one of shared_scans() named @a name (throws when there is none).
+const SharedScan& shared_scan(const std::string& name);
+
 /// The scan converted at its isovalue into @a grid. Left empty when the data is missing and the
 /// test skips (a failure when VDBMESH_REQUIRE_DATA=1): call it through ASSERT_NO_FATAL_FAILURE
 /// and return when @a grid is empty.

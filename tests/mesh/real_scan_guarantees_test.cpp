@@ -14,7 +14,6 @@
 #include <array>
 #include <cstdint>
 #include <iostream>
-#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -31,23 +30,6 @@ namespace {
 
 using test::SharedScan;
 
-const std::vector<SharedScan> kScans = {
-    {"BunnyCt",
-     {"raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part1of2.raw.gz",
-      "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part2of2.raw.gz"},
-     1200.5,
-     std::array<std::int64_t, 3>{512, 512, 361}},
-    {"CThead", {"raw_stanford_cthead/CThead_256x256x113_int16be.raw.gz"}, 600.5, std::array<std::int64_t, 3>{256, 256, 113}},
-    {"EngineNifti", {"nifti_engine_ct/engine.nii.gz"}, 100.5, std::nullopt},
-    {"WalnutOpenQVis", {"openqvis_walnut_ct/walnut.dat"}, 4084.5, std::nullopt},
-    {"CtPitchNifti", {"nifti_ct_pitch_phantom/CT_pitch.nii.gz"}, 100.5, std::nullopt},
-    {"Seg3dMrNifti", {"nifti_seg3d_mr_t1/MR.nii.gz"}, 200.5, std::nullopt},
-    {"Spm12T1Nifti", {"nifti_spm12_single_subj_t1/single_subj_T1.nii"}, 0.5, std::nullopt},
-    {"Spm2T1Analyze", {"analyze_spm2_single_subj_t1/spm2_single_subj_T1.hdr"}, 0.5, std::nullopt},
-    {"HeadsqNrrd", {"raw_vtk_headsq/slices/quarter.nhdr"}, 1000.5, std::nullopt},
-    {"EgsnrcDicomSeries", {"dicom_egsnrc_ct_phantom"}, 200.5, std::nullopt},
-    {"NucleonOpenQVis", {"openqvis_nucleon_sim/nucleon.dat"}, 100.5, std::nullopt},
-};
 
 /// The meshers of the guarantee: DMC at both --error values and Marching Cubes.
 struct Method {
@@ -176,7 +158,7 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(SharedData, RealScanGuaranteesTest, ::testing::ValuesIn(kScans),
+INSTANTIATE_TEST_SUITE_P(SharedData, RealScanGuaranteesTest, ::testing::ValuesIn(test::shared_scans()),
                          [](const ::testing::TestParamInfo<SharedScan>& info) { return info.param.name; });
 
 }  // namespace
