@@ -195,7 +195,7 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
         auto accessor = grid.getConstAccessor();
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
             if (!cells.blocks[b] || !cells.blocks[b]->sampled) continue;
-            contour_ifc_block(classifier, accessor, cells, b, grid.transform(), outputs[b]);
+            contour_ifc_block(classifier, accessor, cells, b, options.error, grid.transform(), outputs[b]);
             outputs[b].vertices.shrink_to_fit();  // growth leaves up to half unused: it adds up over blocks
             outputs[b].triangles.shrink_to_fit();
         }

@@ -469,7 +469,9 @@ private:
             }
         }
         // A crossing on one of the cell's 12 edges ends the chords of both faces round it (the
-        // cell is simple: each face holds at most one chain), so it is a vertex of the fan.
+        // cell is simple: each face holds at most one chain), so it is a vertex of the fan; where
+        // the contour replaces it by the polygon of the cells round its edge, that polygon must
+        // pass within the error of it (ifc_polygons.cpp).
         Point3d lo, hi;
         for (int a = 0; a < 3; ++a) {
             lo[a] = s_->origin[a] + min[a];

@@ -30,8 +30,9 @@ struct IfcBlockOutput {
 
 /// Triangles of block @a block of @a grid (its samples as build_ifc_cells() kept them): Marching
 /// Cubes in its unit cells, and the polygons of the crossed grid edges it owns that touch a
-/// merged cell.
+/// merged cell; such a polygon passes within @a error (voxels) of the edge's crossing, else the
+/// fan round the crossing stands for it.
 void contour_ifc_block(const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid,
-                       std::size_t block, const openvdb::math::Transform& transform, IfcBlockOutput& out);
+                       std::size_t block, double error, const openvdb::math::Transform& transform, IfcBlockOutput& out);
 
 }  // namespace vdbmesh::detail
