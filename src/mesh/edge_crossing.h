@@ -47,6 +47,10 @@ inline double crossing_parameter(double f0, double f1, double iso, double margin
 
 using Point3d = std::array<double, 3>;
 
+inline double squared_distance(const Point3d& a, const Point3d& b) {
+    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
+}
+
 inline bool lexicographically_less(const Point3d& a, const Point3d& b) {
     if (a[2] != b[2]) return a[2] < b[2];
     if (a[1] != b[1]) return a[1] < b[1];

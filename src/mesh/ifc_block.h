@@ -131,23 +131,37 @@ struct IfcCellGrid {
 /// rounding of the output, so containment survives it.
 inline constexpr double kIfcInteriorMargin = 1e-2;
 
-/// How far inside its cell a merged cell's vertex is kept, in the order tried: the first whose
-/// vertex passes the merge's accuracy tests is kept. A vertex near a face of its cell makes
-/// slivers with the triangles over that face, so a tenth of the cell's size, at most half a
-/// voxel (a vertex must still reach a face of the scan box, half a voxel beyond the last
-/// samples), then kIfcInteriorMargin. A larger margin trades the surface's normals for angles
-/// (bunny CT at --error 0.5; angles under 10 degrees, mean normal deviation: 0.01 voxel 1.13%,
-/// 5.1 degrees; a tenth 0.63%, 6.0; a fifth then a tenth 0.54%, 6.8). Only kIfcInteriorMargin
-/// where the samples the tests read (@a reach) go beyond @a scan_box: the tests read no
-/// distance to the surface there, so they could not tell a vertex pulled off it (CThead at 0.5:
-/// a point of the surface 1.7 voxels from the mesh; keeping the margin only along the axes
-/// beyond the box still left 1.45). Returns how many margins there are.
-inline int ifc_vertex_margins(int size, const openvdb::CoordBBox& reach, const openvdb::CoordBBox* scan_box,
-                              std::array<double, 2>& margins) {
-    int count = 0;
-    if (!scan_box || scan_box->isInside(reach)) margins[count++] = std::min(0.1 * size, 0.5);
-    margins[count++] = kIfcInteriorMargin;
-    return count;
+/// A box a merged cell's vertex is kept in (index space, global).
+struct IfcVertexBox {
+    Point3d lo, hi;
+};
+
+/// The boxes a merged cell's vertex is kept in, in the order tried: the first whose vertex
+/// passes the merge's accuracy tests is kept. A vertex near a face of its cell makes slivers
+/// with the triangles over that face, so first a tenth of the cell's size from its faces, at
+/// most half a voxel (a vertex must still reach a face of the scan box, half a voxel beyond the
+/// last samples), then kIfcInteriorMargin. A larger margin trades the surface's normals for
+/// angles (bunny CT at --error 0.5; angles under 10 degrees, mean normal deviation: 0.01 voxel
+/// 1.13%, 5.1 degrees; a tenth 0.63%, 6.0; a fifth then a tenth 0.54%, 6.8). Only
+/// kIfcInteriorMargin on a side where the samples the tests read (one beyond the cell, for
+/// gradients) go beyond @a scan_box: the tests read no distance to the surface there, so they
+/// could not tell a vertex pulled off it. Returns how many boxes there are.
+inline int ifc_vertex_boxes(const openvdb::Coord& min, int size, const openvdb::CoordBBox* scan_box,
+                            std::array<IfcVertexBox, 2>& boxes) {
+    const double wide = std::min(0.1 * size, 0.5);
+    bool narrowed_everywhere = true;
+    for (int a = 0; a < 3; ++a) {
+        const bool low_beyond = scan_box && min[a] - 1 < scan_box->min()[a];
+        const bool high_beyond = scan_box && min[a] + size + 1 > scan_box->max()[a];
+        narrowed_everywhere = narrowed_everywhere && low_beyond && high_beyond;
+        boxes[0].lo[a] = min[a] + (low_beyond ? kIfcInteriorMargin : wide);
+        boxes[0].hi[a] = min[a] + size - (high_beyond ? kIfcInteriorMargin : wide);
+        boxes[1].lo[a] = min[a] + kIfcInteriorMargin;
+        boxes[1].hi[a] = min[a] + size - kIfcInteriorMargin;
+    }
+    if (!narrowed_everywhere) return 2;
+    boxes[0] = boxes[1];
+    return 1;
 }
 
 /// How far (a share of the edge) the mesh's crossings are kept from their edge's samples at

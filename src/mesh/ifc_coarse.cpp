@@ -108,16 +108,10 @@ private:
         for (int c = 0; c < 8; ++c) {
             if (surface[c]) qef.add(child[c]->qef);
         }
-        std::array<double, 2> margins;
-        const openvdb::CoordBBox reach(min.offsetBy(-1), min.offsetBy(size + 1));  // the samples the tests read
-        const int tries = ifc_vertex_margins(size, reach, classifier_.scan_box() ? &*classifier_.scan_box() : nullptr, margins);
+        std::array<IfcVertexBox, 2> boxes;
+        const int tries = ifc_vertex_boxes(min, size, classifier_.scan_box() ? &*classifier_.scan_box() : nullptr, boxes);
         for (int t = 0; t < tries; ++t) {
-            Point3d lo, hi;
-            for (int a = 0; a < 3; ++a) {
-                lo[a] = min[a] + margins[t];
-                hi[a] = min[a] + size - margins[t];
-            }
-            const Point3d vertex = qef.solve(lo, hi);
+            const Point3d vertex = qef.solve(boxes[t].lo, boxes[t].hi);
             if (passes_accuracy_tests(qef, vertex, child, surface, min, size)) {
                 cell = {State::surface, qef, vertex};
                 return;

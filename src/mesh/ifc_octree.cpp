@@ -394,12 +394,10 @@ private:
         const int index = cell_index(level, i, j, k);
         // Cheapest and most often failing first.
         if (!simple_[level][index]) return false;
-        // The samples the tests read: the cell's, and one more round them for gradients.
-        const openvdb::Coord corner = s_->origin.offsetBy(min[0], min[1], min[2]);
-        std::array<double, 2> margins;
-        const int tries = ifc_vertex_margins(size, openvdb::CoordBBox(corner.offsetBy(-1), corner.offsetBy(size + 1)), s_->scan_box, margins);
+        std::array<IfcVertexBox, 2> boxes;
+        const int tries = ifc_vertex_boxes(s_->origin.offsetBy(min[0], min[1], min[2]), size, s_->scan_box, boxes);
         for (int t = 0; t < tries; ++t) {
-            const Point3d vertex = solve_in_cell(qef_[level][index], min, size, margins[t]);
+            const Point3d vertex = qef_[level][index].solve(boxes[t].lo, boxes[t].hi);
             if (within_error(vertex, min, size) && fan_near_surface(vertex, min, size) && surface_near_fan(vertex, min, size)) {
                 vertex_[level][index] = vertex;
                 return true;
@@ -423,15 +421,6 @@ private:
         }
     }
 
-    Point3d solve_in_cell(const Qef3& qef, const std::array<int, 3>& min, int size, double margin) const {
-        Point3d lo, hi;
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = s_->origin[a] + min[a] + margin;
-            hi[a] = s_->origin[a] + min[a] + size - margin;
-        }
-        return qef.solve(lo, hi);
-    }
-
     bool within_error(const Point3d& v, const std::array<int, 3>& min, int size) const {
         return all_crossings(min, size, [&](const Hermite& h) {
             const double d = h.normal[0] * (v[0] - h.point[0]) + h.normal[1] * (v[1] - h.point[1]) + h.normal[2] * (v[2] - h.point[2]);
@@ -439,10 +428,17 @@ private:
         });
     }
 
-    /// Whether the vertex, and the midpoints of its spokes to the crossings of the cell's 12
-    /// edges (the fan's triangles run along them), lie within the error of the isosurface, by
-    /// the first-order estimate |f - iso| / |grad f| of the trilinear interpolant. The tangent
-    /// planes alone let a vertex sit off a curved or thin surface.
+    /// The point @a share of the way from @a v to @a p.
+    static Point3d along_spoke(const Point3d& v, const Point3d& p, double share) {
+        return {v[0] + share * (p[0] - v[0]), v[1] + share * (p[1] - v[1]), v[2] + share * (p[2] - v[2])};
+    }
+
+    /// Whether the vertex, and the points a quarter and half way along its spokes to the
+    /// crossings of the cell's 12 edges (the fan's triangles run along them), lie within the
+    /// error of the isosurface, by the first-order estimate |f - iso| / |grad f| of the trilinear
+    /// interpolant. The tangent planes alone let a vertex sit off a curved or thin surface. The
+    /// quarter points catch a vertex whose spokes leave the surface steeply near it (CThead at
+    /// --error 1, 1,000,000 samples: Hausdorff 1.48 -> 1.07 voxels, for 66 more triangles).
     bool fan_near_surface(const Point3d& v, const std::array<int, 3>& min, int size) const {
         if (surface_distance(v) > error_) return false;
         bool near = true;
@@ -450,9 +446,13 @@ private:
             const int first = edge_index(p[0], p[1], p[2], axis);
             for (int k = 0, i = first; k < size && near; ++k, i += kEdgeStride[axis]) {
                 if (slot_[i] == kNoSlot) continue;
-                Point3d mid;
-                for (int a = 0; a < 3; ++a) mid[a] = 0.5 * (v[a] + hermite_[slot_[i]].point[a]);
-                near = surface_distance(mid) <= error_;
+                const Point3d& crossing = hermite_[slot_[i]].point;
+                near = surface_distance(along_spoke(v, crossing, 0.5)) <= error_;
+                // The crossing lies on the surface, so a quarter point within the error of it
+                // is near; the estimate is asked only of the others.
+                if (near && 0.75 * 0.75 * squared_distance(v, crossing) > error_ * error_) {
+                    near = surface_distance(along_spoke(v, crossing, 0.25)) <= error_;
+                }
             }
         });
         return near;

@@ -139,10 +139,6 @@ double orient(const Point3d& a, const Point3d& b, const Point3d& c, const Point3
     return b0 * (c1 * d2 - c2 * d1) - b1 * (c0 * d2 - c2 * d0) + b2 * (c0 * d1 - c1 * d0);
 }
 
-double squared_distance(const Point3d& a, const Point3d& b) {
-    return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
-}
-
 /// The contour's walk over a block: per unit cell in order, @a mixed_cell(x, y, z) where its
 /// corners differ, then @a crossed_edge(x, y, z, axis) for each of its three edges that is
 /// crossed (the block's own edges); rows of bits skip the cells and edges without surface.
