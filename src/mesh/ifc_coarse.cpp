@@ -109,9 +109,9 @@ private:
             if (surface[c]) qef.add(child[c]->qef);
         }
         std::array<IfcVertexBox, 2> boxes;
-        const int tries = ifc_vertex_boxes(min, size, classifier_.scan_box() ? &*classifier_.scan_box() : nullptr, boxes);
-        for (int t = 0; t < tries; ++t) {
-            const Point3d vertex = qef.solve(boxes[t].lo, boxes[t].hi);
+        ifc_vertex_boxes(min, size, classifier_.scan_box() ? &*classifier_.scan_box() : nullptr, boxes);
+        for (const IfcVertexBox& box : boxes) {
+            const Point3d vertex = qef.solve(box.lo, box.hi);
             if (passes_accuracy_tests(qef, vertex, child, surface, min, size)) {
                 cell = {State::surface, qef, vertex};
                 return;

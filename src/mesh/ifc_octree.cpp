@@ -395,9 +395,9 @@ private:
         // Cheapest and most often failing first.
         if (!simple_[level][index]) return false;
         std::array<IfcVertexBox, 2> boxes;
-        const int tries = ifc_vertex_boxes(s_->origin.offsetBy(min[0], min[1], min[2]), size, s_->scan_box, boxes);
-        for (int t = 0; t < tries; ++t) {
-            const Point3d vertex = qef_[level][index].solve(boxes[t].lo, boxes[t].hi);
+        ifc_vertex_boxes(s_->origin.offsetBy(min[0], min[1], min[2]), size, s_->scan_box, boxes);
+        for (const IfcVertexBox& box : boxes) {
+            const Point3d vertex = qef_[level][index].solve(box.lo, box.hi);
             if (within_error(vertex, min, size) && fan_near_surface(vertex, min, size) && surface_near_fan(vertex, min, size)) {
                 vertex_[level][index] = vertex;
                 return true;

@@ -29,10 +29,10 @@ struct Pair {
 };
 
 // Measured in session 11 by this test (triangles / Hausdorff voxels / angles under 10 degrees):
-//  bunny  a=0.1:  volumeToMesh 708,230 / 1.383 / 1.51%;  DC 0.5: 655,862 / 1.196 / 0.62%
-//  bunny  a=0.25: volumeToMesh 602,390 / 1.821 / 1.71%;  DC 1:   559,134 / 1.378 / 0.55%
-//  CThead a=0.1:  volumeToMesh 326,436 / 1.501 / 1.86%;  DC 0.5: 291,388 / 0.998 / 0.72%
-//  CThead a=0.25: volumeToMesh 264,790 / 1.605 / 2.26%;  DC 1:   250,886 / 1.071 / 0.67%
+//  bunny  a=0.1:  volumeToMesh 708,230 / 1.383 / 1.51%;  DC 0.5: 655,686 / 1.106 / 0.61%
+//  bunny  a=0.25: volumeToMesh 602,390 / 1.821 / 1.71%;  DC 1:   558,788 / 1.449 / 0.54%
+//  CThead a=0.1:  volumeToMesh 326,436 / 1.501 / 1.86%;  DC 0.5: 291,372 / 1.040 / 0.71%
+//  CThead a=0.25: volumeToMesh 264,790 / 1.605 / 2.26%;  DC 1:   250,860 / 1.081 / 0.67%
 //  walnut a=0.1:  volumeToMesh 313,900 / 1.225 / 2.41%;  DC 0.5: 250,666 / 1.007 / 0.70%
 //  walnut a=0.25: volumeToMesh 263,456 / 1.378 / 2.85%;  DC 0.5
 // The Hausdorff distance is a maximum over samples, so it is drawn from 1,000,000 samples each
