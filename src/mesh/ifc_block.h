@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <memory>
 #include <cstdint>
 #include <vector>
@@ -134,32 +135,54 @@ inline constexpr double kIfcInteriorMargin = 1e-2;
 /// A box a merged cell's vertex is kept in (index space, global).
 struct IfcVertexBox {
     Point3d lo, hi;
+    Point3d clamp(const Point3d& p) const {
+        return {std::clamp(p[0], lo[0], hi[0]), std::clamp(p[1], lo[1], hi[1]), std::clamp(p[2], lo[2], hi[2])};
+    }
 };
 
 /// The boxes a merged cell's vertex is kept in, in the order tried: the first whose vertex
 /// passes the merge's accuracy tests is kept. A vertex near a face of its cell makes slivers
-/// with the triangles over that face, so first a tenth of the cell's size from its faces, at
-/// most half a voxel (a vertex must still reach a face of the scan box, half a voxel beyond the
-/// last samples), then kIfcInteriorMargin. A larger margin trades the surface's normals for
-/// angles (bunny CT at --error 0.5; angles under 10 degrees, mean normal deviation: 0.01 voxel
-/// 1.13%, 5.1 degrees; a tenth 0.63%, 6.0; a fifth then a tenth 0.54%, 6.8). Only
-/// kIfcInteriorMargin on a side where the cell's own samples go beyond @a scan_box: the
-/// distance estimates read no distance there, so they could not tell a vertex pulled off the
-/// surface. (Sessions 9-10 narrowed every side of a cell whose tests' samples, one beyond the
-/// cell for gradients, went beyond the box; the CThead point that rule was made for, 1.7 voxels
-/// from the mesh, was a thin wall's tip that a polygon dropped, which polygon_near() in
-/// ifc_polygons.cpp now keeps. Engine at --error 1: 1.05% of angles under 10 degrees -> 0.79%.)
+/// with the triangles over that face, so first 0.15 then 0.1 of the cell's size from its faces,
+/// at most half a voxel (a vertex must still reach a face of the scan box, half a voxel beyond
+/// the last samples), then kIfcInteriorMargin. A wider margin trades the surface's normals for
+/// angles (compare at --error 1, angles under 10 degrees and mean normal deviation, with 0.1 and
+/// 0.01 / with 0.15, 0.1 and 0.01: engine 0.79%, 6.6 degrees / 0.63%, 7.3; CThead 0.67%, 10.0 /
+/// 0.42%, 10.9; walnut 0.72%, 13.7 / 0.34%, 14.8; 0.2 first gave fewer small angles at 1 but
+/// more at 0.5, 0.15 then 0.01 more everywhere). Only kIfcInteriorMargin on a side where the
+/// cell's own samples go beyond @a scan_box: the distance estimates read no distance there, so
+/// they could not tell a vertex pulled off the surface. (Sessions 9-10 narrowed every side of a
+/// cell whose tests' samples, one beyond the cell for gradients, went beyond the box; the
+/// CThead point that rule was made for, 1.7 voxels from the mesh, was a thin wall's tip that a
+/// polygon dropped, which polygon_near() in ifc_polygons.cpp now keeps.)
 inline void ifc_vertex_boxes(const openvdb::Coord& min, int size, const openvdb::CoordBBox* scan_box,
-                             std::array<IfcVertexBox, 2>& boxes) {
-    const double wide = std::min(0.1 * size, 0.5);
+                             std::array<IfcVertexBox, 3>& boxes) {
+    const std::array<double, 3> margins = {std::min(0.15 * size, 0.5), std::min(0.1 * size, 0.5), kIfcInteriorMargin};
     for (int a = 0; a < 3; ++a) {
         const bool low_beyond = scan_box && min[a] < scan_box->min()[a];
         const bool high_beyond = scan_box && min[a] + size > scan_box->max()[a];
-        boxes[0].lo[a] = min[a] + (low_beyond ? kIfcInteriorMargin : wide);
-        boxes[0].hi[a] = min[a] + size - (high_beyond ? kIfcInteriorMargin : wide);
-        boxes[1].lo[a] = min[a] + kIfcInteriorMargin;
-        boxes[1].hi[a] = min[a] + size - kIfcInteriorMargin;
+        for (int t = 0; t < 3; ++t) {
+            boxes[t].lo[a] = min[a] + (low_beyond ? kIfcInteriorMargin : margins[t]);
+            boxes[t].hi[a] = min[a] + size - (high_beyond ? kIfcInteriorMargin : margins[t]);
+        }
     }
+}
+
+/// Offers @a accept(vertex) the QEF's @a minimiser clamped into each of ifc_vertex_boxes() in
+/// turn, skipping a box that leaves the vertex where the last offer had it (a minimiser inside
+/// the widest box is offered once), until @a accept returns true; returns whether it did.
+template <class Accept>
+bool ifc_place_vertex(const openvdb::Coord& min, int size, const openvdb::CoordBBox* scan_box, const Point3d& minimiser,
+                      Accept&& accept) {
+    std::array<IfcVertexBox, 3> boxes;
+    ifc_vertex_boxes(min, size, scan_box, boxes);
+    Point3d offered = {NAN, NAN, NAN};
+    for (const IfcVertexBox& box : boxes) {
+        const Point3d vertex = box.clamp(minimiser);
+        if (vertex == offered) continue;
+        offered = vertex;
+        if (accept(vertex)) return true;
+    }
+    return false;
 }
 
 /// How far (a share of the edge) the mesh's crossings are kept from their edge's samples at

@@ -108,15 +108,12 @@ private:
         for (int c = 0; c < 8; ++c) {
             if (surface[c]) qef.add(child[c]->qef);
         }
-        std::array<IfcVertexBox, 2> boxes;
-        ifc_vertex_boxes(min, size, classifier_.scan_box() ? &*classifier_.scan_box() : nullptr, boxes);
-        for (const IfcVertexBox& box : boxes) {
-            const Point3d vertex = qef.solve(box.lo, box.hi);
-            if (passes_accuracy_tests(qef, vertex, child, surface, min, size)) {
-                cell = {State::surface, qef, vertex};
-                return;
-            }
-        }
+        const openvdb::CoordBBox* scan_box = classifier_.scan_box() ? &*classifier_.scan_box() : nullptr;
+        ifc_place_vertex(min, size, scan_box, qef.minimiser(), [&](const Point3d& vertex) {
+            if (!passes_accuracy_tests(qef, vertex, child, surface, min, size)) return false;
+            cell = {State::surface, qef, vertex};
+            return true;
+        });
     }
 
     /// Whether the cell's vertex and fan stand for its surface within the error: the QEF's RMS,

@@ -394,16 +394,15 @@ private:
         const int index = cell_index(level, i, j, k);
         // Cheapest and most often failing first.
         if (!simple_[level][index]) return false;
-        std::array<IfcVertexBox, 2> boxes;
-        ifc_vertex_boxes(s_->origin.offsetBy(min[0], min[1], min[2]), size, s_->scan_box, boxes);
-        for (const IfcVertexBox& box : boxes) {
-            const Point3d vertex = qef_[level][index].solve(box.lo, box.hi);
-            if (within_error(vertex, min, size) && fan_near_surface(vertex, min, size) && surface_near_fan(vertex, min, size)) {
-                vertex_[level][index] = vertex;
-                return true;
-            }
-        }
-        return false;
+        return ifc_place_vertex(s_->origin.offsetBy(min[0], min[1], min[2]), size, s_->scan_box, qef_[level][index].minimiser(),
+                                [&](const Point3d& vertex) {
+                                    if (!within_error(vertex, min, size) || !fan_near_surface(vertex, min, size) ||
+                                        !surface_near_fan(vertex, min, size)) {
+                                        return false;
+                                    }
+                                    vertex_[level][index] = vertex;
+                                    return true;
+                                });
     }
 
     /// Calls @a visit(start, axis) for the start (local sample) and axis of each of the 12

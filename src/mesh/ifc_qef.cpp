@@ -25,12 +25,7 @@ double Qef3::residual(const Point3d& x) const {
     return std::max(0.0, xtax - 2 * (x[0] * atb_[0] + x[1] * atb_[1] + x[2] * atb_[2]) + btb_);
 }
 
-Point3d Qef3::solve(const Point3d& lo, const Point3d& hi) const {
-    Point3d result;
-    if (count_ == 0) {
-        for (int a = 0; a < 3; ++a) result[a] = 0.5 * (lo[a] + hi[a]);
-        return result;
-    }
+Point3d Qef3::minimiser() const {
     Eigen::Matrix3d ata;
     ata << ata_[0], ata_[1], ata_[2], ata_[1], ata_[3], ata_[4], ata_[2], ata_[4], ata_[5];
     const Eigen::Vector3d mean(point_sum_[0] / count_, point_sum_[1] / count_, point_sum_[2] / count_);
@@ -47,8 +42,7 @@ Point3d Qef3::solve(const Point3d& lo, const Point3d& hi) const {
         }
     }
     const Eigen::Vector3d x = mean + step;
-    for (int a = 0; a < 3; ++a) result[a] = std::clamp(x[a], lo[a], hi[a]);
-    return result;
+    return {x[0], x[1], x[2]};
 }
 
 }  // namespace vdbmesh::detail

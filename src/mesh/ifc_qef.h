@@ -19,8 +19,8 @@ public:
 
     /// The minimiser nearest the points' mean (a truncated pseudo-inverse: directions the
     /// normals do not pin down stay at the mean, so flat and ridge cells keep their vertex
-    /// on the surface's middle), clamped into the box [lo, hi].
-    Point3d solve(const Point3d& lo, const Point3d& hi) const;
+    /// on the surface's middle). Requires count() > 0.
+    Point3d minimiser() const;
 
 private:
     std::array<double, 6> ata_{};  ///< xx, xy, xz, yy, yz, zz
