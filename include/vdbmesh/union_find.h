@@ -14,7 +14,13 @@ namespace vdbmesh::detail {
 
 class UnionFind {
 public:
-    explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), std::uint32_t(0)); }
+    UnionFind() = default;
+    explicit UnionFind(std::size_t n) { reset(n); }
+    /// Back to @a n singletons, keeping the memory (for one set per item of a loop).
+    void reset(std::size_t n) {
+        parent_.resize(n);
+        std::iota(parent_.begin(), parent_.end(), std::uint32_t(0));
+    }
     std::uint32_t find(std::uint32_t x) {
         while (parent_[x] != x) {
             parent_[x] = parent_[parent_[x]];
@@ -22,12 +28,14 @@ public:
         }
         return x;
     }
-    void unite(std::uint32_t a, std::uint32_t b) {
+    /// Joins the sets of @a a and @a b; returns whether they were apart.
+    bool unite(std::uint32_t a, std::uint32_t b) {
         a = find(a);
         b = find(b);
-        if (a == b) return;
+        if (a == b) return false;
         if (a < b) std::swap(a, b);
         parent_[a] = b;  // the smaller index is the root: labels follow element order
+        return true;
     }
     /// Labels 0..count-1 in order of each component's first element.
     std::vector<std::uint32_t> labels(std::uint32_t& count) {

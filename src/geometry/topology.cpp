@@ -63,8 +63,8 @@ VertexTriangles vertex_triangles(const Mesh& mesh) {
 }
 
 /// Number of fans around @a v: components of its link (the opposite edges of its triangles).
-std::size_t count_fans(const Mesh& mesh, const VertexTriangles& around, std::uint32_t v,
-                       std::vector<std::uint32_t>& link, std::vector<std::uint32_t>& parent) {
+std::size_t count_fans(const Mesh& mesh, const VertexTriangles& around, std::uint32_t v, std::vector<std::uint32_t>& link,
+                       UnionFind& sets) {
     link.clear();
     for (std::uint32_t k = around.offsets[v]; k < around.offsets[v + 1]; ++k) {
         for (const std::uint32_t w : mesh.triangles[around.triangles[k]]) {
@@ -73,19 +73,13 @@ std::size_t count_fans(const Mesh& mesh, const VertexTriangles& around, std::uin
     }
     std::sort(link.begin(), link.end());
     link.erase(std::unique(link.begin(), link.end()), link.end());
-    parent.resize(link.size());
-    std::iota(parent.begin(), parent.end(), 0u);
+    sets.reset(link.size());
     const auto local = [&](std::uint32_t w) { return std::uint32_t(std::lower_bound(link.begin(), link.end(), w) - link.begin()); };
-    const auto find = [&](std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-    };
     std::size_t fans = link.size();
     for (std::uint32_t k = around.offsets[v]; k < around.offsets[v + 1]; ++k) {
         const auto& t = mesh.triangles[around.triangles[k]];
         const int corner = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
-        const std::uint32_t a = find(local(t[(corner + 1) % 3])), b = find(local(t[(corner + 2) % 3]));
-        if (a != b) parent[std::max(a, b)] = std::min(a, b), --fans;
+        fans -= sets.unite(local(t[(corner + 1) % 3]), local(t[(corner + 2) % 3]));
     }
     return fans;
 }
@@ -140,9 +134,10 @@ std::vector<std::uint8_t> nonmanifold_vertices(const Mesh& mesh) {
     std::vector<std::uint8_t> broken(mesh.vertices.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(mesh.vertices.size()), 4096),
                       [&](const tbb::blocked_range<std::uint32_t>& range) {
-                          std::vector<std::uint32_t> link, parent;
+                          std::vector<std::uint32_t> link;
+                          UnionFind sets;
                           for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
-                              broken[v] = count_fans(mesh, around, v, link, parent) > 1;
+                              broken[v] = count_fans(mesh, around, v, link, sets) > 1;
                           }
                       });
     return broken;
