@@ -162,7 +162,7 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
 // A polygon round a crossed edge drops the edge's crossing, so it must pass within the error of
 // it (ifc_polygons.cpp, polygon_near()). On the CThead a thin wall (0.2 voxel) ends at the bottom
 // slice by (174, 224, 0); at --error 1 the polygon of the four cells round its lowest crossed
-// edge cut 1.72 voxels off its tip (0.61 since). The Marching Cubes vertices there must lie
+// edge cut 1.72 voxels off its tip (0.85 since). The Marching Cubes vertices there must lie
 // within the error of the DC mesh, plus the 0.25 voxel the mesh's crossings are moved along
 // their edges at that error (ifc_crossing_margin()).
 TEST(DcPolygonAccuracyTest, CtheadThinWallKeepsItsTip) {
