@@ -20,7 +20,8 @@
 // - intersections: each new triangle against the others of the star and against the triangles
 //   the grids find near it (one of all triangles, rebuilt once a quarter of them has moved, and
 //   one of those moved since, rebuilt each round), with the exact tests of `vdbmesh check`; a
-//   plane that certainly separates the two triangles (separating_plane.h) spares most of them.
+//   plane that certainly separates the two triangles (geometry/separating_plane.h) spares most
+//   of them.
 // The mesh is held as a corner table (each corner's opposite corner across its edge), flat arrays
 // throughout.
 #include <tbb/blocked_range.h>
@@ -35,8 +36,8 @@
 #include <limits>
 #include <string>
 
+#include "geometry/separating_plane.h"
 #include "process/quadric.h"
-#include "process/separating_plane.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/geometry.h"
 #include "vdbmesh/process.h"
@@ -79,32 +80,6 @@ Box empty_box() {
 }
 void grow(Box& box, const std::array<float, 3>& p) {
     for (int k = 0; k < 3; ++k) box.lo[k] = std::min(box.lo[k], p[k]), box.hi[k] = std::max(box.hi[k], p[k]);
-}
-
-/// Whether two triangles with corner ids meet beyond what they share (detail::triangles_intersect),
-/// a separating plane tried first.
-bool triangles_cross(const Ids& t_ids, const detail::PreparedTriangle& prepared_t, const Ids& u_ids, const detail::PreparedTriangle& prepared_u) {
-    const detail::Triangle3 &t = prepared_t.corners, &u = prepared_u.corners;
-    int shared = 0, t_corner = 0, u_corner = 0;
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            if (t_ids[i] == u_ids[j]) ++shared, t_corner = i, u_corner = j;
-        }
-    }
-    if (shared == 0 && (detail::certainly_apart(prepared_t, prepared_u) || detail::certainly_apart_by_plane(prepared_t, prepared_u))) return false;
-    if (shared == 1) {
-        const detail::Point3 &u1 = u[(u_corner + 1) % 3], &u2 = u[(u_corner + 2) % 3];
-        // (the planes of the triangles first: the cheaper proof, and enough where the surface bends)
-        if (detail::certainly_apart_of_plane(prepared_t, t_corner, prepared_u, u_corner) || detail::certainly_meet_only_at(t, t_corner, u1, u2)) return false;
-    }
-    if (shared == 2) {
-        // t runs s0 -> s1 -> apex; u shares the edge the other way.
-        int apex = 0, u_apex = 0;
-        while (t_ids[apex] == u_ids[0] || t_ids[apex] == u_ids[1] || t_ids[apex] == u_ids[2]) ++apex;
-        while (u_ids[u_apex] == t_ids[0] || u_ids[u_apex] == t_ids[1] || u_ids[u_apex] == t_ids[2]) ++u_apex;
-        if (detail::certainly_meet_only_on_edge(t[(apex + 1) % 3], t[(apex + 2) % 3], t[apex], u[u_apex])) return false;
-    }
-    return detail::triangles_intersect(t_ids, t, u_ids, u);
 }
 
 void check_closed_manifold(const Mesh& mesh) {
@@ -673,7 +648,7 @@ private:
         for (const NewTriangle& t : q.new_star) {
             if (!detail::boxes_overlap(star, t.box)) continue;
             const detail::PreparedTriangle corners(to_double(t.points));
-            if (!s.box_columns.for_meeting(t.box, [&](std::size_t i) { return !triangles_cross(s.ids[i], s.prepared[i], t.ids, corners); })) return true;
+            if (!s.box_columns.for_meeting(t.box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], t.ids, corners); })) return true;
         }
         return false;
     }
@@ -830,7 +805,7 @@ private:
                 if (v == a || v == b) return true;  // the old star, replaced
             }
             const detail::PreparedTriangle other({to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])});
-            return s.box_columns.for_meeting(box, [&](std::size_t i) { return !triangles_cross(s.ids[i], s.prepared[i], ids, other); });
+            return s.box_columns.for_meeting(box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], ids, other); });
         });
     }
 

@@ -1,4 +1,4 @@
-// The decimator's quick proofs that triangles do not cross (src/process/separating_plane.h),
+// The quick proofs that triangles do not cross (src/geometry/separating_plane.h),
 // judged by the exact test they stand in for (detail::triangles_intersect): a proof must never
 // be given for a pair that test finds crossing, on random pairs made to be close calls (nearly
 // coplanar, touching, sharing a corner or an edge).
@@ -6,7 +6,7 @@
 
 #include <random>
 
-#include "process/separating_plane.h"
+#include "geometry/separating_plane.h"
 #include "vdbmesh/geometry.h"
 
 namespace vdbmesh {
