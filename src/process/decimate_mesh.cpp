@@ -519,17 +519,21 @@ private:
         const std::uint32_t stamp = ++s.stamp;
         for (std::size_t n = 0; n < candidates.size(); ++n) {
             const Candidate& candidate = candidates[n];
-            // (in cost order the candidates lie anywhere: their triangles asked for 16 ahead, then
-            // their ends' marks and corners 8 ahead)
-            if (n + 16 < candidates.size()) __builtin_prefetch(&triangles_[candidates[n + 16].corner / 3]);
+            // (in cost order the candidates lie anywhere: their triangles and those triangles'
+            // opposite corners asked for 16 ahead, then their ends' marks 8 ahead)
+            if (n + 16 < candidates.size()) {
+                const std::uint32_t ahead = candidates[n + 16].corner;
+                __builtin_prefetch(&triangles_[ahead / 3]), __builtin_prefetch(&opposite_[ahead - ahead % 3]);
+            }
             if (n + 8 < candidates.size()) {
                 const std::uint32_t ahead = candidates[n + 8].corner;
-                for (const std::uint32_t v : {vertex(next(ahead)), vertex(prev(ahead))}) __builtin_prefetch(&s.mark[v]), __builtin_prefetch(&vertex_corner_[v]);
+                for (const std::uint32_t v : {vertex(next(ahead)), vertex(prev(ahead))}) __builtin_prefetch(&s.mark[v]);
             }
             const std::uint32_t ends[2] = {vertex(next(candidate.corner)), vertex(prev(candidate.corner))};
             if (s.mark[ends[0]] == stamp || s.mark[ends[1]] == stamp) continue;
-            // Both ends' rings walked side by side: two chains of loads in flight, not one.
-            const std::uint32_t first[2] = {vertex_corner_[ends[0]], vertex_corner_[ends[1]]};
+            // Both ends' rings walked side by side (two chains of loads in flight, not one), from
+            // the candidate's own triangle (already at hand).
+            const std::uint32_t first[2] = {next(candidate.corner), prev(candidate.corner)};
             std::uint32_t c[2] = {first[0], first[1]};
             bool done[2] = {false, false};
             while (!done[0] || !done[1]) {
