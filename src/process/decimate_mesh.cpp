@@ -271,7 +271,12 @@ struct Plan {
     Box star = empty_box();  ///< the box of the new star (once checked)
     Verdict verdict = Verdict::unchecked;
     std::vector<std::uint32_t> crossed;  ///< earlier passed plans of the round whose new stars cross this one's
-    std::vector<NewTriangle> new_star;   ///< (once passed) for the crossing tests
+    /// (once passed) its new star, for the crossing tests: star_size triangles from star_begin in
+    /// the new stars of the thread that checked it (one array per thread, not one per plan)
+    const std::vector<NewTriangle>* stars = nullptr;
+    std::uint32_t star_begin = 0, star_size = 0;
+    const NewTriangle* new_star_begin() const { return stars->data() + star_begin; }
+    const NewTriangle* new_star_end() const { return new_star_begin() + star_size; }
     double volume_change = 0;            ///< (once passed) six times the change of the enclosed volume
 };
 
@@ -287,6 +292,7 @@ struct Scratch {
     std::vector<FloatTriangle> points;  ///< the corners as floats (as they will be written)
     std::vector<Box> boxes;
     std::vector<std::array<Vec3d, 2>> spokes;  ///< per star triangle, from the kept vertex to its other corners
+    std::vector<NewTriangle> new_stars;        ///< of the plans this thread passed in the round, end to end
 };
 
 class Decimator {
@@ -356,6 +362,7 @@ public:
             std::vector<std::uint32_t> in_place(plans.size());
             for (std::uint32_t i = 0; i < plans.size(); ++i) in_place[i] = i;
             tbb::parallel_sort(in_place.begin(), in_place.end(), [&](std::uint32_t i, std::uint32_t j) { return plans[i].corner < plans[j].corner; });
+            for (Scratch& s : scratch) s.new_stars.clear();
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, plans.size(), 32), [&](const auto& range) {
                 Scratch& s = scratch.local();
                 for (std::size_t n = range.begin(); n != range.end(); ++n) {
@@ -573,7 +580,7 @@ private:
             for (std::size_t n = range.begin(); n != range.end(); ++n) {
                 // (the plans lie in cost order: the one 8 ahead asked for, then its new star 4 ahead)
                 if (n + 8 < range.end()) __builtin_prefetch(&plans[in_place[n + 8]]);
-                if (n + 4 < range.end()) __builtin_prefetch(plans[in_place[n + 4]].new_star.data());
+                if (n + 4 < range.end() && plans[in_place[n + 4]].stars) __builtin_prefetch(plans[in_place[n + 4]].new_star_begin());
                 const std::uint32_t i = in_place[n];
                 Plan& p = plans[i];
                 if (p.verdict != Verdict::passed) continue;
@@ -583,7 +590,7 @@ private:
                     if (j >= i) return true;
                     if (!star_ready) {
                         s.ids.clear(), s.corners.clear(), s.boxes.clear();
-                        for (const NewTriangle& t : p.new_star) s.ids.push_back(t.ids), s.corners.push_back(to_double(t.points)), s.boxes.push_back(t.box);
+                        for (const NewTriangle* t = p.new_star_begin(); t != p.new_star_end(); ++t) s.ids.push_back(t->ids), s.corners.push_back(to_double(t->points)), s.boxes.push_back(t->box);
                         prepare_star(s);
                         star_ready = true;
                     }
@@ -649,7 +656,8 @@ private:
     /// Whether a triangle of the new star in @a s (whose box is @a star) crosses one of the new
     /// star of plan @a q (neither holds the other's kept vertex).
     static bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) {
-        for (const NewTriangle& t : q.new_star) {
+        for (const NewTriangle* triangle = q.new_star_begin(); triangle != q.new_star_end(); ++triangle) {
+            const NewTriangle& t = *triangle;
             if (!detail::boxes_overlap(star, t.box)) continue;
             const detail::PreparedTriangle corners(to_double(t.points));
             if (!s.box_columns.for_meeting(t.box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], t.ids, corners); })) return true;
@@ -851,10 +859,11 @@ private:
         if (!geometry_holds(s)) return Verdict::geometry;
         if (!intersection_free(p, s)) return Verdict::intersection;
         p.volume_change = volume_change(p, s);
-        p.new_star.clear();
+        p.stars = &s.new_stars;
+        p.star_begin = std::uint32_t(s.new_stars.size()), p.star_size = std::uint32_t(s.ids.size());
         for (std::size_t i = 0; i < s.ids.size(); ++i) {
             grow(p.star, s.boxes[i].lo), grow(p.star, s.boxes[i].hi);
-            p.new_star.push_back({s.ids[i], s.points[i], s.boxes[i]});
+            s.new_stars.push_back({s.ids[i], s.points[i], s.boxes[i]});
         }
         return Verdict::passed;
     }
