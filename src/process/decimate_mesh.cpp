@@ -34,6 +34,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <string>
 
 #include "geometry/separating_plane.h"
@@ -342,21 +343,12 @@ public:
                 if (!moved_[t]) moved_[t] = 1, moved_list_.push_back(t);
             }
             dirty_.clear();
-            gather_candidates(candidates);
-            if (candidates.empty()) break;
             // The cheapest, about as many as the collapses still wanted (and never very few).
             const std::size_t wanted = (alive_count_ - target_ + 1) / 2;
-            const std::size_t take = std::min(candidates.size(), std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor}));
+            if (gather_cheapest(candidates, std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor})) == 0) break;
             // The grids the checks read are built beside the choice (both mostly sequential), which
             // reads neither them nor what building them writes.
-            tbb::parallel_invoke(
-                [&] {
-                    std::nth_element(candidates.begin(), candidates.begin() + std::ptrdiff_t(take - 1), candidates.end());
-                    candidates.resize(take);
-                    tbb::parallel_sort(candidates.begin(), candidates.end());
-                    choose_apart(candidates, plans, own);
-                },
-                [&] { build_triangle_grids(); });
+            tbb::parallel_invoke([&] { choose_apart(candidates, plans, own); }, [&] { build_triangle_grids(); });
             // Checked in the order of their triangles, which keeps neighbours together in memory
             // (the checks are independent of each other; the cost order scatters them).
             std::vector<std::uint32_t> in_place(plans.size());
@@ -491,21 +483,66 @@ private:
         }
     }
 
-    /// The edges that may collapse, in the order of their corners (whatever the thread count:
-    /// each block of triangles is gathered on its own, then the blocks are put end to end).
-    void gather_candidates(std::vector<Candidate>& candidates) {
+    /// Whether the edge opposite corner @a c (of an alive triangle) may collapse now, seen from
+    /// the corner where it runs from its lower vertex.
+    bool collapsible(std::uint32_t c) const { return vertex(next(c)) < vertex(prev(c)) && !rejected_[c] && error_[c] <= max_error_squared_; }
+
+    /// The @a take cheapest edges that may collapse (all, when fewer), in order of cost (a total
+    /// order: ties go by corner), whatever the thread count; returns how many may collapse. Only
+    /// those below a pivot are kept as they are gathered, then sorted and cut: the same as
+    /// sorting all of them, should at least @a take fall below it (else all are gathered again).
+    std::size_t gather_cheapest(std::vector<Candidate>& candidates, std::size_t take) {
+        const Candidate everything{std::numeric_limits<double>::infinity(), kNone};
+        const Candidate pivot = pivot_above(take);
+        const std::size_t count = gather_below(pivot, candidates);
+        if (candidates.size() < std::min(count, take) && pivot < everything) gather_below(everything, candidates);
+        tbb::parallel_sort(candidates.begin(), candidates.end());
+        candidates.resize(std::min(count, take));
+        return count;
+    }
+
+    /// A candidate just above the @a take-th cheapest (most likely), from a regular sample of the
+    /// corners: four standard deviations of the sample's count and 3% high (the share itself is
+    /// estimated from the sample); none (above all) when they would be half or more.
+    Candidate pivot_above(std::size_t take) const {
+        constexpr std::size_t kSamples = 16384;
+        const Candidate everything{std::numeric_limits<double>::infinity(), kNone};
+        const std::size_t corners = 3 * triangles_.size();
+        std::vector<Candidate> sample;
+        for (std::size_t i = 0; i < kSamples; ++i) {
+            const auto c = std::uint32_t(i * corners / kSamples);
+            if (alive_[c / 3] && collapsible(c)) sample.push_back({cost_[c], c});
+        }
+        const auto n = double(sample.size());
+        const double share = double(take) / (n * double(corners) / double(kSamples));
+        if (sample.empty() || share >= 0.5) return everything;
+        const auto rank = std::size_t(share * n * 1.03 + 4 * std::sqrt(n * share * (1 - share))) + 1;
+        if (rank >= sample.size()) return everything;
+        std::nth_element(sample.begin(), sample.begin() + std::ptrdiff_t(rank), sample.end());
+        return sample[rank];
+    }
+
+    /// The edges that may collapse whose candidates are below @a pivot, in the order of their
+    /// corners (whatever the thread count: each block of triangles is gathered on its own, then
+    /// the blocks are put end to end); returns how many may collapse in all.
+    std::size_t gather_below(const Candidate& pivot, std::vector<Candidate>& candidates) {
         constexpr std::uint32_t kBlock = 16384;
         const auto triangles = std::uint32_t(triangles_.size());
         block_candidates_.resize((triangles + kBlock - 1) / kBlock);
+        std::vector<std::size_t> counts(block_candidates_.size());
         tbb::parallel_for(std::size_t(0), block_candidates_.size(), [&](std::size_t block) {
             std::vector<Candidate>& found = block_candidates_[block];
             found.clear();
+            std::size_t count = 0;
             for (auto t = std::uint32_t(block * kBlock); t < std::min(triangles, std::uint32_t((block + 1) * kBlock)); ++t) {
                 if (!alive_[t]) continue;
                 for (std::uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
-                    if (vertex(next(c)) < vertex(prev(c)) && !rejected_[c] && error_[c] <= max_error_squared_) found.push_back({cost_[c], c});
+                    if (!collapsible(c)) continue;
+                    ++count;
+                    if (const Candidate candidate{cost_[c], c}; candidate < pivot) found.push_back(candidate);
                 }
             }
+            counts[block] = count;
         });
         std::vector<std::size_t> offsets(block_candidates_.size() + 1, 0);
         for (std::size_t b = 0; b < block_candidates_.size(); ++b) offsets[b + 1] = offsets[b] + block_candidates_[b].size();
@@ -513,6 +550,7 @@ private:
         tbb::parallel_for(std::size_t(0), block_candidates_.size(), [&](std::size_t b) {
             std::copy(block_candidates_[b].begin(), block_candidates_[b].end(), candidates.begin() + std::ptrdiff_t(offsets[b]));
         });
+        return std::accumulate(counts.begin(), counts.end(), std::size_t(0));
     }
 
     // ---- a round ----
@@ -923,7 +961,7 @@ private:
     std::vector<char> rejected_;        ///< per corner: its edge's collapse failed a check since it last changed
     std::vector<Box> boxes_;            ///< per triangle
     std::vector<std::uint32_t> dirty_;  ///< corners at the kept vertices of the round's collapses (their triangles to refresh)
-    std::vector<std::vector<Candidate>> block_candidates_;  ///< gather_candidates() per block of triangles
+    std::vector<std::vector<Candidate>> block_candidates_;  ///< gather_below() per block of triangles
     std::vector<char> moved_;  ///< per triangle: changed (or removed) since settled_grid_ was built
     std::vector<std::uint32_t> moved_list_;  ///< those triangles (some removed since)
     BoxGrid<GridTriangle> settled_grid_, moved_grid_;
