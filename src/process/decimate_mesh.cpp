@@ -104,11 +104,13 @@ public:
     /// where the boxes are spread thin (at most about eight cells per box).
     void build(const std::vector<Box>& boxes, const std::vector<Payload>& payloads, double cell) {
         Box bounds = empty_box();
-        std::vector<float> extents(boxes.size());
-        for (std::size_t i = 0; i < boxes.size(); ++i) {
+        for (const Box& b : boxes) grow(bounds, b.lo), grow(bounds, b.hi);
+        // (the extents of a regular sample: the cell size sets only the speed of the queries)
+        constexpr std::size_t kExtentSamples = 65536;
+        std::vector<float> extents;
+        for (std::size_t i = 0; i < boxes.size(); i += std::max<std::size_t>(1, boxes.size() / kExtentSamples)) {
             const Box& b = boxes[i];
-            grow(bounds, b.lo), grow(bounds, b.hi);
-            extents[i] = std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
+            extents.push_back(std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]}));
         }
         if (!extents.empty()) {
             const auto most = extents.begin() + std::ptrdiff_t(std::size_t(0.99 * double(extents.size() - 1)));
