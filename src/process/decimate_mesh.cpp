@@ -258,6 +258,7 @@ struct Candidate {
     std::uint32_t corner;
     bool operator<(const Candidate& o) const { return cost != o.cost ? cost < o.cost : corner < o.corner; }
 };
+constexpr Candidate kAboveAll{std::numeric_limits<double>::infinity(), kNone};  ///< (as a pivot: keeps every candidate)
 
 enum class Verdict : std::uint8_t { unchecked, passed, topology, geometry, intersection };
 
@@ -494,10 +495,9 @@ private:
     /// those below a pivot are kept as they are gathered, then sorted and cut: the same as
     /// sorting all of them, should at least @a take fall below it (else all are gathered again).
     std::size_t gather_cheapest(std::vector<Candidate>& candidates, std::size_t take) {
-        const Candidate everything{std::numeric_limits<double>::infinity(), kNone};
         const Candidate pivot = pivot_above(take);
         const std::size_t count = gather_below(pivot, candidates);
-        if (candidates.size() < std::min(count, take) && pivot < everything) gather_below(everything, candidates);
+        if (candidates.size() < std::min(count, take) && pivot < kAboveAll) gather_below(kAboveAll, candidates);
         tbb::parallel_sort(candidates.begin(), candidates.end());
         candidates.resize(std::min(count, take));
         return count;
@@ -508,7 +508,6 @@ private:
     /// estimated from the sample); none (above all) when they would be half or more.
     Candidate pivot_above(std::size_t take) const {
         constexpr std::size_t kSamples = 16384;
-        const Candidate everything{std::numeric_limits<double>::infinity(), kNone};
         const std::size_t corners = 3 * triangles_.size();
         std::vector<Candidate> sample;
         for (std::size_t i = 0; i < kSamples; ++i) {
@@ -517,9 +516,9 @@ private:
         }
         const auto n = double(sample.size());
         const double share = double(take) / (n * double(corners) / double(kSamples));
-        if (sample.empty() || share >= 0.5) return everything;
+        if (sample.empty() || share >= 0.5) return kAboveAll;
         const auto rank = std::size_t(share * n * 1.03 + 4 * std::sqrt(n * share * (1 - share))) + 1;
-        if (rank >= sample.size()) return everything;
+        if (rank >= sample.size()) return kAboveAll;
         std::nth_element(sample.begin(), sample.begin() + std::ptrdiff_t(rank), sample.end());
         return sample[rank];
     }
