@@ -20,7 +20,8 @@
 // - intersections: each new triangle against the others of the star and against the triangles
 //   the grids find near it (one of all triangles, rebuilt once a quarter of them has moved, and
 //   one of those moved since, rebuilt each round), with the exact tests of `vdbmesh check`; a
-//   plane that certainly separates the two triangles (separating_plane.h) spares most of them.
+//   plane that certainly separates the two triangles (geometry/separating_plane.h) spares most
+//   of them.
 // The mesh is held as a corner table (each corner's opposite corner across its edge), flat arrays
 // throughout.
 #include <tbb/blocked_range.h>
@@ -33,10 +34,11 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <string>
 
+#include "geometry/separating_plane.h"
 #include "process/quadric.h"
-#include "process/separating_plane.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/geometry.h"
 #include "vdbmesh/process.h"
@@ -81,32 +83,6 @@ void grow(Box& box, const std::array<float, 3>& p) {
     for (int k = 0; k < 3; ++k) box.lo[k] = std::min(box.lo[k], p[k]), box.hi[k] = std::max(box.hi[k], p[k]);
 }
 
-/// Whether two triangles with corner ids meet beyond what they share (detail::triangles_intersect),
-/// a separating plane tried first.
-bool triangles_cross(const Ids& t_ids, const detail::PreparedTriangle& prepared_t, const Ids& u_ids, const detail::PreparedTriangle& prepared_u) {
-    const detail::Triangle3 &t = prepared_t.corners, &u = prepared_u.corners;
-    int shared = 0, t_corner = 0, u_corner = 0;
-    for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            if (t_ids[i] == u_ids[j]) ++shared, t_corner = i, u_corner = j;
-        }
-    }
-    if (shared == 0 && (detail::certainly_apart(prepared_t, prepared_u) || detail::certainly_apart_by_plane(prepared_t, prepared_u))) return false;
-    if (shared == 1) {
-        const detail::Point3 &u1 = u[(u_corner + 1) % 3], &u2 = u[(u_corner + 2) % 3];
-        // (the planes of the triangles first: the cheaper proof, and enough where the surface bends)
-        if (detail::certainly_apart_of_plane(prepared_t, t_corner, prepared_u, u_corner) || detail::certainly_meet_only_at(t, t_corner, u1, u2)) return false;
-    }
-    if (shared == 2) {
-        // t runs s0 -> s1 -> apex; u shares the edge the other way.
-        int apex = 0, u_apex = 0;
-        while (t_ids[apex] == u_ids[0] || t_ids[apex] == u_ids[1] || t_ids[apex] == u_ids[2]) ++apex;
-        while (u_ids[u_apex] == t_ids[0] || u_ids[u_apex] == t_ids[1] || u_ids[u_apex] == t_ids[2]) ++u_apex;
-        if (detail::certainly_meet_only_on_edge(t[(apex + 1) % 3], t[(apex + 2) % 3], t[apex], u[u_apex])) return false;
-    }
-    return detail::triangles_intersect(t_ids, t, u_ids, u);
-}
-
 void check_closed_manifold(const Mesh& mesh) {
     const detail::Topology topology = detail::analyze_topology(mesh);
     if (topology.boundary_edges || topology.nonmanifold_edges || topology.nonmanifold_vertices || topology.misoriented_edges) {
@@ -128,11 +104,13 @@ public:
     /// where the boxes are spread thin (at most about eight cells per box).
     void build(const std::vector<Box>& boxes, const std::vector<Payload>& payloads, double cell) {
         Box bounds = empty_box();
-        std::vector<float> extents(boxes.size());
-        for (std::size_t i = 0; i < boxes.size(); ++i) {
+        for (const Box& b : boxes) grow(bounds, b.lo), grow(bounds, b.hi);
+        // (the extents of a regular sample: the cell size sets only the speed of the queries)
+        constexpr std::size_t kExtentSamples = 65536;
+        std::vector<float> extents;
+        for (std::size_t i = 0; i < boxes.size(); i += std::max<std::size_t>(1, boxes.size() / kExtentSamples)) {
             const Box& b = boxes[i];
-            grow(bounds, b.lo), grow(bounds, b.hi);
-            extents[i] = std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
+            extents.push_back(std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]}));
         }
         if (!extents.empty()) {
             const auto most = extents.begin() + std::ptrdiff_t(std::size_t(0.99 * double(extents.size() - 1)));
@@ -280,6 +258,7 @@ struct Candidate {
     std::uint32_t corner;
     bool operator<(const Candidate& o) const { return cost != o.cost ? cost < o.cost : corner < o.corner; }
 };
+constexpr Candidate kAboveAll{std::numeric_limits<double>::infinity(), kNone};  ///< (as a pivot: keeps every candidate)
 
 enum class Verdict : std::uint8_t { unchecked, passed, topology, geometry, intersection };
 
@@ -296,7 +275,12 @@ struct Plan {
     Box star = empty_box();  ///< the box of the new star (once checked)
     Verdict verdict = Verdict::unchecked;
     std::vector<std::uint32_t> crossed;  ///< earlier passed plans of the round whose new stars cross this one's
-    std::vector<NewTriangle> new_star;   ///< (once passed) for the crossing tests
+    /// (once passed) its new star, for the crossing tests: star_size triangles from star_begin in
+    /// the new stars of the thread that checked it (one array per thread, not one per plan)
+    const std::vector<NewTriangle>* stars = nullptr;
+    std::uint32_t star_begin = 0, star_size = 0;
+    const NewTriangle* new_star_begin() const { return stars->data() + star_begin; }
+    const NewTriangle* new_star_end() const { return new_star_begin() + star_size; }
     double volume_change = 0;            ///< (once passed) six times the change of the enclosed volume
 };
 
@@ -312,6 +296,7 @@ struct Scratch {
     std::vector<FloatTriangle> points;  ///< the corners as floats (as they will be written)
     std::vector<Box> boxes;
     std::vector<std::array<Vec3d, 2>> spokes;  ///< per star triangle, from the kept vertex to its other corners
+    std::vector<NewTriangle> new_stars;        ///< of the plans this thread passed in the round, end to end
 };
 
 class Decimator {
@@ -361,26 +346,18 @@ public:
                 if (!moved_[t]) moved_[t] = 1, moved_list_.push_back(t);
             }
             dirty_.clear();
-            gather_candidates(candidates);
-            if (candidates.empty()) break;
             // The cheapest, about as many as the collapses still wanted (and never very few).
             const std::size_t wanted = (alive_count_ - target_ + 1) / 2;
-            const std::size_t take = std::min(candidates.size(), std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor}));
+            if (gather_cheapest(candidates, std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor})) == 0) break;
             // The grids the checks read are built beside the choice (both mostly sequential), which
             // reads neither them nor what building them writes.
-            tbb::parallel_invoke(
-                [&] {
-                    std::nth_element(candidates.begin(), candidates.begin() + std::ptrdiff_t(take - 1), candidates.end());
-                    candidates.resize(take);
-                    tbb::parallel_sort(candidates.begin(), candidates.end());
-                    choose_apart(candidates, plans, own);
-                },
-                [&] { build_triangle_grids(); });
+            tbb::parallel_invoke([&] { choose_apart(candidates, plans, own); }, [&] { build_triangle_grids(); });
             // Checked in the order of their triangles, which keeps neighbours together in memory
             // (the checks are independent of each other; the cost order scatters them).
             std::vector<std::uint32_t> in_place(plans.size());
             for (std::uint32_t i = 0; i < plans.size(); ++i) in_place[i] = i;
             tbb::parallel_sort(in_place.begin(), in_place.end(), [&](std::uint32_t i, std::uint32_t j) { return plans[i].corner < plans[j].corner; });
+            for (Scratch& s : scratch) s.new_stars.clear();
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, plans.size(), 32), [&](const auto& range) {
                 Scratch& s = scratch.local();
                 for (std::size_t n = range.begin(); n != range.end(); ++n) {
@@ -509,21 +486,64 @@ private:
         }
     }
 
-    /// The edges that may collapse, in the order of their corners (whatever the thread count:
-    /// each block of triangles is gathered on its own, then the blocks are put end to end).
-    void gather_candidates(std::vector<Candidate>& candidates) {
+    /// Whether the edge opposite corner @a c (of an alive triangle) may collapse now, seen from
+    /// the corner where it runs from its lower vertex.
+    bool collapsible(std::uint32_t c) const { return vertex(next(c)) < vertex(prev(c)) && !rejected_[c] && error_[c] <= max_error_squared_; }
+
+    /// The @a take cheapest edges that may collapse (all, when fewer), in order of cost (a total
+    /// order: ties go by corner), whatever the thread count; returns how many may collapse. Only
+    /// those below a pivot are kept as they are gathered, then sorted and cut: the same as
+    /// sorting all of them, should at least @a take fall below it (else all are gathered again).
+    std::size_t gather_cheapest(std::vector<Candidate>& candidates, std::size_t take) {
+        const Candidate pivot = pivot_above(take);
+        const std::size_t count = gather_below(pivot, candidates);
+        if (candidates.size() < std::min(count, take) && pivot < kAboveAll) gather_below(kAboveAll, candidates);
+        tbb::parallel_sort(candidates.begin(), candidates.end());
+        candidates.resize(std::min(count, take));
+        return count;
+    }
+
+    /// A candidate just above the @a take-th cheapest (most likely), from a regular sample of the
+    /// corners: four standard deviations of the sample's count and 3% high (the share itself is
+    /// estimated from the sample); none (above all) when they would be half or more.
+    Candidate pivot_above(std::size_t take) const {
+        constexpr std::size_t kSamples = 16384;
+        const std::size_t corners = 3 * triangles_.size();
+        std::vector<Candidate> sample;
+        for (std::size_t i = 0; i < kSamples; ++i) {
+            const auto c = std::uint32_t(i * corners / kSamples);
+            if (alive_[c / 3] && collapsible(c)) sample.push_back({cost_[c], c});
+        }
+        const auto n = double(sample.size());
+        const double share = double(take) / (n * double(corners) / double(kSamples));
+        if (sample.empty() || share >= 0.5) return kAboveAll;
+        const auto rank = std::size_t(share * n * 1.03 + 4 * std::sqrt(n * share * (1 - share))) + 1;
+        if (rank >= sample.size()) return kAboveAll;
+        std::nth_element(sample.begin(), sample.begin() + std::ptrdiff_t(rank), sample.end());
+        return sample[rank];
+    }
+
+    /// The edges that may collapse whose candidates are below @a pivot, in the order of their
+    /// corners (whatever the thread count: each block of triangles is gathered on its own, then
+    /// the blocks are put end to end); returns how many may collapse in all.
+    std::size_t gather_below(const Candidate& pivot, std::vector<Candidate>& candidates) {
         constexpr std::uint32_t kBlock = 16384;
         const auto triangles = std::uint32_t(triangles_.size());
         block_candidates_.resize((triangles + kBlock - 1) / kBlock);
+        std::vector<std::size_t> counts(block_candidates_.size());
         tbb::parallel_for(std::size_t(0), block_candidates_.size(), [&](std::size_t block) {
             std::vector<Candidate>& found = block_candidates_[block];
             found.clear();
+            std::size_t count = 0;
             for (auto t = std::uint32_t(block * kBlock); t < std::min(triangles, std::uint32_t((block + 1) * kBlock)); ++t) {
                 if (!alive_[t]) continue;
                 for (std::uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
-                    if (vertex(next(c)) < vertex(prev(c)) && !rejected_[c] && error_[c] <= max_error_squared_) found.push_back({cost_[c], c});
+                    if (!collapsible(c)) continue;
+                    ++count;
+                    if (const Candidate candidate{cost_[c], c}; candidate < pivot) found.push_back(candidate);
                 }
             }
+            counts[block] = count;
         });
         std::vector<std::size_t> offsets(block_candidates_.size() + 1, 0);
         for (std::size_t b = 0; b < block_candidates_.size(); ++b) offsets[b + 1] = offsets[b] + block_candidates_[b].size();
@@ -531,6 +551,7 @@ private:
         tbb::parallel_for(std::size_t(0), block_candidates_.size(), [&](std::size_t b) {
             std::copy(block_candidates_[b].begin(), block_candidates_[b].end(), candidates.begin() + std::ptrdiff_t(offsets[b]));
         });
+        return std::accumulate(counts.begin(), counts.end(), std::size_t(0));
     }
 
     // ---- a round ----
@@ -544,17 +565,21 @@ private:
         const std::uint32_t stamp = ++s.stamp;
         for (std::size_t n = 0; n < candidates.size(); ++n) {
             const Candidate& candidate = candidates[n];
-            // (in cost order the candidates lie anywhere: their triangles asked for 16 ahead, then
-            // their ends' marks and corners 8 ahead)
-            if (n + 16 < candidates.size()) __builtin_prefetch(&triangles_[candidates[n + 16].corner / 3]);
+            // (in cost order the candidates lie anywhere: their triangles and those triangles'
+            // opposite corners asked for 16 ahead, then their ends' marks 8 ahead)
+            if (n + 16 < candidates.size()) {
+                const std::uint32_t ahead = candidates[n + 16].corner;
+                __builtin_prefetch(&triangles_[ahead / 3]), __builtin_prefetch(&opposite_[ahead - ahead % 3]);
+            }
             if (n + 8 < candidates.size()) {
                 const std::uint32_t ahead = candidates[n + 8].corner;
-                for (const std::uint32_t v : {vertex(next(ahead)), vertex(prev(ahead))}) __builtin_prefetch(&s.mark[v]), __builtin_prefetch(&vertex_corner_[v]);
+                for (const std::uint32_t v : {vertex(next(ahead)), vertex(prev(ahead))}) __builtin_prefetch(&s.mark[v]);
             }
             const std::uint32_t ends[2] = {vertex(next(candidate.corner)), vertex(prev(candidate.corner))};
             if (s.mark[ends[0]] == stamp || s.mark[ends[1]] == stamp) continue;
-            // Both ends' rings walked side by side: two chains of loads in flight, not one.
-            const std::uint32_t first[2] = {vertex_corner_[ends[0]], vertex_corner_[ends[1]]};
+            // Both ends' rings walked side by side (two chains of loads in flight, not one), from
+            // the candidate's own triangle (already at hand).
+            const std::uint32_t first[2] = {next(candidate.corner), prev(candidate.corner)};
             std::uint32_t c[2] = {first[0], first[1]};
             bool done[2] = {false, false};
             while (!done[0] || !done[1]) {
@@ -594,7 +619,7 @@ private:
             for (std::size_t n = range.begin(); n != range.end(); ++n) {
                 // (the plans lie in cost order: the one 8 ahead asked for, then its new star 4 ahead)
                 if (n + 8 < range.end()) __builtin_prefetch(&plans[in_place[n + 8]]);
-                if (n + 4 < range.end()) __builtin_prefetch(plans[in_place[n + 4]].new_star.data());
+                if (n + 4 < range.end() && plans[in_place[n + 4]].stars) __builtin_prefetch(plans[in_place[n + 4]].new_star_begin());
                 const std::uint32_t i = in_place[n];
                 Plan& p = plans[i];
                 if (p.verdict != Verdict::passed) continue;
@@ -604,7 +629,7 @@ private:
                     if (j >= i) return true;
                     if (!star_ready) {
                         s.ids.clear(), s.corners.clear(), s.boxes.clear();
-                        for (const NewTriangle& t : p.new_star) s.ids.push_back(t.ids), s.corners.push_back(to_double(t.points)), s.boxes.push_back(t.box);
+                        for (const NewTriangle* t = p.new_star_begin(); t != p.new_star_end(); ++t) s.ids.push_back(t->ids), s.corners.push_back(to_double(t->points)), s.boxes.push_back(t->box);
                         prepare_star(s);
                         star_ready = true;
                     }
@@ -670,10 +695,11 @@ private:
     /// Whether a triangle of the new star in @a s (whose box is @a star) crosses one of the new
     /// star of plan @a q (neither holds the other's kept vertex).
     static bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) {
-        for (const NewTriangle& t : q.new_star) {
+        for (const NewTriangle* triangle = q.new_star_begin(); triangle != q.new_star_end(); ++triangle) {
+            const NewTriangle& t = *triangle;
             if (!detail::boxes_overlap(star, t.box)) continue;
             const detail::PreparedTriangle corners(to_double(t.points));
-            if (!s.box_columns.for_meeting(t.box, [&](std::size_t i) { return !triangles_cross(s.ids[i], s.prepared[i], t.ids, corners); })) return true;
+            if (!s.box_columns.for_meeting(t.box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], t.ids, corners); })) return true;
         }
         return false;
     }
@@ -830,7 +856,7 @@ private:
                 if (v == a || v == b) return true;  // the old star, replaced
             }
             const detail::PreparedTriangle other({to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])});
-            return s.box_columns.for_meeting(box, [&](std::size_t i) { return !triangles_cross(s.ids[i], s.prepared[i], ids, other); });
+            return s.box_columns.for_meeting(box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], ids, other); });
         });
     }
 
@@ -872,10 +898,11 @@ private:
         if (!geometry_holds(s)) return Verdict::geometry;
         if (!intersection_free(p, s)) return Verdict::intersection;
         p.volume_change = volume_change(p, s);
-        p.new_star.clear();
+        p.stars = &s.new_stars;
+        p.star_begin = std::uint32_t(s.new_stars.size()), p.star_size = std::uint32_t(s.ids.size());
         for (std::size_t i = 0; i < s.ids.size(); ++i) {
             grow(p.star, s.boxes[i].lo), grow(p.star, s.boxes[i].hi);
-            p.new_star.push_back({s.ids[i], s.points[i], s.boxes[i]});
+            s.new_stars.push_back({s.ids[i], s.points[i], s.boxes[i]});
         }
         return Verdict::passed;
     }
@@ -935,7 +962,7 @@ private:
     std::vector<char> rejected_;        ///< per corner: its edge's collapse failed a check since it last changed
     std::vector<Box> boxes_;            ///< per triangle
     std::vector<std::uint32_t> dirty_;  ///< corners at the kept vertices of the round's collapses (their triangles to refresh)
-    std::vector<std::vector<Candidate>> block_candidates_;  ///< gather_candidates() per block of triangles
+    std::vector<std::vector<Candidate>> block_candidates_;  ///< gather_below() per block of triangles
     std::vector<char> moved_;  ///< per triangle: changed (or removed) since settled_grid_ was built
     std::vector<std::uint32_t> moved_list_;  ///< those triangles (some removed since)
     BoxGrid<GridTriangle> settled_grid_, moved_grid_;

@@ -3,10 +3,13 @@
 // corner), by a plane that separates them, decided in plain double arithmetic with a bound on
 // its rounding. Any plane proves it, however it was chosen, so the plane is a guess (from the
 // triangles' centroids); when the rounding leaves a doubt the answer is "not proven" and the
-// caller runs the exact test. The decimator asks these first: most triangles it tests are
-// near but clearly apart, and the exact tests then go deep (nearly coplanar neighbours).
+// exact test runs. triangles_intersect() on prepared triangles (below; the decimator's test) asks
+// these first: most triangles the decimator tests are near but clearly apart, and the exact
+// tests then go deep (nearly coplanar neighbours).
 
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "vdbmesh/geometry.h"
@@ -135,5 +138,14 @@ inline bool certainly_meet_only_on_edge(const Point3& s0, const Point3& s1, cons
     const int p_side = orient3d(s0, s1, off, p);
     return p_side != 0 && orient3d(s0, s1, off, q) == -p_side;
 }
+
+/// triangles_intersect() (vdbmesh/geometry.h) on prepared triangles: the same answer, the proof
+/// above for how the triangles share corners tried before the exact test.
+bool triangles_intersect(const std::array<std::uint32_t, 3>& t_ids, const PreparedTriangle& t,
+                         const std::array<std::uint32_t, 3>& u_ids, const PreparedTriangle& u);
+
+/// Whether that proof alone settles that the triangles do not meet beyond what they share.
+bool proven_apart(const std::array<std::uint32_t, 3>& t_ids, const PreparedTriangle& t, const std::array<std::uint32_t, 3>& u_ids,
+                  const PreparedTriangle& u);
 
 }  // namespace vdbmesh::detail
