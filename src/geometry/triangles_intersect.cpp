@@ -1,7 +1,7 @@
 // triangles_intersect(): which exact test of triangle_intersection.cpp applies to a pair of
 // triangles, by the corners they share; for prepared triangles, with the quick proof of
 // separating_plane.h for that case tried first.
-#include "geometry/separating_plane.h"
+#include "vdbmesh/separating_plane.h"
 #include "geometry/triangle_intersection.h"
 #include "vdbmesh/geometry.h"
 

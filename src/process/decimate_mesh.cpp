@@ -20,7 +20,7 @@
 // - intersections: each new triangle against the others of the star and against the triangles
 //   the grids find near it (one of all triangles, rebuilt once a quarter of them has moved, and
 //   one of those moved since, rebuilt each round), with the exact tests of `vdbmesh check`; a
-//   plane that certainly separates the two triangles (geometry/separating_plane.h) spares most
+//   plane that certainly separates the two triangles (vdbmesh/separating_plane.h) spares most
 //   of them.
 // The mesh is held as a corner table (each corner's opposite corner across its edge), flat arrays
 // throughout.
@@ -37,7 +37,7 @@
 #include <numeric>
 #include <string>
 
-#include "geometry/separating_plane.h"
+#include "vdbmesh/separating_plane.h"
 #include "process/quadric.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/geometry.h"

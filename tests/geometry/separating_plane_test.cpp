@@ -1,4 +1,4 @@
-// The quick proofs that triangles do not cross (src/geometry/separating_plane.h), judged by the
+// The quick proofs that triangles do not cross (include/vdbmesh/separating_plane.h), judged by the
 // exact test they stand in for (detail::triangles_intersect): a proof must never be given for a
 // pair that test finds crossing, on random pairs made to be close calls (nearly coplanar,
 // touching, sharing a corner or an edge). And triangles_intersect() on prepared triangles, which
@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "geometry/separating_plane.h"
+#include "vdbmesh/separating_plane.h"
 #include "vdbmesh/geometry.h"
 
 namespace vdbmesh {

@@ -1,10 +1,11 @@
 #pragma once
-// Private: quick, conservative proofs that two triangles do not meet (or meet only at a shared
-// corner), by a plane that separates them, decided in plain double arithmetic with a bound on
-// its rounding. Any plane proves it, however it was chosen, so the plane is a guess (from the
-// triangles' centroids); when the rounding leaves a doubt the answer is "not proven" and the
-// exact test runs. triangles_intersect() on prepared triangles (below; the decimator's test) asks
-// these first: most triangles the decimator tests are near but clearly apart, and the exact
+// In vdbmesh::detail, shared by the geometry and processing stages (the exact triangle test and the
+// decimator), not a stable API. Quick, conservative proofs that two triangles do not meet (or meet
+// only at a shared corner), by a plane that separates them, decided in plain double arithmetic with
+// a bound on its rounding. Any plane proves it, however it was chosen, so the plane is a guess
+// (from the triangles' centroids); when the rounding leaves a doubt the answer is "not proven" and
+// the exact test runs. triangles_intersect() on prepared triangles (below; the decimator's test)
+// asks these first: most triangles the decimator tests are near but clearly apart, and the exact
 // tests then go deep (nearly coplanar neighbours).
 
 #include <array>
