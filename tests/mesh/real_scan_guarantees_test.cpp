@@ -65,6 +65,15 @@ std::string describe(const MeshAnalysis& r) {
     return out.str();
 }
 
+/// The scan's mesh by @a method at @a error (world space).
+Mesh mesh_scan(const openvdb::FloatGrid& grid, const SharedScan& scan, MeshMethod method, double error = 0) {
+    MeshOptions options;
+    options.method = method;
+    options.error = error;
+    options.iso = scan.iso;
+    return mesh_grid(grid, options).mesh;
+}
+
 class RealScanGuaranteesTest : public ::testing::TestWithParam<SharedScan> {
 protected:
     // The two cores the suite is budgeted for; the meshes do not depend on it.
@@ -80,11 +89,7 @@ TEST_P(RealScanGuaranteesTest, DmcAndMcMeshesAreClean) {
     std::vector<MeshAnalysis> reports;
     std::vector<Mesh> meshes;
     for (const Method& method : kMethods) {
-        MeshOptions options;
-        options.method = method.method;
-        options.error = method.error;
-        options.iso = scan.iso;
-        meshes.push_back(mesh_grid(*grid, options).mesh);
+        meshes.push_back(mesh_scan(*grid, scan, method.method, method.error));
         reports.push_back(analyze_mesh(meshes.back()));
         std::cout << "[ figures  ] " << scan.name << " " << method.label << ": " << describe(reports.back()) << "\n";
     }
@@ -122,16 +127,11 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
     openvdb::FloatGrid::Ptr grid;
     ASSERT_NO_FATAL_FAILURE(test::convert_shared_scan(scan, grid));
     if (!grid) return;  // skipped: the shared data is missing
-    MeshOptions options;
-    options.iso = scan.iso;
-    options.method = MeshMethod::mc;
-    const Mesh mc = mesh_grid(*grid, options).mesh;
+    const Mesh mc = mesh_scan(*grid, scan, MeshMethod::mc);
     const MeshAnalysis mc_report = analyze_mesh(mc);
-    options.method = MeshMethod::dc;
-    EXPECT_TRUE(test::same_triangles(mesh_grid(*grid, options).mesh, mc)) << scan.name << ": DC at error 0 differs from MC";
+    EXPECT_TRUE(test::same_triangles(mesh_scan(*grid, scan, MeshMethod::dc), mc)) << scan.name << ": DC at error 0 differs from MC";
     for (double error : {0.25, 1.0}) {
-        options.error = error;
-        const Mesh dc = mesh_grid(*grid, options).mesh;
+        const Mesh dc = mesh_scan(*grid, scan, MeshMethod::dc, error);
         const MeshAnalysis report = analyze_mesh(dc);
         std::cout << "[ figures  ] " << scan.name << " dc --error " << error << ": " << describe(report) << "\n";
         const test::CgalVerdict verdict = test::judge_with_cgal(dc);
@@ -170,13 +170,9 @@ TEST(DcPolygonAccuracyTest, CtheadThinWallKeepsItsTip) {
     openvdb::FloatGrid::Ptr grid;
     ASSERT_NO_FATAL_FAILURE(test::convert_shared_scan(scan, grid));
     if (!grid) return;  // skipped: the shared data is missing
-    MeshOptions options;
-    options.iso = scan.iso;
-    options.method = MeshMethod::mc;
-    const Mesh mc = to_index_space(mesh_grid(*grid, options).mesh, *grid);
-    options.method = MeshMethod::dc;
-    options.error = 1.0;
-    const Mesh dc = to_index_space(mesh_grid(*grid, options).mesh, *grid);
+    constexpr double kError = 1.0;
+    const Mesh mc = to_index_space(mesh_scan(*grid, scan, MeshMethod::mc), *grid);
+    const Mesh dc = to_index_space(mesh_scan(*grid, scan, MeshMethod::dc, kError), *grid);
     std::vector<std::uint32_t> all(dc.triangles.size());
     for (std::uint32_t t = 0; t < all.size(); ++t) all[t] = t;
     const detail::TriangleBvh tree(dc, all);
@@ -190,7 +186,7 @@ TEST(DcPolygonAccuracyTest, CtheadThinWallKeepsItsTip) {
     }
     ASSERT_GT(near_tip, 0) << "no Marching Cubes vertex by the wall's tip: the scan or its frame changed";
     std::cout << "[ figures  ] CThead dc --error 1: the wall's tip " << farthest << " voxels from the mesh\n";
-    EXPECT_LE(farthest, options.error + 0.25);
+    EXPECT_LE(farthest, kError + 0.25);
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedData, RealScanGuaranteesTest, ::testing::ValuesIn(test::shared_scans()),
