@@ -97,6 +97,9 @@ struct IfcBlockCells {
     /// its surface: what merging across blocks starts from. A block never built holds no surface.
     bool root_leaf = true;
     Qef3 root_qef;
+    /// When the whole block is one cell holding surface: whether the surface only clips one of
+    /// its faces (ifc_chord_spans_face() fails there).
+    bool root_clips_a_face = false;
     /// What the contour reads of the block's samples, kept from the octree's pass so that they
     /// are not loaded twice (build_ifc_cells()): whether there are any
     /// (a block the coarse merge added holds no surface of its own), the window's rows of
@@ -194,7 +197,8 @@ inline double ifc_crossing_margin(double error) { return std::min(error, 0.25); 
 /// of every surface sample in the cell and the topology tests pass. Keeps too what the
 /// contour reads of the samples (IfcBlockCells::sampled, inside_rows, crossings), on the
 /// same walk over the crossed edges.
-void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells);
+/// With @a whole_block false the block is not one cell (ifc.cpp, split_clipped_blocks()).
+void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells, bool whole_block = true);
 
 /// Merges on across blocks, bottom-up under each lower internal node (cells of 16 to 128
 /// voxels, in parallel per node), where every child is a leaf, the surface inside is one

@@ -41,6 +41,12 @@ constexpr int kLineDivisions = 4;
 
 enum class State : std::uint8_t { inner, empty, surface };
 
+/// The traces of the surface on a cell's faces, each as the chord between its two ends.
+struct FaceChords {
+    std::array<std::array<Point3d, 2>, 6> ends;
+    int count = 0;
+};
+
 struct Cell {
     State state = State::empty;
     Qef3 qef;
@@ -104,13 +110,14 @@ private:
         const ChildCornerSigns signs =
             child_corner_signs([&](int x, int y, int z) { return inside(min.offsetBy(x * size / 2, y * size / 2, z * size / 2)); });
         if (!union_is_one_disk(signs, surface)) return;
+        const FaceChords chords = face_chords(min, size);
         Qef3 qef;
         for (int c = 0; c < 8; ++c) {
             if (surface[c]) qef.add(child[c]->qef);
         }
         const openvdb::CoordBBox* scan_box = classifier_.scan_box() ? &*classifier_.scan_box() : nullptr;
         ifc_place_vertex(min, size, scan_box, qef.minimiser(), [&](const Point3d& vertex) {
-            if (!passes_accuracy_tests(qef, vertex, child, surface, min, size)) return false;
+            if (!passes_accuracy_tests(qef, vertex, chords, child, surface, min, size)) return false;
             cell = {State::surface, qef, vertex};
             return true;
         });
@@ -119,10 +126,11 @@ private:
     /// Whether the cell's vertex and fan stand for its surface within the error: the QEF's RMS,
     /// the fan against the trilinear isosurface, the children's vertices and the grid lines'
     /// crossings against the fan (sampled, as merge_ifc_coarse_cells() says).
-    bool passes_accuracy_tests(const Qef3& qef, const Point3d& vertex, const std::array<const Cell*, 8>& child,
+    bool passes_accuracy_tests(const Qef3& qef, const Point3d& vertex, const FaceChords& chords, const std::array<const Cell*, 8>& child,
                                const std::array<bool, 8>& surface, const openvdb::Coord& min, int size) {
         if (qef.residual(vertex) > qef.count() * error_ * error_) return false;
-        IfcFan fan = make_fan(vertex, min, size);
+        IfcFan fan(vertex);
+        for (int f = 0; f < chords.count; ++f) fan.add_chord(chords.ends[f][0], chords.ends[f][1]);
         if (!fan_near_surface(fan)) return false;
         for (int c = 0; c < 8; ++c) {
             if (surface[c] && !fan.near(child[c]->vertex, error_)) return false;
@@ -154,9 +162,9 @@ private:
         return true;
     }
 
-    /// The fan over the chords of the cell's faces: each face's two perimeter crossings.
-    IfcFan make_fan(const Point3d& vertex, const openvdb::Coord& min, int size) {
-        IfcFan fan(vertex);
+    /// The chords of the cell's faces the surface crosses: each one's two perimeter crossings.
+    FaceChords face_chords(const openvdb::Coord& min, int size) {
+        FaceChords chords;
         for (int axis = 0; axis < 3; ++axis) {
             const int u = (axis + 1) % 3, w = (axis + 2) % 3;
             for (int side = 0; side < 2; ++side) {
@@ -175,10 +183,10 @@ private:
                         });
                     }
                 }
-                if (count == 2) fan.add_chord(ends[0], ends[1]);
+                if (count == 2) chords.ends[chords.count++] = ends;
             }
         }
-        return fan;
+        return chords;
     }
 
     bool fan_near_surface(const IfcFan& fan) {

@@ -204,7 +204,7 @@ enum class CellState : std::uint8_t {
 class BlockOctree {
 public:
     /// The octree of the block of @a samples into @a out.
-    void build(const IfcSamples& samples, double iso, double error, IfcBlockCells& out) {
+    void build(const IfcSamples& samples, double iso, double error, bool whole_block, IfcBlockCells& out) {
         s_ = &samples;
         iso_ = iso;
         error_ = error;
@@ -213,7 +213,12 @@ public:
         collect_hermite(out.crossings);
         init_unit_cells();
         sum_levels();
-        refine(kIfcMaxLevel, 0, 0, 0);
+        if (whole_block) {
+            refine(kIfcMaxLevel, 0, 0, 0);
+        } else if (state_[kIfcMaxLevel][0] != CellState::empty) {
+            state_[kIfcMaxLevel][0] = CellState::inner;
+            for (int c = 0; c < 8; ++c) refine(kIfcMaxLevel - 1, c & 1, (c >> 1) & 1, c >> 2);
+        }
         assign(out);
     }
 
@@ -405,6 +410,17 @@ private:
                                 });
     }
 
+    /// Whether the surface only clips some face of the whole block (ifc_chord_spans_face()).
+    bool root_clips_a_face() const {
+        for (int axis = 0; axis < 3; ++axis) {
+            for (int side = 0; side < 2; ++side) {
+                std::array<Point3d, 2> ends;
+                if (face_chord({0, 0, 0}, kIfcBlock, axis, side, ends) == 2 && !ifc_chord_spans_face(ends[0], ends[1], kIfcBlock)) return true;
+            }
+        }
+        return false;
+    }
+
     /// Calls @a visit(start, axis) for the start (local sample) and axis of each of the 12
     /// edges of the cell at @a min of @a size.
     template <typename Visit>
@@ -551,6 +567,7 @@ private:
         }
         out.root_leaf = state_[kIfcMaxLevel][0] != CellState::inner;
         out.root_qef = qef_[kIfcMaxLevel][0];
+        out.root_clips_a_face = state_[kIfcMaxLevel][0] == CellState::surface && root_clips_a_face();
     }
 
     const IfcSamples* s_ = nullptr;
@@ -573,11 +590,11 @@ private:
 
 }  // namespace
 
-void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells) {
+void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells, bool whole_block) {
     // About 120 KB of Hermite data and the per-level arrays: once per thread, on the heap
     // (not a worker's stack), reused from block to block.
     thread_local const std::unique_ptr<BlockOctree> octree = std::make_unique<BlockOctree>();
-    octree->build(samples, iso, error, cells);
+    octree->build(samples, iso, error, whole_block, cells);
 }
 
 }  // namespace vdbmesh::detail

@@ -66,11 +66,12 @@ TEST(CmdMeshTest, JsonReportsTheSettingsAndTheWrittenMesh) {
     EXPECT_GT(report["seconds"].get<double>(), 0.0);
     // What the mesher did: its phases in order, no check-and-refine round, no fallback.
     ASSERT_TRUE(report["phases"].is_array());
-    ASSERT_EQ(report["phases"].size(), 4u);
+    ASSERT_EQ(report["phases"].size(), 5u);
     EXPECT_EQ(report["phases"][0]["name"], "octree");
     EXPECT_EQ(report["phases"][1]["name"], "coarse");
-    EXPECT_EQ(report["phases"][2]["name"], "contour");
-    EXPECT_EQ(report["phases"][3]["name"], "weld");
+    EXPECT_EQ(report["phases"][2]["name"], "split");
+    EXPECT_EQ(report["phases"][3]["name"], "contour");
+    EXPECT_EQ(report["phases"][4]["name"], "weld");
     EXPECT_GE(report["phases"][0]["seconds"].get<double>(), 0.0);
     EXPECT_EQ(report["refinement_rounds"].get<int>(), 0);
     EXPECT_TRUE(report["fallbacks"].is_array());

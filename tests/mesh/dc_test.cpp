@@ -240,11 +240,12 @@ TEST(DcTest, SameBytesWithOneOrTwoThreads) {
 TEST(DcTest, ReportsItsPhasesAndRefusesAnOpenBoundary) {
     const auto grid = dense_grid(24, ball(11.5, 7.2));
     const MeshResult result = mesh_grid(*grid, dc_options(0.25));
-    ASSERT_EQ(result.report.phases.size(), 4u);
+    ASSERT_EQ(result.report.phases.size(), 5u);
     EXPECT_EQ(result.report.phases[0].name, "octree");
     EXPECT_EQ(result.report.phases[1].name, "coarse");
-    EXPECT_EQ(result.report.phases[2].name, "contour");
-    EXPECT_EQ(result.report.phases[3].name, "weld");
+    EXPECT_EQ(result.report.phases[2].name, "split");
+    EXPECT_EQ(result.report.phases[3].name, "contour");
+    EXPECT_EQ(result.report.phases[4].name, "weld");
     MeshOptions open = dc_options(0.25);
     open.open_boundary = true;
     EXPECT_THROW(mesh_grid(*grid, open), UsageError);
