@@ -86,20 +86,28 @@ struct IfcCell {
 
 /// The cells of one block.
 struct IfcBlockCells {
+    using UnitArray = std::array<std::uint8_t, kIfcBlock * kIfcBlock * kIfcBlock>;
     /// Per unit cell (local x * 64 + y * 8 + z): the level of the cell holding it (0: a unit
     /// Marching Cubes cell).
-    std::array<std::uint8_t, kIfcBlock * kIfcBlock * kIfcBlock> level{};
+    UnitArray level{};
     /// Per unit cell: index into @a cells of its merged cell, or kNoCell (unit, or merged
     /// without surface).
-    std::array<std::uint8_t, kIfcBlock * kIfcBlock * kIfcBlock> cell;  // at most 1 + 8 + 64 merged cells
+    UnitArray cell;  // at most 1 + 8 + 64 merged cells
     std::vector<IfcCell> cells;
     /// Whether the whole block is one leaf (one merged cell, or no surface), and the QEF of
     /// its surface: what merging across blocks starts from. A block never built holds no surface.
     bool root_leaf = true;
     Qef3 root_qef;
-    /// When the whole block is one cell holding surface: whether the surface only clips one of
-    /// its faces (ifc_chord_spans_face() fails there).
-    bool root_clips_a_face = false;
+    /// Where the whole block is one cell whose surface only clips some of its faces
+    /// (ifc_chord_spans_face() fails there; bit 2 * axis + side of clipped_faces): the block's
+    /// cells without that one, which split_clipped_blocks() (ifc.cpp) may put in its place.
+    struct Parts {
+        UnitArray level;
+        UnitArray cell;
+        std::vector<IfcCell> cells;
+        std::uint8_t clipped_faces = 0;
+    };
+    std::unique_ptr<Parts> parts;
     /// What the contour reads of the block's samples, kept from the octree's pass so that they
     /// are not loaded twice (build_ifc_cells()): whether there are any
     /// (a block the coarse merge added holds no surface of its own), the window's rows of
@@ -197,8 +205,7 @@ inline double ifc_crossing_margin(double error) { return std::min(error, 0.25); 
 /// of every surface sample in the cell and the topology tests pass. Keeps too what the
 /// contour reads of the samples (IfcBlockCells::sampled, inside_rows, crossings), on the
 /// same walk over the crossed edges.
-/// With @a whole_block false the block is not one cell (ifc.cpp, split_clipped_blocks()).
-void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells, bool whole_block = true);
+void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells);
 
 /// Merges on across blocks, bottom-up under each lower internal node (cells of 16 to 128
 /// voxels, in parallel per node), where every child is a leaf, the surface inside is one

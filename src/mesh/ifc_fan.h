@@ -46,12 +46,12 @@ private:
 };
 
 /// Whether the surface crosses a face of a merged cell of @a size voxels widely, its trace there
-/// being the chord from @a a to @a b: at least 3/4 of the cell's size. Where it only clips the
-/// face by a corner, the triangles over that face join the cell's far vertex to a short chord
-/// (the chord itself, or a unit face's segment next to a Marching Cubes cell) and are slivers
-/// (ifc.cpp, split_clipped_blocks()).
+/// being the chord from @a a to @a b: at least the cell's size. Where it only clips the face by a
+/// corner, the triangles over that face join the cell's far vertex to a short chord (the chord
+/// itself, or a unit face's segment next to a Marching Cubes cell) and are slivers unless the
+/// cell across is as large (ifc.cpp, split_clipped_blocks()).
 inline bool ifc_chord_spans_face(const Point3d& a, const Point3d& b, int size) {
-    return 16 * squared_distance(a, b) >= 9.0 * size * size;
+    return squared_distance(a, b) >= double(size) * size;
 }
 
 /// First-order distance |f - iso| / |grad f| (voxels) of the trilinear interpolant of the 8

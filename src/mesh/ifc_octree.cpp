@@ -204,7 +204,7 @@ enum class CellState : std::uint8_t {
 class BlockOctree {
 public:
     /// The octree of the block of @a samples into @a out.
-    void build(const IfcSamples& samples, double iso, double error, bool whole_block, IfcBlockCells& out) {
+    void build(const IfcSamples& samples, double iso, double error, IfcBlockCells& out) {
         s_ = &samples;
         iso_ = iso;
         error_ = error;
@@ -213,13 +213,9 @@ public:
         collect_hermite(out.crossings);
         init_unit_cells();
         sum_levels();
-        if (whole_block) {
-            refine(kIfcMaxLevel, 0, 0, 0);
-        } else if (state_[kIfcMaxLevel][0] != CellState::empty) {
-            state_[kIfcMaxLevel][0] = CellState::inner;
-            for (int c = 0; c < 8; ++c) refine(kIfcMaxLevel - 1, c & 1, (c >> 1) & 1, c >> 2);
-        }
+        refine(kIfcMaxLevel, 0, 0, 0);
         assign(out);
+        keep_parts(out);
     }
 
 private:
@@ -410,15 +406,18 @@ private:
                                 });
     }
 
-    /// Whether the surface only clips some face of the whole block (ifc_chord_spans_face()).
-    bool root_clips_a_face() const {
+    /// Bit 2 * axis + side for each face of the whole block the surface only clips (ifc_chord_spans_face()).
+    std::uint8_t root_clipped_faces() const {
+        std::uint8_t clipped = 0;
         for (int axis = 0; axis < 3; ++axis) {
             for (int side = 0; side < 2; ++side) {
                 std::array<Point3d, 2> ends;
-                if (face_chord({0, 0, 0}, kIfcBlock, axis, side, ends) == 2 && !ifc_chord_spans_face(ends[0], ends[1], kIfcBlock)) return true;
+                if (face_chord({0, 0, 0}, kIfcBlock, axis, side, ends) == 2 && !ifc_chord_spans_face(ends[0], ends[1], kIfcBlock)) {
+                    clipped |= std::uint8_t(1u << (2 * axis + side));
+                }
             }
         }
-        return false;
+        return clipped;
     }
 
     /// Calls @a visit(start, axis) for the start (local sample) and axis of each of the 12
@@ -535,10 +534,17 @@ private:
     }
 
     /// Top down: the largest leaves become the block's cells.
-    void assign(IfcBlockCells& out) {
-        out.level.fill(0);
-        out.cell.fill(IfcBlockCells::kNoCell);
-        out.cells.clear();
+    void assign(IfcBlockCells& out) const {
+        assign_leaves(out.level, out.cell, out.cells);
+        out.root_leaf = state_[kIfcMaxLevel][0] != CellState::inner;
+        out.root_qef = qef_[kIfcMaxLevel][0];
+    }
+
+    /// The leaves' level and cell per unit cell, and the cells holding surface.
+    void assign_leaves(IfcBlockCells::UnitArray& unit_level, IfcBlockCells::UnitArray& unit_cell, std::vector<IfcCell>& cells) const {
+        unit_level.fill(0);
+        unit_cell.fill(IfcBlockCells::kNoCell);
+        cells.clear();
         for (int level = kIfcMaxLevel; level >= 1; --level) {
             const int n = cells_per_axis(level), size = 1 << level;
             for (int i = 0; i < n; ++i) {
@@ -546,18 +552,18 @@ private:
                     for (int k = 0; k < n; ++k) {
                         const CellState state = state_[level][cell_index(level, i, j, k)];
                         if (state != CellState::empty && state != CellState::surface) continue;
-                        if (out.level[IfcBlockCells::unit_index(i * size, j * size, k * size)] != 0) continue;  // inside a larger leaf
+                        if (unit_level[IfcBlockCells::unit_index(i * size, j * size, k * size)] != 0) continue;  // inside a larger leaf
                         std::uint8_t id = IfcBlockCells::kNoCell;
                         if (state == CellState::surface) {
-                            id = std::uint8_t(out.cells.size());
-                            out.cells.push_back({std::uint8_t(level), s_->origin.offsetBy(i * size, j * size, k * size),
-                                                 vertex_[level][cell_index(level, i, j, k)]});
+                            id = std::uint8_t(cells.size());
+                            cells.push_back({std::uint8_t(level), s_->origin.offsetBy(i * size, j * size, k * size),
+                                             vertex_[level][cell_index(level, i, j, k)]});
                         }
                         for (int x = i * size; x < (i + 1) * size; ++x) {
                             for (int y = j * size; y < (j + 1) * size; ++y) {
                                 for (int z = k * size; z < (k + 1) * size; ++z) {
-                                    out.level[IfcBlockCells::unit_index(x, y, z)] = std::uint8_t(level);
-                                    out.cell[IfcBlockCells::unit_index(x, y, z)] = id;
+                                    unit_level[IfcBlockCells::unit_index(x, y, z)] = std::uint8_t(level);
+                                    unit_cell[IfcBlockCells::unit_index(x, y, z)] = id;
                                 }
                             }
                         }
@@ -565,9 +571,19 @@ private:
                 }
             }
         }
-        out.root_leaf = state_[kIfcMaxLevel][0] != CellState::inner;
-        out.root_qef = qef_[kIfcMaxLevel][0];
-        out.root_clips_a_face = state_[kIfcMaxLevel][0] == CellState::surface && root_clips_a_face();
+    }
+
+    /// Where the whole block is one cell whose surface only clips some of its faces: the cells
+    /// it would have without that one, into @a out.parts (ifc.cpp, split_clipped_blocks()).
+    void keep_parts(IfcBlockCells& out) {
+        if (state_[kIfcMaxLevel][0] != CellState::surface) return;
+        const std::uint8_t clipped = root_clipped_faces();
+        if (!clipped) return;
+        state_[kIfcMaxLevel][0] = CellState::inner;
+        for (int c = 0; c < 8; ++c) refine(kIfcMaxLevel - 1, c & 1, (c >> 1) & 1, c >> 2);
+        out.parts = std::make_unique<IfcBlockCells::Parts>();
+        out.parts->clipped_faces = clipped;
+        assign_leaves(out.parts->level, out.parts->cell, out.parts->cells);
     }
 
     const IfcSamples* s_ = nullptr;
@@ -590,11 +606,11 @@ private:
 
 }  // namespace
 
-void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells, bool whole_block) {
+void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells) {
     // About 120 KB of Hermite data and the per-level arrays: once per thread, on the heap
     // (not a worker's stack), reused from block to block.
     thread_local const std::unique_ptr<BlockOctree> octree = std::make_unique<BlockOctree>();
-    octree->build(samples, iso, error, whole_block, cells);
+    octree->build(samples, iso, error, cells);
 }
 
 }  // namespace vdbmesh::detail
