@@ -15,6 +15,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
+#include <optional>
 #include <utility>
 
 #include "vdbmesh/analysis.h"
@@ -168,6 +170,30 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// A mesher taking under this long is timed again, up to kTimedRuns runs in all, and the
+/// fastest run counts: a run of a few hundredths of a second varies by about 10% from one run to
+/// the next on a 2-core machine (the walnut's meshes, 0.04 s: DC 0.5 measured 0.046 and 0.048 s
+/// in two runs of the same build), which decided comparisons of equal times either way.
+constexpr double kRetimeBelowSeconds = 0.2;
+constexpr int kTimedRuns = 3;
+
+/// mesh_grid() of @a grid from its fastest run (see kRetimeBelowSeconds; every run makes the
+/// same mesh), and that run's time.
+std::pair<MeshResult, double> timed_mesh(const openvdb::FloatGrid& grid, const MeshOptions& options) {
+    double fastest = std::numeric_limits<double>::infinity();
+    std::optional<MeshResult> kept;
+    for (int run = 0; run < kTimedRuns && (run == 0 || fastest < kRetimeBelowSeconds); ++run) {
+        const auto start = std::chrono::steady_clock::now();
+        MeshResult result = mesh_grid(grid, options);
+        const double seconds = seconds_since(start);
+        if (seconds < fastest) {
+            fastest = seconds;
+            kept = std::move(result);
+        }
+    }
+    return {std::move(*kept), fastest};
+}
+
 /// The mesh of @a run (meshed, or for a decimate run the error-0 mesh decimated), with its
 /// times and the mesher's report filled in. @a error0 keeps the error-0 mesh and its report
 /// for the decimate runs after the first.
@@ -180,17 +206,12 @@ Mesh mesh_of(const openvdb::FloatGrid& grid, const CompareOptions& options, Mesh
     mesh_options.error = run.error.value_or(0.0);
     mesh_options.adaptivity = run.adaptivity.value_or(0.0);
     if (!run.decimate) {
-        const auto start = std::chrono::steady_clock::now();
-        MeshResult result = mesh_grid(grid, mesh_options);
-        run.seconds = seconds_since(start);
+        auto [result, seconds] = timed_mesh(grid, mesh_options);
+        run.seconds = seconds;
         run.mesher = std::move(result.report);
         return std::move(result.mesh);
     }
-    if (!error0) {
-        const auto start = std::chrono::steady_clock::now();
-        MeshResult result = mesh_grid(grid, mesh_options);
-        error0.emplace(std::move(result), seconds_since(start));
-    }
+    if (!error0) error0.emplace(timed_mesh(grid, mesh_options));
     DecimateOptions decimate;
     decimate.keep_fraction = *run.decimate;
     const auto start = std::chrono::steady_clock::now();

@@ -30,13 +30,13 @@ struct Pair {
 
 // Measured in session 12 (compare at 1,000,000 samples; triangles / Hausdorff voxels / angles
 // under 10 degrees):
-//  bunny  a=0.1:  volumeToMesh 708,230 / 1.383 / 1.51%;  DC 0.5: 668,486 / 1.173 / 0.37%
-//  bunny  a=0.25: volumeToMesh 602,390 / 1.821 / 1.71%;  DC 1:   595,996 / 1.501 / 0.33%
-//  CThead a=0.1:  volumeToMesh 326,436 / 1.500 / 1.86%;  DC 0.5: 290,810 / 1.146 / 0.48%
-//  CThead a=0.25: volumeToMesh 264,790 / 1.605 / 2.26%;  DC 1:   252,310 / 1.295 / 0.35%
-//  engine a=0.1:  volumeToMesh 140,322 / 0.997 / 0.52%;  DC 0.5: 118,332 / 0.854 / 0.48%
-//  engine a=0.25: volumeToMesh  93,456 / 2.256 / 0.72%;  DC 1:    91,434 / 1.117 / 0.39%
-//  walnut a=0.1:  volumeToMesh 313,900 / 1.225 / 2.41%;  DC 0.5: 250,102 / 1.043 / 0.43%
+//  bunny  a=0.1:  volumeToMesh 708,230 / 1.383 / 1.51%;  DC 0.5: 663,356 / 0.997 / 0.40%
+//  bunny  a=0.25: volumeToMesh 602,390 / 1.821 / 1.71%;  DC 1:   583,492 / 1.681 / 0.39%
+//  CThead a=0.1:  volumeToMesh 326,436 / 1.500 / 1.86%;  DC 0.5: 290,552 / 1.146 / 0.48%
+//  CThead a=0.25: volumeToMesh 264,790 / 1.605 / 2.26%;  DC 1:   250,922 / 1.372 / 0.36%
+//  engine a=0.1:  volumeToMesh 140,322 / 0.997 / 0.52%;  DC 0.5: 118,276 / 0.680 / 0.49%
+//  engine a=0.25: volumeToMesh  93,456 / 2.256 / 0.72%;  DC 1:    90,726 / 1.158 / 0.45%
+//  walnut a=0.1:  volumeToMesh 313,900 / 1.225 / 2.41%;  DC 0.5: 250,090 / 1.043 / 0.43%
 //  walnut a=0.25: volumeToMesh 263,456 / 1.378 / 2.85%;  DC 0.5
 // The Hausdorff distance is a maximum over samples, so it is drawn from 1,000,000 samples each
 // way here, not compare's default 100,000: with 100,000 it moved by up to 0.3 voxel when a
