@@ -171,9 +171,9 @@ std::optional<Vec3d> closest_boundary_point(const TrilinearField& field, double 
     // point and at its nearest point of the box (TrilinearField clamps points into the scan box,
     // which the box contains), so the moved point is on the isosurface too, where it meets the
     // box, and no farther from p (p is in the box, and the nearest point of a box is no farther
-    // than the point itself from any point inside). Dropping it instead left
-    // points by that rim with no boundary point within the search (one of 1,000,000 samples on
-    // the bunny CT's DC meshes at --error 1 and 2, by the box's bottom face).
+    // than the point itself from any point inside). Dropping it instead left points by that rim
+    // with no boundary point within the search (one of 1,000,000 samples on the bunny CT's DC
+    // meshes at --error 1 and 2, by the box's bottom face).
     if (closest)
         for (int a = 0; a < 3; ++a) (*closest)[a] = std::clamp((*closest)[a], lo[a], hi[a]);
     double best = closest ? (*closest - p).length() : std::numeric_limits<double>::infinity();
