@@ -71,10 +71,11 @@ bool clipped_next_to_smaller_cells(const IfcCellGrid& cells, std::size_t b) {
     const IfcBlockCells& block = *cells.blocks[b];
     if (!block.parts || block.cells.size() != 1 || block.cells[0].level != kIfcMaxLevel) return false;
     const std::array<std::ptrdiff_t, 27> around = cells.neighbours(b);
-    static constexpr int kStride[3] = {9, 3, 1};  // of an axis in IfcCellGrid::neighbours()' numbering
     for (int face = 0; face < 6; ++face) {
         if (!((block.parts->clipped_faces >> face) & 1u)) continue;
-        if (!one_large_cell(cells, around[std::size_t(13 + (face & 1 ? 1 : -1) * kStride[face / 2])])) return true;
+        std::array<int, 3> offset{};
+        offset[face / 2] = face & 1 ? 1 : -1;
+        if (!one_large_cell(cells, around[IfcCellGrid::neighbour_slot(offset[0], offset[1], offset[2])])) return true;
     }
     return false;
 }
@@ -98,9 +99,7 @@ void split_clipped_blocks(IfcCellGrid& cells) {
             IfcBlockCells* block = cells.blocks[b].get();
             if (!block || !block->parts) continue;
             if (split[b]) {
-                block->level = block->parts->level;
-                block->cell = block->parts->cell;
-                block->cells = std::move(block->parts->cells);
+                static_cast<IfcLeaves&>(*block) = std::move(static_cast<IfcLeaves&>(*block->parts));
                 block->root_leaf = false;
             }
             block->parts.reset();

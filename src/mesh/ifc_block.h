@@ -84,8 +84,9 @@ struct IfcCell {
     Point3d vertex;  ///< strictly inside the cell
 };
 
-/// The cells of one block.
-struct IfcBlockCells {
+/// The leaves of a block's octree: per unit cell its leaf's level and merged cell, and the
+/// merged cells holding surface.
+struct IfcLeaves {
     using UnitArray = std::array<std::uint8_t, kIfcBlock * kIfcBlock * kIfcBlock>;
     /// Per unit cell (local x * 64 + y * 8 + z): the level of the cell holding it (0: a unit
     /// Marching Cubes cell).
@@ -94,17 +95,18 @@ struct IfcBlockCells {
     /// without surface).
     UnitArray cell;  // at most 1 + 8 + 64 merged cells
     std::vector<IfcCell> cells;
+};
+
+/// The cells of one block.
+struct IfcBlockCells : IfcLeaves {
     /// Whether the whole block is one leaf (one merged cell, or no surface), and the QEF of
     /// its surface: what merging across blocks starts from. A block never built holds no surface.
     bool root_leaf = true;
     Qef3 root_qef;
     /// Where the whole block is one cell whose surface only clips some of its faces
     /// (ifc_chord_spans_face() fails there; bit 2 * axis + side of clipped_faces): the block's
-    /// cells without that one, which split_clipped_blocks() (ifc.cpp) may put in its place.
-    struct Parts {
-        UnitArray level;
-        UnitArray cell;
-        std::vector<IfcCell> cells;
+    /// leaves without that one, which split_clipped_blocks() (ifc.cpp) may put in its place.
+    struct Parts : IfcLeaves {
         std::uint8_t clipped_faces = 0;
     };
     std::unique_ptr<Parts> parts;
@@ -129,9 +131,11 @@ struct IfcCellGrid {
     /// In the same order; null for a block never built (no surface). Each is allocated by the
     /// task that builds it, so the memory is first touched in parallel, not in one serial resize.
     std::vector<std::unique_ptr<IfcBlockCells>> blocks;
-    /// The indices of the 27 blocks round block @a b (itself at 13; n = 9 dx + 3 dy + dz for
-    /// offsets (dx - 1, dy - 1, dz - 1) blocks), -1 where there is none.
+    /// The indices of the 27 blocks round block @a b (at neighbour_slot(); itself at 13), -1
+    /// where there is none.
     std::array<std::ptrdiff_t, 27> neighbours(std::size_t b) const;
+    /// Where neighbours() puts the block @a dx, @a dy, @a dz blocks (each -1, 0 or 1) away.
+    static constexpr std::size_t neighbour_slot(int dx, int dy, int dz) { return std::size_t((dx + 1) * 9 + (dy + 1) * 3 + dz + 1); }
     /// The cells of block @a b (all unit cells without surface if it was never built).
     const IfcBlockCells& block(std::size_t b) const;
     /// The cells of block @a b, allocated empty if it was never built.

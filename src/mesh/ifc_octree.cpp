@@ -535,16 +535,16 @@ private:
 
     /// Top down: the largest leaves become the block's cells.
     void assign(IfcBlockCells& out) const {
-        assign_leaves(out.level, out.cell, out.cells);
+        assign_leaves(out);
         out.root_leaf = state_[kIfcMaxLevel][0] != CellState::inner;
         out.root_qef = qef_[kIfcMaxLevel][0];
     }
 
-    /// The leaves' level and cell per unit cell, and the cells holding surface.
-    void assign_leaves(IfcBlockCells::UnitArray& unit_level, IfcBlockCells::UnitArray& unit_cell, std::vector<IfcCell>& cells) const {
-        unit_level.fill(0);
-        unit_cell.fill(IfcBlockCells::kNoCell);
-        cells.clear();
+    /// The leaves into @a out.
+    void assign_leaves(IfcLeaves& out) const {
+        out.level.fill(0);
+        out.cell.fill(IfcBlockCells::kNoCell);
+        out.cells.clear();
         for (int level = kIfcMaxLevel; level >= 1; --level) {
             const int n = cells_per_axis(level), size = 1 << level;
             for (int i = 0; i < n; ++i) {
@@ -552,18 +552,18 @@ private:
                     for (int k = 0; k < n; ++k) {
                         const CellState state = state_[level][cell_index(level, i, j, k)];
                         if (state != CellState::empty && state != CellState::surface) continue;
-                        if (unit_level[IfcBlockCells::unit_index(i * size, j * size, k * size)] != 0) continue;  // inside a larger leaf
+                        if (out.level[IfcBlockCells::unit_index(i * size, j * size, k * size)] != 0) continue;  // inside a larger leaf
                         std::uint8_t id = IfcBlockCells::kNoCell;
                         if (state == CellState::surface) {
-                            id = std::uint8_t(cells.size());
-                            cells.push_back({std::uint8_t(level), s_->origin.offsetBy(i * size, j * size, k * size),
-                                             vertex_[level][cell_index(level, i, j, k)]});
+                            id = std::uint8_t(out.cells.size());
+                            out.cells.push_back({std::uint8_t(level), s_->origin.offsetBy(i * size, j * size, k * size),
+                                                 vertex_[level][cell_index(level, i, j, k)]});
                         }
                         for (int x = i * size; x < (i + 1) * size; ++x) {
                             for (int y = j * size; y < (j + 1) * size; ++y) {
                                 for (int z = k * size; z < (k + 1) * size; ++z) {
-                                    unit_level[IfcBlockCells::unit_index(x, y, z)] = std::uint8_t(level);
-                                    unit_cell[IfcBlockCells::unit_index(x, y, z)] = id;
+                                    out.level[IfcBlockCells::unit_index(x, y, z)] = std::uint8_t(level);
+                                    out.cell[IfcBlockCells::unit_index(x, y, z)] = id;
                                 }
                             }
                         }
@@ -583,7 +583,7 @@ private:
         for (int c = 0; c < 8; ++c) refine(kIfcMaxLevel - 1, c & 1, (c >> 1) & 1, c >> 2);
         out.parts = std::make_unique<IfcBlockCells::Parts>();
         out.parts->clipped_faces = clipped;
-        assign_leaves(out.parts->level, out.parts->cell, out.parts->cells);
+        assign_leaves(*out.parts);
     }
 
     const IfcSamples* s_ = nullptr;

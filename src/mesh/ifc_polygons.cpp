@@ -49,7 +49,7 @@ std::array<std::ptrdiff_t, 27> IfcCellGrid::neighbours(std::size_t b) const {
                               : std::lower_bound(origins.begin(), origins.end(), low);
         for (int dz = 0; dz < 3; ++dz) {
             const bool here = it != origins.end() && *it == low.offsetBy(0, 0, dz * kIfcBlock);
-            found[std::size_t(column * 3 + dz)] = here ? it - origins.begin() : -1;
+            found[neighbour_slot(column / 3 - 1, column % 3 - 1, dz - 1)] = here ? it - origins.begin() : -1;
             it += here;
         }
     }
@@ -212,7 +212,7 @@ private:
         const openvdb::Coord offset = origin - s_.origin;  // within one block of ours: edges touch no farther
         // Offsets are whole blocks (-8, 0 or 8): an arithmetic shift divides them exactly.
         static_assert(kIfcBlock == 8, "a block is 2^3 cells");
-        const IfcBlockCells* block = neighbour_[((offset.x() >> 3) + 1) * 9 + ((offset.y() >> 3) + 1) * 3 + (offset.z() >> 3) + 1];
+        const IfcBlockCells* block = neighbour_[IfcCellGrid::neighbour_slot(offset.x() >> 3, offset.y() >> 3, offset.z() >> 3)];
         if (!block) return view;  // a block without surface: all unit cells
         const IfcBlockCells& cells = *block;
         const openvdb::Coord local = unit - origin;
