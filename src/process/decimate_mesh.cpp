@@ -17,11 +17,14 @@
 //   than kMaxTurnDegrees, and no component's enclosed volume changes sign (a nearly flat speck
 //   can turn inside out while each triangle turns little; checked in the sequential apply, on
 //   each component's volume kept up to date by the collapses' changes);
-// - intersections: each new triangle against the others of the star and against the triangles
-//   the grids find near it (one of all triangles, rebuilt once a quarter of them has moved, and
-//   one of those moved since, rebuilt each round), with the exact tests of `vdbmesh check`; a
-//   plane that certainly separates the two triangles (vdbmesh/separating_plane.h) spares most
-//   of them.
+// - intersections: most collapses are cleared without a test between triangles, when all the
+//   triangles near them and their new ones face a common direction (the proof is at
+//   intersection_free()): the grids' cells keep what their triangles have in common. The others:
+//   each new triangle against the others of the star and against the triangles the grids find
+//   near it (one of all triangles, rebuilt once a quarter of them has moved, and one of those
+//   moved since, rebuilt each round), with the exact tests of `vdbmesh check`; a plane that
+//   certainly separates the two triangles (vdbmesh/separating_plane.h) spares most of them.
+//   The same holds for the crossings between two new stars of a round.
 // The mesh is held as a corner table (each corner's opposite corner across its edge), flat arrays
 // throughout.
 #include <tbb/blocked_range.h>
@@ -32,6 +35,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -57,6 +61,7 @@ constexpr double kMaxTurnDegrees = 75;  ///< largest change of a triangle's norm
 /// Ties of the quadric error (flat regions, where it is 0) go to the shorter edge, which keeps
 /// the triangles there from growing into needles.
 constexpr double kLengthWeight = 1e-3;
+constexpr std::size_t kCellsPerBox = 8;  ///< a grid has at most about this many cells per box
 constexpr double kCellEdges = 1;       ///< triangle grid cell size in mean triangle extents
 constexpr std::size_t kMinRound = 64;  ///< candidates a round takes at least
 /// ... and at least this share of the triangles: near the target a round applies only about a
@@ -93,7 +98,104 @@ void check_closed_manifold(const Mesh& mesh) {
     }
 }
 
-/// Boxes with payloads (what a query needs of each) in a uniform grid, each in the cell of its
+/// What the triangles in a part of space have in common: the directions they all face and the
+/// component they all belong to (kNone: no triangle; kMixed: more than one).
+struct Summary {
+    static constexpr std::uint32_t kMixed = kNone - 1;
+    std::uint32_t facing = ~0u;  ///< bit k: direction k of kDirections
+    std::uint32_t component = kNone;
+    void add(const Summary& o) {
+        facing &= o.facing;
+        component = component == kNone ? o.component : o.component == kNone || o.component == component ? component : kMixed;
+    }
+};
+
+/// 32 directions spread evenly over the sphere (a golden-angle spiral).
+const std::array<Vec3d, 32> kDirections = [] {
+    std::array<Vec3d, 32> directions{};
+    for (std::size_t k = 0; k < directions.size(); ++k) {
+        const double z = 1 - (2 * double(k) + 1) / double(directions.size()), r = std::sqrt(1 - z * z), phi = double(k) * 2.399963229728653;
+        directions[k] = {r * std::cos(phi), r * std::sin(phi), z};
+    }
+    return directions;
+}();
+
+/// The directions of kDirections that every normal in a part of the sphere faces, for normals
+/// binned by the cube face their largest component points to and a kBins x kBins square there.
+class FacingTable {
+public:
+    static constexpr int kBins = 16;
+
+    FacingTable() {
+        for (int face = 0; face < 6; ++face) {
+            for (int i = 0; i < kBins; ++i) {
+                for (int j = 0; j < kBins; ++j) table_[(face * kBins + i) * kBins + j] = facing_all(face, i, j);
+            }
+        }
+    }
+
+    /// The directions that @a n certainly faces (the triangle's normal, from edges of lengths
+    /// whose product is @a scale): none when it is so short that its rounding (2^-49 scale at
+    /// most) could turn it by more than 1e-6.
+    std::uint32_t facing(const Vec3d& n, double scale) const {
+        const double m[3] = {std::abs(n[0]), std::abs(n[1]), std::abs(n[2])};
+        const int axis = m[0] >= m[1] && m[0] >= m[2] ? 0 : m[1] >= m[2] ? 1 : 2;
+        if (!(m[axis] > 1e-6 * scale)) return 0;
+        const int face = 2 * axis + (n[axis] < 0);
+        const double u = n[(axis + 1) % 3] / m[axis], v = n[(axis + 2) % 3] / m[axis];
+        return table_[(face * kBins + bin(u)) * kBins + bin(v)];
+    }
+
+private:
+    static int bin(double t) { return std::clamp(int(std::floor((t + 1) / 2 * kBins)), 0, kBins - 1); }
+
+    /// The directions faced by every ray through the square (i, j) of @a face, and by rays
+    /// within 1e-6 of it: the dot product is linear over the square, least at a corner.
+    static std::uint32_t facing_all(int face, int i, int j) {
+        const int axis = face / 2;
+        const double sign = face % 2 ? -1 : 1;
+        std::uint32_t facing = ~0u;
+        for (const int di : {0, 1}) {
+            for (const int dj : {0, 1}) {
+                Vec3d corner{};
+                corner[std::size_t(axis)] = sign;
+                corner[std::size_t((axis + 1) % 3)] = -1 + 2.0 * (i + di) / kBins;
+                corner[std::size_t((axis + 2) % 3)] = -1 + 2.0 * (j + dj) / kBins;
+                const double length = std::sqrt(dot(corner, corner));
+                std::uint32_t faced = 0;
+                for (std::size_t k = 0; k < kDirections.size(); ++k) {
+                    if (dot(kDirections[k], corner) > 1e-5 * length) faced |= 1u << k;
+                }
+                facing &= faced;
+            }
+        }
+        return facing;
+    }
+
+    std::array<std::uint32_t, 6 * kBins * kBins> table_;
+};
+
+/// The directions of kDirections that triangle @a t certainly faces (its normal's dot product
+/// with them is positive); none for a degenerate one.
+std::uint32_t facing_directions(const detail::Triangle3& t) {
+    static const FacingTable table;
+    const Vec3d e1 = sub(t[1], t[0]), e2 = sub(t[2], t[0]);
+    return table.facing(cross(e1, e2), std::sqrt(dot(e1, e1) * dot(e2, e2)));
+}
+
+/// The mean of the largest extents of a regular sample of @a boxes (at most 65 536).
+double mean_extent(const std::vector<Box>& boxes) {
+    const std::size_t step = std::max<std::size_t>(1, boxes.size() / 65536);
+    double sum = 0;
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < boxes.size(); i += step, ++count) {
+        const Box& b = boxes[i];
+        sum += std::max({double(b.hi[0]) - b.lo[0], double(b.hi[1]) - b.lo[1], double(b.hi[2]) - b.lo[2]});
+    }
+    return count ? sum / double(count) : 0;
+}
+
+/// Boxes with payloads (what a query needs of each, and a Summary) in a uniform grid, each in the cell of its
 /// low corner (one larger than a cell: in every cell it meets), for finding the boxes that meet
 /// a box. Built at once and read-only after. The boxes and the payloads are kept apart, so a
 /// query reads only the boxes it passes over.
@@ -119,60 +221,94 @@ public:
         }
         cell_ = cell > 0 ? cell : 1;
         for (;;) {
-            std::uint64_t count = 1;
+            std::uint32_t count = 1;
             for (int k = 0; k < 3; ++k) {
                 origin_[k] = boxes.empty() ? 0 : bounds.lo[k];
                 dims_[k] = boxes.empty() ? 1 : std::int64_t(std::floor((double(bounds.hi[k]) - origin_[k]) / cell_)) + 1;
-                count *= std::uint64_t(dims_[k]);
+                count *= std::uint32_t(dims_[k]);
             }
-            if (count <= 8 * boxes.size() + 64) break;
+            if (count <= kCellsPerBox * boxes.size() + 64) break;
             cell_ *= 1.25;
         }
         const std::size_t cells = std::size_t(dims_[0] * dims_[1] * dims_[2]);
+        // A counting sort by cell: start_[c] counts up to the end of cell c, then down to its
+        // start as its boxes are put in (from the last), so a cell keeps them in order.
         start_.assign(cells + 1, 0);
         // The cell of each box of a cell or less (found once, in parallel); kNone for larger ones.
-        std::vector<std::uint32_t> cell_of(boxes.size());
+        cell_of_.resize(boxes.size());
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 8192), [&](const auto& range) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i) cell_of[i] = small(boxes[i]) ? std::uint32_t(index(cell_coordinates(boxes[i].lo))) : kNone;
+            for (std::size_t i = range.begin(); i != range.end(); ++i) cell_of_[i] = small(boxes[i]) ? std::uint32_t(index(cell_coordinates(boxes[i].lo))) : kNone;
         });
         for (std::size_t i = 0; i < boxes.size(); ++i) {
-            if (cell_of[i] != kNone) ++start_[cell_of[i] + 1];
-            else for_cells(boxes[i], [&](std::size_t c) { ++start_[c + 1]; });
+            if (cell_of_[i] != kNone) ++start_[cell_of_[i]];
+            else for_cells(boxes[i], [&](std::size_t c) { ++start_[c]; });
         }
-        for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
+        for (std::size_t c = 1; c <= cells; ++c) start_[c] += start_[c - 1];
         boxes_.resize(start_[cells]);
         payloads_.resize(start_[cells]);
-        std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-        for (std::size_t i = 0; i < boxes.size(); ++i) {
-            const auto put = [&](std::size_t c) { boxes_[fill[c]] = boxes[i], payloads_[fill[c]++] = payloads[i]; };
-            if (cell_of[i] != kNone) put(cell_of[i]);
+        for (std::size_t i = boxes.size(); i-- > 0;) {
+            const auto put = [&](std::size_t c) {
+                const std::uint32_t at = --start_[c];
+                boxes_[at] = boxes[i], payloads_[at] = payloads[i];
+            };
+            if (cell_of_[i] != kNone) put(cell_of_[i]);
             else for_cells(boxes[i], put);
+        }
+        // Each cell's summary at its first entry.
+        summaries_.assign(start_[cells], Summary{});
+        for (std::size_t i = 0; i < boxes.size(); ++i) {
+            if (cell_of_[i] != kNone) summaries_[start_[cell_of_[i]]].add(payloads[i].summary);
+            else for_cells(boxes[i], [&](std::size_t c) { summaries_[start_[c]].add(payloads[i].summary); });
         }
     }
 
     bool empty() const { return start_.empty(); }  ///< never built
 
+    /// What the payloads of the boxes that meet @a box have in common (their summaries), with
+    /// more (those of the cells visit() passes over).
+    Summary summary(const Box& box) const {
+        assert(summaries_.size() == boxes_.size());
+        Summary common;
+        for_query_rows(box, [&](std::size_t first, std::size_t last) {
+            for (std::size_t c = first; c <= last; ++c) {
+                if (start_[c] != start_[c + 1]) common.add(summaries_[start_[c]]);
+            }
+            return true;
+        });
+        return common;
+    }
+
     /// Calls visit(payload, box) for each entry whose box meets @a box (one larger than a cell may
     /// come more than once); stops when visit returns false. Returns whether it went through.
     template <class Visit>
     bool visit(const Box& box, Visit&& visit) const {
-        // A box of a cell or less that meets @a box has its low corner in [box.lo - cell, box.hi];
-        // a larger one is in the cells of a point they share.
-        std::array<float, 3> lo;
-        for (int k = 0; k < 3; ++k) lo[k] = float(double(box.lo[k]) - cell_);
-        const std::array<std::int64_t, 3> from = cell_coordinates(lo), to = cell_coordinates(box.hi);
+        return for_query_rows(box, [&](std::size_t first, std::size_t last) {
+            for (std::uint32_t i = start_[first]; i < start_[last + 1]; ++i) {
+                if (detail::boxes_overlap(boxes_[i], box) && !visit(payloads_[i], boxes_[i])) return false;
+            }
+            return true;
+        });
+    }
+
+private:
+    /// Calls rows(first, last) for each row of cells [first, last] that may hold a box meeting
+    /// @a box, until it returns false; returns whether it went through. A box of a cell or less
+    /// that meets @a box has its low corner in [box.lo - cell, box.hi], so in the cells from the
+    /// one before box.lo's; a larger one is in the cells of a point they share.
+    template <class Rows>
+    bool for_query_rows(const Box& box, Rows&& rows) const {
+        std::array<std::int64_t, 3> from = cell_coordinates(box.lo);
+        for (std::int64_t& c : from) c = std::max<std::int64_t>(c - 1, 0);
+        const std::array<std::int64_t, 3> to = cell_coordinates(box.hi);
         for (std::int64_t z = from[2]; z <= to[2]; ++z) {
             for (std::int64_t y = from[1]; y <= to[1]; ++y) {
                 const std::size_t row = index({0, y, z});
-                for (std::uint32_t i = start_[row + std::size_t(from[0])]; i < start_[row + std::size_t(to[0]) + 1]; ++i) {
-                    if (detail::boxes_overlap(boxes_[i], box) && !visit(payloads_[i], boxes_[i])) return false;
-                }
+                if (!rows(row + std::size_t(from[0]), row + std::size_t(to[0]))) return false;
             }
         }
         return true;
     }
 
-private:
     /// Calls call(cell) for each cell a box larger than a cell meets (a smaller box is kept in
     /// the cell of its low corner alone).
     template <class Call>
@@ -208,6 +344,8 @@ private:
     std::vector<std::uint32_t> start_;  ///< entries of cell c: [start_[c], start_[c + 1])
     std::vector<Box> boxes_;
     std::vector<Payload> payloads_;
+    std::vector<Summary> summaries_;  ///< each cell's at its first entry
+    std::vector<std::uint32_t> cell_of_;  ///< (build()'s, kept for its memory)
 };
 
 /// Boxes in columns, to find at once which of them meet a box (without a branch per box).
@@ -227,12 +365,12 @@ public:
         const std::size_t size = lo_[0].size();
         for (std::size_t base = 0; base < size; base += 64) {
             const std::size_t count = std::min<std::size_t>(64, size - base);
-            std::uint64_t meeting = 0;
+            std::uint32_t meeting = 0;
             for (std::size_t i = 0; i < count; ++i) {
                 const std::size_t j = base + i;
                 const bool meets = (lo_[0][j] <= box.hi[0]) & (box.lo[0] <= hi_[0][j]) & (lo_[1][j] <= box.hi[1]) &
                                    (box.lo[1] <= hi_[1][j]) & (lo_[2][j] <= box.hi[2]) & (box.lo[2] <= hi_[2][j]);
-                meeting |= std::uint64_t(meets) << i;
+                meeting |= std::uint32_t(meets) << i;
             }
             for (; meeting != 0; meeting &= meeting - 1) {
                 if (!call(base + std::size_t(__builtin_ctzll(meeting)))) return false;
@@ -248,7 +386,8 @@ private:
 /// What the triangle grids hold of a triangle besides its box.
 struct GridTriangle {
     std::uint32_t triangle;
-    Ids ids;  ///< its vertices (read without a detour through the mesh)
+    Ids ids;          ///< its vertices (read without a detour through the mesh)
+    Summary summary;  ///< the directions it faces, its component
 };
 
 /// An edge a round considers, at the corner opposite it where it runs from its lower vertex
@@ -282,6 +421,17 @@ struct Plan {
     const NewTriangle* new_star_begin() const { return stars->data() + star_begin; }
     const NewTriangle* new_star_end() const { return new_star_begin() + star_size; }
     double volume_change = 0;            ///< (once passed) six times the change of the enclosed volume
+    Box region = empty_box();            ///< (once passed) the box of the old and the new star
+    Summary fan;                         ///< (once passed) the directions all its new triangles face, its component
+    /// (once passed) the directions faced by its new triangles and all those meeting its region
+    /// at the start of the round (none: its crossings were tested), its component
+    Summary apart{0, kNone};
+};
+
+/// What the plan grid holds of a plan besides the box of its new star.
+struct GridPlan {
+    std::uint32_t plan;
+    Summary summary;  ///< the plan's fan
 };
 
 /// Per-thread scratch of the checks.
@@ -297,6 +447,7 @@ struct Scratch {
     std::vector<Box> boxes;
     std::vector<std::array<Vec3d, 2>> spokes;  ///< per star triangle, from the kept vertex to its other corners
     std::vector<NewTriangle> new_stars;        ///< of the plans this thread passed in the round, end to end
+    std::vector<std::pair<const GridTriangle*, const Box*>> near;  ///< triangles off the old star whose boxes meet the new one's
 };
 
 class Decimator {
@@ -306,7 +457,7 @@ public:
           opposite_(3 * mesh.triangles.size(), kNone), vertex_corner_(mesh.vertices.size(), kNone),
           quadrics_(mesh.vertices.size()), cost_(3 * mesh.triangles.size()), error_(3 * mesh.triangles.size()),
           position_(3 * mesh.triangles.size()),
-          rejected_(3 * mesh.triangles.size(), 0), boxes_(mesh.triangles.size()), moved_(mesh.triangles.size(), 0), alive_count_(mesh.triangles.size()),
+          rejected_(3 * mesh.triangles.size(), 0), boxes_(mesh.triangles.size()), summaries_(mesh.triangles.size()), moved_(mesh.triangles.size(), 0), alive_count_(mesh.triangles.size()),
           target_(std::size_t(std::ceil(options.keep_fraction * double(mesh.triangles.size())))),
           max_error_squared_(options.max_error * options.max_error), closed_manifold_(link_corners()) {}
 
@@ -473,6 +624,7 @@ private:
     /// merged: its cached cost holds); none of them refused any more.
     void refresh(std::uint32_t t, std::uint32_t unchanged = kNone) {
         boxes_[t] = empty_box();
+        summaries_[t].facing = facing_directions(to_double(FloatTriangle{positions_[triangles_[t][0]], positions_[triangles_[t][1]], positions_[triangles_[t][2]]}));
         for (std::uint32_t c = 3 * t; c < 3 * t + 3; ++c) {
             grow(boxes_[t], positions_[vertex(c)]);
             rejected_[c] = 0;
@@ -606,11 +758,11 @@ private:
     void find_crossings(std::vector<Plan>& plans, const std::vector<std::uint32_t>& in_place,
                         tbb::enumerable_thread_specific<Scratch>& scratch) {
         std::vector<Box> boxes;
-        std::vector<std::uint32_t> passed;
+        std::vector<GridPlan> passed;
         double extent = 0;
         for (std::uint32_t i = 0; i < plans.size(); ++i) {
             if (plans[i].verdict != Verdict::passed) continue;
-            boxes.push_back(plans[i].star), passed.push_back(i);
+            boxes.push_back(plans[i].star), passed.push_back({i, plans[i].fan});
             for (int k = 0; k < 3; ++k) extent += double(plans[i].star.hi[k]) - plans[i].star.lo[k];
         }
         plan_grid_.build(boxes, passed, extent / (3 * double(std::max<std::size_t>(passed.size(), 1))));
@@ -624,8 +776,10 @@ private:
                 Plan& p = plans[i];
                 if (p.verdict != Verdict::passed) continue;
                 p.crossed.clear();
+                if (apart_from_all(p)) continue;
                 bool star_ready = false;
-                plan_grid_.visit(p.star, [&](std::uint32_t j, const Box&) {
+                plan_grid_.visit(p.star, [&](const GridPlan& entry, const Box&) {
+                    const std::uint32_t j = entry.plan;
                     if (j >= i) return true;
                     if (!star_ready) {
                         s.ids.clear(), s.corners.clear(), s.boxes.clear();
@@ -694,6 +848,17 @@ private:
 
     /// Whether a triangle of the new star in @a s (whose box is @a star) crosses one of the new
     /// star of plan @a q (neither holds the other's kept vertex).
+    /// Whether @a p's new star certainly crosses no other of the round, whichever of them apply
+    /// before it: the directions its check found faced in its region are also faced by the new
+    /// stars of all passed plans near it, of its component (so the mesh as it is when p applies,
+    /// the round's start but for those stars, meets intersection_free()'s condition).
+    bool apart_from_all(const Plan& p) const {
+        if (p.apart.facing == 0) return false;
+        Summary near = p.apart;
+        near.add(plan_grid_.summary(p.region));
+        return near.component != Summary::kMixed && near.facing != 0;
+    }
+
     static bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) {
         for (const NewTriangle* triangle = q.new_star_begin(); triangle != q.new_star_end(); ++triangle) {
             const NewTriangle& t = *triangle;
@@ -708,7 +873,8 @@ private:
     /// moved since the settled grid was built in a grid of their own, rebuilt each round; the
     /// settled grid rebuilt only once a quarter of the triangles has moved.
     void build_triangle_grids() {
-        std::vector<std::uint32_t> ids;
+        std::vector<std::uint32_t>& ids = grid_ids_;
+        ids.clear();
         const bool all = settled_grid_.empty() || moved_list_.size() > alive_count_ / 4;
         if (all) {
             for (const std::uint32_t t : moved_list_) moved_[t] = 0;
@@ -721,16 +887,14 @@ private:
                               moved_list_.end());
             ids = moved_list_;
         }
-        std::vector<Box> boxes(ids.size());
-        std::vector<GridTriangle> payloads(ids.size());
-        double extent = 0;
-        for (std::size_t i = 0; i < ids.size(); ++i) {
-            const std::uint32_t t = ids[i];
-            boxes[i] = boxes_[t], payloads[i] = {t, triangles_[t]};
-            extent += std::max({double(boxes_[t].hi[0]) - boxes_[t].lo[0], double(boxes_[t].hi[1]) - boxes_[t].lo[1],
-                                double(boxes_[t].hi[2]) - boxes_[t].lo[2]});
-        }
-        (all ? settled_grid_ : moved_grid_).build(boxes, payloads, kCellEdges * extent / double(std::max<std::size_t>(ids.size(), 1)));
+        grid_boxes_.resize(ids.size()), grid_triangles_.resize(ids.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ids.size(), 8192), [&](const auto& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                const std::uint32_t t = ids[i];
+                grid_boxes_[i] = boxes_[t], grid_triangles_[i] = {t, triangles_[t], summaries_[t]};
+            }
+        });
+        (all ? settled_grid_ : moved_grid_).build(grid_boxes_, grid_triangles_, kCellEdges * mean_extent(grid_boxes_));
         if (all) moved_grid_.build({}, {}, 1);
     }
 
@@ -838,10 +1002,52 @@ private:
     }
 
     /// The new triangles cross neither each other nor any triangle near them off the old star.
-    bool intersection_free(const Plan& p, Scratch& s) const {
+    ///
+    /// Most collapses are settled without a test between triangles: the new star crosses
+    /// nothing when some direction d is faced by all its triangles and by all those whose boxes
+    /// meet the box R of the old and the new star, and those all belong to one component:
+    /// - Along a line the winding number of a closed embedded surface changes by one at each
+    ///   crossing, up or down as the triangle faces; one component's takes two values only. So a
+    ///   segment along d within R (a box: convex) crosses the surface at most once, and the
+    ///   surface in R projects one-to-one onto a plane across d, the old star too; its rim L
+    ///   projects to a simple loop and the old star onto the inside of it.
+    /// - Each triangle of the new fan (from the new vertex to L) turns the same way seen along d,
+    ///   so their angles at the new vertex add up to a turn times the winding number of L's
+    ///   projection around it: one. The fan projects one-to-one onto the same inside of L.
+    /// - Should the fan meet another triangle T at x off L, the segment along d from x to the
+    ///   point of the old star over or under x would lie within R and cross the old surface
+    ///   twice (T is part of it); at x on L, T met the old star there before, which the mesh
+    ///   allowed only at a vertex or edge T shares with it, and so with the fan.
+    /// (Two components, say a sphere within another facing the same way, would break the first
+    /// point. The rounds begin free of crossings, so the surface is embedded.) The grids' cells
+    /// tell first what the triangles in them have in common; failing that, the triangles met.
+    bool intersection_free(Plan& p, Scratch& s) const {
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
         Box around_star = empty_box();
         for (const Box& box : s.boxes) grow(around_star, box.lo), grow(around_star, box.hi);
+        Box& region = p.region;
+        region = around_star;
+        grow(region, positions_[a]), grow(region, positions_[b]);
+        p.fan = {~0u, summaries_[p.corner / 3].component};
+        for (const detail::Triangle3& t : s.corners) p.fan.facing &= facing_directions(t);
+        const auto apart = [&](Summary near) {
+            near.add(p.fan);
+            if (near.component == Summary::kMixed || near.facing == 0) return false;
+            p.apart = near;
+            return true;
+        };
+        Summary in_cells = settled_grid_.summary(region);
+        in_cells.add(moved_grid_.summary(region));
+        if (apart(in_cells)) return true;
+        Summary met;
+        s.near.clear();
+        visit_triangles(region, [&](const GridTriangle& t, const Box& box) {
+            met.add(t.summary);
+            const bool old_star = t.ids[0] == a || t.ids[0] == b || t.ids[1] == a || t.ids[1] == b || t.ids[2] == a || t.ids[2] == b;
+            if (!old_star && detail::boxes_overlap(box, around_star)) s.near.push_back({&t, &box});
+            return true;
+        });
+        if (apart(met)) return true;
         prepare_star(s);
         if (!star_is_a_graph(a, s)) {
             for (std::size_t i = 0; i < s.star.size(); ++i) {
@@ -850,14 +1056,12 @@ private:
                 }
             }
         }
-        return visit_triangles(around_star, [&](const GridTriangle& t, const Box& box) {
-            const Ids& ids = t.ids;
-            for (const std::uint32_t v : ids) {
-                if (v == a || v == b) return true;  // the old star, replaced
-            }
+        for (const auto& [t, box] : s.near) {
+            const Ids& ids = t->ids;
             const detail::PreparedTriangle other({to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])});
-            return s.box_columns.for_meeting(box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], ids, other); });
-        });
+            if (!s.box_columns.for_meeting(*box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], ids, other); })) return false;
+        }
+        return true;
     }
 
     /// Each vertex's component (triangles joined by shared vertices) and each component's
@@ -868,7 +1072,11 @@ private:
         std::uint32_t count = 0;
         component_ = sets.labels(count);
         volume_.assign(count, 0);
-        for (const Ids& t : triangles_) volume_[component_[t[0]]] += dot(point(t[0]), cross(point(t[1]), point(t[2])));
+        for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
+            const Ids& ids = triangles_[t];
+            summaries_[t].component = component_[ids[0]];
+            volume_[component_[ids[0]]] += dot(point(ids[0]), cross(point(ids[1]), point(ids[2])));
+        }
     }
 
     /// Six times the change of the enclosed volume the collapse of @a p makes: its new star (in
@@ -961,12 +1169,16 @@ private:
     std::vector<std::array<float, 3>> position_;  ///< per corner: where that edge's collapse puts the vertex
     std::vector<char> rejected_;        ///< per corner: its edge's collapse failed a check since it last changed
     std::vector<Box> boxes_;            ///< per triangle
+    std::vector<Summary> summaries_;    ///< per triangle: the directions it faces, its component
+    std::vector<Box> grid_boxes_;       ///< (build_triangle_grids()'s, kept for their memory)
+    std::vector<GridTriangle> grid_triangles_;
+    std::vector<std::uint32_t> grid_ids_;
     std::vector<std::uint32_t> dirty_;  ///< corners at the kept vertices of the round's collapses (their triangles to refresh)
     std::vector<std::vector<Candidate>> block_candidates_;  ///< gather_below() per block of triangles
     std::vector<char> moved_;  ///< per triangle: changed (or removed) since settled_grid_ was built
     std::vector<std::uint32_t> moved_list_;  ///< those triangles (some removed since)
     BoxGrid<GridTriangle> settled_grid_, moved_grid_;
-    BoxGrid<std::uint32_t> plan_grid_;
+    BoxGrid<GridPlan> plan_grid_;
     std::vector<std::uint32_t> component_;  ///< per vertex
     std::vector<double> volume_;            ///< per component: six times its enclosed volume
     std::size_t alive_count_;
