@@ -31,6 +31,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -205,8 +206,13 @@ public:
     /// @a cell: the cell size, made at least the largest extent of 99% of the boxes, and coarser
     /// where the boxes are spread thin (at most about eight cells per box).
     void build(const std::vector<Box>& boxes, const std::vector<Payload>& payloads, double cell) {
-        Box bounds = empty_box();
-        for (const Box& b : boxes) grow(bounds, b.lo), grow(bounds, b.hi);
+        const Box bounds = tbb::parallel_reduce(
+            tbb::blocked_range<std::size_t>(0, boxes.size(), 16384), empty_box(),
+            [&](const auto& range, Box bounds) {
+                for (std::size_t i = range.begin(); i != range.end(); ++i) grow(bounds, boxes[i].lo), grow(bounds, boxes[i].hi);
+                return bounds;
+            },
+            [](Box a, const Box& b) { return grow(a, b.lo), grow(a, b.hi), a; });
         // (the extents of a regular sample: the cell size sets only the speed of the queries)
         constexpr std::size_t kExtentSamples = 65536;
         std::vector<float> extents;
@@ -255,11 +261,15 @@ public:
             else for_cells(boxes[i], put);
         }
         // Each cell's summary at its first entry.
-        summaries_.assign(start_[cells], Summary{});
-        for (std::size_t i = 0; i < boxes.size(); ++i) {
-            if (cell_of_[i] != kNone) summaries_[start_[cell_of_[i]]].add(payloads[i].summary);
-            else for_cells(boxes[i], [&](std::size_t c) { summaries_[start_[c]].add(payloads[i].summary); });
-        }
+        summaries_.resize(start_[cells]);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 65536), [&](const auto& range) {
+            for (std::size_t c = range.begin(); c != range.end(); ++c) {
+                if (start_[c] == start_[c + 1]) continue;
+                Summary common;
+                for (std::uint32_t i = start_[c]; i < start_[c + 1]; ++i) common.add(payloads_[i].summary);
+                summaries_[start_[c]] = common;
+            }
+        });
     }
 
     bool empty() const { return start_.empty(); }  ///< never built
@@ -386,7 +396,6 @@ private:
 /// What the triangle grids hold of a triangle besides its box.
 struct GridTriangle {
     std::uint32_t triangle;
-    Ids ids;          ///< its vertices (read without a detour through the mesh)
     Summary summary;  ///< the directions it faces, its component
 };
 
@@ -411,6 +420,10 @@ struct NewTriangle {
 /// A collapse a round may make.
 struct Plan {
     std::uint32_t corner = kNone;
+    /// the corners round its ends, as the choice walked them: around[0] at the kept end, then
+    /// around[1] at the other, from ring_begin in the round's ring corners
+    std::uint32_t ring_begin = 0;
+    std::array<std::uint32_t, 2> around{};
     Box star = empty_box();  ///< the box of the new star (once checked)
     Verdict verdict = Verdict::unchecked;
     std::vector<std::uint32_t> crossed;  ///< earlier passed plans of the round whose new stars cross this one's
@@ -447,7 +460,8 @@ struct Scratch {
     std::vector<Box> boxes;
     std::vector<std::array<Vec3d, 2>> spokes;  ///< per star triangle, from the kept vertex to its other corners
     std::vector<NewTriangle> new_stars;        ///< of the plans this thread passed in the round, end to end
-    std::vector<std::pair<const GridTriangle*, const Box*>> near;  ///< triangles off the old star whose boxes meet the new one's
+    std::array<std::vector<std::uint32_t>, 2> around;  ///< the corners round a plan's ends (choose_apart())
+    std::vector<std::pair<std::uint32_t, const Box*>> near;  ///< triangles off the old star whose boxes meet the new one's
 };
 
 class Decimator {
@@ -502,7 +516,7 @@ public:
             if (gather_cheapest(candidates, std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor})) == 0) break;
             // The grids the checks read are built beside the choice (both mostly sequential), which
             // reads neither them nor what building them writes.
-            tbb::parallel_invoke([&] { choose_apart(candidates, plans, own); }, [&] { build_triangle_grids(); });
+            tbb::parallel_invoke([&] { choose_apart(candidates, plans, ring_corners_, own); }, [&] { build_triangle_grids(); });
             // Checked in the order of their triangles, which keeps neighbours together in memory
             // (the checks are independent of each other; the cost order scatters them).
             std::vector<std::uint32_t> in_place(plans.size());
@@ -712,8 +726,11 @@ private:
     /// Then no collapse of the round changes the rings of another's ends or the triangles of its
     /// star (a triangle changes only if it has an end of the collapse, and a vertex's ring only
     /// if it is in the star), which is what the link condition and the geometry check read.
-    void choose_apart(const std::vector<Candidate>& candidates, std::vector<Plan>& plans, Scratch& s) const {
-        plans.clear();
+    /// Each plan's corners round its ends go to @a rings (the checks read them from there without
+    /// walking the rings again, a chain of loads).
+    void choose_apart(const std::vector<Candidate>& candidates, std::vector<Plan>& plans, std::vector<std::uint32_t>& rings, Scratch& s) const {
+        plans.clear(), rings.clear();
+        std::array<std::vector<std::uint32_t>, 2>& around = s.around;
         const std::uint32_t stamp = ++s.stamp;
         for (std::size_t n = 0; n < candidates.size(); ++n) {
             const Candidate& candidate = candidates[n];
@@ -734,9 +751,11 @@ private:
             const std::uint32_t first[2] = {next(candidate.corner), prev(candidate.corner)};
             std::uint32_t c[2] = {first[0], first[1]};
             bool done[2] = {false, false};
+            around[0].clear(), around[1].clear();
             while (!done[0] || !done[1]) {
                 for (int k = 0; k < 2; ++k) {
                     if (done[k]) continue;
+                    around[k].push_back(c[k]);
                     s.mark[vertex(next(c[k]))] = stamp;
                     c[k] = swing(c[k]);
                     done[k] = c[k] == first[k];
@@ -744,6 +763,10 @@ private:
             }
             Plan plan;
             plan.corner = candidate.corner;
+            plan.ring_begin = std::uint32_t(rings.size());
+            plan.around = {std::uint32_t(around[0].size()), std::uint32_t(around[1].size())};
+            rings.insert(rings.end(), around[0].begin(), around[0].end());
+            rings.insert(rings.end(), around[1].begin(), around[1].end());
             plans.push_back(plan);
         }
     }
@@ -846,19 +869,27 @@ private:
         for (const std::vector<std::uint32_t>& local : dirty) dirty_.insert(dirty_.end(), local.begin(), local.end());  // (sorted before use)
     }
 
-    /// Whether a triangle of the new star in @a s (whose box is @a star) crosses one of the new
-    /// star of plan @a q (neither holds the other's kept vertex).
     /// Whether @a p's new star certainly crosses no other of the round, whichever of them apply
     /// before it: the directions its check found faced in its region are also faced by the new
     /// stars of all passed plans near it, of its component (so the mesh as it is when p applies,
-    /// the round's start but for those stars, meets intersection_free()'s condition).
+    /// the round's start but for those stars, meets intersection_free()'s condition). The plan
+    /// grid's cells tell first what the stars in them have in common; failing that, the stars met.
     bool apart_from_all(const Plan& p) const {
         if (p.apart.facing == 0) return false;
-        Summary near = p.apart;
-        near.add(plan_grid_.summary(p.region));
-        return near.component != Summary::kMixed && near.facing != 0;
+        const auto apart = [](const Summary& near) { return near.component != Summary::kMixed && near.facing != 0; };
+        Summary in_cells = p.apart;
+        in_cells.add(plan_grid_.summary(p.region));
+        if (apart(in_cells)) return true;
+        Summary met = p.apart;
+        plan_grid_.visit(p.region, [&](const GridPlan& q, const Box&) {
+            met.add(q.summary);
+            return apart(met);
+        });
+        return apart(met);
     }
 
+    /// Whether a triangle of the new star in @a s (whose box is @a star) crosses one of the new
+    /// star of plan @a q (neither holds the other's kept vertex).
     static bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) {
         for (const NewTriangle* triangle = q.new_star_begin(); triangle != q.new_star_end(); ++triangle) {
             const NewTriangle& t = *triangle;
@@ -891,7 +922,7 @@ private:
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ids.size(), 8192), [&](const auto& range) {
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
                 const std::uint32_t t = ids[i];
-                grid_boxes_[i] = boxes_[t], grid_triangles_[i] = {t, triangles_[t], summaries_[t]};
+                grid_boxes_[i] = boxes_[t], grid_triangles_[i] = {t, summaries_[t]};
             }
         });
         (all ? settled_grid_ : moved_grid_).build(grid_boxes_, grid_triangles_, kCellEdges * mean_extent(grid_boxes_));
@@ -919,14 +950,18 @@ private:
         const std::uint32_t t0 = p.corner / 3, t1 = opposite_[p.corner] / 3;
         const std::uint32_t stamp = ++s.stamp;
         std::size_t valence = 0, common = 0;
+        const std::uint32_t* ring = ring_corners_.data() + p.ring_begin;
         for (const std::uint32_t v : {a, b}) {
-            around(v, [&](std::uint32_t c) {
+            const std::uint32_t count = p.around[v == a ? 0 : 1];
+            const std::uint32_t* corners = v == a ? ring : ring + p.around[0];
+            for (std::uint32_t n = 0; n < count; ++n) {
+                const std::uint32_t c = corners[n];
                 const std::uint32_t neighbour = vertex(next(c));
                 if (v == a) s.mark[neighbour] = stamp;
                 else common += s.mark[neighbour] == stamp;
                 ++valence;
                 const std::uint32_t t = c / 3;
-                if (t == t0 || t == t1) return;
+                if (t == t0 || t == t1) continue;
                 Ids ids = triangles_[t];
                 FloatTriangle points;
                 Box box = empty_box();
@@ -937,7 +972,7 @@ private:
                 }
                 s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(to_double(points)), s.points.push_back(points);
                 s.boxes.push_back(box);
-            });
+            }
         }
         return common == 2 && valence >= 4 + 3;
     }
@@ -1041,10 +1076,13 @@ private:
         if (apart(in_cells)) return true;
         Summary met;
         s.near.clear();
+        const std::uint32_t removed[2] = {p.corner / 3, opposite_[p.corner] / 3};
         visit_triangles(region, [&](const GridTriangle& t, const Box& box) {
             met.add(t.summary);
-            const bool old_star = t.ids[0] == a || t.ids[0] == b || t.ids[1] == a || t.ids[1] == b || t.ids[2] == a || t.ids[2] == b;
-            if (!old_star && detail::boxes_overlap(box, around_star)) s.near.push_back({&t, &box});
+            if (detail::boxes_overlap(box, around_star) && t.triangle != removed[0] && t.triangle != removed[1] &&
+                std::find(s.star.begin(), s.star.end(), t.triangle) == s.star.end()) {
+                s.near.push_back({t.triangle, &box});
+            }
             return true;
         });
         if (apart(met)) return true;
@@ -1057,7 +1095,7 @@ private:
             }
         }
         for (const auto& [t, box] : s.near) {
-            const Ids& ids = t->ids;
+            const Ids& ids = triangles_[t];
             const detail::PreparedTriangle other({to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])});
             if (!s.box_columns.for_meeting(*box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], ids, other); })) return false;
         }
@@ -1173,6 +1211,7 @@ private:
     std::vector<Box> grid_boxes_;       ///< (build_triangle_grids()'s, kept for their memory)
     std::vector<GridTriangle> grid_triangles_;
     std::vector<std::uint32_t> grid_ids_;
+    std::vector<std::uint32_t> ring_corners_;  ///< the round's plans' corners round their ends (Plan::ring_begin)
     std::vector<std::uint32_t> dirty_;  ///< corners at the kept vertices of the round's collapses (their triangles to refresh)
     std::vector<std::vector<Candidate>> block_candidates_;  ///< gather_below() per block of triangles
     std::vector<char> moved_;  ///< per triangle: changed (or removed) since settled_grid_ was built
