@@ -38,6 +38,7 @@
 #include <atomic>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -406,6 +407,46 @@ struct Candidate {
     std::uint32_t corner;
     bool operator<(const Candidate& o) const { return cost != o.cost ? cost < o.cost : corner < o.corner; }
 };
+/// Sorts @a candidates, given in order of their corners, by cost (so in Candidate's order): a
+/// stable least-significant-digit radix sort on the bits of the costs (non-negative doubles,
+/// whose bits order as they do), 11 at a time, each pass over fixed chunks in parallel (the same
+/// for any thread count); a pass is skipped where all share the digit.
+void sort_by_cost(std::vector<Candidate>& candidates, std::vector<Candidate>& buffer) {
+    constexpr int kDigitBits = 11;
+    constexpr std::size_t kBuckets = std::size_t(1) << kDigitBits, kChunks = 16;
+    const std::size_t size = candidates.size(), chunk = (size + kChunks - 1) / kChunks;
+    buffer.resize(size);
+    std::vector<std::array<std::uint32_t, kBuckets>> counts(kChunks);
+    const auto key = [](const Candidate& c) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &c.cost, sizeof bits);
+        return bits;
+    };
+    for (int shift = 0; shift < 64; shift += kDigitBits) {
+        const auto digit = [&](const Candidate& c) { return std::size_t(key(c) >> shift) & (kBuckets - 1); };
+        tbb::parallel_for(std::size_t(0), kChunks, [&](std::size_t k) {
+            counts[k].fill(0);
+            for (std::size_t i = k * chunk; i < std::min(size, (k + 1) * chunk); ++i) ++counts[k][digit(candidates[i])];
+        });
+        std::size_t offset = 0;
+        bool one_digit = false;
+        for (std::size_t b = 0; b < kBuckets; ++b) {
+            std::size_t in_bucket = 0;
+            for (std::size_t k = 0; k < kChunks; ++k) {
+                const std::uint32_t n = counts[k][b];
+                counts[k][b] = std::uint32_t(offset + in_bucket), in_bucket += n;
+            }
+            one_digit |= in_bucket == size;
+            offset += in_bucket;
+        }
+        if (one_digit) continue;
+        tbb::parallel_for(std::size_t(0), kChunks, [&](std::size_t k) {
+            for (std::size_t i = k * chunk; i < std::min(size, (k + 1) * chunk); ++i) buffer[counts[k][digit(candidates[i])]++] = candidates[i];
+        });
+        candidates.swap(buffer);
+    }
+}
+
 constexpr Candidate kAboveAll{std::numeric_limits<double>::infinity(), kNone};  ///< (as a pivot: keeps every candidate)
 
 enum class Verdict : std::uint8_t { unchecked, passed, topology, geometry, intersection };
@@ -449,7 +490,7 @@ struct GridPlan {
 
 /// Per-thread scratch of the checks.
 struct Scratch {
-    std::vector<std::uint32_t> mark;  ///< stamp per vertex (link condition)
+    std::vector<std::uint32_t> mark;  ///< stamp per vertex (the choice's)
     std::uint32_t stamp = 0;
     std::vector<std::uint32_t> star;  ///< the triangles of the new star
     std::vector<Ids> ids;             ///< their corners' vertices after the collapse
@@ -461,6 +502,7 @@ struct Scratch {
     std::vector<std::array<Vec3d, 2>> spokes;  ///< per star triangle, from the kept vertex to its other corners
     std::vector<NewTriangle> new_stars;        ///< of the plans this thread passed in the round, end to end
     std::array<std::vector<std::uint32_t>, 2> around;  ///< the corners round a plan's ends (choose_apart())
+    std::array<std::vector<std::uint32_t>, 2> neighbours;  ///< the neighbours of a plan's ends (link condition)
     std::vector<std::pair<std::uint32_t, const Box*>> near;  ///< triangles off the old star whose boxes meet the new one's
 };
 
@@ -486,11 +528,7 @@ public:
         tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(triangles_.size()), 4096), [&](const auto& range) {
             for (std::uint32_t t = range.begin(); t != range.end(); ++t) refresh(t);
         });
-        tbb::enumerable_thread_specific<Scratch> scratch([&] {
-            Scratch s;
-            s.mark.assign(positions_.size(), 0);
-            return s;
-        });
+        tbb::enumerable_thread_specific<Scratch> scratch;
         std::vector<Candidate> candidates;
         std::vector<Plan> plans;
         Scratch own;
@@ -664,7 +702,7 @@ private:
         const Candidate pivot = pivot_above(take);
         const std::size_t count = gather_below(pivot, candidates);
         if (candidates.size() < std::min(count, take) && pivot < kAboveAll) gather_below(kAboveAll, candidates);
-        tbb::parallel_sort(candidates.begin(), candidates.end());
+        sort_by_cost(candidates, sort_buffer_);
         candidates.resize(std::min(count, take));
         return count;
     }
@@ -837,7 +875,7 @@ private:
                 continue;
             }
             if (std::any_of(p.crossed.begin(), p.crossed.end(), [&](std::uint32_t j) { return applied[j] != 0; })) continue;
-            double& volume = volume_[component_[vertex(next(p.corner))]];
+            double& volume = volume_[p.fan.component];
             if (volume != 0 && (volume + p.volume_change) * volume <= 0) {  // the component would turn inside out
                 rejected_[p.corner] = 1;
                 ++report.rejected_geometry;
@@ -850,9 +888,12 @@ private:
         }
         tbb::parallel_sort(chosen.begin(), chosen.end());
         tbb::enumerable_thread_specific<std::vector<std::uint32_t>> dirty;
+        tbb::enumerable_thread_specific<double> max_error(0.0);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chosen.size(), 256), [&](const auto& range) {
             std::vector<std::uint32_t>& local = dirty.local();
+            double& largest = max_error.local();
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                largest = std::max(largest, error_[chosen[i]]);
                 if (i + 8 < range.end()) {  // (the ends' quadrics are read at random)
                     const std::uint32_t ahead = chosen[i + 8];
                     for (const std::uint32_t v : {vertex(next(ahead)), vertex(prev(ahead))}) __builtin_prefetch(&quadrics_[v], 1), __builtin_prefetch(&vertex_corner_[v], 1);
@@ -860,10 +901,8 @@ private:
                 apply(chosen[i], local);
             }
         });
-        for (const std::uint32_t corner : chosen) {
-            report.max_error = std::max(report.max_error, std::sqrt(error_[corner]));
-            name_opposite_corners(corner);
-        }
+        for (const std::uint32_t corner : chosen) name_opposite_corners(corner);
+        for (const double error : max_error) report.max_error = std::max(report.max_error, std::sqrt(error));
         report.collapses += chosen.size();
         alive_count_ -= 2 * chosen.size();
         for (const std::vector<std::uint32_t>& local : dirty) dirty_.insert(dirty_.end(), local.begin(), local.end());  // (sorted before use)
@@ -948,18 +987,14 @@ private:
         s.star.clear(), s.ids.clear(), s.corners.clear(), s.points.clear(), s.boxes.clear();
         const std::array<float, 3>& position = position_[p.corner];
         const std::uint32_t t0 = p.corner / 3, t1 = opposite_[p.corner] / 3;
-        const std::uint32_t stamp = ++s.stamp;
-        std::size_t valence = 0, common = 0;
         const std::uint32_t* ring = ring_corners_.data() + p.ring_begin;
-        for (const std::uint32_t v : {a, b}) {
-            const std::uint32_t count = p.around[v == a ? 0 : 1];
-            const std::uint32_t* corners = v == a ? ring : ring + p.around[0];
-            for (std::uint32_t n = 0; n < count; ++n) {
+        for (const int end : {0, 1}) {
+            const std::uint32_t* corners = end == 0 ? ring : ring + p.around[0];
+            std::vector<std::uint32_t>& neighbours = s.neighbours[end];
+            neighbours.clear();
+            for (std::uint32_t n = 0; n < p.around[end]; ++n) {
                 const std::uint32_t c = corners[n];
-                const std::uint32_t neighbour = vertex(next(c));
-                if (v == a) s.mark[neighbour] = stamp;
-                else common += s.mark[neighbour] == stamp;
-                ++valence;
+                neighbours.push_back(vertex(next(c)));
                 const std::uint32_t t = c / 3;
                 if (t == t0 || t == t1) continue;
                 Ids ids = triangles_[t];
@@ -973,8 +1008,15 @@ private:
                 s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(to_double(points)), s.points.push_back(points);
                 s.boxes.push_back(box);
             }
+            std::sort(neighbours.begin(), neighbours.end());
         }
-        return common == 2 && valence >= 4 + 3;
+        std::size_t common = 0;
+        for (auto i = s.neighbours[0].begin(), j = s.neighbours[1].begin(); i != s.neighbours[0].end() && j != s.neighbours[1].end();) {
+            if (*i == *j) ++common, ++i, ++j;
+            else if (*i < *j) ++i;
+            else ++j;
+        }
+        return common == 2 && p.around[0] + p.around[1] >= 4 + 3;
     }
 
     bool geometry_holds(const Scratch& s) const {
@@ -1213,7 +1255,8 @@ private:
     std::vector<std::uint32_t> grid_ids_;
     std::vector<std::uint32_t> ring_corners_;  ///< the round's plans' corners round their ends (Plan::ring_begin)
     std::vector<std::uint32_t> dirty_;  ///< corners at the kept vertices of the round's collapses (their triangles to refresh)
-    std::vector<std::vector<Candidate>> block_candidates_;  ///< gather_below() per block of triangles
+    std::vector<std::vector<Candidate>> block_candidates_;
+    std::vector<Candidate> sort_buffer_;  ///< (sort_by_cost()'s, kept for its memory)  ///< gather_below() per block of triangles
     std::vector<char> moved_;  ///< per triangle: changed (or removed) since settled_grid_ was built
     std::vector<std::uint32_t> moved_list_;  ///< those triangles (some removed since)
     BoxGrid<GridTriangle> settled_grid_, moved_grid_;
