@@ -185,18 +185,6 @@ std::uint32_t facing_directions(const detail::Triangle3& t) {
     return table.facing(cross(e1, e2), std::sqrt(dot(e1, e1) * dot(e2, e2)));
 }
 
-/// The mean of the largest extents of a regular sample of @a boxes (at most 65 536).
-double mean_extent(const std::vector<Box>& boxes) {
-    const std::size_t step = std::max<std::size_t>(1, boxes.size() / 65536);
-    double sum = 0;
-    std::size_t count = 0;
-    for (std::size_t i = 0; i < boxes.size(); i += step, ++count) {
-        const Box& b = boxes[i];
-        sum += std::max({double(b.hi[0]) - b.lo[0], double(b.hi[1]) - b.lo[1], double(b.hi[2]) - b.lo[2]});
-    }
-    return count ? sum / double(count) : 0;
-}
-
 /// Boxes with payloads (what a query needs of each, and a Summary) in a uniform grid, each in the cell of its
 /// low corner (one larger than a cell: in every cell it meets), for finding the boxes that meet
 /// a box. Built at once and read-only after. The boxes and the payloads are kept apart, so a
@@ -204,62 +192,81 @@ double mean_extent(const std::vector<Box>& boxes) {
 template <class Payload>
 class BoxGrid {
 public:
-    /// @a cell: the cell size, made at least the largest extent of 99% of the boxes, and coarser
-    /// where the boxes are spread thin (at most about eight cells per box).
-    void build(const std::vector<Box>& boxes, const std::vector<Payload>& payloads, double cell) {
-        const Box bounds = tbb::parallel_reduce(
-            tbb::blocked_range<std::size_t>(0, boxes.size(), 16384), empty_box(),
-            [&](const auto& range, Box bounds) {
-                for (std::size_t i = range.begin(); i != range.end(); ++i) grow(bounds, boxes[i].lo), grow(bounds, boxes[i].hi);
+    /// The boxes box_of(i) with payloads payload_of(i), i < @a count, but the empty ones
+    /// (lo > hi). @a cell: the cell size (kCellEdges mean extents when 0), made at least the
+    /// largest extent of 99% of the boxes, and coarser where the boxes are spread thin (at most
+    /// about eight cells per box).
+    template <class BoxOf, class PayloadOf>
+    void build(std::size_t count, BoxOf&& box_of, PayloadOf&& payload_of, double cell = 0) {
+        struct Bounds {
+            Box box = empty_box();
+            std::size_t boxes = 0;  ///< not empty
+        };
+        const Bounds bounds = tbb::parallel_reduce(
+            tbb::blocked_range<std::size_t>(0, count, 16384), Bounds{},
+            [&](const auto& range, Bounds bounds) {
+                for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                    const Box b = box_of(i);
+                    if (b.lo[0] <= b.hi[0]) grow(bounds.box, b.lo), grow(bounds.box, b.hi), ++bounds.boxes;
+                }
                 return bounds;
             },
-            [](Box a, const Box& b) { return grow(a, b.lo), grow(a, b.hi), a; });
+            [](Bounds a, const Bounds& b) { return grow(a.box, b.box.lo), grow(a.box, b.box.hi), a.boxes += b.boxes, a; });
         // (the extents of a regular sample: the cell size sets only the speed of the queries)
         constexpr std::size_t kExtentSamples = 65536;
         std::vector<float> extents;
-        for (std::size_t i = 0; i < boxes.size(); i += std::max<std::size_t>(1, boxes.size() / kExtentSamples)) {
-            const Box& b = boxes[i];
-            extents.push_back(std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]}));
+        for (std::size_t i = 0; i < count; i += std::max<std::size_t>(1, count / kExtentSamples)) {
+            const Box& b = box_of(i);
+            if (b.lo[0] <= b.hi[0]) extents.push_back(std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]}));
         }
+        if (!(cell > 0) && !extents.empty()) cell = kCellEdges * std::accumulate(extents.begin(), extents.end(), 0.0) / double(extents.size());
         if (!extents.empty()) {
             const auto most = extents.begin() + std::ptrdiff_t(std::size_t(0.99 * double(extents.size() - 1)));
             std::nth_element(extents.begin(), most, extents.end());
             cell = std::max(cell, double(*most));
         }
         cell_ = cell > 0 ? cell : 1;
+        const bool none = bounds.boxes == 0;
         for (;;) {
-            std::uint32_t count = 1;
+            std::uint64_t cells = 1;
             for (int k = 0; k < 3; ++k) {
-                origin_[k] = boxes.empty() ? 0 : bounds.lo[k];
-                dims_[k] = boxes.empty() ? 1 : std::int64_t(std::floor((double(bounds.hi[k]) - origin_[k]) / cell_)) + 1;
-                count *= std::uint32_t(dims_[k]);
+                origin_[k] = none ? 0 : bounds.box.lo[k];
+                dims_[k] = none ? 1 : std::int64_t(std::floor((double(bounds.box.hi[k]) - origin_[k]) / cell_)) + 1;
+                cells *= std::uint64_t(dims_[k]);
             }
-            if (count <= kCellsPerBox * boxes.size() + 64) break;
+            if (cells <= kCellsPerBox * bounds.boxes + 64) break;
             cell_ *= 1.25;
         }
         const std::size_t cells = std::size_t(dims_[0] * dims_[1] * dims_[2]);
         // A counting sort by cell: start_[c] counts up to the end of cell c, then down to its
         // start as its boxes are put in (from the last), so a cell keeps them in order.
         start_.assign(cells + 1, 0);
-        // The cell of each box of a cell or less (found once, in parallel); kNone for larger ones.
-        cell_of_.resize(boxes.size());
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes.size(), 8192), [&](const auto& range) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i) cell_of_[i] = small(boxes[i]) ? std::uint32_t(index(cell_coordinates(boxes[i].lo))) : kNone;
+        // The cell of each box of a cell or less (found once, in parallel); kLarge for larger
+        // ones, kNone for empty ones.
+        constexpr std::uint32_t kLarge = kNone - 1;
+        cell_of_.resize(count);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 8192), [&](const auto& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                const Box& b = box_of(i);
+                cell_of_[i] = !(b.lo[0] <= b.hi[0]) ? kNone : small(b) ? std::uint32_t(index(cell_coordinates(b.lo))) : kLarge;
+            }
         });
-        for (std::size_t i = 0; i < boxes.size(); ++i) {
-            if (cell_of_[i] != kNone) ++start_[cell_of_[i]];
-            else for_cells(boxes[i], [&](std::size_t c) { ++start_[c]; });
+        for (std::size_t i = 0; i < count; ++i) {
+            if (cell_of_[i] < kLarge) ++start_[cell_of_[i]];
+            else if (cell_of_[i] == kLarge) for_cells(box_of(i), [&](std::size_t c) { ++start_[c]; });
         }
         for (std::size_t c = 1; c <= cells; ++c) start_[c] += start_[c - 1];
         boxes_.resize(start_[cells]);
         payloads_.resize(start_[cells]);
-        for (std::size_t i = boxes.size(); i-- > 0;) {
+        for (std::size_t i = count; i-- > 0;) {
+            if (cell_of_[i] == kNone) continue;
+            const Box& b = box_of(i);
             const auto put = [&](std::size_t c) {
                 const std::uint32_t at = --start_[c];
-                boxes_[at] = boxes[i], payloads_[at] = payloads[i];
+                boxes_[at] = b, payloads_[at] = payload_of(i);
             };
-            if (cell_of_[i] != kNone) put(cell_of_[i]);
-            else for_cells(boxes[i], put);
+            if (cell_of_[i] != kLarge) put(cell_of_[i]);
+            else for_cells(b, put);
         }
         // Each cell's summary at its first entry.
         summaries_.resize(start_[cells]);
@@ -376,12 +383,12 @@ public:
         const std::size_t size = lo_[0].size();
         for (std::size_t base = 0; base < size; base += 64) {
             const std::size_t count = std::min<std::size_t>(64, size - base);
-            std::uint32_t meeting = 0;
+            std::uint64_t meeting = 0;
             for (std::size_t i = 0; i < count; ++i) {
                 const std::size_t j = base + i;
                 const bool meets = (lo_[0][j] <= box.hi[0]) & (box.lo[0] <= hi_[0][j]) & (lo_[1][j] <= box.hi[1]) &
                                    (box.lo[1] <= hi_[1][j]) & (lo_[2][j] <= box.hi[2]) & (box.lo[2] <= hi_[2][j]);
-                meeting |= std::uint32_t(meets) << i;
+                meeting |= std::uint64_t(meets) << i;
             }
             for (; meeting != 0; meeting &= meeting - 1) {
                 if (!call(base + std::size_t(__builtin_ctzll(meeting)))) return false;
@@ -488,6 +495,13 @@ struct GridPlan {
     Summary summary;  ///< the plan's fan
 };
 
+/// A ring walk of choose_apart(): the corners round both ends of the edge opposite corner.
+struct Walk {
+    std::uint32_t corner;
+    std::array<std::uint32_t, 2> at;  ///< where each walk is
+    std::array<std::vector<std::uint32_t>, 2> around;
+};
+
 /// Per-thread scratch of the checks.
 struct Scratch {
     std::vector<std::uint32_t> mark;  ///< stamp per vertex (the choice's)
@@ -501,7 +515,7 @@ struct Scratch {
     std::vector<Box> boxes;
     std::vector<std::array<Vec3d, 2>> spokes;  ///< per star triangle, from the kept vertex to its other corners
     std::vector<NewTriangle> new_stars;        ///< of the plans this thread passed in the round, end to end
-    std::array<std::vector<std::uint32_t>, 2> around;  ///< the corners round a plan's ends (choose_apart())
+    std::vector<Walk> walks;  ///< choose_apart()'s
     std::array<std::vector<std::uint32_t>, 2> neighbours;  ///< the neighbours of a plan's ends (link condition)
     std::vector<std::pair<std::uint32_t, const Box*>> near;  ///< triangles off the old star whose boxes meet the new one's
 };
@@ -765,47 +779,72 @@ private:
     /// star (a triangle changes only if it has an end of the collapse, and a vertex's ring only
     /// if it is in the star), which is what the link condition and the geometry check read.
     /// Each plan's corners round its ends go to @a rings (the checks read them from there without
-    /// walking the rings again, a chain of loads).
+    /// walking the rings again, a chain of loads). The rings are walked a batch of candidates at a
+    /// time, side by side (many chains of loads in flight, not one): the next ones whose ends no
+    /// earlier choice has marked, then chosen in order as before (one may yet be marked by one
+    /// chosen before it in the batch; its walk is then wasted).
     void choose_apart(const std::vector<Candidate>& candidates, std::vector<Plan>& plans, std::vector<std::uint32_t>& rings, Scratch& s) const {
         plans.clear(), rings.clear();
-        std::array<std::vector<std::uint32_t>, 2>& around = s.around;
         const std::uint32_t stamp = ++s.stamp;
-        for (std::size_t n = 0; n < candidates.size(); ++n) {
-            const Candidate& candidate = candidates[n];
-            // (in cost order the candidates lie anywhere: their triangles and those triangles'
-            // opposite corners asked for 16 ahead, then their ends' marks 8 ahead)
-            if (n + 16 < candidates.size()) {
-                const std::uint32_t ahead = candidates[n + 16].corner;
-                __builtin_prefetch(&triangles_[ahead / 3]), __builtin_prefetch(&opposite_[ahead - ahead % 3]);
+        const auto marked = [&](std::uint32_t corner) { return s.mark[vertex(next(corner))] == stamp || s.mark[vertex(prev(corner))] == stamp; };
+        constexpr std::size_t kBatch = 32;
+        s.walks.resize(kBatch);
+        for (std::size_t n = 0; n < candidates.size();) {
+            std::size_t size = 0;
+            for (; n < candidates.size() && size < kBatch; ++n) {
+                // (in cost order the candidates lie anywhere: their triangles and those triangles'
+                // opposite corners asked for 16 ahead, then their ends' marks 8 ahead)
+                if (n + 16 < candidates.size()) {
+                    const std::uint32_t ahead = candidates[n + 16].corner;
+                    __builtin_prefetch(&triangles_[ahead / 3]), __builtin_prefetch(&opposite_[ahead - ahead % 3]);
+                }
+                if (n + 8 < candidates.size()) {
+                    const std::uint32_t ahead = candidates[n + 8].corner;
+                    for (const std::uint32_t v : {vertex(next(ahead)), vertex(prev(ahead))}) __builtin_prefetch(&s.mark[v]);
+                }
+                if (!marked(candidates[n].corner)) s.walks[size++].corner = candidates[n].corner;
             }
-            if (n + 8 < candidates.size()) {
-                const std::uint32_t ahead = candidates[n + 8].corner;
-                for (const std::uint32_t v : {vertex(next(ahead)), vertex(prev(ahead))}) __builtin_prefetch(&s.mark[v]);
+            walk_rings(s.walks.data(), size);
+            for (std::size_t k = 0; k < size; ++k) {
+                const Walk& walk = s.walks[k];
+                if (marked(walk.corner)) continue;
+                Plan plan;
+                plan.corner = walk.corner;
+                plan.ring_begin = std::uint32_t(rings.size());
+                for (int end = 0; end < 2; ++end) {
+                    plan.around[end] = std::uint32_t(walk.around[end].size());
+                    for (const std::uint32_t c : walk.around[end]) s.mark[vertex(next(c))] = stamp, rings.push_back(c);
+                }
+                plans.push_back(plan);
             }
-            const std::uint32_t ends[2] = {vertex(next(candidate.corner)), vertex(prev(candidate.corner))};
-            if (s.mark[ends[0]] == stamp || s.mark[ends[1]] == stamp) continue;
-            // Both ends' rings walked side by side (two chains of loads in flight, not one), from
-            // the candidate's own triangle (already at hand).
-            const std::uint32_t first[2] = {next(candidate.corner), prev(candidate.corner)};
-            std::uint32_t c[2] = {first[0], first[1]};
-            bool done[2] = {false, false};
-            around[0].clear(), around[1].clear();
-            while (!done[0] || !done[1]) {
-                for (int k = 0; k < 2; ++k) {
-                    if (done[k]) continue;
-                    around[k].push_back(c[k]);
-                    s.mark[vertex(next(c[k]))] = stamp;
-                    c[k] = swing(c[k]);
-                    done[k] = c[k] == first[k];
+        }
+    }
+
+    /// The corners round both ends of each of @a walks, from the edge's own triangle, all walked
+    /// side by side.
+    void walk_rings(Walk* walks, std::size_t size) const {
+        std::size_t walking = 0;
+        for (std::size_t k = 0; k < size; ++k) {
+            Walk& walk = walks[k];
+            for (int end = 0; end < 2; ++end) {
+                walk.around[end].clear();
+                walk.at[end] = end == 0 ? next(walk.corner) : prev(walk.corner);
+            }
+            walking += 2;
+        }
+        while (walking > 0) {
+            for (std::size_t k = 0; k < size; ++k) {
+                Walk& walk = walks[k];
+                for (int end = 0; end < 2; ++end) {
+                    std::vector<std::uint32_t>& around = walk.around[end];
+                    const std::uint32_t first = end == 0 ? next(walk.corner) : prev(walk.corner);
+                    if (!around.empty() && walk.at[end] == first) continue;
+                    around.push_back(walk.at[end]);
+                    __builtin_prefetch(&triangles_[walk.at[end] / 3]);  // (its neighbour is marked once chosen)
+                    walk.at[end] = swing(walk.at[end]);
+                    walking -= walk.at[end] == first;
                 }
             }
-            Plan plan;
-            plan.corner = candidate.corner;
-            plan.ring_begin = std::uint32_t(rings.size());
-            plan.around = {std::uint32_t(around[0].size()), std::uint32_t(around[1].size())};
-            rings.insert(rings.end(), around[0].begin(), around[0].end());
-            rings.insert(rings.end(), around[1].begin(), around[1].end());
-            plans.push_back(plan);
         }
     }
 
@@ -818,15 +857,9 @@ private:
     /// @a in_place: the plans in the order to visit them (any order gives the same crossings).
     void find_crossings(std::vector<Plan>& plans, const std::vector<std::uint32_t>& in_place,
                         tbb::enumerable_thread_specific<Scratch>& scratch) {
-        std::vector<Box> boxes;
-        std::vector<GridPlan> passed;
-        double extent = 0;
-        for (std::uint32_t i = 0; i < plans.size(); ++i) {
-            if (plans[i].verdict != Verdict::passed) continue;
-            boxes.push_back(plans[i].star), passed.push_back({i, plans[i].fan});
-            for (int k = 0; k < 3; ++k) extent += double(plans[i].star.hi[k]) - plans[i].star.lo[k];
-        }
-        plan_grid_.build(boxes, passed, extent / (3 * double(std::max<std::size_t>(passed.size(), 1))));
+        plan_grid_.build(
+            plans.size(), [&](std::size_t i) { return plans[i].verdict == Verdict::passed ? plans[i].star : empty_box(); },
+            [&](std::size_t i) { return GridPlan{std::uint32_t(i), plans[i].fan}; });
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in_place.size(), 64), [&](const auto& range) {
             Scratch& s = scratch.local();
             for (std::size_t n = range.begin(); n != range.end(); ++n) {
@@ -943,29 +976,20 @@ private:
     /// moved since the settled grid was built in a grid of their own, rebuilt each round; the
     /// settled grid rebuilt only once a quarter of the triangles has moved.
     void build_triangle_grids() {
-        std::vector<std::uint32_t>& ids = grid_ids_;
-        ids.clear();
+        const auto dead = [&](std::uint32_t t) { return alive_[t] == 0; };
         const bool all = settled_grid_.empty() || moved_list_.size() > alive_count_ / 4;
         if (all) {
             for (const std::uint32_t t : moved_list_) moved_[t] = 0;
             moved_list_.clear();
-            for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
-                if (alive_[t]) ids.push_back(t);
-            }
+            if (alive_list_.empty()) alive_list_.resize(triangles_.size()), std::iota(alive_list_.begin(), alive_list_.end(), 0u);
+            alive_list_.erase(std::remove_if(alive_list_.begin(), alive_list_.end(), dead), alive_list_.end());
         } else {
-            moved_list_.erase(std::remove_if(moved_list_.begin(), moved_list_.end(), [&](std::uint32_t t) { return !alive_[t]; }),
-                              moved_list_.end());
-            ids = moved_list_;
+            moved_list_.erase(std::remove_if(moved_list_.begin(), moved_list_.end(), dead), moved_list_.end());
         }
-        grid_boxes_.resize(ids.size()), grid_triangles_.resize(ids.size());
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ids.size(), 8192), [&](const auto& range) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                const std::uint32_t t = ids[i];
-                grid_boxes_[i] = boxes_[t], grid_triangles_[i] = {t, summaries_[t]};
-            }
-        });
-        (all ? settled_grid_ : moved_grid_).build(grid_boxes_, grid_triangles_, kCellEdges * mean_extent(grid_boxes_));
-        if (all) moved_grid_.build({}, {}, 1);
+        const std::vector<std::uint32_t>& ids = all ? alive_list_ : moved_list_;
+        (all ? settled_grid_ : moved_grid_)
+            .build(ids.size(), [&](std::size_t i) { return boxes_[ids[i]]; }, [&](std::size_t i) { return GridTriangle{ids[i], summaries_[ids[i]]}; });
+        if (all) moved_grid_.build(0, [](std::size_t) { return empty_box(); }, [](std::size_t) { return GridTriangle{}; });
     }
 
     /// Calls visit(GridTriangle, box) for each alive triangle whose box meets @a box, until it returns
@@ -1250,15 +1274,13 @@ private:
     std::vector<char> rejected_;        ///< per corner: its edge's collapse failed a check since it last changed
     std::vector<Box> boxes_;            ///< per triangle
     std::vector<Summary> summaries_;    ///< per triangle: the directions it faces, its component
-    std::vector<Box> grid_boxes_;       ///< (build_triangle_grids()'s, kept for their memory)
-    std::vector<GridTriangle> grid_triangles_;
-    std::vector<std::uint32_t> grid_ids_;
     std::vector<std::uint32_t> ring_corners_;  ///< the round's plans' corners round their ends (Plan::ring_begin)
     std::vector<std::uint32_t> dirty_;  ///< corners at the kept vertices of the round's collapses (their triangles to refresh)
-    std::vector<std::vector<Candidate>> block_candidates_;
-    std::vector<Candidate> sort_buffer_;  ///< (sort_by_cost()'s, kept for its memory)  ///< gather_below() per block of triangles
+    std::vector<std::vector<Candidate>> block_candidates_;  ///< gather_below() per block of triangles
+    std::vector<Candidate> sort_buffer_;  ///< (sort_by_cost()'s, kept for its memory)
     std::vector<char> moved_;  ///< per triangle: changed (or removed) since settled_grid_ was built
     std::vector<std::uint32_t> moved_list_;  ///< those triangles (some removed since)
+    std::vector<std::uint32_t> alive_list_;  ///< the alive triangles when settled_grid_ was built
     BoxGrid<GridTriangle> settled_grid_, moved_grid_;
     BoxGrid<GridPlan> plan_grid_;
     std::vector<std::uint32_t> component_;  ///< per vertex
