@@ -185,10 +185,10 @@ std::uint32_t facing_directions(const detail::Triangle3& t) {
     return table.facing(cross(e1, e2), std::sqrt(dot(e1, e1) * dot(e2, e2)));
 }
 
-/// Boxes with payloads (what a query needs of each, and a Summary) in a uniform grid, each in the cell of its
-/// low corner (one larger than a cell: in every cell it meets), for finding the boxes that meet
-/// a box. Built at once and read-only after. The boxes and the payloads are kept apart, so a
-/// query reads only the boxes it passes over.
+/// Boxes with payloads (what a query needs of each, and a Summary) in a uniform grid, each in
+/// the cell of its low corner (one larger than a cell: in every cell it meets), for finding the
+/// boxes that meet a box, or what all those near a box have in common. Built at once and
+/// read-only after.
 template <class Payload>
 class BoxGrid {
 public:
@@ -256,14 +256,13 @@ public:
             else if (cell_of_[i] == kLarge) for_cells(box_of(i), [&](std::size_t c) { ++start_[c]; });
         }
         for (std::size_t c = 1; c <= cells; ++c) start_[c] += start_[c - 1];
-        boxes_.resize(start_[cells]);
-        payloads_.resize(start_[cells]);
+        entries_.resize(start_[cells]);
         for (std::size_t i = count; i-- > 0;) {
             if (cell_of_[i] == kNone) continue;
             const Box& b = box_of(i);
             const auto put = [&](std::size_t c) {
                 const std::uint32_t at = --start_[c];
-                boxes_[at] = b, payloads_[at] = payload_of(i);
+                entries_[at] = {b, payload_of(i)};
             };
             if (cell_of_[i] != kLarge) put(cell_of_[i]);
             else for_cells(b, put);
@@ -274,7 +273,7 @@ public:
             for (std::size_t c = range.begin(); c != range.end(); ++c) {
                 if (start_[c] == start_[c + 1]) continue;
                 Summary common;
-                for (std::uint32_t i = start_[c]; i < start_[c + 1]; ++i) common.add(payloads_[i].summary);
+                for (std::uint32_t i = start_[c]; i < start_[c + 1]; ++i) common.add(entries_[i].payload.summary);
                 summaries_[start_[c]] = common;
             }
         });
@@ -285,7 +284,7 @@ public:
     /// What the payloads of the boxes that meet @a box have in common (their summaries), with
     /// more (those of the cells visit() passes over).
     Summary summary(const Box& box) const {
-        assert(summaries_.size() == boxes_.size());
+        assert(summaries_.size() == entries_.size());
         Summary common;
         for_query_rows(box, [&](std::size_t first, std::size_t last) {
             for (std::size_t c = first; c <= last; ++c) {
@@ -302,7 +301,7 @@ public:
     bool visit(const Box& box, Visit&& visit) const {
         return for_query_rows(box, [&](std::size_t first, std::size_t last) {
             for (std::uint32_t i = start_[first]; i < start_[last + 1]; ++i) {
-                if (detail::boxes_overlap(boxes_[i], box) && !visit(payloads_[i], boxes_[i])) return false;
+                if (detail::boxes_overlap(entries_[i].box, box) && !visit(entries_[i].payload, entries_[i].box)) return false;
             }
             return true;
         });
@@ -360,8 +359,11 @@ private:
     std::array<double, 3> origin_{};
     std::array<std::int64_t, 3> dims_{1, 1, 1};
     std::vector<std::uint32_t> start_;  ///< entries of cell c: [start_[c], start_[c + 1])
-    std::vector<Box> boxes_;
-    std::vector<Payload> payloads_;
+    struct Entry {
+        Box box;
+        Payload payload;
+    };
+    std::vector<Entry> entries_;      ///< by cell (a box beside its payload: one line to write when built)
     std::vector<Summary> summaries_;  ///< each cell's at its first entry
     std::vector<std::uint32_t> cell_of_;  ///< (build()'s, kept for its memory)
 };
@@ -553,7 +555,7 @@ public:
                 for (std::size_t i = range.begin(); i != range.end(); ++i) {
                     if (i + 8 < range.end()) {
                         const Ids& ahead = triangles_[dirty_[i + 8] / 3];
-                        for (const std::uint32_t v : ahead) __builtin_prefetch(&quadrics_[v]), __builtin_prefetch(&positions_[v]);
+                        for (const std::uint32_t v : ahead) __builtin_prefetch(&quadrics_[v]), __builtin_prefetch(&quadrics_[v].d2), __builtin_prefetch(&positions_[v]);
                     }
                     refresh(dirty_[i] / 3, dirty_[i]);
                 }
