@@ -63,6 +63,7 @@ constexpr double kMaxTurnDegrees = 75;  ///< largest change of a triangle's norm
 /// Ties of the quadric error (flat regions, where it is 0) go to the shorter edge, which keeps
 /// the triangles there from growing into needles.
 constexpr double kLengthWeight = 1e-3;
+constexpr double kNever = std::numeric_limits<double>::infinity();  ///< the cost of an edge that may not collapse
 constexpr std::size_t kCellsPerBox = 8;  ///< a grid has at most about this many cells per box
 constexpr double kCellEdges = 1;       ///< triangle grid cell size in mean triangle extents
 constexpr std::size_t kMinRound = 64;  ///< candidates a round takes at least
@@ -737,18 +738,19 @@ private:
             grow(boxes_[t], positions_[vertex(c)]);
             rejected_[c] = 0;
             const std::uint32_t a = vertex(next(c)), b = vertex(prev(c));
+            if (a > b) cost_[c] = kNever;
             if (a > b || c == unchanged) continue;
             position_[c] = placement(a, b);
             const double error = (quadrics_[a] + quadrics_[b]).error(to_double(position_[c]));
             const Vec3d edge = sub(point(a), point(b));
             error_[c] = error;
-            cost_[c] = error + kLengthWeight * dot(edge, edge);
+            cost_[c] = error <= max_error_squared_ ? error + kLengthWeight * dot(edge, edge) : kNever;
         }
     }
 
     /// Whether the edge opposite corner @a c (of an alive triangle) may collapse now, seen from
     /// the corner where it runs from its lower vertex.
-    bool collapsible(std::uint32_t c) const { return vertex(next(c)) < vertex(prev(c)) && !rejected_[c] && error_[c] <= max_error_squared_; }
+    bool collapsible(std::uint32_t c) const { return cost_[c] != kNever && !rejected_[c]; }
 
     /// The @a take cheapest edges that may collapse (all, when fewer), in order of cost (a total
     /// order: ties go by corner), whatever the thread count; returns how many may collapse. Only
@@ -1311,7 +1313,9 @@ private:
     Array<std::uint32_t> opposite_;       ///< per corner
     Array<std::uint32_t> vertex_corner_;  ///< a corner at each vertex (kNone once removed)
     Array<Quadric> quadrics_;
-    Array<double> cost_, error_;  ///< per corner, of the edge opposite it (from its lower vertex)
+    /// per corner, of the edge opposite it (from its lower vertex): the quadric error, and the
+    /// cost (kNever at the corner where it runs from its higher vertex, or past the error bound)
+    Array<double> cost_, error_;
     Array<std::array<float, 3>> position_;  ///< per corner: where that edge's collapse puts the vertex
     Array<char> rejected_;        ///< per corner: its edge's collapse failed a check since it last changed
     Array<Box> boxes_;            ///< per triangle
