@@ -137,16 +137,16 @@ public:
         }
     }
 
-    /// The directions that @a n certainly faces (the triangle's normal, from edges of lengths
-    /// whose product is @a scale): none when it is so short that its rounding (2^-49 scale at
-    /// most) could turn it by more than 1e-6.
-    std::uint32_t facing(const Vec3d& n, double scale) const {
+    /// The directions that @a n certainly faces (the triangle's normal, from edges whose
+    /// squared lengths multiply to @a scale_squared): none when it is so short that its rounding
+    /// (2^-49 times the edges' lengths at most) could turn it by more than 1e-6.
+    std::uint32_t facing(const Vec3d& n, double scale_squared) const {
         const double m[3] = {std::abs(n[0]), std::abs(n[1]), std::abs(n[2])};
         const int axis = m[0] >= m[1] && m[0] >= m[2] ? 0 : m[1] >= m[2] ? 1 : 2;
-        if (!(m[axis] > 1e-6 * scale)) return 0;
+        if (!(m[axis] * m[axis] > 1e-12 * scale_squared)) return 0;
         const int face = 2 * axis + (n[axis] < 0);
-        const double u = n[(axis + 1) % 3] / m[axis], v = n[(axis + 2) % 3] / m[axis];
-        return table_[(face * kBins + bin(u)) * kBins + bin(v)];
+        const double inverse = 1 / m[axis];
+        return table_[(face * kBins + bin(n[(axis + 1) % 3] * inverse)) * kBins + bin(n[(axis + 2) % 3] * inverse)];
     }
 
 private:
@@ -180,10 +180,11 @@ private:
 
 /// The directions of kDirections that triangle @a t certainly faces (its normal's dot product
 /// with them is positive); none for a degenerate one.
+const FacingTable kFacingTable;
+
 std::uint32_t facing_directions(const detail::Triangle3& t) {
-    static const FacingTable table;
     const Vec3d e1 = sub(t[1], t[0]), e2 = sub(t[2], t[0]);
-    return table.facing(cross(e1, e2), std::sqrt(dot(e1, e1) * dot(e2, e2)));
+    return kFacingTable.facing(cross(e1, e2), dot(e1, e1) * dot(e2, e2));
 }
 
 /// Leaves the elements it makes default-initialized (a float or an index is not zeroed): the
