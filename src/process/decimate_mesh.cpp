@@ -542,8 +542,8 @@ struct Walk {
 
 /// Per-thread scratch of the checks.
 struct Scratch {
-    std::vector<std::uint32_t> mark;  ///< stamp per vertex (the choice's)
-    std::uint32_t stamp = 0;
+    std::vector<std::uint8_t> mark;  ///< stamp per vertex (the choice's; a byte, so they keep to the nearer caches)
+    std::uint8_t stamp = 0;
     std::vector<std::uint32_t> star;  ///< the triangles of the new star
     std::vector<Ids> ids;             ///< their corners' vertices after the collapse
     std::vector<detail::Triangle3> corners;
@@ -830,7 +830,8 @@ private:
     /// chosen before it in the batch; its walk is then wasted).
     void choose_apart(const std::vector<Candidate>& candidates, std::vector<Plan>& plans, std::vector<std::uint32_t>& rings, Scratch& s) const {
         plans.clear(), rings.clear();
-        const std::uint32_t stamp = ++s.stamp;
+        if (++s.stamp == 0) std::fill(s.mark.begin(), s.mark.end(), 0), s.stamp = 1;
+        const std::uint8_t stamp = s.stamp;
         const auto marked = [&](std::uint32_t corner) { return s.mark[vertex(next(corner))] == stamp || s.mark[vertex(prev(corner))] == stamp; };
         constexpr std::size_t kBatch = 32;
         s.walks.resize(kBatch);
