@@ -555,7 +555,6 @@ struct Scratch {
     std::vector<NewTriangle> new_stars;        ///< of the plans this thread passed in the round, end to end
     std::vector<Walk> walks;  ///< choose_apart()'s
     std::array<std::vector<std::uint32_t>, 2> neighbours;  ///< the neighbours of a plan's ends (link condition)
-    std::vector<std::pair<std::uint32_t, const Box*>> near;  ///< triangles off the old star whose boxes meet the new one's
 };
 
 class Decimator {
@@ -1201,18 +1200,10 @@ private:
         Summary in_cells = settled_grid_.summary(region);
         in_cells.add(moved_grid_.summary(region));
         if (apart(in_cells)) return true;
+        // (the triangles met: the visit stops as soon as they cannot clear the collapse)
         Summary met;
-        s.near.clear();
-        const std::uint32_t removed[2] = {p.corner / 3, opposite_[p.corner] / 3};
-        visit_triangles(region, [&](const GridTriangle& t, const Box& box) {
-            met.add(t.summary);
-            if (detail::boxes_overlap(box, around_star) && t.triangle != removed[0] && t.triangle != removed[1] &&
-                std::find(s.star.begin(), s.star.end(), t.triangle) == s.star.end()) {
-                s.near.push_back({t.triangle, &box});
-            }
-            return true;
-        });
-        if (apart(met)) return true;
+        const auto may_be_apart = [&](const Summary& near) { return near.component != Summary::kMixed && (near.facing & p.fan.facing) != 0; };
+        if (visit_triangles(region, [&](const GridTriangle& t, const Box&) { return met.add(t.summary), may_be_apart(met); }) && apart(met)) return true;
         prepare_star(s);
         if (!star_is_a_graph(a, s)) {
             for (std::size_t i = 0; i < s.star.size(); ++i) {
@@ -1221,12 +1212,15 @@ private:
                 }
             }
         }
-        for (const auto& [t, box] : s.near) {
-            const Ids& ids = triangles_[t];
+        const std::uint32_t removed[2] = {p.corner / 3, opposite_[p.corner] / 3};
+        return visit_triangles(around_star, [&](const GridTriangle& t, const Box& box) {
+            if (t.triangle == removed[0] || t.triangle == removed[1] || std::find(s.star.begin(), s.star.end(), t.triangle) != s.star.end()) {
+                return true;  // the old star, replaced
+            }
+            const Ids& ids = triangles_[t.triangle];
             const detail::PreparedTriangle other({to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])});
-            if (!s.box_columns.for_meeting(*box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], ids, other); })) return false;
-        }
-        return true;
+            return s.box_columns.for_meeting(box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], ids, other); });
+        });
     }
 
     /// Each vertex's component (triangles joined by shared vertices) and each component's
