@@ -656,16 +656,19 @@ private:
         std::vector<std::uint32_t> at(start[n]);  // the corners at each vertex
         std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
         for (std::uint32_t c = 0; c < corners; ++c) at[fill[vertex(c)]++] = c;
+        // Round each vertex v: the edge from v to x, after its corner c, pairs with the edge from x
+        // to v, before its corner d (both at v): the corners opposite them are prev(c) and next(d).
         std::atomic<bool> paired{true};
-        tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, corners, 4096), [&](const auto& range) {
-            for (std::uint32_t c = range.begin(); c != range.end(); ++c) {
-                // The other triangle has a corner at w = vertex(prev c) followed by one at u.
-                const std::uint32_t u = vertex(next(c)), w = vertex(prev(c));
-                int found = 0;
-                for (std::uint32_t i = start[w]; i < start[w + 1]; ++i) {
-                    if (vertex(next(at[i])) == u) opposite_[c] = prev(at[i]), ++found;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+            for (std::size_t v = range.begin(); v != range.end(); ++v) {
+                for (std::uint32_t i = start[v]; i < start[v + 1]; ++i) {
+                    const std::uint32_t c = at[i], x = vertex(next(c));
+                    int found = 0;
+                    for (std::uint32_t j = start[v]; j < start[v + 1]; ++j) {
+                        if (vertex(prev(at[j])) == x) opposite_[prev(c)] = next(at[j]), ++found;
+                    }
+                    if (found != 1) paired = false;
                 }
-                if (found != 1) paired = false;
             }
         });
         for (std::uint32_t c = 0; c < corners; ++c) vertex_corner_[vertex(c)] = c;
