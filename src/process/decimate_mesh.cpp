@@ -30,7 +30,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
+#include <tbb/task_group.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
@@ -606,12 +606,18 @@ public:
                 if (!moved_[t]) moved_[t] = 1, moved_list_.push_back(t);
             }
             dirty_.clear();
+            // The grids the checks read are built beside the gathering and the choice (mostly
+            // sequential), which read neither them nor what building them writes.
+            tbb::task_group grids;
+            grids.run([&] { build_triangle_grids(); });
             // The cheapest, about as many as the collapses still wanted (and never very few).
             const std::size_t wanted = (alive_count_ - target_ + 1) / 2;
-            if (gather_cheapest(candidates, std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor})) == 0) break;
-            // The grids the checks read are built beside the choice (both mostly sequential), which
-            // reads neither them nor what building them writes.
-            tbb::parallel_invoke([&] { choose_apart(candidates, plans, ring_corners_, own); }, [&] { build_triangle_grids(); });
+            if (gather_cheapest(candidates, std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor})) == 0) {
+                grids.wait();
+                break;
+            }
+            choose_apart(candidates, plans, ring_corners_, own);
+            grids.wait();
             // Checked in the order of their triangles, which keeps neighbours together in memory
             // (the checks are independent of each other; the cost order scatters them).
             std::vector<std::uint32_t> in_place(plans.size());
