@@ -496,13 +496,6 @@ constexpr Candidate kAboveAll{std::numeric_limits<double>::infinity(), kNone};  
 
 enum class Verdict : std::uint8_t { unchecked, passed, topology, geometry, intersection };
 
-/// A triangle of a collapse's new star: its vertices, their float points and box.
-struct NewTriangle {
-    Ids ids;
-    FloatTriangle points;
-    Box box;
-};
-
 /// A collapse a round may make.
 struct Plan {
     std::uint32_t corner = kNone;
@@ -513,12 +506,6 @@ struct Plan {
     Box star = empty_box();  ///< the box of the new star (once checked)
     Verdict verdict = Verdict::unchecked;
     std::vector<std::uint32_t> crossed;  ///< earlier passed plans of the round whose new stars cross this one's
-    /// (once passed) its new star, for the crossing tests: star_size triangles from star_begin in
-    /// the new stars of the thread that checked it (one array per thread, not one per plan)
-    const std::vector<NewTriangle>* stars = nullptr;
-    std::uint32_t star_begin = 0, star_size = 0;
-    const NewTriangle* new_star_begin() const { return stars->data() + star_begin; }
-    const NewTriangle* new_star_end() const { return new_star_begin() + star_size; }
     double volume_change = 0;            ///< (once passed) six times the change of the enclosed volume
     Box region = empty_box();            ///< (once passed) the box of the old and the new star
     Summary fan;                         ///< (once passed) the directions all its new triangles face, its component
@@ -549,10 +536,8 @@ struct Scratch {
     std::vector<detail::Triangle3> corners;
     std::vector<detail::PreparedTriangle> prepared;  ///< the corners with their planes (for the intersection tests)
     BoxColumns box_columns;                          ///< the boxes (for the intersection tests)
-    std::vector<FloatTriangle> points;  ///< the corners as floats (as they will be written)
     std::vector<Box> boxes;
     std::vector<std::array<Vec3d, 2>> spokes;  ///< per star triangle, from the kept vertex to its other corners
-    std::vector<NewTriangle> new_stars;        ///< of the plans this thread passed in the round, end to end
     std::vector<Walk> walks;  ///< choose_apart()'s
     std::array<std::vector<std::uint32_t>, 2> neighbours;  ///< the neighbours of a plan's ends (link condition)
 };
@@ -623,7 +608,6 @@ public:
             std::vector<std::uint32_t> in_place(plans.size());
             for (std::uint32_t i = 0; i < plans.size(); ++i) in_place[i] = i;
             tbb::parallel_sort(in_place.begin(), in_place.end(), [&](std::uint32_t i, std::uint32_t j) { return plans[i].corner < plans[j].corner; });
-            for (Scratch& s : scratch) s.new_stars.clear();
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, plans.size(), 256), [&](const auto& range) {
                 Scratch& s = scratch.local();
                 for (std::size_t n = range.begin(); n != range.end(); ++n) {
@@ -925,9 +909,7 @@ private:
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, in_place.size(), 64), [&](const auto& range) {
             Scratch& s = scratch.local();
             for (std::size_t n = range.begin(); n != range.end(); ++n) {
-                // (the plans lie in cost order: the one 8 ahead asked for, then its new star 4 ahead)
-                if (n + 8 < range.end()) __builtin_prefetch(&plans[in_place[n + 8]]);
-                if (n + 4 < range.end() && plans[in_place[n + 4]].stars) __builtin_prefetch(plans[in_place[n + 4]].new_star_begin());
+                if (n + 8 < range.end()) __builtin_prefetch(&plans[in_place[n + 8]]);  // (in cost order: anywhere)
                 const std::uint32_t i = in_place[n];
                 Plan& p = plans[i];
                 if (p.verdict != Verdict::passed) continue;
@@ -939,7 +921,10 @@ private:
                     if (j >= i) return true;
                     if (!star_ready) {
                         s.ids.clear(), s.corners.clear(), s.boxes.clear();
-                        for (const NewTriangle* t = p.new_star_begin(); t != p.new_star_end(); ++t) s.ids.push_back(t->ids), s.corners.push_back(to_double(t->points)), s.boxes.push_back(t->box);
+                        for_new_star(p, [&](std::uint32_t, const Ids& ids, const FloatTriangle& points, const Box& box) {
+                            s.ids.push_back(ids), s.corners.push_back(to_double(points)), s.boxes.push_back(box);
+                            return true;
+                        });
                         prepare_star(s);
                         star_ready = true;
                     }
@@ -1024,14 +1009,12 @@ private:
 
     /// Whether a triangle of the new star in @a s (whose box is @a star) crosses one of the new
     /// star of plan @a q (neither holds the other's kept vertex).
-    static bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) {
-        for (const NewTriangle* triangle = q.new_star_begin(); triangle != q.new_star_end(); ++triangle) {
-            const NewTriangle& t = *triangle;
-            if (!detail::boxes_overlap(star, t.box)) continue;
-            const detail::PreparedTriangle corners(to_double(t.points));
-            if (!s.box_columns.for_meeting(t.box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], t.ids, corners); })) return true;
-        }
-        return false;
+    bool crosses_new_star(const Plan& q, const Box& star, const Scratch& s) const {
+        return !for_new_star(q, [&](std::uint32_t, const Ids& ids, const FloatTriangle& points, const Box& box) {
+            if (!detail::boxes_overlap(star, box)) return true;
+            const detail::PreparedTriangle corners(to_double(points));
+            return s.box_columns.for_meeting(box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], ids, corners); });
+        });
     }
 
     /// The alive triangles with their boxes, in cells of kCellEdges mean extents: those that
@@ -1074,33 +1057,46 @@ private:
         for (std::uint32_t n = 0; n < p.around[0] + p.around[1]; ++n) visit(triangles_[ring[n] / 3]);
     }
 
-    bool linked_new_star(const Plan& p, Scratch& s) const {
+    /// Calls visit(triangle, its vertices, their points, its box) for each triangle of @a p's
+    /// new star (the triangles round its ends but the two on its edge, with b renamed a and a
+    /// moved), from the corners the choice walked, until it returns false; returns whether it
+    /// went through. The same while the round's collapses wait: the checks and the crossing
+    /// tests see the same star.
+    template <class Visit>
+    bool for_new_star(const Plan& p, Visit&& visit) const {
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
-        if (vertex(p.corner) == vertex(opposite_[p.corner])) return false;
-        s.star.clear(), s.ids.clear(), s.corners.clear(), s.points.clear(), s.boxes.clear();
         const std::array<float, 3>& position = position_[p.corner];
         const std::uint32_t t0 = p.corner / 3, t1 = opposite_[p.corner] / 3;
+        const std::uint32_t* ring = ring_corners_.data() + p.ring_begin;
+        for (std::uint32_t n = 0; n < p.around[0] + p.around[1]; ++n) {
+            const std::uint32_t t = ring[n] / 3;
+            if (t == t0 || t == t1) continue;
+            Ids ids = triangles_[t];
+            FloatTriangle points;
+            Box box = empty_box();
+            for (int k = 0; k < 3; ++k) {
+                if (ids[k] == b) ids[k] = a;
+                points[k] = ids[k] == a ? position : positions_[ids[k]];
+                grow(box, points[k]);
+            }
+            if (!visit(t, ids, points, box)) return false;
+        }
+        return true;
+    }
+
+    bool linked_new_star(const Plan& p, Scratch& s) const {
+        if (vertex(p.corner) == vertex(opposite_[p.corner])) return false;
+        s.star.clear(), s.ids.clear(), s.corners.clear(), s.boxes.clear();
+        for_new_star(p, [&](std::uint32_t t, const Ids& ids, const FloatTriangle& points, const Box& box) {
+            s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(to_double(points)), s.boxes.push_back(box);
+            return true;
+        });
         const std::uint32_t* ring = ring_corners_.data() + p.ring_begin;
         for (const int end : {0, 1}) {
             const std::uint32_t* corners = end == 0 ? ring : ring + p.around[0];
             std::vector<std::uint32_t>& neighbours = s.neighbours[end];
             neighbours.clear();
-            for (std::uint32_t n = 0; n < p.around[end]; ++n) {
-                const std::uint32_t c = corners[n];
-                neighbours.push_back(vertex(next(c)));
-                const std::uint32_t t = c / 3;
-                if (t == t0 || t == t1) continue;
-                Ids ids = triangles_[t];
-                FloatTriangle points;
-                Box box = empty_box();
-                for (int k = 0; k < 3; ++k) {
-                    if (ids[k] == b) ids[k] = a;
-                    points[k] = ids[k] == a ? position : positions_[ids[k]];
-                    grow(box, points[k]);
-                }
-                s.star.push_back(t), s.ids.push_back(ids), s.corners.push_back(to_double(points)), s.points.push_back(points);
-                s.boxes.push_back(box);
-            }
+            for (std::uint32_t n = 0; n < p.around[end]; ++n) neighbours.push_back(vertex(next(corners[n])));
             std::sort(neighbours.begin(), neighbours.end());
         }
         std::size_t common = 0;
@@ -1274,12 +1270,7 @@ private:
         if (!geometry_holds(s)) return Verdict::geometry;
         if (!intersection_free(p, s)) return Verdict::intersection;
         p.volume_change = volume_change(p, s);
-        p.stars = &s.new_stars;
-        p.star_begin = std::uint32_t(s.new_stars.size()), p.star_size = std::uint32_t(s.ids.size());
-        for (std::size_t i = 0; i < s.ids.size(); ++i) {
-            grow(p.star, s.boxes[i].lo), grow(p.star, s.boxes[i].hi);
-            s.new_stars.push_back({s.ids[i], s.points[i], s.boxes[i]});
-        }
+        for (const Box& box : s.boxes) grow(p.star, box.lo), grow(p.star, box.hi);
         return Verdict::passed;
     }
 
