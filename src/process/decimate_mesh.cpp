@@ -712,10 +712,10 @@ private:
         });
     }
 
-    /// Where the collapse of (a, b) puts the vertex, rounded to floats: the quadric's minimizer
-    /// when it is defined and near the edge, else the best of the ends and the midpoint.
-    std::array<float, 3> placement(std::uint32_t a, std::uint32_t b) const {
-        const Quadric q = quadrics_[a] + quadrics_[b];
+    /// Where the collapse of (a, b), whose quadrics add up to @a q, puts the vertex, rounded to
+    /// floats: the quadric's minimizer when it is defined and near the edge, else the best of the
+    /// ends and the midpoint.
+    std::array<float, 3> placement(const Quadric& q, std::uint32_t a, std::uint32_t b) const {
         const Vec3d pa = point(a), pb = point(b);
         const Vec3d mid{(pa[0] + pb[0]) / 2, (pa[1] + pb[1]) / 2, (pa[2] + pb[2]) / 2};
         if (const auto best = q.minimizer()) {
@@ -741,8 +741,9 @@ private:
             const std::uint32_t a = vertex(next(c)), b = vertex(prev(c));
             if (a > b) cost_[c] = kNever;
             if (a > b || c == unchanged) continue;
-            position_[c] = placement(a, b);
-            const double error = (quadrics_[a] + quadrics_[b]).error(to_double(position_[c]));
+            const Quadric q = quadrics_[a] + quadrics_[b];
+            position_[c] = placement(q, a, b);
+            const double error = q.error(to_double(position_[c]));
             const Vec3d edge = sub(point(a), point(b));
             error_[c] = error;
             cost_[c] = error <= max_error_squared_ ? error + kLengthWeight * dot(edge, edge) : kNever;
