@@ -595,8 +595,13 @@ public:
             // sequential), which read neither them nor what building them writes.
             tbb::task_group grids;
             grids.run([&] { build_triangle_grids(); });
-            // The cheapest, about as many as the collapses still wanted (and never very few).
-            const std::size_t wanted = (alive_count_ - target_ + 1) / 2;
+            // The cheapest, about as many as the collapses still wanted (and never very few); with
+            // under a quarter of the triangles to go, four times as many: about a third of them
+            // are chosen and pass, so a round then makes about all the collapses wanted, where
+            // as many would leave a tail of rounds that each pass over the whole mesh for a few
+            // collapses (bunny: 16 rounds -> 14, 0.1 s of 3.8; the mean distance to the input +1%).
+            const std::size_t collapses = (alive_count_ - target_ + 1) / 2;
+            const std::size_t wanted = alive_count_ - target_ < alive_count_ / 4 ? 4 * collapses : collapses;
             if (gather_cheapest(candidates, std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor})) == 0) {
                 grids.wait();
                 break;
