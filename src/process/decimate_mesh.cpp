@@ -591,10 +591,6 @@ public:
                 if (!moved_[t]) moved_[t] = 1, moved_list_.push_back(t);
             }
             dirty_.clear();
-            // The grids the checks read are built beside the gathering and the choice (mostly
-            // sequential), which read neither them nor what building them writes.
-            tbb::task_group grids;
-            grids.run([&] { build_triangle_grids(); });
             // The cheapest, about as many as the collapses still wanted (and never very few); with
             // under a quarter of the triangles to go, four times as many: about a third of them
             // are chosen and pass, so a round then makes about all the collapses wanted, where
@@ -602,10 +598,13 @@ public:
             // collapses (bunny: 16 rounds -> 14, 0.1 s of 3.8; the mean distance to the input +1%).
             const std::size_t collapses = (alive_count_ - target_ + 1) / 2;
             const std::size_t wanted = alive_count_ - target_ < alive_count_ / 4 ? 4 * collapses : collapses;
-            if (gather_cheapest(candidates, std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor})) == 0) {
-                grids.wait();
-                break;
-            }
+            const std::size_t take = std::max({kMinRound, wanted, alive_count_ / kMinRoundDivisor});
+            if (gather_cheap(candidates, take) == 0) break;
+            // The grids the checks read are built beside the sorting and the choice (mostly
+            // sequential), which read neither them nor what building them writes.
+            tbb::task_group grids;
+            grids.run([&] { build_triangle_grids(); });
+            keep_cheapest(candidates, take);
             choose_apart(candidates, plans, ring_corners_, own);
             grids.wait();
             // Checked in the order of their triangles, which keeps neighbours together in memory
@@ -759,17 +758,22 @@ private:
     /// the corner where it runs from its lower vertex.
     bool collapsible(std::uint32_t c) const { return cost_[c] != kNever && !rejected_[c]; }
 
-    /// The @a take cheapest edges that may collapse (all, when fewer), in order of cost (a total
-    /// order: ties go by corner), whatever the thread count; returns how many may collapse. Only
-    /// those below a pivot are kept as they are gathered, then sorted and cut: the same as
-    /// sorting all of them, should at least @a take fall below it (else all are gathered again).
-    std::size_t gather_cheapest(std::vector<Candidate>& candidates, std::size_t take) {
+    /// The edges that may collapse, at least the @a take cheapest of them (all, when fewer), in
+    /// the order of their corners; returns how many may collapse. Only those below a pivot are
+    /// kept as they are gathered: the same as all of them once sorted and cut, should at least
+    /// @a take fall below it (else all are gathered again).
+    std::size_t gather_cheap(std::vector<Candidate>& candidates, std::size_t take) {
         const Candidate pivot = pivot_above(take);
         const std::size_t count = gather_below(pivot, candidates);
         if (candidates.size() < std::min(count, take) && pivot < kAboveAll) gather_below(kAboveAll, candidates);
-        sort_by_cost(candidates, sort_buffer_);
-        candidates.resize(std::min(count, take));
         return count;
+    }
+
+    /// Of gather_cheap()'s @a candidates, the @a take cheapest in order of cost (a total order:
+    /// ties go by corner), whatever the thread count.
+    void keep_cheapest(std::vector<Candidate>& candidates, std::size_t take) {
+        sort_by_cost(candidates, sort_buffer_);
+        if (candidates.size() > take) candidates.resize(take);
     }
 
     /// A candidate just above the @a take-th cheapest (most likely), from a regular sample of the
