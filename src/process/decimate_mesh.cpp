@@ -229,16 +229,17 @@ template <class Payload>
 class BoxGrid {
 public:
     /// The boxes box_of(i) with payloads payload_of(i), i < @a count, but the empty ones
-    /// (lo > hi). @a cell: the cell size (kCellEdges mean extents when 0), made at least the
-    /// largest extent of 99% of the boxes, and coarser where the boxes are spread thin (at most
-    /// about eight cells per box).
+    /// (lo > hi), in cells of kCellEdges mean extents, made at least the largest extent of 99% of
+    /// the boxes, and coarser where the boxes are spread thin (at most about eight cells per box).
+    /// @a domain: the box the cells cover, when given (a box out of it is kept in the cells at
+    /// its rim, and queries clamp the same way); else the boxes' box.
     template <class BoxOf, class PayloadOf>
-    void build(std::size_t count, BoxOf&& box_of, PayloadOf&& payload_of, double cell = 0) {
+    void build(std::size_t count, BoxOf&& box_of, PayloadOf&& payload_of, const Box* domain = nullptr) {
         struct Bounds {
             Box box = empty_box();
             std::size_t boxes = 0;  ///< not empty
         };
-        const Bounds bounds = tbb::parallel_reduce(
+        const Bounds bounds = domain ? Bounds{*domain, count} : tbb::parallel_reduce(
             tbb::blocked_range<std::size_t>(0, count, 16384), Bounds{},
             [&](const auto& range, Bounds bounds) {
                 for (std::size_t i = range.begin(); i != range.end(); ++i) {
@@ -255,7 +256,7 @@ public:
             const Box& b = box_of(i);
             if (b.lo[0] <= b.hi[0]) extents.push_back(std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]}));
         }
-        if (!(cell > 0) && !extents.empty()) cell = kCellEdges * std::accumulate(extents.begin(), extents.end(), 0.0) / double(extents.size());
+        double cell = extents.empty() ? 0 : kCellEdges * std::accumulate(extents.begin(), extents.end(), 0.0) / double(extents.size());
         if (!extents.empty()) {
             const auto most = extents.begin() + std::ptrdiff_t(std::size_t(0.99 * double(extents.size() - 1)));
             std::nth_element(extents.begin(), most, extents.end());
@@ -1042,9 +1043,19 @@ private:
             moved_list_.erase(std::remove_if(moved_list_.begin(), moved_list_.end(), dead), moved_list_.end());
         }
         const std::vector<std::uint32_t>& ids = all ? alive_list_ : moved_list_;
-        (all ? settled_grid_ : moved_grid_)
-            .build(ids.size(), [&](std::size_t i) { return boxes_[ids[i]]; }, [&](std::size_t i) { return GridTriangle{ids[i], summaries_[ids[i]]}; });
-        if (all) moved_grid_.build(0, [](std::size_t) { return empty_box(); }, [](std::size_t) { return GridTriangle{}; });
+        const auto box_of = [&](std::size_t i) { return boxes_[ids[i]]; };
+        const auto payload_of = [&](std::size_t i) { return GridTriangle{ids[i], summaries_[ids[i]]}; };
+        if (!all) {
+            moved_grid_.build(ids.size(), box_of, payload_of);
+            return;
+        }
+        // (the settled grid over the box of the first triangles: the collapses keep to it but by
+        // a little, and the pass over all boxes for theirs is spared)
+        if (!(domain_.lo[0] <= domain_.hi[0])) {
+            for (std::size_t i = 0; i < ids.size(); ++i) grow(domain_, box_of(i).lo), grow(domain_, box_of(i).hi);
+        }
+        settled_grid_.build(ids.size(), box_of, payload_of, &domain_);
+        moved_grid_.build(0, [](std::size_t) { return empty_box(); }, [](std::size_t) { return GridTriangle{}; });
     }
 
     /// Calls visit(GridTriangle, box) for each alive triangle whose box meets @a box, until it returns
@@ -1349,6 +1360,7 @@ private:
     std::vector<std::uint32_t> moved_list_;  ///< those triangles (some removed since)
     std::vector<std::uint32_t> alive_list_;  ///< the alive triangles when settled_grid_ was built
     BoxGrid<GridTriangle> settled_grid_, moved_grid_;
+    Box domain_ = empty_box();  ///< the box of the triangles when settled_grid_ was first built
     BoxGrid<GridPlan> plan_grid_;
     std::vector<std::uint32_t> component_;  ///< per vertex
     std::vector<double> volume_;            ///< per component: six times its enclosed volume
