@@ -51,9 +51,12 @@ struct DecimateReport {
 /// @brief Quadric edge-collapse simplification (M. Garland and P. Heckbert, "Surface
 /// simplification using quadric error metrics", SIGGRAPH 1997) of a closed, manifold mesh,
 /// keeping it closed, manifold, oriented and free of self-intersections: every collapse is
-/// checked around the collapsed edge (link condition, no flipped or degenerate triangle, exact
-/// intersection tests of the new triangles against the triangles near them) and skipped when a
-/// check fails. Vertices stay floats, and the checks are made on the floats written.
+/// checked around the collapsed edge (link condition, no flipped or degenerate triangle, no
+/// intersection of the new triangles with the triangles near them) and skipped when a check
+/// fails. Most collapses are cleared of intersections by a proof (every triangle near them faces
+/// a common direction, in one component), the others by exact tests; the proof holds for a mesh
+/// free of self-intersections, so one that crosses itself is not made free of them. Vertices
+/// stay floats, and the checks are made on the floats written.
 /// @throw UsageError for keep_fraction outside [0, 1] or a negative max_error; Error when the
 /// mesh is not closed and manifold.
 Mesh decimate_mesh(const Mesh& mesh, const DecimateOptions& options, DecimateReport* report = nullptr);
