@@ -60,6 +60,7 @@ using Box = detail::Box;
 
 constexpr std::uint32_t kNone = ~0u;
 constexpr double kMaxTurnDegrees = 75;  ///< largest change of a triangle's normal in one collapse
+const double kMinTurnCosine = std::cos(kMaxTurnDegrees * 3.14159265358979323846 / 180);
 /// Ties of the quadric error (flat regions, where it is 0) go to the shorter edge, which keeps
 /// the triangles there from growing into needles.
 constexpr double kLengthWeight = 1e-3;
@@ -1130,12 +1131,11 @@ private:
     }
 
     bool geometry_holds(const Scratch& s) const {
-        const double min_cosine = std::cos(kMaxTurnDegrees * 3.14159265358979323846 / 180);
         for (std::size_t i = 0; i < s.star.size(); ++i) {
             const detail::Triangle3& c = s.corners[i];
             if (detail::collinear(c[0], c[1], c[2])) return false;
             const Vec3d before = normal(triangles_[s.star[i]]), after = cross(sub(c[1], c[0]), sub(c[2], c[0]));
-            if (dot(before, after) < min_cosine * std::sqrt(dot(before, before) * dot(after, after))) return false;
+            if (dot(before, after) < kMinTurnCosine * std::sqrt(dot(before, before) * dot(after, after))) return false;
         }
         return true;
     }
