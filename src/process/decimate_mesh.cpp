@@ -30,9 +30,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_group.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <atomic>
@@ -88,6 +88,7 @@ Box empty_box() {
     constexpr float inf = std::numeric_limits<float>::infinity();
     return {{inf, inf, inf}, {-inf, -inf, -inf}};
 }
+bool holds_nothing(const Box& box) { return !(box.lo[0] <= box.hi[0]); }  ///< (as empty_box())
 void grow(Box& box, const std::array<float, 3>& p) {
     for (int k = 0; k < 3; ++k) box.lo[k] = std::min(box.lo[k], p[k]), box.hi[k] = std::max(box.hi[k], p[k]);
 }
@@ -112,6 +113,9 @@ struct Summary {
         facing &= o.facing;
         component = component == kNone ? o.component : o.component == kNone || o.component == component ? component : kMixed;
     }
+    /// Whether triangles with this in common clear a collapse (intersection_free()'s proof):
+    /// they all face a common direction, in one component.
+    bool clears() const { return component != kMixed && facing != 0; }
 };
 
 /// 32 directions spread evenly over the sphere (a golden-angle spiral).
@@ -179,10 +183,10 @@ private:
     std::array<std::uint32_t, 6 * kBins * kBins> table_;
 };
 
-/// The directions of kDirections that triangle @a t certainly faces (its normal's dot product
-/// with them is positive); none for a degenerate one.
 const FacingTable kFacingTable;
 
+/// The directions of kDirections that triangle @a t certainly faces (its normal's dot product
+/// with them is positive); none for a degenerate one.
 std::uint32_t facing_directions(const detail::Triangle3& t) {
     const Vec3d e1 = sub(t[1], t[0]), e2 = sub(t[2], t[0]);
     return kFacingTable.facing(cross(e1, e2), dot(e1, e1) * dot(e2, e2));
@@ -245,7 +249,7 @@ public:
             [&](const auto& range, Bounds bounds) {
                 for (std::size_t i = range.begin(); i != range.end(); ++i) {
                     const Box b = box_of(i);
-                    if (b.lo[0] <= b.hi[0]) grow(bounds.box, b.lo), grow(bounds.box, b.hi), ++bounds.boxes;
+                    if (!holds_nothing(b)) grow(bounds.box, b.lo), grow(bounds.box, b.hi), ++bounds.boxes;
                 }
                 return bounds;
             },
@@ -255,7 +259,7 @@ public:
         std::vector<float> extents;
         for (std::size_t i = 0; i < count; i += std::max<std::size_t>(1, count / kExtentSamples)) {
             const Box& b = box_of(i);
-            if (b.lo[0] <= b.hi[0]) extents.push_back(std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]}));
+            if (!holds_nothing(b)) extents.push_back(std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]}));
         }
         double cell = extents.empty() ? 0 : kCellEdges * std::accumulate(extents.begin(), extents.end(), 0.0) / double(extents.size());
         if (!extents.empty()) {
@@ -286,7 +290,7 @@ public:
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 8192), [&](const auto& range) {
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
                 const Box& b = box_of(i);
-                cell_of_[i] = !(b.lo[0] <= b.hi[0]) ? kNone : small(b) ? std::uint32_t(index(cell_coordinates(b.lo))) : kLarge;
+                cell_of_[i] = holds_nothing(b) ? kNone : small(b) ? std::uint32_t(index(cell_coordinates(b.lo))) : kLarge;
             }
         });
         for (std::size_t i = 0; i < count; ++i) {
@@ -505,7 +509,7 @@ struct Plan {
     /// around[1] at the other, from ring_begin in the round's ring corners
     std::uint32_t ring_begin = 0;
     std::array<std::uint32_t, 2> around{};
-    Box star = empty_box();  ///< the box of the new star (once checked)
+    Box star = empty_box();  ///< the box of the new star (once checked for crossings)
     Verdict verdict = Verdict::unchecked;
     std::vector<std::uint32_t> crossed;  ///< earlier passed plans of the round whose new stars cross this one's
     double volume_change = 0;            ///< (once passed) six times the change of the enclosed volume
@@ -527,6 +531,8 @@ struct Walk {
     std::uint32_t corner;
     std::array<std::uint32_t, 2> at;  ///< where each walk is
     std::array<std::vector<std::uint32_t>, 2> around;
+    /// where the walk round end 0 (the kept vertex) or 1 begins and ends: at the edge's own triangle
+    std::uint32_t first(int end) const { return end == 0 ? next(corner) : prev(corner); }
 };
 
 /// Per-thread scratch of the checks.
@@ -884,10 +890,7 @@ private:
         std::size_t walking = 0;
         for (std::size_t k = 0; k < size; ++k) {
             Walk& walk = walks[k];
-            for (int end = 0; end < 2; ++end) {
-                walk.around[end].clear();
-                walk.at[end] = end == 0 ? next(walk.corner) : prev(walk.corner);
-            }
+            for (int end = 0; end < 2; ++end) walk.around[end].clear(), walk.at[end] = walk.first(end);
             walking += 2;
         }
         while (walking > 0) {
@@ -895,12 +898,11 @@ private:
                 Walk& walk = walks[k];
                 for (int end = 0; end < 2; ++end) {
                     std::vector<std::uint32_t>& around = walk.around[end];
-                    const std::uint32_t first = end == 0 ? next(walk.corner) : prev(walk.corner);
-                    if (!around.empty() && walk.at[end] == first) continue;
+                    if (!around.empty() && walk.at[end] == walk.first(end)) continue;
                     around.push_back(walk.at[end]);
                     __builtin_prefetch(&triangles_[walk.at[end] / 3]);  // (its neighbour is marked once chosen)
                     walk.at[end] = swing(walk.at[end]);
-                    walking -= walk.at[end] == first;
+                    walking -= walk.at[end] == walk.first(end);
                 }
             }
         }
@@ -1006,17 +1008,13 @@ private:
     /// the round's start but for those stars, meets intersection_free()'s condition). The plan
     /// grid's cells tell first what the stars in them have in common; failing that, the stars met.
     bool apart_from_all(const Plan& p) const {
-        if (p.apart.facing == 0) return false;
-        const auto apart = [](const Summary& near) { return near.component != Summary::kMixed && near.facing != 0; };
+        if (!p.apart.clears()) return false;
         Summary in_cells = p.apart;
         in_cells.add(plan_grid_.summary(p.region));
-        if (apart(in_cells)) return true;
+        if (in_cells.clears()) return true;
         Summary met = p.apart;
-        plan_grid_.visit(p.region, [&](const GridPlan& q, const Box&) {
-            met.add(q.summary);
-            return apart(met);
-        });
-        return apart(met);
+        plan_grid_.visit(p.region, [&](const GridPlan& q, const Box&) { return met.add(q.summary), met.clears(); });
+        return met.clears();
     }
 
     /// Whether a triangle of the new star in @a s (whose box is @a star) crosses one of the new
@@ -1052,7 +1050,7 @@ private:
         }
         // (the settled grid over the box of the first triangles: the collapses keep to it but by
         // a little, and the pass over all boxes for theirs is spared)
-        if (!(domain_.lo[0] <= domain_.hi[0])) {
+        if (holds_nothing(domain_)) {
             for (std::size_t i = 0; i < ids.size(); ++i) grow(domain_, box_of(i).lo), grow(domain_, box_of(i).hi);
         }
         settled_grid_.build(ids.size(), box_of, payload_of, &domain_);
@@ -1068,10 +1066,6 @@ private:
                moved_grid_.visit(box, visit);
     }
 
-    /// Whether the edge of @a p meets the link condition (its ends' neighbours in common are only
-    /// the two opposite corners; the kept vertex keeps three neighbours at least), and its new
-    /// star, from one walk round each end: the triangles around either end but off the edge, with
-    /// b renamed a, the float corners with a moved to the new position, and their boxes.
     /// Calls visit(triangle) for each triangle round the ends of @a p (as the choice walked them).
     template <class Visit>
     void for_star(const Plan& p, Visit&& visit) const {
@@ -1106,6 +1100,9 @@ private:
         return true;
     }
 
+    /// Whether the edge of @a p meets the link condition (its ends' neighbours in common are only
+    /// the two opposite corners; the kept vertex keeps three neighbours at least), and its new
+    /// star in @a s (for_new_star(): its triangles, their corners as doubles, their boxes).
     bool linked_new_star(const Plan& p, Scratch& s) const {
         if (vertex(p.corner) == vertex(opposite_[p.corner])) return false;
         s.star.clear(), s.ids.clear(), s.corners.clear(), s.boxes.clear();
@@ -1210,7 +1207,7 @@ private:
     /// tell first what the triangles in them have in common; failing that, the triangles met.
     bool intersection_free(Plan& p, Scratch& s) const {
         const std::uint32_t a = vertex(next(p.corner)), b = vertex(prev(p.corner));
-        Box around_star = empty_box();
+        Box& around_star = p.star;
         for (const Box& box : s.boxes) grow(around_star, box.lo), grow(around_star, box.hi);
         Box& region = p.region;
         region = around_star;
@@ -1219,7 +1216,7 @@ private:
         for (const detail::Triangle3& t : s.corners) p.fan.facing &= facing_directions(t);
         const auto apart = [&](Summary near) {
             near.add(p.fan);
-            if (near.component == Summary::kMixed || near.facing == 0) return false;
+            if (!near.clears()) return false;
             p.apart = near;
             return true;
         };
@@ -1228,8 +1225,8 @@ private:
         if (apart(in_cells)) return true;
         // (the triangles met: the visit stops as soon as they cannot clear the collapse)
         Summary met;
-        const auto may_be_apart = [&](const Summary& near) { return near.component != Summary::kMixed && (near.facing & p.fan.facing) != 0; };
-        if (visit_triangles(region, [&](const GridTriangle& t, const Box&) { return met.add(t.summary), may_be_apart(met); }) && apart(met)) return true;
+        const auto may_clear = [&](Summary near) { return near.add(p.fan), near.clears(); };
+        if (visit_triangles(region, [&](const GridTriangle& t, const Box&) { return met.add(t.summary), may_clear(met); }) && apart(met)) return true;
         prepare_star(s);
         if (!star_is_a_graph(a, s)) {
             for (std::size_t i = 0; i < s.star.size(); ++i) {
@@ -1255,12 +1252,12 @@ private:
         detail::UnionFind sets(positions_.size());
         for (const Ids& t : triangles_) sets.unite(t[0], t[1]), sets.unite(t[0], t[2]);
         std::uint32_t count = 0;
-        component_ = sets.labels(count);
+        const std::vector<std::uint32_t> component = sets.labels(count);
         volume_.assign(count, 0);
         for (std::uint32_t t = 0; t < triangles_.size(); ++t) {
             const Ids& ids = triangles_[t];
-            summaries_[t].component = component_[ids[0]];
-            volume_[component_[ids[0]]] += dot(point(ids[0]), cross(point(ids[1]), point(ids[2])));
+            summaries_[t].component = component[ids[0]];
+            volume_[component[ids[0]]] += dot(point(ids[0]), cross(point(ids[1]), point(ids[2])));
         }
     }
 
@@ -1291,7 +1288,6 @@ private:
         if (!geometry_holds(s)) return Verdict::geometry;
         if (!intersection_free(p, s)) return Verdict::intersection;
         p.volume_change = volume_change(p, s);
-        for (const Box& box : s.boxes) grow(p.star, box.lo), grow(p.star, box.hi);
         return Verdict::passed;
     }
 
@@ -1362,7 +1358,6 @@ private:
     BoxGrid<GridTriangle> settled_grid_, moved_grid_;
     Box domain_ = empty_box();  ///< the box of the triangles when settled_grid_ was first built
     BoxGrid<GridPlan> plan_grid_;
-    std::vector<std::uint32_t> component_;  ///< per vertex
     std::vector<double> volume_;            ///< per component: six times its enclosed volume
     std::size_t alive_count_;
     std::size_t target_;
