@@ -1,0 +1,63 @@
+#pragma once
+/// @file grid_region.h
+/// @brief A grid read by region: the interface between the bricked mesher (and the viewer's
+/// server) and where the samples come from (a .vdb read with delayed loading, a scan streamed
+/// in z-bands, or a grid already in memory). OpenVDB-free: grids are only declared.
+///
+/// The unit of every region is the **node**: a 128^3-voxel level-1 internal node of OpenVDB's
+/// standard float tree (origin a multiple of 128 on each axis). A brick is a box of whole
+/// nodes; the bricked mesher asks for a brick's box widened by its halo.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vdbmesh/openvdb_fwd.h"
+
+namespace vdbmesh {
+
+/// Voxels per node edge (OpenVDB's level-1 internal node of the standard FloatTree).
+inline constexpr std::int32_t kNodeVoxels = 128;
+
+/// A box of voxels in the grid's index space: min inclusive, max exclusive.
+struct IndexBox {
+    std::array<std::int32_t, 3> min{};
+    std::array<std::int32_t, 3> max{};
+};
+
+/// A node that holds active voxels or active tiles, with how many it holds (from the tree's
+/// topology alone, without reading voxel values): the weight bricks are balanced by.
+struct NodeWeight {
+    std::array<std::int32_t, 3> origin{};  ///< multiple of kNodeVoxels on each axis
+    std::uint64_t active_voxels = 0;
+};
+
+/// Where a region of one float grid comes from. Implementations are read-only after opening;
+/// read() may be called from several threads at once.
+class GridRegionSource {
+public:
+    virtual ~GridRegionSource() = default;
+
+    /// The grid's description without its voxels: transform, grid class, background and
+    /// metadata (vdbmesh_isovalue, vdbmesh_scan_min/max ...), with an empty tree.
+    virtual std::shared_ptr<const openvdb::FloatGrid> description() const = 0;
+
+    /// Every node holding an active voxel or tile, in z-major order (origin z, then y, then x,
+    /// ascending): the order bricks are visited in, so a scan can be streamed front to back.
+    virtual std::vector<NodeWeight> nodes() const = 0;
+
+    /// A grid whose every voxel inside @a box has the value and active state it has in the whole
+    /// grid. Outside the box it holds whatever was cheapest to read (at least the background).
+    virtual std::shared_ptr<openvdb::FloatGrid> read(const IndexBox& box) const = 0;
+
+    /// An upper estimate of the bytes read(box) holds while its grid lives (for --memory plans).
+    virtual std::uint64_t estimated_bytes(const IndexBox& box) const = 0;
+};
+
+/// A grid already in memory seen as regions (read() copies the part of the tree that meets
+/// the box). For tests, and for the commands that built their grid in memory.
+std::unique_ptr<GridRegionSource> grid_regions_in_memory(std::shared_ptr<const openvdb::FloatGrid> grid);
+
+}  // namespace vdbmesh
