@@ -1,0 +1,153 @@
+// Constrained smoothing of the multi-label surface and the hold-back that keeps it free of
+// crossings (smooth_sheets.h).
+
+#include "labels/smooth_sheets.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <string>
+
+#include "vdbmesh/error.h"
+#include "vdbmesh/geometry.h"
+
+namespace vdbmesh::labels_detail {
+namespace {
+
+/// A move is halved this many times before the vertex goes back to its unsmoothed place.
+constexpr int kHalvings = 5;
+constexpr int kMaxRounds = kHalvings + 3;
+
+/// Neighbours along the quads' sides, per vertex (compressed rows, each sorted).
+struct Neighbours {
+    std::vector<std::uint32_t> start, list;
+};
+
+Neighbours quad_neighbours(std::size_t vertex_count, const std::vector<SheetQuad>& quads) {
+    Neighbours n;
+    n.start.assign(vertex_count + 1, 0);
+    for (const SheetQuad& q : quads)
+        for (std::uint32_t v : q.vertex) n.start[v + 1] += 2;
+    for (std::size_t v = 0; v < vertex_count; ++v) n.start[v + 1] += n.start[v];
+    n.list.resize(n.start.back());
+    std::vector<std::uint32_t> fill(n.start.begin(), n.start.end() - 1);
+    for (const SheetQuad& q : quads)
+        for (int k = 0; k < 4; ++k) {
+            const std::uint32_t v = q.vertex[k];
+            n.list[fill[v]++] = q.vertex[(k + 1) % 4];
+            n.list[fill[v]++] = q.vertex[(k + 3) % 4];
+        }
+    // Each side is shared by the walls round it: keep each neighbour once.
+    std::vector<std::uint32_t> unique_start(vertex_count + 1, 0);
+    std::vector<std::uint32_t> unique_list;
+    unique_list.reserve(n.list.size() / 2);
+    for (std::size_t v = 0; v < vertex_count; ++v) {
+        auto begin = n.list.begin() + n.start[v], end = n.list.begin() + n.start[v + 1];
+        std::sort(begin, end);
+        unique_list.insert(unique_list.end(), begin, std::unique(begin, end));
+        unique_start[v + 1] = std::uint32_t(unique_list.size());
+    }
+    return {std::move(unique_start), std::move(unique_list)};
+}
+
+std::vector<Point> smoothed_places(const SheetVertices& vertices, const Neighbours& n, const LabelMeshOptions& options) {
+    std::vector<Point> place = vertices.base, next(place.size());
+    for (int pass = 0; pass < options.smoothing_iterations; ++pass) {
+        tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
+            Point mean{0, 0, 0};
+            for (std::uint32_t i = n.start[v]; i < n.start[v + 1]; ++i)
+                for (int k = 0; k < 3; ++k) mean[k] += place[n.list[i]][k];
+            const double count = double(n.start[v + 1] - n.start[v]);
+            for (int k = 0; k < 3; ++k)
+                next[v][k] = std::clamp(mean[k] / count, vertices.corner[v][k] - options.max_offset,
+                                        vertices.corner[v][k] + options.max_offset);
+        });
+        place.swap(next);
+    }
+    return place;
+}
+
+double squared_distance(const Point& a, const Point& b) {
+    double d = 0;
+    for (int k = 0; k < 3; ++k) d += (a[k] - b[k]) * (a[k] - b[k]);
+    return d;
+}
+
+/// Two triangles per quad, along the shorter diagonal of the smoothed places.
+void split_quads(const std::vector<SheetQuad>& quads, const std::vector<Point>& place, bool mirrored, LabelSurface& out) {
+    out.mesh.triangles.resize(2 * quads.size());
+    out.sides.resize(2 * quads.size());
+    tbb::parallel_for(std::size_t(0), quads.size(), [&](std::size_t i) {
+        const auto& v = quads[i].vertex;
+        const bool diagonal02 = squared_distance(place[v[0]], place[v[2]]) <= squared_distance(place[v[1]], place[v[3]]);
+        std::array<std::uint32_t, 3> a = diagonal02 ? std::array<std::uint32_t, 3>{v[0], v[1], v[2]} : std::array<std::uint32_t, 3>{v[0], v[1], v[3]};
+        std::array<std::uint32_t, 3> b = diagonal02 ? std::array<std::uint32_t, 3>{v[0], v[2], v[3]} : std::array<std::uint32_t, 3>{v[1], v[2], v[3]};
+        if (mirrored) std::swap(a[1], a[2]), std::swap(b[1], b[2]);
+        out.mesh.triangles[2 * i] = a;
+        out.mesh.triangles[2 * i + 1] = b;
+        out.sides[2 * i] = out.sides[2 * i + 1] = quads[i].sides;
+    });
+}
+
+bool is_mirroring(const Affine& m) {
+    const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                       m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    return det < 0;
+}
+
+void place_in_world(const SheetVertices& vertices, const std::vector<Point>& smoothed, const std::vector<double>& share,
+                    const Affine& m, Mesh& mesh) {
+    mesh.vertices.resize(smoothed.size());
+    tbb::parallel_for(std::size_t(0), smoothed.size(), [&](std::size_t v) {
+        Point p;
+        for (int k = 0; k < 3; ++k) p[k] = vertices.base[v][k] + share[v] * (smoothed[v][k] - vertices.base[v][k]);
+        for (int r = 0; r < 3; ++r) mesh.vertices[v][r] = float(m[r][0] * p[0] + m[r][1] * p[1] + m[r][2] * p[2] + m[r][3]);
+    });
+}
+
+/// The vertices of triangles that cross another or degenerate.
+std::vector<std::uint32_t> offending_vertices(const Mesh& mesh) {
+    std::vector<std::uint8_t> bad(mesh.vertices.size(), 0);
+    const auto mark = [&](std::uint32_t t) {
+        for (std::uint32_t v : mesh.triangles[t]) bad[v] = 1;
+    };
+    for (const auto& [a, b] : find_self_intersections(mesh)) mark(a), mark(b);
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+        const auto& tri = mesh.triangles[t];
+        const auto point = [&](std::uint32_t v) {
+            return detail::Point3{mesh.vertices[v][0], mesh.vertices[v][1], mesh.vertices[v][2]};
+        };
+        if (detail::collinear(point(tri[0]), point(tri[1]), point(tri[2]))) mark(t);
+    }
+    std::vector<std::uint32_t> list;
+    for (std::uint32_t v = 0; v < bad.size(); ++v)
+        if (bad[v]) list.push_back(v);
+    return list;
+}
+
+}  // namespace
+
+void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& quads, const LabelMeshOptions& options,
+                   const Affine& index_to_world, LabelSurface& out, const std::function<void(double)>& progress) {
+    const std::vector<Point> smoothed = smoothed_places(vertices, quad_neighbours(vertices.base.size(), quads), options);
+    if (progress) progress(0.6);
+    split_quads(quads, smoothed, is_mirroring(index_to_world), out);
+    std::vector<double> share(smoothed.size(), 1.0);
+    for (int round = 0;; ++round) {
+        place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
+        const std::vector<std::uint32_t> bad = offending_vertices(out.mesh);
+        if (bad.empty()) break;
+        bool moved = false;
+        for (std::uint32_t v : bad) {
+            moved = moved || share[v] > 0;
+            share[v] = round + 1 >= kHalvings ? 0.0 : share[v] / 2;
+        }
+        if (!moved || round + 1 >= kMaxRounds)
+            throw Error("label mesher: " + std::to_string(bad.size()) +
+                        " vertices still on crossing or degenerate triangles at their unsmoothed places (a bug)");
+        if (progress) progress(0.6 + 0.4 * (round + 1) / kMaxRounds);
+    }
+    out.vertices_held_back = std::size_t(std::count_if(share.begin(), share.end(), [](double s) { return s < 1; }));
+}
+
+}  // namespace vdbmesh::labels_detail
