@@ -188,8 +188,8 @@ void print_shared(const Json& j, std::ostream& out) {
         << j["unshared_bytes"].get<std::uint64_t>() << " unshared\n";
 }
 
-/// Distinct values up to which an integer scan is taken for a label map without --labels (the
-/// atlases and TotalSegmentator have 50-120; a CT stored as u8 uses most of its 256 values).
+/// Distinct values up to which an integer scan holding 0 is taken for a label map without
+/// --labels (the atlases and TotalSegmentator have 50-120; a CT stored as u8 uses most of its 256 values).
 constexpr std::size_t kLabelMapMaxValues = 160;
 
 bool is_integer(SampleType type) { return type != SampleType::f32 && type != SampleType::f64; }
@@ -203,6 +203,8 @@ std::optional<std::vector<LabelCount>> scan_labels(const InfoOptions& o, const V
     if (!labels && o.label.labels)
         throw FormatError(o.inputs.front(), "--labels: samples", "integer labels 0.." + std::to_string(kMaxLabel),
                           "a sample that is not one");
+    // Found without --labels only with a background 0, as label maps and masks have.
+    if (labels && !o.label.labels && labels->front().value != 0) return std::nullopt;
     return labels;
 }
 

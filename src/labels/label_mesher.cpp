@@ -36,8 +36,10 @@ labels_detail::LabelGrid make_grid(const LabelVolume& volume, const LabelMeshOpt
     }
     grid.labels.resize(volume.labels.size());
     for (std::size_t i = 0; i < volume.labels.size(); ++i) grid.labels[i] = grid.meshed[volume.labels[i]] ? volume.labels[i] : 0;
+    std::vector<std::uint8_t> present(std::size_t(kMaxLabel) + 1, 0);
+    for (std::uint16_t label : grid.labels) present[label] = 1;
     for (std::uint32_t v = 1; v <= kMaxLabel; ++v)
-        if (grid.meshed[v]) meshed.push_back(v);
+        if (grid.meshed[v] && present[v]) meshed.push_back(v);
     return grid;
 }
 
@@ -134,8 +136,8 @@ double seconds_since(Clock::time_point start) { return std::chrono::duration<dou
 
 LabelSurface mesh_labels(const LabelVolume& volume, const LabelMeshOptions& options,
                          const std::function<void(double)>& progress) {
-    if (!(options.max_offset > 0 && options.max_offset < 0.5))
-        throw UsageError("label mesher: max offset: expected a distance in (0, 0.5) voxel, got " + std::to_string(options.max_offset));
+    if (!(options.max_offset > 0 && options.max_offset <= 2))
+        throw UsageError("label mesher: max offset: expected a distance in (0, 2] voxels, got " + std::to_string(options.max_offset));
     if (options.smoothing_iterations < 0)
         throw UsageError("--smooth-iterations: expected >= 0, got " + std::to_string(options.smoothing_iterations));
     LabelSurface surface;
@@ -156,7 +158,10 @@ LabelSurface mesh_labels(const LabelVolume& volume, const LabelMeshOptions& opti
     if (progress) progress(0.4);
 
     start = Clock::now();
-    smooth_sheets(vertices, quads, options, volume.header.index_to_world, surface, progress);
+    std::vector<std::uint64_t> voxels(std::size_t(kMaxLabel) + 1, 0);
+    for (std::uint16_t label : grid.labels)
+        if (label) ++voxels[label];
+    smooth_sheets(vertices, quads, voxels, options, volume.header.index_to_world, surface, progress);
     surface.phases.emplace_back("smooth", seconds_since(start));
     return surface;
 }

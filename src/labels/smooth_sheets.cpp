@@ -3,6 +3,9 @@
 
 #include "labels/smooth_sheets.h"
 
+#include "labels/label_components.h"
+#include "labels/restore_volumes.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -52,6 +55,7 @@ Neighbours quad_neighbours(std::size_t vertex_count, const std::vector<SheetQuad
 
 std::vector<Point> smoothed_places(const SheetVertices& vertices, const Neighbours& n, const LabelMeshOptions& options) {
     std::vector<Point> place = vertices.base, next(place.size());
+    const double offset = options.max_offset;
     for (int pass = 0; pass < options.smoothing_iterations; ++pass) {
         tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
             Point mean{0, 0, 0};
@@ -59,8 +63,8 @@ std::vector<Point> smoothed_places(const SheetVertices& vertices, const Neighbou
                 for (int k = 0; k < 3; ++k) mean[k] += place[n.list[i]][k];
             const double count = double(n.start[v + 1] - n.start[v]);
             for (int k = 0; k < 3; ++k)
-                next[v][k] = std::clamp(mean[k] / count, vertices.corner[v][k] - options.max_offset,
-                                        vertices.corner[v][k] + options.max_offset);
+                next[v][k] = std::clamp(mean[k] / count, vertices.corner[v][k] - offset,
+                                        vertices.corner[v][k] + offset);
         });
         place.swap(next);
     }
@@ -105,9 +109,10 @@ void place_in_world(const SheetVertices& vertices, const std::vector<Point>& smo
     });
 }
 
-/// The vertices of triangles that cross another or degenerate.
-std::vector<std::uint32_t> offending_vertices(const Mesh& mesh) {
-    std::vector<std::uint8_t> bad(mesh.vertices.size(), 0);
+/// The vertices of triangles that cross another or degenerate, and of label pieces turned
+/// inside out (which no crossing would show).
+std::vector<std::uint32_t> offending_vertices(const Mesh& mesh, const LabelComponents& pieces, const std::vector<double>& base_volumes) {
+    std::vector<std::uint8_t> bad = pieces.inverted(mesh, base_volumes);
     const auto mark = [&](std::uint32_t t) {
         for (std::uint32_t v : mesh.triangles[t]) bad[v] = 1;
     };
@@ -127,15 +132,21 @@ std::vector<std::uint32_t> offending_vertices(const Mesh& mesh) {
 
 }  // namespace
 
-void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& quads, const LabelMeshOptions& options,
+void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& quads, const std::vector<std::uint64_t>& voxels,
+                   const LabelMeshOptions& options,
                    const Affine& index_to_world, LabelSurface& out, const std::function<void(double)>& progress) {
-    const std::vector<Point> smoothed = smoothed_places(vertices, quad_neighbours(vertices.base.size(), quads), options);
+    std::vector<Point> smoothed = smoothed_places(vertices, quad_neighbours(vertices.base.size(), quads), options);
+    restore_volumes(smoothed, vertices, quads, voxels, options.max_offset);
     if (progress) progress(0.6);
     split_quads(quads, smoothed, is_mirroring(index_to_world), out);
-    std::vector<double> share(smoothed.size(), 1.0);
+    std::vector<double> share(smoothed.size(), 0.0);
+    place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
+    const LabelComponents pieces(out.mesh, out.sides);
+    const std::vector<double> base_volumes = pieces.volumes(out.mesh);
+    share.assign(smoothed.size(), 1.0);
     for (int round = 0;; ++round) {
         place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
-        const std::vector<std::uint32_t> bad = offending_vertices(out.mesh);
+        const std::vector<std::uint32_t> bad = offending_vertices(out.mesh, pieces, base_volumes);
         if (bad.empty()) break;
         bool moved = false;
         for (std::uint32_t v : bad) {

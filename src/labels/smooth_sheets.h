@@ -25,13 +25,15 @@ struct SheetQuad {
 };
 
 /// Smooths the vertices (options.smoothing_iterations Jacobi passes of the mean of their
-/// neighbours along the walls, each kept within options.max_offset of its corner), splits each
+/// neighbours along the walls, each kept within options.max_offset of its corner), gives each
+/// label back the volume of its @a voxels (restore_volumes.h), splits each
 /// quad along its shorter diagonal, maps to world by @a index_to_world (winding reversed for a
 /// mirroring map, so normals still point from sides[0] to sides[1]), then holds back vertices
 /// toward their unsmoothed place, halving their move, where a triangle crosses another or
 /// degenerates (find_self_intersections(): exact predicates). Fills out.mesh, out.sides and
 /// out.vertices_held_back. Throws Error if the unsmoothed surface itself is not clean.
-void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& quads, const LabelMeshOptions& options,
+void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& quads, const std::vector<std::uint64_t>& voxels,
+                   const LabelMeshOptions& options,
                    const Affine& index_to_world, LabelSurface& out, const std::function<void(double)>& progress);
 
 }  // namespace vdbmesh::labels_detail
