@@ -36,6 +36,7 @@ nlohmann::ordered_json figures_json(const LabelMeshRequest& request, const Label
     j["vertices"] = surface.mesh.vertices.size();
     j["relabelled_voxels"] = surface.relabelled_voxels;
     j["vertices_held_back"] = surface.vertices_held_back;
+    j["hold_back_rounds"] = surface.hold_back_rounds;
     j["smooth_iterations"] = request.smooth_iterations;
     j["seconds"] = seconds;
     j["phases"] = nlohmann::ordered_json::array();

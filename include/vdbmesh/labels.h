@@ -90,6 +90,7 @@ struct LabelSurface {
     std::vector<std::uint32_t> labels;                    ///< the labels meshed, ascending
     std::uint64_t relabelled_voxels = 0;                  ///< voxels changed to make every label manifold
     std::uint64_t vertices_held_back = 0;                 ///< vertices kept short of their smoothed place
+    int hold_back_rounds = 0;                             ///< rounds of the crossing check that held vertices back
     std::vector<std::pair<std::string, double>> phases;   ///< name, seconds
 };
 

@@ -157,12 +157,10 @@ LabelSurface mesh_labels(const LabelVolume& volume, const LabelMeshOptions& opti
     surface.phases.emplace_back("sheets", seconds_since(start));
     if (progress) progress(0.4);
 
-    start = Clock::now();
     std::vector<std::uint64_t> voxels(std::size_t(kMaxLabel) + 1, 0);
     for (std::uint16_t label : grid.labels)
         if (label) ++voxels[label];
     smooth_sheets(vertices, quads, voxels, options, volume.header.index_to_world, surface, progress);
-    surface.phases.emplace_back("smooth", seconds_since(start));
     return surface;
 }
 

@@ -3,12 +3,16 @@
 
 #include "labels/smooth_sheets.h"
 
+#include "labels/crossing_check.h"
 #include "labels/label_components.h"
 #include "labels/restore_volumes.h"
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
 #include <string>
 
 #include "vdbmesh/error.h"
@@ -109,24 +113,39 @@ void place_in_world(const SheetVertices& vertices, const std::vector<Point>& smo
     });
 }
 
-/// The vertices of triangles that cross another or degenerate, and of label pieces turned
-/// inside out (which no crossing would show).
-std::vector<std::uint32_t> offending_vertices(const Mesh& mesh, const LabelComponents& pieces, const std::vector<double>& base_volumes) {
+/// A grid cell for crossing_triangles(): three voxels along the longest voxel side, wider than
+/// any triangle (its corners lie within max_offset <= 2 voxels of corners one voxel apart... the
+/// check stays exact whatever the size; this only bounds the work).
+double check_cell(const Affine& m, double max_offset) {
+    double longest = 0;
+    for (int k = 0; k < 3; ++k) longest = std::max(longest, std::sqrt(m[0][k] * m[0][k] + m[1][k] * m[1][k] + m[2][k] * m[2][k]));
+    return (1 + 2 * max_offset) * longest;
+}
+
+/// The vertices (ascending) of the triangles of @a subset that cross another or degenerate, and
+/// of label pieces turned inside out (which no crossing would show).
+std::vector<std::uint32_t> offending_vertices(const Mesh& mesh, const std::vector<std::uint32_t>& subset, double cell,
+                                              const LabelComponents& pieces, const std::vector<double>& base_volumes) {
     std::vector<std::uint8_t> bad = pieces.inverted(mesh, base_volumes);
-    const auto mark = [&](std::uint32_t t) {
-        for (std::uint32_t v : mesh.triangles[t]) bad[v] = 1;
-    };
-    for (const auto& [a, b] : find_self_intersections(mesh)) mark(a), mark(b);
-    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
-        const auto& tri = mesh.triangles[t];
-        const auto point = [&](std::uint32_t v) {
-            return detail::Point3{mesh.vertices[v][0], mesh.vertices[v][1], mesh.vertices[v][2]};
-        };
-        if (detail::collinear(point(tri[0]), point(tri[1]), point(tri[2]))) mark(t);
-    }
+    const std::vector<std::uint8_t> crossing = crossing_triangles(mesh, subset, cell);
+    for (std::size_t t = 0; t < crossing.size(); ++t)
+        if (crossing[t])
+            for (std::uint32_t v : mesh.triangles[t]) bad[v] = 1;
     std::vector<std::uint32_t> list;
     for (std::uint32_t v = 0; v < bad.size(); ++v)
         if (bad[v]) list.push_back(v);
+    return list;
+}
+
+/// The triangles (ascending) with a corner among @a vertices (ascending).
+std::vector<std::uint32_t> triangles_at(const Mesh& mesh, const std::vector<std::uint32_t>& vertices) {
+    std::vector<std::uint8_t> moved(mesh.vertices.size(), 0);
+    for (std::uint32_t v : vertices) moved[v] = 1;
+    std::vector<std::uint32_t> list;
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+        const auto& tri = mesh.triangles[t];
+        if (moved[tri[0]] || moved[tri[1]] || moved[tri[2]]) list.push_back(t);
+    }
     return list;
 }
 
@@ -135,18 +154,32 @@ std::vector<std::uint32_t> offending_vertices(const Mesh& mesh, const LabelCompo
 void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& quads, const std::vector<std::uint64_t>& voxels,
                    const LabelMeshOptions& options,
                    const Affine& index_to_world, LabelSurface& out, const std::function<void(double)>& progress) {
+    using Clock = std::chrono::steady_clock;
+    const auto phase = [&](const char* name, Clock::time_point start) {
+        out.phases.emplace_back(name, std::chrono::duration<double>(Clock::now() - start).count());
+    };
+    Clock::time_point start = Clock::now();
     std::vector<Point> smoothed = smoothed_places(vertices, quad_neighbours(vertices.base.size(), quads), options);
+    phase("smooth", start);
+    start = Clock::now();
     restore_volumes(smoothed, vertices, quads, voxels, options.max_offset);
+    phase("volumes", start);
     if (progress) progress(0.6);
+    start = Clock::now();
     split_quads(quads, smoothed, is_mirroring(index_to_world), out);
     std::vector<double> share(smoothed.size(), 0.0);
     place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
     const LabelComponents pieces(out.mesh, out.sides);
     const std::vector<double> base_volumes = pieces.volumes(out.mesh);
     share.assign(smoothed.size(), 1.0);
+    // The first round checks every triangle; later ones those round the vertices just moved back.
+    std::vector<std::uint32_t> subset(out.mesh.triangles.size());
+    std::iota(subset.begin(), subset.end(), 0u);
+    const double cell = check_cell(index_to_world, options.max_offset);
     for (int round = 0;; ++round) {
         place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
-        const std::vector<std::uint32_t> bad = offending_vertices(out.mesh, pieces, base_volumes);
+        const std::vector<std::uint32_t> bad = offending_vertices(out.mesh, subset, cell, pieces, base_volumes);
+        out.hold_back_rounds = round;
         if (bad.empty()) break;
         bool moved = false;
         for (std::uint32_t v : bad) {
@@ -157,8 +190,10 @@ void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& 
             throw Error("label mesher: " + std::to_string(bad.size()) +
                         " vertices still on crossing or degenerate triangles at their unsmoothed places (a bug)");
         if (progress) progress(0.6 + 0.4 * (round + 1) / kMaxRounds);
+        subset = triangles_at(out.mesh, bad);
     }
     out.vertices_held_back = std::size_t(std::count_if(share.begin(), share.end(), [](double s) { return s < 1; }));
+    phase("hold back", start);
 }
 
 }  // namespace vdbmesh::labels_detail

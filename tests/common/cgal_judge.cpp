@@ -12,6 +12,7 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/shape_predicates.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/box_intersection_d.h>
 #include <CGAL/boost/graph/helpers.h>
 
 #include <sstream>
@@ -67,7 +68,6 @@ CgalVerdict judge_with_cgal(const Mesh& mesh) {
 
 }  // namespace vdbmesh::test
 
-#include <CGAL/box_intersection_d.h>
 
 namespace vdbmesh::test {
 namespace {
@@ -100,11 +100,9 @@ bool triangles_cross(const Mesh& soup, std::size_t i, std::size_t j) {
     return CGAL::orientation(e0, e1, fa, fb) == CGAL::COPLANAR && CGAL::coplanar_orientation(e0, e1, fa, fb) == CGAL::POSITIVE;
 }
 
-}  // namespace
-
-CgalCrossings cgal_crossings(const Mesh& soup) {
+/// Candidate pairs (overlapping boxes) of the non-degenerate triangles; counts the degenerate ones.
+std::vector<std::pair<std::size_t, std::size_t>> box_pairs(const Mesh& soup, std::size_t& degenerate) {
     using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
-    CgalCrossings result;
     std::vector<Box> boxes;
     for (std::size_t t = 0; t < soup.triangles.size(); ++t) {
         const auto& tri = soup.triangles[t];
@@ -112,16 +110,31 @@ CgalCrossings cgal_crossings(const Mesh& soup) {
             return Kernel::Point_3(soup.vertices[tri[k]][0], soup.vertices[tri[k]][1], soup.vertices[tri[k]][2]);
         };
         if (CGAL::collinear(point(0), point(1), point(2))) {
-            ++result.degenerate;
+            ++degenerate;
             continue;
         }
         boxes.emplace_back(point(0).bbox() + point(1).bbox() + point(2).bbox(), t);
     }
     std::vector<std::pair<std::size_t, std::size_t>> candidates;
     CGAL::box_self_intersection_d(boxes.begin(), boxes.end(),
-                                  [&](const Box& x, const Box& y) { candidates.emplace_back(x.info(), y.info()); });
-    for (const auto& [i, j] : candidates) result.pairs += triangles_cross(soup, i, j);
+                                  [&](const Box& x, const Box& y) { candidates.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info())); });
+    return candidates;
+}
+
+}  // namespace
+
+CgalCrossings cgal_crossings(const Mesh& soup) {
+    CgalCrossings result;
+    for (const auto& [i, j] : box_pairs(soup, result.degenerate)) result.pairs += triangles_cross(soup, i, j);
     return result;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> cgal_crossing_pairs(const Mesh& soup) {
+    std::size_t degenerate = 0;
+    std::vector<std::pair<std::size_t, std::size_t>> crossing;
+    for (const auto& [i, j] : box_pairs(soup, degenerate))
+        if (triangles_cross(soup, i, j)) crossing.push_back({i, j});
+    return crossing;
 }
 
 }  // namespace vdbmesh::test

@@ -6,6 +6,8 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "vdbmesh/mesh.h"
 
@@ -39,5 +41,7 @@ struct CgalCrossings {
     std::size_t degenerate = 0;
 };
 CgalCrossings cgal_crossings(const Mesh& soup);
+/// The crossing pairs themselves (triangle indices, i < j), in no particular order.
+std::vector<std::pair<std::size_t, std::size_t>> cgal_crossing_pairs(const Mesh& soup);
 
 }  // namespace vdbmesh::test
