@@ -13,6 +13,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest   # the Python module and its tests
   python3-skimage                                          # its comparison test and bench/python_vs_skimage.py
   libmeshoptimizer-dev                  # bench/decimate_bench.cpp: the speed reference of vdbmesh mesh --decimate
+  python3-vtk9                          # bench/labels_vs_vtk.py: VTK discrete flying edges + windowed sinc, the reference of mesh --labels
 )
 # Node.js and npm build the page (web/: npm ci, esbuild); Debian's, unless the machine has its own.
 command -v node >/dev/null || packages+=(nodejs)

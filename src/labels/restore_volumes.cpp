@@ -104,7 +104,8 @@ std::vector<double> solve(const std::vector<std::map<int, double>>& G, const std
 }  // namespace
 
 void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, const std::vector<SheetQuad>& quads,
-                     const std::vector<std::uint64_t>& voxels, double max_offset) {
+                     const std::vector<std::uint64_t>& voxels, double max_offset, const std::vector<std::uint8_t>& frozen) {
+    const auto is_frozen = [&](std::size_t v) { return !frozen.empty() && frozen[v]; };
     std::vector<int> index(voxels.size(), -1);
     std::vector<std::uint16_t> labels;
     for (std::size_t value = 1; value < voxels.size(); ++value)
@@ -121,6 +122,7 @@ void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, c
         // The Gram matrix of the labels' volume gradients (vertex by vertex, in order: deterministic).
         std::vector<std::map<int, double>> G(labels.size());
         for (std::uint32_t v = 0; v < place.size(); ++v) {
+            if (is_frozen(v)) continue;
             const auto g = gradients(v, round, quads, place, index);
             for (const auto& [a, ga] : g)
                 for (const auto& [b, gb] : g) G[std::size_t(a)][b] += dot(ga, gb);
@@ -129,6 +131,10 @@ void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, c
         std::vector<Point> next(place.size());
         tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
             Point move{0, 0, 0};
+            if (is_frozen(v)) {
+                next[v] = place[v];
+                return;
+            }
             for (const auto& [label, g] : gradients(std::uint32_t(v), round, quads, place, index))
                 for (int k = 0; k < 3; ++k) move[k] += lambda[std::size_t(label)] * g[k];
             for (int k = 0; k < 3; ++k)

@@ -13,8 +13,8 @@ namespace vdbmesh::labels_detail {
 /// a few Newton steps: displacement = sum over labels of lambda_L times the gradient of label
 /// L's volume, with the lambdas solving the (sparse, symmetric positive definite) Gram system.
 /// @a voxels[value]: voxels of each label value (0 for labels not meshed, and the background).
-/// Each vertex stays within @a max_offset of its corner.
+/// Each vertex stays within @a max_offset of its corner; those @a frozen marks (if given) stay put.
 void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, const std::vector<SheetQuad>& quads,
-                     const std::vector<std::uint64_t>& voxels, double max_offset);
+                     const std::vector<std::uint64_t>& voxels, double max_offset, const std::vector<std::uint8_t>& frozen);
 
 }  // namespace vdbmesh::labels_detail

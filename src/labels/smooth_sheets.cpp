@@ -149,6 +149,31 @@ std::vector<std::uint32_t> triangles_at(const Mesh& mesh, const std::vector<std:
     return list;
 }
 
+/// Holds vertices back toward their unsmoothed place (halving @a share, at last to 0) until no
+/// triangle crosses another, degenerates or turns a piece inside out; places out.mesh.
+/// Returns the rounds taken.
+int hold_back(const SheetVertices& vertices, const std::vector<Point>& smoothed, std::vector<double>& share,
+              const Affine& index_to_world, double cell, const LabelComponents& pieces, const std::vector<double>& base_volumes,
+              LabelSurface& out) {
+    // The first round checks every triangle; later ones those round the vertices just moved back.
+    std::vector<std::uint32_t> subset(out.mesh.triangles.size());
+    std::iota(subset.begin(), subset.end(), 0u);
+    for (int round = 0;; ++round) {
+        place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
+        const std::vector<std::uint32_t> bad = offending_vertices(out.mesh, subset, cell, pieces, base_volumes);
+        if (bad.empty()) return round;
+        bool moved = false;
+        for (std::uint32_t v : bad) {
+            moved = moved || share[v] > 0;
+            share[v] = round + 1 >= kHalvings ? 0.0 : share[v] / 2;
+        }
+        if (!moved || round + 1 >= kMaxRounds)
+            throw Error("label mesher: " + std::to_string(bad.size()) +
+                        " vertices still on crossing or degenerate triangles at their unsmoothed places (a bug)");
+        subset = triangles_at(out.mesh, bad);
+    }
+}
+
 }  // namespace
 
 void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& quads, const std::vector<std::uint64_t>& voxels,
@@ -162,7 +187,7 @@ void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& 
     std::vector<Point> smoothed = smoothed_places(vertices, quad_neighbours(vertices.base.size(), quads), options);
     phase("smooth", start);
     start = Clock::now();
-    restore_volumes(smoothed, vertices, quads, voxels, options.max_offset);
+    restore_volumes(smoothed, vertices, quads, voxels, options.max_offset, {});
     phase("volumes", start);
     if (progress) progress(0.6);
     start = Clock::now();
@@ -171,29 +196,26 @@ void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& 
     place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
     const LabelComponents pieces(out.mesh, out.sides);
     const std::vector<double> base_volumes = pieces.volumes(out.mesh);
-    share.assign(smoothed.size(), 1.0);
-    // The first round checks every triangle; later ones those round the vertices just moved back.
-    std::vector<std::uint32_t> subset(out.mesh.triangles.size());
-    std::iota(subset.begin(), subset.end(), 0u);
     const double cell = check_cell(index_to_world, options.max_offset);
-    for (int round = 0;; ++round) {
-        place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
-        const std::vector<std::uint32_t> bad = offending_vertices(out.mesh, subset, cell, pieces, base_volumes);
-        out.hold_back_rounds = round;
-        if (bad.empty()) break;
-        bool moved = false;
-        for (std::uint32_t v : bad) {
-            moved = moved || share[v] > 0;
-            share[v] = round + 1 >= kHalvings ? 0.0 : share[v] / 2;
-        }
-        if (!moved || round + 1 >= kMaxRounds)
-            throw Error("label mesher: " + std::to_string(bad.size()) +
-                        " vertices still on crossing or degenerate triangles at their unsmoothed places (a bug)");
-        if (progress) progress(0.6 + 0.4 * (round + 1) / kMaxRounds);
-        subset = triangles_at(out.mesh, bad);
-    }
-    out.vertices_held_back = std::size_t(std::count_if(share.begin(), share.end(), [](double s) { return s < 1; }));
+    share.assign(smoothed.size(), 1.0);
+    out.hold_back_rounds = hold_back(vertices, smoothed, share, index_to_world, cell, pieces, base_volumes, out);
     phase("hold back", start);
+    if (progress) progress(0.8);
+    // Vertices held back lose some of the volume put back; the free ones make it up, and the
+    // check runs again on the result.
+    std::vector<std::uint8_t> held(share.size(), 0);
+    for (std::size_t v = 0; v < share.size(); ++v) held[v] = share[v] < 1;
+    if (std::find(held.begin(), held.end(), 1) != held.end()) {
+        start = Clock::now();
+        for (std::size_t v = 0; v < share.size(); ++v)
+            for (int k = 0; k < 3; ++k) smoothed[v][k] = vertices.base[v][k] + share[v] * (smoothed[v][k] - vertices.base[v][k]);
+        restore_volumes(smoothed, vertices, quads, voxels, options.max_offset, held);
+        share.assign(smoothed.size(), 1.0);
+        out.hold_back_rounds += hold_back(vertices, smoothed, share, index_to_world, cell, pieces, base_volumes, out);
+        phase("volumes again", start);
+    }
+    out.vertices_held_back = std::size_t(std::count_if(held.begin(), held.end(), [](std::uint8_t h) { return h; }) +
+                                         std::count_if(share.begin(), share.end(), [](double s) { return s < 1; }));
 }
 
 }  // namespace vdbmesh::labels_detail
