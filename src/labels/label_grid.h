@@ -44,6 +44,11 @@ struct LabelGrid {
                 }
         return n;
     }
+    int distinct_labels(std::int64_t a, std::int64_t b, std::int64_t c) const {
+        CornerLabels l = corner_labels(a, b, c);
+        std::sort(l.begin(), l.end());
+        return int(std::unique(l.begin(), l.end()) - l.begin());
+    }
     bool uniform(std::int64_t a, std::int64_t b, std::int64_t c) const {
         const CornerLabels l = corner_labels(a, b, c);
         return std::all_of(l.begin(), l.end(), [&](std::uint16_t v) { return v == l[0]; });
@@ -54,7 +59,10 @@ struct LabelGrid {
     }
     /// A meshed label that is not manifold at the corner, else 0.
     std::uint16_t conflict(std::int64_t a, std::int64_t b, std::int64_t c) const {
-        if (uniform(a, b, c)) return 0;
+        // With two labels the rules of corner_sheets.h leave no conflict here (a label's two pairs
+        // at an edge share a sheet only where it wraps round, and wrapping round at both ends is
+        // bridged); an edge shared with a corner of more labels is checked from that end.
+        if (distinct_labels(a, b, c) <= 2) return 0;
         const CornerNeighbourhood n = neighbourhood(a, b, c);
         return corner_conflict(
             n, corner_sheets(n), [&](std::uint16_t label) { return meshed[label] != 0; },

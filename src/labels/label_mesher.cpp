@@ -43,59 +43,68 @@ labels_detail::LabelGrid make_grid(const LabelVolume& volume, const LabelMeshOpt
     return grid;
 }
 
-/// Per corner its first vertex (kNone: no wall there), and per vertex its unsmoothed place:
-/// the corner itself, or for several sheets each moved toward the middle of its walls.
-void number_vertices(const LabelGrid& grid, std::vector<std::uint32_t>& first, SheetVertices& vertices) {
+/// Per corner its first vertex (kNone: no wall there); per vertex its unsmoothed place (the
+/// corner itself, or for several sheets each moved toward the middle of its walls) and, at a
+/// corner's first vertex, the corner's sheet of each face (for collect_quads()).
+void number_vertices(const LabelGrid& grid, std::vector<std::uint32_t>& first, SheetVertices& vertices,
+                     std::vector<std::array<std::int8_t, 12>>& face_sheets) {
     const std::array<std::int64_t, 3> n = grid.corner_dims();
     first.assign(std::size_t(n[0] * n[1] * n[2]), kNone);
-    std::vector<std::uint32_t> layer_count(std::size_t(n[2]), 0);
+    struct Found {
+        std::int64_t a, b;
+        CornerSheets sheets;
+    };
+    std::vector<std::vector<Found>> layers(static_cast<std::size_t>(n[2]));
     tbb::parallel_for(std::int64_t(0), n[2], [&](std::int64_t c) {
-        std::uint32_t count = 0;
         for (std::int64_t b = 0; b < n[1]; ++b)
             for (std::int64_t a = 0; a < n[0]; ++a) {
-                const int sheets = grid.sheets(a, b, c).count;
-                if (sheets) first[grid.corner_index(a, b, c)] = count, count += std::uint32_t(sheets);
+                if (grid.uniform(a, b, c)) continue;
+                layers[std::size_t(c)].push_back({a, b, grid.sheets(a, b, c)});
             }
-        layer_count[std::size_t(c)] = count;
     });
     std::vector<std::uint64_t> layer_first(std::size_t(n[2]) + 1, 0);
-    for (std::size_t c = 0; c < layer_count.size(); ++c) layer_first[c + 1] = layer_first[c] + layer_count[c];
+    for (std::size_t c = 0; c < layers.size(); ++c) {
+        layer_first[c + 1] = layer_first[c];
+        for (const Found& f : layers[c]) layer_first[c + 1] += std::uint64_t(f.sheets.count);
+    }
     if (layer_first.back() >= kNone) throw Error("label map: too many surface vertices for 32-bit indices");
     vertices.base.resize(std::size_t(layer_first.back()));
     vertices.corner.resize(std::size_t(layer_first.back()));
+    face_sheets.resize(std::size_t(layer_first.back()));
     tbb::parallel_for(std::int64_t(0), n[2], [&](std::int64_t c) {
-        for (std::int64_t b = 0; b < n[1]; ++b)
-            for (std::int64_t a = 0; a < n[0]; ++a) {
-                std::uint32_t& f = first[grid.corner_index(a, b, c)];
-                if (f == kNone) continue;
-                f += std::uint32_t(layer_first[std::size_t(c)]);
-                const CornerSheets s = grid.sheets(a, b, c);
-                const Point corner{a - 0.5, b - 0.5, c - 0.5};
-                std::vector<Point> toward(std::size_t(s.count), Point{0, 0, 0});
-                std::vector<int> walls(std::size_t(s.count), 0);
-                for (int face = 0; face < 12; ++face) {
-                    if (s.sheet[face] < 0) continue;
-                    const int axis = face >> 2, u = (axis + 1) % 3, v = (axis + 2) % 3;
-                    Point& t = toward[std::size_t(s.sheet[face])];
-                    t[u] += (face & 1) ? 0.5 : -0.5;
-                    t[v] += (face >> 1 & 1) ? 0.5 : -0.5;
-                    ++walls[std::size_t(s.sheet[face])];
-                }
-                for (int k = 0; k < s.count; ++k) {
-                    Point p = corner;
-                    // Several sheets: each halfway toward the mean middle of its walls, so they part.
-                    if (s.count > 1)
-                        for (int i = 0; i < 3; ++i) p[i] += 0.5 * toward[std::size_t(k)][i] / walls[std::size_t(k)];
-                    vertices.base[f + std::uint32_t(k)] = p;
-                    vertices.corner[f + std::uint32_t(k)] = corner;
-                }
+        std::uint32_t next = std::uint32_t(layer_first[std::size_t(c)]);
+        for (const Found& found : layers[std::size_t(c)]) {
+            const CornerSheets& s = found.sheets;
+            const std::uint32_t f = first[grid.corner_index(found.a, found.b, c)] = next;
+            next += std::uint32_t(s.count);
+            face_sheets[f] = s.sheet;
+            const Point corner{found.a - 0.5, found.b - 0.5, c - 0.5};
+            std::vector<Point> toward(std::size_t(s.count), Point{0, 0, 0});
+            std::vector<int> walls(std::size_t(s.count), 0);
+            for (int face = 0; face < 12; ++face) {
+                if (s.sheet[face] < 0) continue;
+                const int axis = face >> 2, u = (axis + 1) % 3, v = (axis + 2) % 3;
+                Point& t = toward[std::size_t(s.sheet[face])];
+                t[u] += (face & 1) ? 0.5 : -0.5;
+                t[v] += (face >> 1 & 1) ? 0.5 : -0.5;
+                ++walls[std::size_t(s.sheet[face])];
             }
+            for (int k = 0; k < s.count; ++k) {
+                Point p = corner;
+                // Several sheets: each halfway toward the mean middle of its walls, so they part.
+                if (s.count > 1)
+                    for (int i = 0; i < 3; ++i) p[i] += 0.5 * toward[std::size_t(k)][i] / walls[std::size_t(k)];
+                vertices.base[f + std::uint32_t(k)] = p;
+                vertices.corner[f + std::uint32_t(k)] = corner;
+            }
+        }
     });
 }
 
 /// One quad per wall, in a fixed order (z, y, x of its low voxel, then the axis); the corners
 /// turn counter-clockwise seen from the high voxel, so the normal points from low to high.
-void collect_quads(const LabelGrid& grid, const std::vector<std::uint32_t>& first, std::vector<SheetQuad>& quads) {
+void collect_quads(const LabelGrid& grid, const std::vector<std::uint32_t>& first,
+                   const std::vector<std::array<std::int8_t, 12>>& face_sheets, std::vector<SheetQuad>& quads) {
     const std::int64_t nz = grid.dims[2] + 1;
     std::vector<std::vector<SheetQuad>> per_layer(static_cast<std::size_t>(nz));
     tbb::parallel_for(std::int64_t(-1), grid.dims[2], [&](std::int64_t z) {
@@ -119,9 +128,9 @@ void collect_quads(const LabelGrid& grid, const std::vector<std::uint32_t>& firs
                         corner[axis] = p[axis] + 1;
                         corner[u] = p[u] + steps[k][0];
                         corner[v] = p[v] + steps[k][1];
-                        const CornerSheets s = grid.sheets(corner[0], corner[1], corner[2]);
                         const int face = 4 * axis + (1 - steps[k][0]) + 2 * (1 - steps[k][1]);
-                        quad.vertex[k] = first[grid.corner_index(corner[0], corner[1], corner[2])] + std::uint32_t(s.sheet[face]);
+                        const std::uint32_t f = first[grid.corner_index(corner[0], corner[1], corner[2])];
+                        quad.vertex[k] = f + std::uint32_t(face_sheets[f][face]);
                     }
                     out.push_back(quad);
                 }
@@ -150,10 +159,12 @@ LabelSurface mesh_labels(const LabelVolume& volume, const LabelMeshOptions& opti
     start = Clock::now();
     std::vector<std::uint32_t> first;
     SheetVertices vertices;
-    number_vertices(grid, first, vertices);
+    std::vector<std::array<std::int8_t, 12>> face_sheets;
+    number_vertices(grid, first, vertices, face_sheets);
     std::vector<SheetQuad> quads;
-    collect_quads(grid, first, quads);
+    collect_quads(grid, first, face_sheets, quads);
     first = {};
+    face_sheets = {};
     surface.phases.emplace_back("sheets", seconds_since(start));
     if (progress) progress(0.4);
 
