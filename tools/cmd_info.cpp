@@ -225,6 +225,7 @@ void print_labels(const Json& j, std::ostream& out) {
     const std::size_t structures = std::count_if(j["labels"].begin(), j["labels"].end(), [](const Json& l) { return l["value"] != 0; });
     out << "label map       " << structures << " labels besides the background 0"
         << (j["label_table"].is_null() ? ", no name table" : ", names from " + j["label_table"].get<std::string>()) << "\n"
+        << "mesh it with    vdbmesh mesh FILE --labels all -o DIR/ (the suggested iso is not for a label map)\n"
         << "  value      voxels  name\n";
     for (const Json& l : j["labels"])
         out << "  " << std::setw(5) << l["value"].get<std::uint32_t>() << "  " << std::setw(10) << l["voxels"].get<std::uint64_t>()
