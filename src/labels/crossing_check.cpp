@@ -52,9 +52,20 @@ std::vector<std::uint8_t> crossing_triangles(const Mesh& mesh, const std::vector
         const detail::Triangle3 c = corners(mesh, std::uint32_t(t));
         degenerate[t] = detail::collinear(c[0], c[1], c[2]);
     });
+    // Only the cells the asked triangles reach matter (all of them in a full check).
+    std::vector<std::uint64_t> wanted;
+    const bool all = subset.size() == n;
+    if (!all) {
+        for (std::uint32_t t : subset) for_each_cell(boxes[t], cell, [&](std::uint64_t key) { wanted.push_back(key); });
+        std::sort(wanted.begin(), wanted.end());
+        wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+    }
     std::vector<std::pair<std::uint64_t, std::uint32_t>> cells;
-    cells.reserve(2 * n);
-    for (std::uint32_t t = 0; t < n; ++t) for_each_cell(boxes[t], cell, [&](std::uint64_t key) { cells.push_back({key, t}); });
+    cells.reserve(all ? 4 * n : 8 * subset.size());
+    for (std::uint32_t t = 0; t < n; ++t)
+        for_each_cell(boxes[t], cell, [&](std::uint64_t key) {
+            if (all || std::binary_search(wanted.begin(), wanted.end(), key)) cells.push_back({key, t});
+        });
     tbb::parallel_sort(cells.begin(), cells.end());
 
     std::vector<std::uint8_t> asked(n, 0);

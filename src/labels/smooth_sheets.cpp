@@ -113,13 +113,13 @@ void place_in_world(const SheetVertices& vertices, const std::vector<Point>& smo
     });
 }
 
-/// A grid cell for crossing_triangles(): three voxels along the longest voxel side, wider than
-/// any triangle (its corners lie within max_offset <= 2 voxels of corners one voxel apart... the
-/// check stays exact whatever the size; this only bounds the work).
+/// A grid cell for crossing_triangles(): about half a triangle's reach (its corners lie within
+/// max_offset of corners one voxel apart), so a cell holds few triangles and a triangle
+/// reaches a few cells. The check is exact whatever the size; this only sets the work.
 double check_cell(const Affine& m, double max_offset) {
     double longest = 0;
     for (int k = 0; k < 3; ++k) longest = std::max(longest, std::sqrt(m[0][k] * m[0][k] + m[1][k] * m[1][k] + m[2][k] * m[2][k]));
-    return (1 + 2 * max_offset) * longest;
+    return (0.5 + max_offset) * longest;
 }
 
 /// The vertices (ascending) of the triangles of @a subset that cross another or degenerate, and
