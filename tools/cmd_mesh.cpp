@@ -99,6 +99,7 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
 /// Exit status 0, or 3 when --verify found a defect (the mesh is then not written).
 int run_mesh(MeshCommandOptions& options) {
     if (options.labels.label.labels) {
+        if (options.iso) throw UsageError("--iso: a label map is meshed per label with --labels, not at an isovalue");
         LabelMeshRequest& request = options.labels;
         request.inputs = options.inputs, request.output = options.output, request.ascii = options.ascii;
         request.json = options.json, request.read = options.read, request.common = options.common;

@@ -65,11 +65,29 @@ TEST(LabelCommandsTest, MeshWritesAPlyWithLabelPairsAndANamedGltf) {
     EXPECT_EQ(gltf["nodes"][1]["extras"]["label"], 2);
 }
 
+TEST(LabelCommandsTest, MeasureListsVolumesAgainstVoxels) {
+    VDBMESH_SHARED_DATA(aal, "nifti_mricron_label_atlases/aal.nii.gz");
+    const Output o = run_capturing({"measure", aal.string(), "--labels", "37", "--json", "-q"});
+    ASSERT_EQ(o.status, 0);
+    const nlohmann::json j = nlohmann::json::parse(o.out);
+    ASSERT_EQ(j["labels"].size(), 1u);
+    EXPECT_EQ(j["labels"][0]["name"], "Hippocampus_L");
+    EXPECT_EQ(j["labels"][0]["voxels"], 7469);
+    // The volume is put back to the voxel count (1 mm voxels): well within the 2%.
+    EXPECT_NEAR(j["labels"][0]["volume"].get<double>(), 7469.0, 0.02 * 7469);
+    const Output csv = run_capturing({"measure", aal.string(), "--labels", "37", "--csv", "-q"});
+    ASSERT_EQ(csv.status, 0);
+    EXPECT_EQ(csv.out.rfind("value,name,voxels,voxel_volume,volume,volume_error,area,centroid_x,centroid_y,centroid_z\n37,Hippocampus_L,7469,", 0), 0u)
+        << csv.out;
+}
+
 TEST(LabelCommandsTest, BadOutputsAndLabelListsAreUsageErrors) {
     VDBMESH_SHARED_DATA(aal, "nifti_mricron_label_atlases/aal.nii.gz");
     ScratchDir dir;
     EXPECT_EQ(run({"mesh", aal.string(), "--labels", "all", "-o", (dir / "one.stl").string(), "-q"}), 2);
     EXPECT_EQ(run({"mesh", aal.string(), "--labels", "2-1", "-o", (dir / "x.ply").string(), "-q"}), 2);
+    EXPECT_EQ(run({"mesh", aal.string(), "--labels", "all", "--iso", "3", "-o", (dir / "x.ply").string(), "-q"}), 2);
+    EXPECT_EQ(run({"measure", aal.string(), "--csv", "-q"}), 2);
     EXPECT_FALSE(std::filesystem::exists(dir / "one.stl"));
     EXPECT_FALSE(std::filesystem::exists(dir / "x.ply"));
 }
