@@ -1,5 +1,6 @@
 // read_volume, mesh_array, mesh_file, array_to_vdb: scans and arrays through sparse grids.
-// Arrays are streamed into the grid by ArraySliceReader, without a dense copy.
+// Arrays are streamed into the grid by ArraySliceReader, without a dense copy. The long calls
+// check for Ctrl-C as they go (interrupt.h).
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -8,11 +9,13 @@
 #include <cctype>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "array_slice_reader.h"
 #include "axis_order.h"
 #include "bindings.h"
+#include "interrupt.h"
 #include "mesh_arrays.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
@@ -70,19 +73,22 @@ Inside parse_inside(const std::string& name) {
     throw UsageError("inside: expected \"above\" or \"below\", got \"" + name + "\"");
 }
 
-MeshOptions mesh_options(double iso, const std::string& method, double error, double adaptivity, const std::string& inside) {
+/// The options of a mesh call, checking for Ctrl-C as the mesher goes; iso and inside are set later.
+MeshOptions mesh_options(const std::string& method, double error, double adaptivity, bool open_boundary) {
     MeshOptions options;
     options.method = parse_method(method);
-    options.iso = iso;
     options.error = error;
     options.adaptivity = adaptivity;
-    options.inside = parse_inside(inside);
+    options.open_boundary = open_boundary;
+    options.progress = signal_checking_progress();
     return options;
 }
 
+/// Converting at @a iso, checking for Ctrl-C as the conversion goes.
 ConvertOptions convert_options(double iso) {
     ConvertOptions options;
     options.iso = iso;
+    options.progress = signal_checking_progress();
     return options;
 }
 
@@ -97,11 +103,42 @@ bool is_vdb_file(const std::filesystem::path& path) {
     return extension == ".vdb";
 }
 
-/// A .vdb file's first float grid as stored, or a scan converted at @a iso.
-openvdb::FloatGrid::Ptr file_grid(const std::filesystem::path& path, double iso) {
-    if (is_vdb_file(path)) return read_vdb(path);
-    const auto reader = open_volume(path);
-    return convert_to_grid(*reader, convert_options(iso));
+/// The isovalue of a .vdb grid when none is given: the one convert stored, else 0 for a level set.
+double stored_level(const openvdb::FloatGrid& grid, const std::filesystem::path& path) {
+    if (const auto iso = stored_isovalue(grid)) return *iso;
+    if (grid.getGridClass() == openvdb::GRID_LEVEL_SET) return 0.0;
+    throw UsageError("level: required for " + path.string() + " (its grid records no isovalue)");
+}
+
+/// Throws UsageError when @a level lies outside the sample range a converted grid records
+/// (there the surface would be the scan's box or nothing, as scikit-image refuses).
+void check_level_in_range(const openvdb::FloatGrid& grid, double level, const std::filesystem::path& path) {
+    const auto lo = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMin);
+    const auto hi = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMax);
+    if (!lo || !hi || (level >= lo->value() && level <= hi->value())) return;
+    throw UsageError("level: expected a value within the data range [" + std::to_string(lo->value()) + ", " +
+                     std::to_string(hi->value()) + "] of " + path.string() + ", got " + std::to_string(level));
+}
+
+/// A .vdb file's first float grid as stored, or a scan converted at @a level (required there);
+/// sets options.iso, and options.inside for "auto": below for a level set, else above (the
+/// command line's defaults).
+openvdb::FloatGrid::Ptr file_grid(const std::filesystem::path& path, std::optional<double> level,
+                                  const std::string& inside, MeshOptions& options) {
+    openvdb::FloatGrid::Ptr grid;
+    if (is_vdb_file(path)) {
+        grid = read_vdb(path);
+        options.iso = level ? *level : stored_level(*grid, path);
+    } else {
+        if (!level) throw UsageError("level: required for a scan file (" + path.string() + "); `vdbmesh info` suggests one");
+        const auto reader = open_volume(path);
+        grid = convert_to_grid(*reader, convert_options(*level));
+        check_level_in_range(*grid, *level, path);
+        options.iso = *level;
+    }
+    const bool level_set = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
+    options.inside = inside == "auto" ? (level_set ? Inside::below : Inside::above) : parse_inside(inside);
+    return grid;
 }
 
 /// The 4 x 4 matrix of @a affine.
@@ -133,25 +170,28 @@ py::tuple read_volume(const std::filesystem::path& path) {
                           affine_matrix(swap_i_and_k(header.index_to_world)));
 }
 
-py::tuple mesh_array(const py::array& array, double iso, const std::string& method, double error, double adaptivity,
-                     const std::string& inside, const Affine& array_to_world) {
-    const MeshOptions options = mesh_options(iso, method, error, adaptivity, inside);
+/// Meshes an array at @a level; @a inside is "above" or "below" (the package resolves "auto").
+py::tuple mesh_array(const py::array& array, double level, const std::string& method, double error, double adaptivity,
+                     const std::string& inside, bool open_boundary, const Affine& array_to_world) {
+    MeshOptions options = mesh_options(method, error, adaptivity, open_boundary);
+    options.iso = level;
+    options.inside = parse_inside(inside);
     const StridedVolume volume = strided_volume(array);
     Mesh mesh;
     {
         py::gil_scoped_release released;
-        mesh = mesh_grid(*array_grid(volume, iso, array_to_world), options).mesh;
+        mesh = mesh_grid(*array_grid(volume, level, array_to_world), options).mesh;
     }
     return to_arrays(std::move(mesh));
 }
 
-py::tuple mesh_file(const std::filesystem::path& path, double iso, const std::string& method, double error,
-                    double adaptivity, const std::string& inside) {
-    const MeshOptions options = mesh_options(iso, method, error, adaptivity, inside);
+py::tuple mesh_file(const std::filesystem::path& path, std::optional<double> level, const std::string& method,
+                    double error, double adaptivity, const std::string& inside, bool open_boundary) {
+    MeshOptions options = mesh_options(method, error, adaptivity, open_boundary);
     Mesh mesh;
     {
         py::gil_scoped_release released;
-        mesh = mesh_grid(*file_grid(path, iso), options).mesh;
+        mesh = mesh_grid(*file_grid(path, level, inside, options), options).mesh;
     }
     return to_arrays(std::move(mesh));
 }
@@ -166,10 +206,10 @@ void array_to_vdb(const py::array& array, double iso, const std::filesystem::pat
 
 void bind_volume_functions(py::module_& module) {
     module.def("read_volume", &read_volume, py::arg("path"));
-    module.def("mesh_array", &mesh_array, py::arg("array"), py::arg("iso"), py::arg("method"), py::arg("error"),
-               py::arg("adaptivity"), py::arg("inside"), py::arg("array_to_world"));
-    module.def("mesh_file", &mesh_file, py::arg("path"), py::arg("iso"), py::arg("method"), py::arg("error"),
-               py::arg("adaptivity"), py::arg("inside"));
+    module.def("mesh_array", &mesh_array, py::arg("array"), py::arg("level"), py::arg("method"), py::arg("error"),
+               py::arg("adaptivity"), py::arg("inside"), py::arg("open_boundary"), py::arg("array_to_world"));
+    module.def("mesh_file", &mesh_file, py::arg("path"), py::arg("level"), py::arg("method"), py::arg("error"),
+               py::arg("adaptivity"), py::arg("inside"), py::arg("open_boundary"));
     module.def("array_to_vdb", &array_to_vdb, py::arg("array"), py::arg("iso"), py::arg("path"),
                py::arg("array_to_world"));
 }
