@@ -15,6 +15,7 @@
 #include "array_slice_reader.h"
 #include "axis_order.h"
 #include "bindings.h"
+#include "inside_side.h"
 #include "interrupt.h"
 #include "mesh_arrays.h"
 #include "vdbmesh/error.h"
@@ -67,10 +68,12 @@ MeshMethod parse_method(const std::string& name) {
     throw UsageError("method: expected \"dc\", \"dmc\", \"mc\" or \"openvdb\", got \"" + name + "\"");
 }
 
-Inside parse_inside(const std::string& name) {
+/// The side @a name says, or for "auto" the side away from the grid's border (inside_side.h).
+Inside parse_inside(const std::string& name, const openvdb::FloatGrid& grid, double level) {
     if (name == "above") return Inside::above;
     if (name == "below") return Inside::below;
-    throw UsageError("inside: expected \"above\" or \"below\", got \"" + name + "\"");
+    if (name == "auto") return inside_away_from_border(grid, level);
+    throw UsageError("inside: expected \"auto\", \"above\" or \"below\", got \"" + name + "\"");
 }
 
 /// The options of a mesh call, checking for Ctrl-C as the mesher goes; iso and inside are set later.
@@ -121,8 +124,7 @@ void check_level_in_range(const openvdb::FloatGrid& grid, double level, const st
 }
 
 /// A .vdb file's first float grid as stored, or a scan converted at @a level (required there);
-/// sets options.iso, and options.inside for "auto": below for a level set, else above (the
-/// command line's defaults).
+/// sets options.iso and options.inside.
 openvdb::FloatGrid::Ptr file_grid(const std::filesystem::path& path, std::optional<double> level,
                                   const std::string& inside, MeshOptions& options) {
     openvdb::FloatGrid::Ptr grid;
@@ -136,8 +138,7 @@ openvdb::FloatGrid::Ptr file_grid(const std::filesystem::path& path, std::option
         check_level_in_range(*grid, *level, path);
         options.iso = *level;
     }
-    const bool level_set = grid->getGridClass() == openvdb::GRID_LEVEL_SET;
-    options.inside = inside == "auto" ? (level_set ? Inside::below : Inside::above) : parse_inside(inside);
+    options.inside = parse_inside(inside, *grid, options.iso);
     return grid;
 }
 
@@ -170,17 +171,17 @@ py::tuple read_volume(const std::filesystem::path& path) {
                           affine_matrix(swap_i_and_k(header.index_to_world)));
 }
 
-/// Meshes an array at @a level; @a inside is "above" or "below" (the package resolves "auto").
 py::tuple mesh_array(const py::array& array, double level, const std::string& method, double error, double adaptivity,
                      const std::string& inside, bool open_boundary, const Affine& array_to_world) {
     MeshOptions options = mesh_options(method, error, adaptivity, open_boundary);
     options.iso = level;
-    options.inside = parse_inside(inside);
     const StridedVolume volume = strided_volume(array);
     Mesh mesh;
     {
         py::gil_scoped_release released;
-        mesh = mesh_grid(*array_grid(volume, level, array_to_world), options).mesh;
+        const openvdb::FloatGrid::Ptr grid = array_grid(volume, level, array_to_world);
+        options.inside = parse_inside(inside, *grid, level);
+        mesh = mesh_grid(*grid, options).mesh;
     }
     return to_arrays(std::move(mesh));
 }

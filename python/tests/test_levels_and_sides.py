@@ -35,6 +35,17 @@ def test_inside_auto_takes_the_side_away_from_the_border(method):
     _clean_sphere(*vdbmesh.mesh(-sphere_field(32, RADIUS), 0.0, method=method))  # negative inside (level set)
 
 
+@pytest.mark.parametrize("sign", [1, -1])
+def test_inside_auto_decides_a_file_as_it_decides_its_array(tmp_path, sign):
+    volume = sign * sphere_field(32, RADIUS)
+    vdbmesh.to_vdb(volume, 0.0, tmp_path / "sphere.vdb")  # a density grid with its scanned box
+    from_file = vdbmesh.mesh(tmp_path / "sphere.vdb")  # level: the one stored
+    _clean_sphere(*from_file)
+    from_array = vdbmesh.mesh(volume, 0.0)
+    np.testing.assert_array_equal(from_file[0], from_array[0])
+    np.testing.assert_array_equal(from_file[1], from_array[1])
+
+
 def test_a_scikit_image_level_set_ellipsoid_is_meshed_as_the_ellipsoid():
     draw = pytest.importorskip("skimage.draw")
     volume, area = draw.ellipsoid_stats(6, 10, 16)

@@ -54,12 +54,14 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
     closed, manifold and free of self-intersections by construction; at 0 it equals Marching
     Cubes), "dmc" (Dual Marching Cubes, made clean by a check-and-refine loop), "mc"
     (Marching Cubes) or "openvdb" (volumeToMesh, adaptive with ``adaptivity`` in [0, 1]).
-    inside: "above" (values above the level are the object), "below", or "auto": for an
-    array the side that touches less of its border (a level set's negative inside, a CT's
-    dense material), for a file below for a level set .vdb and above otherwise.
+    inside: "above" (values above the level are the object), "below", or "auto": the side
+    that touches less of the volume's border (a level set's negative inside, a CT's dense
+    material, not their complement; above on a tie; a .vdb that records no scanned box:
+    below for a level set, else the side away from its background).
     closed: the surface is closed where the object meets the border of the volume; False
     leaves it open there (methods "mc" and "dmc").
-    NaN samples count as outside the object (scikit-image's rule: a NaN is not above the level).
+    NaN samples count as outside the object (as scikit-image counts them: not above the level);
+    the surface passes next to them.
     Arrays of int64, uint64 and float16 are cast (numpy's safe casts); other types raise.
 
     Returns ``(vertices, faces)``: N x 3 float32 in world units and M x 3 int32. Raises
@@ -67,6 +69,7 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
     """
     level = _alias(iso, level)
     _check_applicable(method, error, adaptivity, closed)
+    _arrays.check_inside(inside)
     if isinstance(volume_or_path, (str, os.PathLike)):
         if spacing is not None or affine is not None:
             raise ValueError("spacing, affine: only for arrays; a file carries its own geometry")
@@ -76,10 +79,9 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
         array = _arrays.volume_array(volume_or_path)
         data_range = _arrays.data_range(array)
         level = _arrays.surface_level(level, data_range)
-        side = _arrays.inside_side(array, level, inside)
-        array = _arrays.nan_as_outside(array, data_range, side)
+        array = _arrays.nan_at_level(array, level)
         array_to_world, unit = _array_to_world(spacing, affine)
-        vertices, faces = _vdbmesh.mesh_array(array, level, method, float(error), float(adaptivity), side, not closed,
+        vertices, faces = _vdbmesh.mesh_array(array, level, method, float(error), float(adaptivity), inside, not closed,
                                               array_to_world)
         if unit != 1:
             vertices *= unit

@@ -1,5 +1,5 @@
-"""Arrays as the library reads them, and the level and the side of their surface: the rules
-``mesh`` and ``marching_cubes`` share (scikit-image's where it has one)."""
+"""Arrays as the library reads them, their level and their NaN samples: the rules ``mesh`` and
+``marching_cubes`` share (scikit-image's where it has one)."""
 
 import numpy as np
 
@@ -57,30 +57,23 @@ def surface_level(level, data_range):
     return level
 
 
-def inside_side(array, level, inside):
-    """``inside`` checked, with "auto" resolved: the side of the level that touches less of the
-    array's border (its six faces; samples at the level or NaN count for neither side), above
-    on a tie. So a level set (negative inside) and a CT (dense material inside) both come out
-    as the object, not its complement."""
+def check_inside(inside):
+    """Raises ValueError unless ``inside`` is one of the sides ``mesh`` takes ("auto": the side
+    that touches less of the volume's border, decided by the library on the grid)."""
     if inside not in ("auto", "above", "below"):
         raise ValueError(f'inside: expected "auto", "above" or "below", got {inside!r}')
-    if inside != "auto":
-        return inside
-    faces = (array[0], array[-1], array[:, 0], array[:, -1], array[:, :, 0], array[:, :, -1])
-    above = sum(int(np.count_nonzero(face > level)) for face in faces)
-    below = sum(int(np.count_nonzero(face < level)) for face in faces)
-    return "below" if above > below else "above"
 
 
-def nan_as_outside(array, data_range, inside):
-    """``array`` with its NaN samples outside the object, as scikit-image counts them (a NaN is
-    not above the level): replaced by a value 1% of the data range beyond it on the outside
-    side (the library's value for what lies beyond the scan). A copy only when there are NaNs."""
+def nan_at_level(array, level):
+    """``array`` with its NaN samples set to the level: a sample at the level is outside the
+    object on either side (the library's rule), as scikit-image counts a NaN (not above the
+    level), and takes no side when "auto" decides one. The surface then passes next to it.
+    A copy only when there are NaNs."""
     if array.dtype.kind != "f":
         return array
     nan = np.isnan(array)
     if not nan.any():
         return array
-    lo, hi = data_range
-    margin = 0.01 * (hi - lo) or 1.0
-    return np.where(nan, lo - margin if inside == "above" else hi + margin, array).astype(array.dtype)
+    if array.dtype.type(level) != level:  # not a value of the array's type: hold it exactly
+        array = array.astype(np.float64)
+    return np.where(nan, array.dtype.type(level), array)

@@ -45,8 +45,8 @@ def marching_cubes(volume, level=None, *, spacing=(1.0, 1.0, 1.0), gradient_dire
     cell_mask = _cell_mask(mask, array.shape, step)
     data_range = _arrays.data_range(array)  # the whole array's, as scikit-image checks the level
     level = _arrays.surface_level(level, data_range)
-    samples = array[::step, ::step, ::step]
-    samples = _arrays.nan_as_outside(samples, data_range, "above").astype(np.float32, copy=False)
+    samples = array[::step, ::step, ::step].astype(np.float32, copy=False)  # as scikit-image compares them
+    samples = _arrays.nan_at_level(samples, level)
 
     verts, faces = _vdbmesh.mesh_array(samples, level, "mc", 0.0, 0.0, "above", True, _INDEX_SPACE)
     cells = _face_cells(verts, faces, samples.shape)
