@@ -22,19 +22,20 @@ def marching_cubes(volume, level=None, *, spacing=(1.0, 1.0, 1.0), gradient_dire
     (V, 3) float32, the data's gradient at each vertex in index space, pointing towards lower
     values, unit length; values (V,) float32, the largest value range (max - min) of the cells
     around each vertex. The surface is open where it meets the border of the array (use
-    ``vdbmesh.mesh`` for a closed one). NaN samples count as below the level, as there;
-    ``level`` defaults to the midpoint of the data range (NaNs left out) and must lie within it.
+    ``vdbmesh.mesh`` for a closed one). NaN samples count as below the level, as there (where
+    its vertices next to a NaN are NaN, ours lie 0.001 voxel from it); ``level`` defaults to
+    the midpoint of the data range (NaNs left out) and must lie within it.
 
     The same errors as scikit-image: ValueError for a volume that is not 3D or smaller than
     2 x 2 x 2, a level outside the data range, a spacing that is not three numbers, a step
     size below 1, a mask of another shape, an unknown ``gradient_direction`` or ``method``;
     RuntimeError (vdbmesh.Error) when there is no surface at the level.
 
-    Differences a user can see: the triangulation of ambiguous cells is the library's (its
-    Marching Cubes table keeps the surface closed and manifold, as Lewiner's does, but may
-    split a cell the other way), vertices are kept 0.001 voxel inside their edge (never on
-    a sample), so no triangle is degenerate and ``allow_degenerate`` changes nothing, and
-    "lewiner" and "lorensen" give the same mesh.
+    Differences a user can see: ambiguous cells are split as Lorensen's table splits them
+    (scikit-image's "lorensen"; "lewiner" gives the same mesh here, where Lewiner's splits
+    some the other way), vertices are kept 0.001 voxel inside their edge (never on a sample),
+    so no triangle is degenerate and ``allow_degenerate`` changes nothing; normals are central
+    differences, not scikit-image's one-sided ones per cell (a few degrees apart).
     """
     _check_options(gradient_direction, method, allow_degenerate)
     array = _arrays.volume_array(volume)
@@ -49,15 +50,9 @@ def marching_cubes(volume, level=None, *, spacing=(1.0, 1.0, 1.0), gradient_dire
     samples = _arrays.nan_at_level(samples, level)
 
     verts, faces = _vdbmesh.mesh_array(samples, level, "mc", 0.0, 0.0, "above", True, _INDEX_SPACE)
-    cells = _face_cells(verts, faces, samples.shape)
-    if cell_mask is not None:
-        keep = cell_mask[cells[:, 0], cells[:, 1], cells[:, 2]]
-        verts, faces, cells = _referenced(verts, faces[keep]) + (cells[keep],)
+    verts, faces, normals, values = _vdbmesh.marching_cubes_extras(samples, verts, faces, cell_mask)
     if len(faces) == 0:
         raise Error("No surface found at the given iso value.")
-
-    normals = _normals(samples, verts)
-    values = _values(samples, faces, cells, len(verts))
     if gradient_direction == "descent":
         faces = faces[:, ::-1].copy()  # the library's triangles face lower values
     verts = verts * np.float32(step)
@@ -98,47 +93,3 @@ def _cell_mask(mask, shape, step):
     if mask.shape != shape:
         raise ValueError(f"mask: expected the volume's shape {shape}, got {mask.shape}")
     return mask.astype(bool, copy=False)[step::step, step::step, step::step]
-
-
-def _face_cells(verts, faces, shape):
-    """The cell (index of its first corner) of each triangle: every vertex lies strictly inside
-    an edge of its cell, so the triangle's centroid lies strictly inside the cell."""
-    centroids = verts[faces].mean(axis=1)
-    cells = np.floor(centroids).astype(np.int64)
-    return np.clip(cells, 0, np.array(shape) - 2)
-
-
-def _referenced(verts, faces):
-    """(verts, faces) without the vertices no face uses, in their order."""
-    used = np.zeros(len(verts), dtype=bool)
-    used[faces.ravel()] = True
-    renumbered = np.cumsum(used, dtype=np.int64) - 1
-    return verts[used], renumbered[faces].astype(np.int32)
-
-
-def _normals(samples, verts):
-    """The gradient of the samples (central differences, one-sided at the border, as
-    np.gradient) interpolated linearly along each vertex's edge, negated and normalised."""
-    gradient = np.stack(np.gradient(samples.astype(np.float64)), axis=-1)
-    fraction = verts - np.round(verts)
-    axis = np.argmax(np.abs(fraction), axis=1)  # the coordinate that is not a sample index
-    first = np.round(verts).astype(np.int64)
-    first[np.arange(len(verts)), axis] = np.floor(verts[np.arange(len(verts)), axis])
-    second = first.copy()
-    second[np.arange(len(verts)), axis] += 1
-    t = (verts[np.arange(len(verts)), axis] - first[np.arange(len(verts)), axis])[:, None]
-    g = (1 - t) * gradient[tuple(first.T)] + t * gradient[tuple(second.T)]
-    length = np.linalg.norm(g, axis=1, keepdims=True)
-    return (-g / np.where(length > 0, length, 1)).astype(np.float32)
-
-
-def _values(samples, faces, cells, vertex_count):
-    """Per vertex, the largest value range (max - min of the 8 corners) of the cells whose
-    triangles use it, as scikit-image reports it."""
-    corners = np.stack([samples[cells[:, 0] + di, cells[:, 1] + dj, cells[:, 2] + dk]
-                        for di in (0, 1) for dj in (0, 1) for dk in (0, 1)], axis=1)
-    ranges = (corners.max(axis=1) - corners.min(axis=1)).astype(np.float32)
-    values = np.zeros(vertex_count, dtype=np.float32)
-    for corner in range(3):
-        np.maximum.at(values, faces[:, corner], ranges)
-    return values
