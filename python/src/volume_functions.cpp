@@ -8,6 +8,7 @@
 
 #include <cctype>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -17,6 +18,7 @@
 #include "bindings.h"
 #include "inside_side.h"
 #include "interrupt.h"
+#include "negated_reader.h"
 #include "mesh_arrays.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
@@ -68,11 +70,9 @@ MeshMethod parse_method(const std::string& name) {
     throw UsageError("method: expected \"dc\", \"dmc\", \"mc\" or \"openvdb\", got \"" + name + "\"");
 }
 
-/// The side @a name says, or for "auto" the side away from the grid's border (inside_side.h).
-Inside parse_inside(const std::string& name, const openvdb::FloatGrid& grid, double level) {
+Inside parse_inside(const std::string& name) {
     if (name == "above") return Inside::above;
     if (name == "below") return Inside::below;
-    if (name == "auto") return inside_away_from_border(grid, level);
     throw UsageError("inside: expected \"auto\", \"above\" or \"below\", got \"" + name + "\"");
 }
 
@@ -100,6 +100,33 @@ openvdb::FloatGrid::Ptr array_grid(const StridedVolume& volume, double iso, cons
     return convert_to_grid(source, convert_options(iso));
 }
 
+/// A fresh reader of an array or a scan file, for each conversion.
+using ReaderFactory = std::function<std::unique_ptr<SliceReader>()>;
+
+/// The grid to mesh a source at @a level with the object on the side @a inside names ("auto":
+/// decided on the grid converted as it is, inside_side.h); sets options.iso and options.inside
+/// and says whether it negated the samples. An object below the level is meshed as the
+/// negated samples' object above -level (negated_reader.h), closed at the scan's box by every method.
+std::pair<openvdb::FloatGrid::Ptr, bool> side_grid(const ReaderFactory& reader, double level, const std::string& inside,
+                                                   MeshOptions& options) {
+    openvdb::FloatGrid::Ptr grid;
+    Inside side;
+    if (inside == "auto") {
+        grid = convert_to_grid(*reader(), convert_options(level));
+        side = inside_away_from_border(*grid, level);
+    } else {
+        side = parse_inside(inside);
+    }
+    options.inside = Inside::above;
+    if (side == Inside::above) {
+        options.iso = level;
+        return {grid ? grid : convert_to_grid(*reader(), convert_options(level)), false};
+    }
+    NegatedReader negated(reader());
+    options.iso = -level;
+    return {convert_to_grid(negated, convert_options(-level)), true};
+}
+
 bool is_vdb_file(const std::filesystem::path& path) {
     std::string extension = path.extension().string();
     for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -114,31 +141,31 @@ double stored_level(const openvdb::FloatGrid& grid, const std::filesystem::path&
 }
 
 /// Throws UsageError when @a level lies outside the sample range a converted grid records
-/// (there the surface would be the scan's box or nothing, as scikit-image refuses).
-void check_level_in_range(const openvdb::FloatGrid& grid, double level, const std::filesystem::path& path) {
-    const auto lo = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMin);
-    const auto hi = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMax);
-    if (!lo || !hi || (level >= lo->value() && level <= hi->value())) return;
-    throw UsageError("level: expected a value within the data range [" + std::to_string(lo->value()) + ", " +
-                     std::to_string(hi->value()) + "] of " + path.string() + ", got " + std::to_string(level));
+/// (there the surface would be the scan's box or nothing, as scikit-image refuses); @a negated:
+/// the grid holds the negated samples.
+void check_level_in_range(const openvdb::FloatGrid& grid, double level, bool negated, const std::filesystem::path& path) {
+    const auto min = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMin);
+    const auto max = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMax);
+    if (!min || !max) return;
+    const double lo = negated ? -max->value() : min->value(), hi = negated ? -min->value() : max->value();
+    if (level >= lo && level <= hi) return;
+    throw UsageError("level: expected a value within the data range [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "] of " + path.string() + ", got " + std::to_string(level));
 }
 
 /// A .vdb file's first float grid as stored, or a scan converted at @a level (required there);
 /// sets options.iso and options.inside.
 openvdb::FloatGrid::Ptr file_grid(const std::filesystem::path& path, std::optional<double> level,
                                   const std::string& inside, MeshOptions& options) {
-    openvdb::FloatGrid::Ptr grid;
     if (is_vdb_file(path)) {
-        grid = read_vdb(path);
+        openvdb::FloatGrid::Ptr grid = read_vdb(path);
         options.iso = level ? *level : stored_level(*grid, path);
-    } else {
-        if (!level) throw UsageError("level: required for a scan file (" + path.string() + "); `vdbmesh info` suggests one");
-        const auto reader = open_volume(path);
-        grid = convert_to_grid(*reader, convert_options(*level));
-        check_level_in_range(*grid, *level, path);
-        options.iso = *level;
+        options.inside = inside == "auto" ? inside_away_from_border(*grid, options.iso) : parse_inside(inside);
+        return grid;
     }
-    options.inside = parse_inside(inside, *grid, options.iso);
+    if (!level) throw UsageError("level: required for a scan file (" + path.string() + "); `vdbmesh info` suggests one");
+    auto [grid, negated] = side_grid([&] { return open_volume(path); }, *level, inside, options);
+    check_level_in_range(*grid, *level, negated, path);
     return grid;
 }
 
@@ -174,14 +201,12 @@ py::tuple read_volume(const std::filesystem::path& path) {
 py::tuple mesh_array(const py::array& array, double level, const std::string& method, double error, double adaptivity,
                      const std::string& inside, bool open_boundary, const Affine& array_to_world) {
     MeshOptions options = mesh_options(method, error, adaptivity, open_boundary);
-    options.iso = level;
     const StridedVolume volume = strided_volume(array);
     Mesh mesh;
     {
         py::gil_scoped_release released;
-        const openvdb::FloatGrid::Ptr grid = array_grid(volume, level, array_to_world);
-        options.inside = parse_inside(inside, *grid, level);
-        mesh = mesh_grid(*grid, options).mesh;
+        const auto reader = [&] { return std::make_unique<ArraySliceReader>(volume, array_to_world, kArrayName); };
+        mesh = mesh_grid(*side_grid(reader, level, inside, options).first, options).mesh;
     }
     return to_arrays(std::move(mesh));
 }

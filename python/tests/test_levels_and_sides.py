@@ -30,6 +30,15 @@ def test_inside_below_meshes_the_low_values_facing_out(method):
 
 
 @pytest.mark.parametrize("method", METHODS)
+def test_inside_below_touching_the_border_is_closed_at_the_box(method):
+    # The object is the box less the sphere: closed where it meets the array's border.
+    figures = vdbmesh.check(*vdbmesh.mesh(sphere_field(32, RADIUS), 0.0, method=method, inside="below"))
+    assert figures["closed"] and figures["outward"] and figures["components"] == 2
+    # The box's faces lie between the last samples and one voxel beyond them (31^3 to 33^3).
+    assert 31**3 - SPHERE_VOLUME < figures["volume"] < 33**3 - SPHERE_VOLUME
+
+
+@pytest.mark.parametrize("method", METHODS)
 def test_inside_auto_takes_the_side_away_from_the_border(method):
     _clean_sphere(*vdbmesh.mesh(sphere_field(32, RADIUS), 0.0, method=method))  # positive inside (CT-like)
     _clean_sphere(*vdbmesh.mesh(-sphere_field(32, RADIUS), 0.0, method=method))  # negative inside (level set)

@@ -15,7 +15,10 @@
 //   gives, not half a voxel out). With inside=below that background would be inside: the
 //   object would be everything but the scanned one, meshed inward. So then a copy is meshed
 //   whose values beyond the box are the background mirrored across the isovalue (outside, as
-//   far from the isovalue). open_boundary is refused by mesh_grid().
+//   far from the isovalue). Where such an object meets the box the surface stays open: the
+//   converter made no band there (to it, beyond the box is the object's outside only with
+//   inside=above). The Python module meshes the negated samples instead; the command line
+//   has that gap still. open_boundary is refused by mesh_grid().
 
 #include "mesh/openvdb_mesher.h"
 
