@@ -2,6 +2,7 @@
 // inside="auto": which side of the level is the object, decided on the grid itself, the same
 // way for arrays and for files.
 
+#include "array_slice_reader.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/mesher.h"
 
@@ -13,5 +14,8 @@ namespace vdbmesh::python {
 /// complement. A grid that records no box (a .vdb not made by convert): below for a level
 /// set, else the side away from the background, which fills the space beyond the data.
 Inside inside_away_from_border(const openvdb::FloatGrid& grid, double level);
+
+/// The same for an array, on its own samples (its six faces), before any conversion.
+Inside inside_away_from_border(const StridedVolume& volume, double level);
 
 }  // namespace vdbmesh::python

@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 
 #include "array_slice_reader.h"
 #include "axis_order.h"
@@ -103,24 +104,16 @@ openvdb::FloatGrid::Ptr array_grid(const StridedVolume& volume, double iso, cons
 /// A fresh reader of an array or a scan file, for each conversion.
 using ReaderFactory = std::function<std::unique_ptr<SliceReader>()>;
 
-/// The grid to mesh a source at @a level with the object on the side @a inside names ("auto":
-/// decided on the grid converted as it is, inside_side.h); sets options.iso and options.inside
-/// and says whether it negated the samples. An object below the level is meshed as the
-/// negated samples' object above -level (negated_reader.h), closed at the scan's box by every method.
-std::pair<openvdb::FloatGrid::Ptr, bool> side_grid(const ReaderFactory& reader, double level, const std::string& inside,
+/// The grid to mesh a source at @a level with the object on @a side; sets options.iso and
+/// options.inside and says whether it negated the samples. An object below the level is
+/// meshed as the negated samples' object above -level (negated_reader.h), closed at the
+/// scan's box by every method.
+std::pair<openvdb::FloatGrid::Ptr, bool> side_grid(const ReaderFactory& reader, double level, Inside side,
                                                    MeshOptions& options) {
-    openvdb::FloatGrid::Ptr grid;
-    Inside side;
-    if (inside == "auto") {
-        grid = convert_to_grid(*reader(), convert_options(level));
-        side = inside_away_from_border(*grid, level);
-    } else {
-        side = parse_inside(inside);
-    }
     options.inside = Inside::above;
     if (side == Inside::above) {
         options.iso = level;
-        return {grid ? grid : convert_to_grid(*reader(), convert_options(level)), false};
+        return {convert_to_grid(*reader(), convert_options(level)), false};
     }
     NegatedReader negated(reader());
     options.iso = -level;
@@ -153,19 +146,38 @@ void check_level_in_range(const openvdb::FloatGrid& grid, double level, bool neg
                      std::to_string(hi) + "] of " + path.string() + ", got " + std::to_string(level));
 }
 
+/// A scan file converted at @a level (checked against its data range) with the object on the
+/// side @a inside names ("auto": decided on the grid as converted, converted again, negated,
+/// for below); sets options.iso and options.inside.
+openvdb::FloatGrid::Ptr scan_grid(const std::filesystem::path& path, double level, const std::string& inside,
+                                  MeshOptions& options) {
+    const auto reader = [&] { return open_volume(path); };
+    openvdb::FloatGrid::Ptr grid;
+    bool negated = false;
+    if (inside != "auto") {
+        std::tie(grid, negated) = side_grid(reader, level, parse_inside(inside), options);
+    } else {
+        grid = convert_to_grid(*reader(), convert_options(level));
+        options.iso = level;
+        options.inside = Inside::above;
+        if (inside_away_from_border(*grid, level) == Inside::below)
+            std::tie(grid, negated) = side_grid(reader, level, Inside::below, options);
+    }
+    check_level_in_range(*grid, level, negated, path);
+    return grid;
+}
+
 /// A .vdb file's first float grid as stored, or a scan converted at @a level (required there);
 /// sets options.iso and options.inside.
 openvdb::FloatGrid::Ptr file_grid(const std::filesystem::path& path, std::optional<double> level,
                                   const std::string& inside, MeshOptions& options) {
-    if (is_vdb_file(path)) {
-        openvdb::FloatGrid::Ptr grid = read_vdb(path);
-        options.iso = level ? *level : stored_level(*grid, path);
-        options.inside = inside == "auto" ? inside_away_from_border(*grid, options.iso) : parse_inside(inside);
-        return grid;
+    if (!is_vdb_file(path)) {
+        if (!level) throw UsageError("level: required for a scan file (" + path.string() + "); `vdbmesh info` suggests one");
+        return scan_grid(path, *level, inside, options);
     }
-    if (!level) throw UsageError("level: required for a scan file (" + path.string() + "); `vdbmesh info` suggests one");
-    auto [grid, negated] = side_grid([&] { return open_volume(path); }, *level, inside, options);
-    check_level_in_range(*grid, *level, negated, path);
+    openvdb::FloatGrid::Ptr grid = read_vdb(path);
+    options.iso = level ? *level : stored_level(*grid, path);
+    options.inside = inside == "auto" ? inside_away_from_border(*grid, options.iso) : parse_inside(inside);
     return grid;
 }
 
@@ -206,7 +218,8 @@ py::tuple mesh_array(const py::array& array, double level, const std::string& me
     {
         py::gil_scoped_release released;
         const auto reader = [&] { return std::make_unique<ArraySliceReader>(volume, array_to_world, kArrayName); };
-        mesh = mesh_grid(*side_grid(reader, level, inside, options).first, options).mesh;
+        const Inside side = inside == "auto" ? inside_away_from_border(volume, level) : parse_inside(inside);
+        mesh = mesh_grid(*side_grid(reader, level, side, options).first, options).mesh;
     }
     return to_arrays(std::move(mesh));
 }
