@@ -10,11 +10,16 @@ streams it, so C-ordered arrays are read in memory order (Fortran-ordered ones g
 mesh, read with strides).
 
 Meshes are ``(vertices, faces)``: vertices N x 3 float32 in world units, faces M x 3 int32,
-counter-clockwise seen from outside the object (normals point out).
+counter-clockwise seen from outside the object (normals point out). ``marching_cubes`` is
+``skimage.measure.marching_cubes``'s drop-in instead: its arguments, its
+``(verts, faces, normals, values)``, its conventions (open at the array's border).
+
+Long calls release the GIL and stop on Ctrl-C (KeyboardInterrupt), writing nothing.
 
 Errors carry the library's messages: a bad argument raises ValueError, input that does not
 match its format ``vdbmesh.FormatError`` (a ValueError and a ``vdbmesh.Error``), other
-runtime failures ``vdbmesh.Error`` (a RuntimeError), a missing input FileNotFoundError.
+runtime failures ``vdbmesh.Error`` (a RuntimeError; no surface at the level is one), a
+missing input FileNotFoundError.
 """
 
 import errno
