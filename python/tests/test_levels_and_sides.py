@@ -116,8 +116,12 @@ def test_options_that_do_not_apply_are_refused(options, message):
 
 
 def test_none_is_refused_with_a_clear_message():
-    with pytest.raises(ValueError, match="volume: expected a 3D array .*, got None"):
+    with pytest.raises(ValueError, match="volume_or_path: expected a 3D array or the path of a scan or .vdb file, got None"):
         vdbmesh.mesh(None, 0.5)
+    with pytest.raises(ValueError, match="volume: expected a 3D array, got None"):
+        vdbmesh.marching_cubes(None)
+    with pytest.raises(ValueError, match="volume: every sample is NaN"):
+        vdbmesh.mesh(np.full((4, 4, 4), np.nan))
 
 
 @pytest.mark.parametrize("voxel", [1e-5, 1e-7])

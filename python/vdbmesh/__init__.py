@@ -72,6 +72,8 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
     Returns ``(vertices, faces)``: N x 3 float32 in world units and M x 3 int32. Raises
     vdbmesh.Error when there is no surface at the level.
     """
+    if volume_or_path is None:
+        raise ValueError("volume_or_path: expected a 3D array or the path of a scan or .vdb file, got None")
     level = _alias(iso, level)
     _check_applicable(method, error, adaptivity, closed)
     _arrays.check_inside(inside)

@@ -1,6 +1,8 @@
 """Arrays as the library reads them, their level and their NaN samples: the rules ``mesh`` and
 ``marching_cubes`` share (scikit-image's where it has one)."""
 
+import warnings
+
 import numpy as np
 
 from ._vdbmesh import FormatError
@@ -14,7 +16,7 @@ def volume_array(volume):
     """The volume as a 3D numpy array the library reads: any layout, native byte order;
     booleans as uint8 (a view), int64, uint64 and float16 cast. Raises ValueError otherwise."""
     if volume is None:
-        raise ValueError("volume: expected a 3D array (or the path of a scan or .vdb file), got None")
+        raise ValueError("volume: expected a 3D array, got None")
     array = np.asarray(volume)
     if array.ndim != 3:
         raise ValueError(f"volume: expected a 3D array, got {array.ndim}D")
@@ -35,7 +37,9 @@ def data_range(array):
     """(lowest, highest) sample, NaNs left out. Raises FormatError naming the first infinite
     sample (the library reads only finite ones) and ValueError when every sample is NaN."""
     floating = array.dtype.kind == "f"
-    lo, hi = (np.nanmin(array), np.nanmax(array)) if floating else (array.min(), array.max())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # "All-NaN slice": reported below
+        lo, hi = (np.nanmin(array), np.nanmax(array)) if floating else (array.min(), array.max())
     if floating and np.isnan(lo):
         raise ValueError("volume: every sample is NaN")
     if not (np.isfinite(lo) and np.isfinite(hi)):
