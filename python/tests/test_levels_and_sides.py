@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import vdbmesh
+from shared_data import testdata
 from volumes import ball, sphere_field
 
 METHODS = ["dc", "dmc", "mc", "openvdb"]
@@ -73,10 +74,20 @@ def test_a_level_outside_the_data_range_raises(level):
         vdbmesh.mesh(ball((12, 12, 12), 1), level)
 
 
-def test_a_level_outside_a_scan_file_s_range_raises():
-    from shared_data import testdata
-    with pytest.raises(ValueError, match=r"level: expected a value within the data range .*sphere_phantom.nii.gz"):
-        vdbmesh.mesh(testdata("sphere_phantom.nii.gz"), 2.0)  # samples in [0, 1]
+@pytest.mark.parametrize("inside", ["auto", "above", "below"])
+def test_a_level_outside_a_scan_file_s_range_raises(inside):
+    with pytest.raises(ValueError, match=r"level: expected a value within the data range \[0\.0+, 1\.0+\] of "
+                                         r".*sphere_phantom.nii.gz, got 2"):
+        vdbmesh.mesh(testdata("sphere_phantom.nii.gz"), 2.0, inside=inside)  # samples in [0, 1]
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_a_scan_file_with_the_inside_below_is_closed_at_its_box(method):
+    # sphere_phantom.nii.gz: a 48^3 sphere of radius 15 voxels, 1 inside, 0 outside (unit spacing).
+    figures = vdbmesh.check(*vdbmesh.mesh(testdata("sphere_phantom.nii.gz"), 0.5, method=method, inside="below"))
+    assert figures["closed"] and figures["outward"] and figures["components"] == 2
+    sphere = 4 / 3 * np.pi * 15**3
+    assert 47**3 - 1.02 * sphere < figures["volume"] < 49**3 - 0.98 * sphere
 
 
 def test_level_is_an_alias_of_iso_and_defaults_to_the_midpoint():
