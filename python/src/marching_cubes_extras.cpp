@@ -38,12 +38,13 @@ struct Grid3 {
 /// The cell (its first corner) of triangle @a f: each vertex lies strictly inside an edge of
 /// the cell, so per axis the smallest floor of its corners is the cell's (all three could
 /// only share the cell's far face if the triangle lay in it, which Marching Cubes never makes).
-Index3 cell_of(const float* vertices, const std::int32_t* f) {
+/// Clamped to the cells of a grid of @a shape samples, so that no input reads outside it.
+Index3 cell_of(const float* vertices, const std::int32_t* f, const Index3& shape) {
     Index3 cell;
     for (int axis = 0; axis < 3; ++axis) {
         float lowest = vertices[3 * f[0] + axis];
         for (int c = 1; c < 3; ++c) lowest = std::min(lowest, vertices[3 * f[c] + axis]);
-        cell[axis] = std::int64_t(std::floor(lowest));
+        cell[axis] = std::clamp<std::int64_t>(std::int64_t(std::floor(lowest)), 0, shape[axis] - 2);
     }
     return cell;
 }
@@ -67,9 +68,10 @@ std::array<float, 3> normal_at(const Grid3<float>& samples, const float* vertex)
     int axis = 0;  // the coordinate that is not a sample index
     for (int a = 1; a < 3; ++a)
         if (std::abs(vertex[a] - std::round(vertex[a])) > std::abs(vertex[axis] - std::round(vertex[axis]))) axis = a;
-    Index3 first;
-    for (int a = 0; a < 3; ++a) first[a] = std::int64_t(std::round(vertex[a]));
-    first[axis] = std::int64_t(std::floor(vertex[axis]));
+    Index3 first;  // clamped into the grid, so that no input reads outside it
+    for (int a = 0; a < 3; ++a)
+        first[a] = std::clamp<std::int64_t>(std::int64_t(std::round(vertex[a])), 0, samples.shape[a] - 1);
+    first[axis] = std::clamp<std::int64_t>(std::int64_t(std::floor(vertex[axis])), 0, samples.shape[axis] - 2);
     Index3 second = first;
     second[axis] += 1;
     const double t = vertex[axis] - double(first[axis]);
@@ -98,8 +100,13 @@ float cell_range(const Grid3<float>& samples, const Index3& cell) {
 /// vertex the largest value range of the cells whose triangles use it (scikit-image's).
 py::tuple marching_cubes_extras(const Floats& samples, const Floats& vertices, const Faces& faces,
                                 const std::optional<Mask>& cell_mask) {
-    if (samples.ndim() != 3 || vertices.ndim() != 2 || vertices.shape(1) != 3 || faces.ndim() != 2 || faces.shape(1) != 3)
-        throw UsageError("internal: marching_cubes_extras: expected 3D samples and N x 3 vertices and faces");
+    if (samples.ndim() != 3 || vertices.ndim() != 2 || vertices.shape(1) != 3 || faces.ndim() != 2 || faces.shape(1) != 3 ||
+        samples.shape(0) < 2 || samples.shape(1) < 2 || samples.shape(2) < 2)
+        throw UsageError("internal: marching_cubes_extras: expected 3D samples (2 or more along each axis) and N x 3 "
+                         "vertices and faces");
+    if (cell_mask && (cell_mask->ndim() != 3 || cell_mask->shape(0) != samples.shape(0) - 1 ||
+                      cell_mask->shape(1) != samples.shape(1) - 1 || cell_mask->shape(2) != samples.shape(2) - 1))
+        throw UsageError("internal: marching_cubes_extras: expected a mask per cell");
     const Grid3<float> grid{samples.data(), {samples.shape(0), samples.shape(1), samples.shape(2)}};
     std::optional<Grid3<bool>> mask;
     if (cell_mask) mask = Grid3<bool>{cell_mask->data(), {cell_mask->shape(0), cell_mask->shape(1), cell_mask->shape(2)}};
@@ -115,11 +122,13 @@ py::tuple marching_cubes_extras(const Floats& samples, const Floats& vertices, c
         py::gil_scoped_release released;
         std::vector<float> vertex_values(std::size_t(vertex_count), 0.0f);
         for (py::ssize_t t = 0; t < face_count; ++t) {
-            const Index3 cell = cell_of(v, f + 3 * t);
+            const Index3 cell = cell_of(v, f + 3 * t, grid.shape);
             if (mask && !(*mask)(cell)) continue;
             const float range = cell_range(grid, cell);
             for (int c = 0; c < 3; ++c) {
                 const std::int32_t index = f[3 * t + c];
+                if (index < 0 || index >= vertex_count)
+                    throw UsageError("internal: marching_cubes_extras: a face index outside the vertices");
                 vertex_values[std::size_t(index)] = std::max(vertex_values[std::size_t(index)], range);
                 kept_faces.push_back(index);
                 renumbered[std::size_t(index)] = 0;

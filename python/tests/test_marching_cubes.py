@@ -199,12 +199,17 @@ def test_the_surface_is_open_at_the_border_as_scikit_image_s():
     assert closed["closed"] and closed["boundary_edges"] == 0
 
 
-@pytest.mark.parametrize("volume, level", [(np.zeros((4, 4, 4)), 0.0), (np.arange(64.0).reshape(4, 4, 4), 63.0)])
-def test_no_surface_is_a_runtime_error_as_in_scikit_image(volume, level):
+@pytest.mark.parametrize("volume, level, options", [
+    (np.zeros((4, 4, 4)), 0.0, {}),
+    (np.arange(64.0).reshape(4, 4, 4), 63.0, {}),
+    (np.arange(27.0).reshape(3, 3, 3), 13.5, {"step_size": 5}),  # not one cell of 5 samples
+    (np.arange(27.0).reshape(3, 3, 3), 13.5, {"mask": np.zeros((3, 3, 3), dtype=bool)}),
+])
+def test_no_surface_is_a_runtime_error_as_in_scikit_image(volume, level, options):
     with pytest.raises(RuntimeError, match="No surface found at the given iso value"):
-        skimage_measure.marching_cubes(volume, level)
+        skimage_measure.marching_cubes(volume, level, **options)
     with pytest.raises(RuntimeError, match="No surface found at the given iso value"):
-        marching_cubes(volume, level)
+        marching_cubes(volume, level, **options)
 
 
 @pytest.mark.parametrize("level", [-1.5, 4.0])
