@@ -19,6 +19,7 @@
 #include "common_options.h"
 #include "load_grid.h"
 #include "mesh_processing.h"
+#include "option_checks.h"
 #include "report_json.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
@@ -112,7 +113,8 @@ int run_mesh(MeshCommandOptions& options) {
     result.mesh = process_mesh(std::move(result.mesh), options.processing, processing);
     const Mesh& mesh = result.mesh;
     if (mesh.triangles.empty())
-        throw no_surface_error(options.inputs.front(), *grid, {options.mesh.iso, options.mesh.iso}, options.output);
+        throw no_surface_error(options.inputs.front(), *grid, {options.mesh.iso, options.mesh.iso}, options.output,
+                               grid_steps_text(options.processing));
     std::optional<MeshAnalysis> verified;
     if (options.verify) verified = analyze_mesh(mesh);
     const bool defective = verified && !verified->is_clean();
@@ -140,18 +142,18 @@ int run_mesh(MeshCommandOptions& options) {
 
 void add_mesh_command(CLI::App& command, CommandResult& result) {
     auto options = std::make_shared<MeshCommandOptions>();
-    command.add_option("INPUT", options->inputs, "A .vdb grid or a scan (extra files: the parts of a split raw scan)")
+    input_files(command.add_option("INPUT", options->inputs, "A .vdb grid or a scan (extra files: the parts of a split raw scan)"))
         ->required();
-    command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj")->required();
+    output_file(command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj"))->required();
     command.add_option("--iso", options->iso, "Isovalue (default for a .vdb: the one stored by convert)");
     command.add_option("--method", options->method,
                        "Mesher: dc (intersection-free Dual Contouring, the default), dmc (Dual Marching Cubes), mc, openvdb (volumeToMesh)")
         ->check(CLI::IsMember(kMethods, CLI::ignore_case))
         ->capture_default_str();
-    command.add_option("--error", options->mesh.error, "dc, dmc: tolerated error in voxels (0: no simplification, Marching Cubes)")
+    auto* error = command.add_option("--error", options->mesh.error, "dc, dmc: tolerated error in voxels (0: no simplification, Marching Cubes)")
         ->check(kFiniteNonNegative)
         ->capture_default_str();
-    command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")
+    auto* adaptivity = command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     command.add_option("--inside", options->inside,
@@ -167,7 +169,10 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     add_read_flags(command, options->read);
     add_processing_options(command, options->processing);
     add_common_options(command, options->common);
-    command.callback([options, &result] {
+    command.callback([options, &result, error, adaptivity] {
+        const std::string method = lowercase(options->method);
+        refuse_unless(error, method == "dc" || method == "dmc", "with --method dc or dmc, got --method " + method);
+        refuse_unless(adaptivity, method == "openvdb", "with --method openvdb, got --method " + method);
         result.status = run_mesh(*options);
     });
 }
