@@ -21,6 +21,7 @@
 #include "label_mesh_command.h"
 #include "load_grid.h"
 #include "mesh_processing.h"
+#include "option_checks.h"
 #include "report_json.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
@@ -121,7 +122,8 @@ int run_mesh(MeshCommandOptions& options) {
     result.mesh = process_mesh(std::move(result.mesh), options.processing, processing);
     const Mesh& mesh = result.mesh;
     if (mesh.triangles.empty())
-        throw no_surface_error(options.inputs.front(), *grid, {options.mesh.iso, options.mesh.iso}, options.output);
+        throw no_surface_error(options.inputs.front(), *grid, {options.mesh.iso, options.mesh.iso}, options.output,
+                               grid_steps_text(options.processing));
     std::optional<MeshAnalysis> verified;
     if (options.verify) verified = analyze_mesh(mesh);
     const bool defective = verified && !verified->is_clean();
@@ -149,18 +151,18 @@ int run_mesh(MeshCommandOptions& options) {
 
 void add_mesh_command(CLI::App& command, CommandResult& result) {
     auto options = std::make_shared<MeshCommandOptions>();
-    command.add_option("INPUT", options->inputs, "A .vdb grid or a scan (extra files: the parts of a split raw scan)")
+    input_files(command.add_option("INPUT", options->inputs, "A .vdb grid or a scan (extra files: the parts of a split raw scan)"))
         ->required();
-    command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj (with --labels: DIR/, .ply or .glb/.gltf)")->required();
+    output_file(command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj (with --labels: DIR/, .ply or .glb/.gltf)"))->required();
     command.add_option("--iso", options->iso, "Isovalue (default for a .vdb: the one stored by convert)");
     command.add_option("--method", options->method,
                        "Mesher: dc (intersection-free Dual Contouring, the default), dmc (Dual Marching Cubes), mc, openvdb (volumeToMesh)")
         ->check(CLI::IsMember(kMethods, CLI::ignore_case))
         ->capture_default_str();
-    command.add_option("--error", options->mesh.error, "dc, dmc: tolerated error in voxels (0: no simplification, Marching Cubes)")
+    auto* error = command.add_option("--error", options->mesh.error, "dc, dmc: tolerated error in voxels (0: no simplification, Marching Cubes)")
         ->check(kFiniteNonNegative)
         ->capture_default_str();
-    command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")
+    auto* adaptivity = command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     command.add_option("--inside", options->inside,
@@ -177,13 +179,19 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     add_processing_options(command, options->processing);
     add_common_options(command, options->common);
     add_label_flags(command, options->labels.label, "Mesh a label map: all, or a list like 3,5,10-12; one closed mesh per label, walls shared");
-    command.add_option("--format", options->labels.format, "--labels into a folder: the files' format")
+    const CLI::Option* format = command.add_option("--format", options->labels.format, "--labels into a folder: the files' format")
         ->check(CLI::IsMember({"stl", "ply", "obj"}))
         ->capture_default_str();
-    command.add_option("--smooth-iterations", options->labels.smooth_iterations, "--labels: constrained smoothing passes (0: voxel faces)")
+    const CLI::Option* smooth_iterations = command.add_option("--smooth-iterations", options->labels.smooth_iterations, "--labels: constrained smoothing passes (0: voxel faces)")
         ->check(CLI::Range(0, 1000))
         ->capture_default_str();
-    command.callback([options, &result] {
+    command.callback([options, &result, error, adaptivity, format, smooth_iterations] {
+        const std::string method = lowercase(options->method);
+        const bool labels = bool(options->labels.label.labels);
+        refuse_unless(format, labels, "with --labels, got none");
+        refuse_unless(smooth_iterations, labels, "with --labels, got none");
+        refuse_unless(error, method == "dc" || method == "dmc", "with --method dc or dmc, got --method " + method);
+        refuse_unless(adaptivity, method == "openvdb", "with --method openvdb, got --method " + method);
         result.status = run_mesh(*options);
     });
 }
