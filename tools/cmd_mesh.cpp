@@ -26,6 +26,7 @@
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/grid_region.h"
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/mesher.h"
@@ -50,6 +51,7 @@ struct MeshCommandOptions {
     bool normals = false;
     bool json = false;
     bool verify = false;
+    std::string memory;  ///< --memory SIZE, empty when not given
     ReadFlags read;
     ProcessingOptions processing;
     CommonOptions common;
@@ -97,6 +99,18 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
     return j;
 }
 
+/// --memory in bytes, if given; refused (a usage error) with a method that meshes only whole
+/// grids.
+std::optional<std::uint64_t> memory_limit(const MeshCommandOptions& options) {
+    if (options.memory.empty()) return std::nullopt;
+    const std::uint64_t bytes = parse_memory_size("--memory", options.memory);
+    if (options.mesh.method != MeshMethod::dc || options.mesh.error <= 0) {
+        throw UsageError("--memory: only --method dc with --error above 0 meshes by bricks; dmc's checks, Marching Cubes and "
+                         "volumeToMesh mesh the whole grid at once");
+    }
+    return bytes;
+}
+
 /// Exit status 0, or 3 when --verify found a defect (the mesh is then not written).
 int run_mesh(MeshCommandOptions& options) {
     if (options.labels.label.labels) {
@@ -111,6 +125,7 @@ int run_mesh(MeshCommandOptions& options) {
     }
     // Both words were checked (IsMember, any case).
     options.mesh.method = kMethods.at(lowercase(options.method));
+    const std::optional<std::uint64_t> memory = memory_limit(options);
     const ThreadLimit limit(options.common);
     const auto start = std::chrono::steady_clock::now();
     Progress progress("meshing", options.common.quiet);
@@ -118,7 +133,8 @@ int run_mesh(MeshCommandOptions& options) {
     ProcessingReport processing;
     process_grid(grid, options.mesh, options.processing, processing);
     options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
-    MeshResult result = mesh_grid(*grid, options.mesh);
+    MeshResult result = memory ? mesh_bricks(*grid_regions_in_memory(grid), options.mesh, BrickOptions{0, *memory})
+                               : mesh_grid(*grid, options.mesh);
     result.mesh = process_mesh(std::move(result.mesh), options.processing, processing);
     const Mesh& mesh = result.mesh;
     if (mesh.triangles.empty())
@@ -175,6 +191,8 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     command.add_flag("--json", options->json, "Print the figures as one JSON object on stdout");
     command.add_flag("--verify", options->verify,
                      "Check the whole mesh as `vdbmesh check` does; a defect: nothing written, exit status 3");
+    command.add_option("--memory", options->memory,
+                       "Mesh brick by brick within about SIZE bytes (K, M, G suffixes; dc at --error > 0): the same mesh");
     add_read_flags(command, options->read);
     add_processing_options(command, options->processing);
     add_common_options(command, options->common);
