@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <random>
 
 #include <tbb/global_control.h>
@@ -19,6 +18,7 @@
 namespace vdbmesh {
 namespace {
 
+using test::full_run;
 using test::judge_label_surface;
 
 LabelVolume blank_volume(std::array<std::int64_t, 3> dims) {
@@ -46,11 +46,6 @@ LabelVolume crop(const LabelVolume& v, std::array<std::int64_t, 3> lo, std::arra
         for (std::int64_t y = 0; y < size[1]; ++y)
             for (std::int64_t x = 0; x < size[0]; ++x) at(c, x, y, z) = v.at(lo[0] + x, lo[1] + y, lo[2] + z);
     return c;
-}
-
-bool full_run() {
-    const char* full = std::getenv("VDBMESH_FULL");
-    return full && std::string(full) == "1";
 }
 
 TEST(LabelMesherTest, TwoBoxesShareOneWall) {
