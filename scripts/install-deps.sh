@@ -13,6 +13,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest   # the Python module and its tests
   python3-skimage                                          # its comparison test and bench/python_vs_skimage.py
   libmeshoptimizer-dev                  # bench/decimate_bench.cpp: the speed reference of vdbmesh mesh --decimate
+  libopenmpi-dev openmpi-bin            # VDBMESH_MPI=ON: vdbmesh distributed under mpirun (issue 28, src/ranks)
 )
 # Node.js and npm build the page (web/: npm ci, esbuild); Debian's, unless the machine has its own.
 command -v node >/dev/null || packages+=(nodejs)
