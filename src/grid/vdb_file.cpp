@@ -6,7 +6,6 @@
 
 #include <cstdint>
 #include <iomanip>
-#include <limits>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -15,7 +14,6 @@
 #include "vdbmesh/checked_output.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
-#include "vdbmesh/grid_region.h"
 #include "vdb_probe.h"
 
 namespace vdbmesh {
@@ -124,9 +122,8 @@ void write_vdb(const openvdb::FloatGrid& grid, const std::filesystem::path& path
 }
 
 openvdb::FloatGrid::Ptr read_vdb(const std::filesystem::path& path) {
-    // By region, the region being everything: the file is read once (the topology twice).
-    constexpr std::int32_t kFar = std::numeric_limits<std::int32_t>::max();
-    const std::shared_ptr<openvdb::FloatGrid> grid = open_vdb_regions(path)->read(IndexBox{{-kFar, -kFar, -kFar}, {kFar, kFar, kFar}});
+    // The file's values are read once, by children (vdb_regions.cpp); its topology twice.
+    const openvdb::FloatGrid::Ptr grid = detail::read_first_float_grid(path);
     verify_checksums(path, openvdb::GridPtrVec{grid});
     return grid;
 }

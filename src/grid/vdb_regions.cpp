@@ -54,11 +54,15 @@ private:
     float* data_ = nullptr;
 };
 
-/// Adds to @a out a copy of each leaf of @a leaves, its values loaded by a child.
-void add_loaded_leaves(const std::filesystem::path& path, const std::vector<const Leaf*>& leaves, Tree& out) {
+/// Calls @a take(i, values) for each leaf i of @a leaves with its 512 values, loaded from the
+/// file by a child per kLeavesPerChild leaves into memory shared with this process (one area,
+/// reused).
+template <class LeafPtr, class Take>
+void load_leaf_values(const std::filesystem::path& path, const std::vector<LeafPtr>& leaves, const Take& take) {
+    if (leaves.empty()) return;
+    const SharedFloats values(std::min(kLeavesPerChild, leaves.size()) * Leaf::SIZE);
     for (std::size_t first = 0; first < leaves.size(); first += kLeavesPerChild) {
         const std::size_t count = std::min(kLeavesPerChild, leaves.size() - first);
-        const SharedFloats values(count * Leaf::SIZE);
         detail::read_region_in_child(
             path,
             [&] {
@@ -66,14 +70,18 @@ void add_loaded_leaves(const std::filesystem::path& path, const std::vector<cons
                     std::memcpy(values.data() + i * Leaf::SIZE, leaves[first + i]->buffer().data(), Leaf::SIZE * sizeof(float));
             },
             count * Leaf::SIZE * sizeof(float));
-        for (std::size_t i = 0; i < count; ++i) {
-            const Leaf& source = *leaves[first + i];
-            auto* leaf = new Leaf(source.origin(), out.background());
-            leaf->setValueMask(source.getValueMask());
-            std::memcpy(leaf->buffer().data(), values.data() + i * Leaf::SIZE, Leaf::SIZE * sizeof(float));
-            out.addLeaf(leaf);
-        }
+        for (std::size_t i = 0; i < count; ++i) take(first + i, values.data() + i * Leaf::SIZE);
     }
+}
+
+/// Adds to @a out a copy of each leaf of @a leaves, its values loaded by a child.
+void add_loaded_leaves(const std::filesystem::path& path, const std::vector<const Leaf*>& leaves, Tree& out) {
+    load_leaf_values(path, leaves, [&](std::size_t i, const float* values) {
+        auto* leaf = new Leaf(leaves[i]->origin(), out.background());
+        leaf->setValueMask(leaves[i]->getValueMask());
+        std::memcpy(leaf->buffer().data(), values, Leaf::SIZE * sizeof(float));
+        out.addLeaf(leaf);
+    });
 }
 
 /// The first float grid of an open file, its leaf buffers left on disk; FormatError listing
@@ -154,9 +162,8 @@ private:
     std::shared_ptr<const openvdb::FloatGrid> description_;
 };
 
-}  // namespace
-
-std::unique_ptr<GridRegionSource> open_vdb_regions(const std::filesystem::path& path) {
+/// The topology of @a path's first float grid, its leaf buffers on disk, read first by a child.
+openvdb::FloatGrid::Ptr probed_topology(const std::filesystem::path& path) {
     openvdb::initialize();
     detail::require_vdb_header(path);
     detail::probe_vdb_topology_in_child(path, [&] { read_topology(path); });
@@ -168,7 +175,30 @@ std::unique_ptr<GridRegionSource> open_vdb_regions(const std::filesystem::path& 
     } catch (const std::exception& e) {  // OpenVDB's own exceptions
         throw FormatError(path.string(), std::string("not a readable .vdb file (") + e.what() + ")");
     }
-    return std::make_unique<VdbRegionSource>(path, std::move(topology));
+    return topology;
 }
+
+}  // namespace
+
+std::unique_ptr<GridRegionSource> open_vdb_regions(const std::filesystem::path& path) {
+    return std::make_unique<VdbRegionSource>(path, probed_topology(path));
+}
+
+namespace detail {
+
+openvdb::FloatGrid::Ptr read_first_float_grid(const std::filesystem::path& path) {
+    openvdb::FloatGrid::Ptr grid = probed_topology(path);
+    // Every leaf's values loaded in place: the buffer on disk swapped for the loaded one.
+    std::vector<Leaf*> leaves;
+    for (auto leaf = grid->tree().beginLeaf(); leaf; ++leaf) leaves.push_back(&*leaf);
+    load_leaf_values(path, leaves, [&](std::size_t i, const float* values) {
+        Leaf::Buffer loaded;  // allocated, in memory
+        std::memcpy(loaded.data(), values, Leaf::SIZE * sizeof(float));
+        leaves[i]->swap(loaded);
+    });
+    return grid;
+}
+
+}  // namespace detail
 
 }  // namespace vdbmesh
