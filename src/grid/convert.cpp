@@ -18,6 +18,8 @@
 // isovalue of the range (its cells do not straddle), so its minimum sample is a correct tile
 // value; blocks wholly at or below the range's low end, or reaching outside the scan,
 // become background.
+// The rows are made one at a time by detail::Converter (converter.h): convert_to_grid() makes
+// them all; a scan read by region (scan_regions.cpp) makes those its bands need.
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -4,7 +4,8 @@
 // can crash on a corrupt file, so every step that decodes the file runs first, or only, in a
 // forked child (vdb_probe.h): the topology in a child, then here; the leaf values only in a
 // child, which copies them into memory shared with this process, where they arrive as plain
-// floats. The file is read once, plus its topology twice.
+// floats. The file is read once, plus its topology twice. read_vdb() loads every leaf the same
+// way, in place (detail::read_first_float_grid()).
 
 #include <sys/mman.h>
 
@@ -34,7 +35,7 @@ using detail::region_walk::Upper;
 using detail::region_walk::walk_region;
 
 /// Leaves whose values one child loads: 64 MiB of floats.
-constexpr std::size_t kLeavesPerChild = std::size_t{64} << 20 >> 11;
+constexpr std::size_t kLeavesPerChild = (std::size_t{64} << 20) / (Leaf::SIZE * sizeof(float));
 
 /// Memory of this process shared with the children it forks afterwards.
 class SharedFloats {
