@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, then configures and builds vdbmesh into build/.
 #   build.sh          the library and the `vdbmesh` program only (what the quick start runs)
-#   build.sh --all    everything: also the tests, the benchmarks and the Python module
+#   build.sh --all    everything: also the tests, the benchmarks, the Python module and MPI
 set -euo pipefail
 cd "$(dirname "$0")/.."
 everything=OFF
@@ -17,7 +17,7 @@ command -v ninja >/dev/null && generator=(-G Ninja)
 # start's build/ then grows into the full one, keeping what it compiled).
 if ! grep -qs "^VDBMESH_BUILD_TESTS:BOOL=$everything\$" build/CMakeCache.txt && { [ $everything = ON ] || [ ! -f build/CMakeCache.txt ]; }; then
   cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DVDBMESH_BUILD_TESTS=$everything \
-        -DVDBMESH_BUILD_BENCH=$everything -DVDBMESH_BUILD_PYTHON=$everything >&2
+        -DVDBMESH_BUILD_BENCH=$everything -DVDBMESH_BUILD_PYTHON=$everything -DVDBMESH_MPI=$everything >&2
 fi
 if [ $everything = ON ]; then
   cmake --build build --parallel "$(nproc)" >&2

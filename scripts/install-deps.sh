@@ -23,6 +23,7 @@ if [ "${1:-}" = "--tests" ]; then
     pybind11-dev python3-dev python3-numpy python3-pytest   # the Python module and its tests
     python3-skimage                                          # its comparison tests and bench/python_vs_skimage.py
     libmeshoptimizer-dev                  # bench/decimate_bench.cpp: the speed reference of vdbmesh mesh --decimate
+    libopenmpi-dev openmpi-bin            # VDBMESH_MPI=ON (the test build): vdbmesh distributed under mpirun (issue 28, src/ranks)
     python3-vtk9                          # bench/labels_vs_vtk.py: VTK discrete flying edges + windowed sinc, the reference of mesh --labels
   )
 elif [ -n "${1:-}" ]; then

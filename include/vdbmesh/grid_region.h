@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -59,5 +60,14 @@ public:
 /// A grid already in memory seen as regions (read() copies the part of the tree that meets
 /// the box). For tests, and for the commands that built their grid in memory.
 std::unique_ptr<GridRegionSource> grid_regions_in_memory(std::shared_ptr<const openvdb::FloatGrid> grid);
+
+/// The first float grid of a .vdb file by region. Opening reads the headers and the tree's
+/// topology (OpenVDB's delayed loading: the file is mapped, leaf buffers stay on disk); read()
+/// loads only the leaves that meet its box. The file is untrusted: every decoding of it runs
+/// first, or only, in a forked child whose crash becomes a FormatError naming the file (see
+/// src/grid/vdb_probe.h). The file must not change while the source lives (replacing it by a
+/// rename is safe). The grid's vdbmesh_checksum covers the whole tree and is not checked here
+/// (read_vdb() checks it). Throws FormatError as read_vdb() does.
+std::unique_ptr<GridRegionSource> open_vdb_regions(const std::filesystem::path& path);
 
 }  // namespace vdbmesh

@@ -18,6 +18,8 @@
 // isovalue of the range (its cells do not straddle), so its minimum sample is a correct tile
 // value; blocks wholly at or below the range's low end, or reaching outside the scan,
 // become background.
+// The rows are made one at a time by detail::Converter (converter.h): convert_to_grid() makes
+// them all; a scan read by region (scan_regions.cpp) makes those its bands need.
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -31,18 +33,15 @@
 #include <memory>
 #include <vector>
 
+#include "converter.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 
-namespace vdbmesh {
+namespace vdbmesh::detail {
 
 namespace {
 
-using Leaf = openvdb::FloatTree::LeafNodeType;
-constexpr int kLeafDim = static_cast<int>(Leaf::DIM);
 constexpr int kMaxBand = 32;
-/// Stand-in for samples outside the scan until the background is known: below any isovalue.
-constexpr float kVirtual = std::numeric_limits<float>::lowest();
 
 /// The largest float <= @a value: for a float f, f <= value iff f <= float_at_or_below(value),
 /// and f > value iff f > float_at_or_below(value), so the tests run on floats.
@@ -52,40 +51,10 @@ float float_at_or_below(double value) {
     return f;
 }
 
-int floor_div(std::int64_t a, int b) { return static_cast<int>(a >= 0 ? a / b : -((-a + b - 1) / b)); }
 
-/// Consecutive z-slices of one quantity over the padded frame; shift() drops the first ones.
-template <typename T>
-class SliceWindow {
-public:
-    SliceWindow(int count, std::size_t slice_size, T fill)
-        : count_(count), size_(slice_size), data_(static_cast<std::size_t>(count) * slice_size, fill) {}
-    T* slice(std::int64_t z) { return data_.data() + static_cast<std::size_t>(z - first_) * size_; }
-    const T* slice(std::int64_t z) const { return data_.data() + static_cast<std::size_t>(z - first_) * size_; }
-    std::int64_t first() const { return first_; }
-    std::int64_t end() const { return first_ + count_; }
-    /// Moves the window up to start at slice @a first, keeping the slices it already holds
-    /// (their slots move down); returns the first slice it lacks, to be filled by the caller.
-    std::int64_t move_to(std::int64_t first) {
-        if (first_ < first && first < end()) {
-            const std::int64_t lacking = end();
-            const auto kept = static_cast<std::ptrdiff_t>(static_cast<std::size_t>(end() - first) * size_);
-            std::copy(data_.end() - kept, data_.end(), data_.begin());
-            first_ = first;
-            return lacking;
-        }
-        first_ = first;
-        return first;
-    }
+}  // namespace
 
-private:
-    int count_;
-    std::size_t size_;
-    std::vector<T> data_;
-    std::int64_t first_ = 0;
-};
-
-void check_options(const VolumeHeader& header, const ConvertOptions& options) {
+void check_convert_options(const VolumeHeader& header, const ConvertOptions& options) {
     if (options.band < 1 || options.band > kMaxBand)
         throw UsageError("band: expected 1 to " + std::to_string(kMaxBand) + " voxels, got " +
                          std::to_string(options.band));
@@ -101,6 +70,8 @@ void check_options(const VolumeHeader& header, const ConvertOptions& options) {
             throw FormatError(header.path.string(), "dims", "1 to " + std::to_string(max_dim) + " samples per axis",
                               std::to_string(header.dims[axis]));
 }
+
+namespace {
 
 /// Min and max of each column i < n over the 2 x 2 samples of rows a and b of slices 0 and 1.
 void column_ranges(const float* __restrict a0, const float* __restrict b0, const float* __restrict a1,
@@ -153,76 +124,7 @@ void relax_row(std::uint8_t* __restrict out, const std::uint8_t* __restrict from
     for (std::int64_t i = 0; i < n; ++i) out[i] = std::min(out[i], static_cast<std::uint8_t>(from[i] + 1));
 }
 
-/// What one 8^3 block becomes.
-struct BlockResult {
-    std::unique_ptr<Leaf> leaf;
-    bool tile = false;
-    float tile_value = 0;
-};
-
-class Converter {
-public:
-    Converter(SliceReader& source, const ConvertOptions& options);
-    openvdb::FloatGrid::Ptr run();
-
-private:
-    std::int64_t frame_index(int x, int y) const { return (x + pad_) + width_ * static_cast<std::int64_t>(y + pad_); }
-    bool in_scan(int x, int y, int z) const {
-        return x >= 0 && y >= 0 && z >= 0 && x < dims_[0] && y < dims_[1] && z < dims_[2];
-    }
-    bool block_in_scan(int x0, int y0, int z0) const {
-        return in_scan(x0, y0, z0) && in_scan(x0 + kLeafDim - 1, y0 + kLeafDim - 1, z0 + kLeafDim - 1);
-    }
-
-    void advance_samples(int z0);
-    /// Slice z of the padded frame from @a samples (the scan's slice z), or virtual outside
-    /// the scan (@a samples null), with the value range of each 8 x 8 square of blocks in it.
-    void fill_sample_slice(std::int64_t z, const float* samples);
-    void compute_cell_slice(std::int64_t z);
-    void compute_distance_slice(std::int64_t z);
-    void summarise_distance_slice(std::int64_t z);
-    /// Whether block (x0, y0, z0) may hold an active voxel (block_distances_ says where none can be).
-    bool block_may_be_active(int x0, int y0, int z0) const;
-    /// Which voxels (x0 .. x0 + 7, y, z) are active: an in-plane distance <= band - |dz| in slice z + dz.
-    void active_row(int x0, int y, int z, bool* active) const;
-    /// The least and greatest sample of the 8^3 block at (x0, y0, z0), which lies in the scan.
-    std::pair<float, float> block_range(int x0, int y0, int z0) const;
-    /// Index of the 8 x 8 square of the block at (x0, y0) in a slice of block_distances_, square_lo_, square_hi_.
-    std::int64_t square_index(int x0, int y0) const {
-        return static_cast<std::int64_t>(floor_div(y0, kLeafDim) - block_y_first_) * block_x_count_ +
-               (floor_div(x0, kLeafDim) - block_x_first_);
-    }
-    BlockResult make_block(int x0, int y0, int z0) const;
-    float background() const;
-    void add_row(int z0, std::vector<BlockResult>& blocks);
-    openvdb::FloatGrid::Ptr assemble();
-
-    SliceReader& source_;
-    const VolumeHeader& header_;
-    const ConvertOptions& options_;
-    int band_;
-    double iso_lo_, iso_hi_;
-    float iso_lo_f_, iso_hi_f_;  ///< float_at_or_below() of the isovalues
-    int dims_[3];
-    int pad_;  ///< the frame holds voxels [-pad, dim + pad) in x and y: the band around the virtual ring
-    std::int64_t width_, height_;
-    int block_x_first_, block_x_count_, block_y_first_, block_y_count_;
-
-    SliceWindow<float> samples_;           // [z0 - band - 1, z0 + 8 + band]
-    SliceWindow<std::uint8_t> cells_;      // cell z spans samples z, z + 1: [z0 - band - 1, z0 + 7 + band]
-    SliceWindow<std::uint8_t> distances_;  // voxels [z0 - band, z0 + 7 + band]
-    /// Per slice of distances_ and 8 x 8 column of blocks: the least distance in the block's square.
-    SliceWindow<std::uint8_t> block_distances_;
-    /// Per slice of samples_ in the scan and 8 x 8 square of blocks: the least and greatest sample.
-    SliceWindow<float> square_lo_, square_hi_;
-    std::vector<float> read_buffer_;
-
-    double value_min_ = std::numeric_limits<double>::max();
-    double value_max_ = std::numeric_limits<double>::lowest();
-    std::vector<std::unique_ptr<Leaf>> leaves_;
-    std::vector<Leaf*> border_leaves_;  ///< leaves reaching outside the scan
-    std::vector<std::pair<openvdb::Coord, float>> tiles_;
-};
+}  // namespace
 
 Converter::Converter(SliceReader& source, const ConvertOptions& options)
     : source_(source),
@@ -246,8 +148,22 @@ Converter::Converter(SliceReader& source, const ConvertOptions& options)
       distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(width_ * height_), 0),
       block_distances_(kLeafDim + 2 * band_, static_cast<std::size_t>(block_y_count_) * block_x_count_, 0),
       square_lo_(kLeafDim + 2 * pad_, static_cast<std::size_t>(block_y_count_) * block_x_count_, 0),
-      square_hi_(kLeafDim + 2 * pad_, static_cast<std::size_t>(block_y_count_) * block_x_count_, 0) {
-    if (source.next_slice() != 0) throw Error("internal: convert_to_grid needs a source at slice 0");
+      square_hi_(kLeafDim + 2 * pad_, static_cast<std::size_t>(block_y_count_) * block_x_count_, 0),
+      blocks_(static_cast<std::size_t>(block_x_count_) * block_y_count_) {}
+
+std::size_t Converter::window_bytes() const {
+    return samples_.bytes() + cells_.bytes() + distances_.bytes() + block_distances_.bytes() + square_lo_.bytes() +
+           square_hi_.bytes() + static_cast<std::size_t>(kLeafDim + 2 * pad_) * static_cast<std::size_t>(header_.slice_voxels()) * sizeof(float);
+}
+
+void Converter::skip_to(std::int64_t slice) {
+    if (source_.next_slice() > slice) throw Error("internal: the conversion's source is past slice " + std::to_string(slice));
+    const auto slice_voxels = static_cast<std::size_t>(header_.slice_voxels());
+    while (source_.next_slice() < slice) {
+        const std::int64_t count = std::min<std::int64_t>(slice - source_.next_slice(), kLeafDim);
+        read_buffer_.resize(slice_voxels * static_cast<std::size_t>(count));
+        source_.read_slices(count, read_buffer_.data());
+    }
 }
 
 void Converter::fill_sample_slice(std::int64_t z, const float* samples) {
@@ -287,6 +203,7 @@ void Converter::advance_samples(int z0) {
     const std::int64_t scan_end = std::clamp<std::int64_t>(end, 0, dims_[2]);
     const auto slice_voxels = static_cast<std::size_t>(header_.slice_voxels());
     if (scan_end > scan_first) {
+        skip_to(scan_first);
         read_buffer_.resize(slice_voxels * static_cast<std::size_t>(scan_end - scan_first));
         source_.read_slices(scan_end - scan_first, read_buffer_.data());
     }
@@ -296,8 +213,8 @@ void Converter::advance_samples(int z0) {
     });
     const std::size_t squares = static_cast<std::size_t>(block_y_count_) * block_x_count_;
     for (std::int64_t z = scan_first; z < scan_end; ++z) {
-        value_min_ = std::min<double>(value_min_, *std::min_element(square_lo_.slice(z), square_lo_.slice(z) + squares));
-        value_max_ = std::max<double>(value_max_, *std::max_element(square_hi_.slice(z), square_hi_.slice(z) + squares));
+        values_.min = std::min<double>(values_.min, *std::min_element(square_lo_.slice(z), square_lo_.slice(z) + squares));
+        values_.max = std::max<double>(values_.max, *std::max_element(square_hi_.slice(z), square_hi_.slice(z) + squares));
     }
 }
 
@@ -442,25 +359,11 @@ BlockResult Converter::make_block(int x0, int y0, int z0) const {
     return result;
 }
 
-void Converter::add_row(int z0, std::vector<BlockResult>& blocks) {
-    for (std::size_t b = 0; b < blocks.size(); ++b) {
-        const int bx = block_x_first_ + static_cast<int>(b % block_x_count_);
-        const int by = block_y_first_ + static_cast<int>(b / block_x_count_);
-        const openvdb::Coord origin(bx * kLeafDim, by * kLeafDim, z0);
-        if (blocks[b].leaf) {
-            if (!block_in_scan(origin.x(), origin.y(), origin.z())) border_leaves_.push_back(blocks[b].leaf.get());
-            leaves_.push_back(std::move(blocks[b].leaf));
-        } else if (blocks[b].tile) {
-            tiles_.emplace_back(origin, blocks[b].tile_value);
-        }
-    }
-}
-
-float Converter::background() const {
+float Converter::background(const ScanValues& values) const {
     // Below every isovalue and every sample by 1% of the value range (outside reads as air,
     // and no sample ties with it), clamped to the float range.
-    const double floor = std::min(value_min_, iso_lo_);
-    const double range = value_max_ - value_min_;
+    const double floor = std::min(values.min, iso_lo_);
+    const double range = values.max - values.min;
     const double margin = std::max(0.01 * range, 1e-6 * std::max(1.0, std::abs(floor)));
     const double lowest = std::numeric_limits<float>::lowest();
     float value = static_cast<float>(std::max(floor - margin, lowest));
@@ -469,34 +372,38 @@ float Converter::background() const {
     return value;
 }
 
-openvdb::FloatGrid::Ptr Converter::run() {
-    const int z_first = floor_div(-pad_, kLeafDim) * kLeafDim;
-    const int z_last = floor_div(dims_[2] + band_, kLeafDim) * kLeafDim;
-    const std::size_t block_count = static_cast<std::size_t>(block_x_count_) * block_y_count_;
-    std::vector<BlockResult> blocks(block_count);
-    for (int z0 = z_first; z0 <= z_last; z0 += kLeafDim) {
-        // Each window keeps the slices of the previous row it still covers and computes the rest.
-        advance_samples(z0);
-        const std::int64_t new_cells = cells_.move_to(z0 - band_ - 1);
-        tbb::parallel_for(new_cells, cells_.end(), [&](std::int64_t z) { compute_cell_slice(z); });
-        block_distances_.move_to(z0 - band_);
-        const std::int64_t new_distances = distances_.move_to(z0 - band_);
-        tbb::parallel_for(new_distances, distances_.end(), [&](std::int64_t z) {
-            compute_distance_slice(z);
-            summarise_distance_slice(z);
-        });
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, block_count), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t b = r.begin(); b != r.end(); ++b) {
-                const int bx = block_x_first_ + static_cast<int>(b % block_x_count_);
-                const int by = block_y_first_ + static_cast<int>(b / block_x_count_);
-                blocks[b] = make_block(bx * kLeafDim, by * kLeafDim, z0);
-            }
-        });
-        add_row(z0, blocks);
-        if (options_.progress) options_.progress(std::clamp(static_cast<double>(z0 + kLeafDim) / dims_[2], 0.0, 1.0));
+ConvertedRow Converter::make_row(int z0) {
+    // Each window keeps the slices of the previous row it still covers and computes the rest.
+    advance_samples(z0);
+    const std::int64_t new_cells = cells_.move_to(z0 - band_ - 1);
+    tbb::parallel_for(new_cells, cells_.end(), [&](std::int64_t z) { compute_cell_slice(z); });
+    block_distances_.move_to(z0 - band_);
+    const std::int64_t new_distances = distances_.move_to(z0 - band_);
+    tbb::parallel_for(new_distances, distances_.end(), [&](std::int64_t z) {
+        compute_distance_slice(z);
+        summarise_distance_slice(z);
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b != r.end(); ++b) {
+            const int bx = block_x_first_ + static_cast<int>(b % block_x_count_);
+            const int by = block_y_first_ + static_cast<int>(b / block_x_count_);
+            blocks_[b] = make_block(bx * kLeafDim, by * kLeafDim, z0);
+        }
+    });
+    ConvertedRow row;
+    row.z0 = z0;
+    for (std::size_t b = 0; b < blocks_.size(); ++b) {
+        const int bx = block_x_first_ + static_cast<int>(b % block_x_count_);
+        const int by = block_y_first_ + static_cast<int>(b / block_x_count_);
+        if (blocks_[b].leaf)
+            row.leaves.push_back(std::move(blocks_[b].leaf));
+        else if (blocks_[b].tile)
+            row.tiles.emplace_back(openvdb::Coord(bx * kLeafDim, by * kLeafDim, z0), blocks_[b].tile_value);
     }
-    return assemble();
+    return row;
 }
+
+namespace {
 
 openvdb::math::Transform::Ptr make_transform(const VolumeHeader& header) {
     // OpenVDB multiplies row vectors: world = (i, j, k, 1) * M, so M is the affine transposed.
@@ -523,19 +430,27 @@ openvdb::math::Transform::Ptr make_transform(const VolumeHeader& header) {
     }
 }
 
-openvdb::FloatGrid::Ptr Converter::assemble() {
-    const float background_value = background();
-    tbb::parallel_for(std::size_t{0}, border_leaves_.size(), [&](std::size_t b) {
-        Leaf& leaf = *border_leaves_[b];
+}  // namespace
+
+openvdb::FloatGrid::Ptr Converter::assemble(std::vector<ConvertedRow>& rows, const ScanValues& values) const {
+    const float background_value = background(values);
+    std::vector<Leaf*> border_leaves;  // leaves reaching outside the scan
+    for (const ConvertedRow& row : rows)
+        for (const auto& leaf : row.leaves)
+            if (!block_in_scan(leaf->origin().x(), leaf->origin().y(), leaf->origin().z())) border_leaves.push_back(leaf.get());
+    tbb::parallel_for(std::size_t{0}, border_leaves.size(), [&](std::size_t b) {
+        Leaf& leaf = *border_leaves[b];
         for (openvdb::Index n = 0; n < Leaf::SIZE; ++n) {
             const openvdb::Coord xyz = leaf.offsetToGlobalCoord(n);
             if (!in_scan(xyz.x(), xyz.y(), xyz.z())) leaf.setValueOnly(n, background_value);
         }
     });
     auto tree = std::make_shared<openvdb::FloatTree>(background_value);
-    for (auto& leaf : leaves_) tree->addLeaf(leaf.release());
-    for (const auto& [origin, value] : tiles_) tree->addTile(1, origin, value, false);
-    leaves_.clear();
+    for (ConvertedRow& row : rows)
+        for (auto& leaf : row.leaves) tree->addLeaf(leaf.release());
+    for (const ConvertedRow& row : rows)
+        for (const auto& [origin, value] : row.tiles) tree->addTile(1, origin, value, false);
+    rows.clear();
 
     auto grid = openvdb::FloatGrid::create(tree);
     grid->setTransform(make_transform(header_));
@@ -547,20 +462,29 @@ openvdb::FloatGrid::Ptr Converter::assemble() {
     else
         grid->insertMeta(kMetaIsovalue, openvdb::DoubleMetadata(options_.iso));
     grid->insertMeta(kMetaUnits, openvdb::StringMetadata(header_.units));
-    grid->insertMeta(kMetaValueMin, openvdb::DoubleMetadata(value_min_));
-    grid->insertMeta(kMetaValueMax, openvdb::DoubleMetadata(value_max_));
+    grid->insertMeta(kMetaValueMin, openvdb::DoubleMetadata(values.min));
+    grid->insertMeta(kMetaValueMax, openvdb::DoubleMetadata(values.max));
     grid->insertMeta(kMetaScanMin, openvdb::Vec3IMetadata(openvdb::Vec3i(0, 0, 0)));
     grid->insertMeta(kMetaScanMax, openvdb::Vec3IMetadata(openvdb::Vec3i(dims_[0] - 1, dims_[1] - 1, dims_[2] - 1)));
     return grid;
 }
 
-}  // namespace
+}  // namespace vdbmesh::detail
+
+namespace vdbmesh {
 
 openvdb::FloatGrid::Ptr convert_to_grid(SliceReader& source, const ConvertOptions& options) {
     openvdb::initialize();
-    check_options(source.header(), options);
-    Converter converter(source, options);
-    return converter.run();
+    detail::check_convert_options(source.header(), options);
+    if (source.next_slice() != 0) throw Error("internal: convert_to_grid needs a source at slice 0");
+    detail::Converter converter(source, options);
+    std::vector<detail::ConvertedRow> rows;
+    const double slices = static_cast<double>(source.header().dims[2]);
+    for (int z0 = converter.first_row(); z0 <= converter.last_row(); z0 += detail::kLeafDim) {
+        rows.push_back(converter.make_row(z0));
+        if (options.progress) options.progress(std::clamp((z0 + detail::kLeafDim) / slices, 0.0, 1.0));
+    }
+    return converter.assemble(rows, converter.values());
 }
 
 }  // namespace vdbmesh

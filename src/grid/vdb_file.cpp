@@ -69,8 +69,7 @@ namespace detail {
 /// grid-offsets flag (1), the UUID (36), the file's metadata count (4) and grid count (4).
 constexpr std::uintmax_t kVdbHeaderBytes = 65;
 
-openvdb::GridPtrVecPtr read_vdb_grids(const std::filesystem::path& path) {
-    openvdb::initialize();
+void require_vdb_header(const std::filesystem::path& path) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec))
         throw FormatError(path.string(), "file", "an existing .vdb file", "nothing readable at that path");
@@ -82,6 +81,11 @@ openvdb::GridPtrVecPtr read_vdb_grids(const std::filesystem::path& path) {
                               " bytes (the header: magic, file and library versions, offsets flag, UUID, metadata and grid counts)",
                           std::to_string(bytes) + " bytes (a truncated file)");
     }
+}
+
+openvdb::GridPtrVecPtr read_vdb_grids(const std::filesystem::path& path) {
+    openvdb::initialize();
+    require_vdb_header(path);
     probe_vdb_in_child(path);
     openvdb::GridPtrVecPtr grids;
     try {
@@ -118,13 +122,10 @@ void write_vdb(const openvdb::FloatGrid& grid, const std::filesystem::path& path
 }
 
 openvdb::FloatGrid::Ptr read_vdb(const std::filesystem::path& path) {
-    const openvdb::GridPtrVecPtr grids = detail::read_vdb_grids(path);
-    std::string found;
-    for (const openvdb::GridBase::Ptr& grid : *grids) {
-        if (auto floats = openvdb::gridPtrCast<openvdb::FloatGrid>(grid)) return floats;
-        found += (found.empty() ? "" : ", ") + grid->getName() + " (" + grid->valueType() + ")";
-    }
-    throw FormatError(path.string(), "grids", "a float grid", found.empty() ? "no grids" : found);
+    // The file's values are read once, by children (vdb_regions.cpp); its topology twice.
+    const openvdb::FloatGrid::Ptr grid = detail::read_first_float_grid(path);
+    verify_checksums(path, openvdb::GridPtrVec{grid});
+    return grid;
 }
 
 std::optional<double> stored_isovalue(const openvdb::FloatGrid& grid) {

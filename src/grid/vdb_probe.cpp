@@ -1,6 +1,7 @@
-// The child only opens the file with io::File and reads all grids (no TBB work, which would
-// not be safe after fork()), then reports through a pipe: nothing on success, else the text of
-// the exception. The parent turns a signal, a failed allocation or that text into a FormatError.
+// The child only runs the reading it is given (opening the file with io::File and reading all
+// grids, their topology, or some leaves' values; no TBB work, which would not be safe after
+// fork()), then reports through a pipe: nothing on success, else the text of the exception.
+// The parent turns a signal, a failed allocation or that text into a FormatError.
 
 #include "vdb_probe.h"
 
@@ -14,6 +15,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <new>
 #include <string>
 
@@ -23,10 +25,22 @@ namespace vdbmesh::detail {
 
 namespace {
 
+constexpr rlim_t kTwoGiB = rlim_t{2} << 30;
+
 rlim_t memory_limit(std::uintmax_t file_bytes) {
     const auto physical = static_cast<rlim_t>(::sysconf(_SC_PHYS_PAGES)) * static_cast<rlim_t>(::sysconf(_SC_PAGESIZE));
-    const rlim_t wanted = std::max<rlim_t>(rlim_t{2} << 30, static_cast<rlim_t>(file_bytes) * 64);
+    const rlim_t wanted = std::max<rlim_t>(kTwoGiB, static_cast<rlim_t>(file_bytes) * 64);
     return physical > 0 ? std::min(wanted, physical) : wanted;
+}
+
+/// The address space this process holds now (a forked child starts with all of it).
+rlim_t address_space_now() {
+    unsigned long pages = 0;
+    if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
+        if (std::fscanf(statm, "%lu", &pages) != 1) pages = 0;
+        std::fclose(statm);
+    }
+    return static_cast<rlim_t>(pages) * static_cast<rlim_t>(::sysconf(_SC_PAGESIZE));
 }
 
 /// Seconds the child may take: generous for a sound file of any size.
@@ -60,7 +74,7 @@ void restore_default_signals() {
     ::sigprocmask(SIG_UNBLOCK, &alarm_only, nullptr);
 }
 
-[[noreturn]] void read_in_child(const std::filesystem::path& path, rlim_t limit, unsigned seconds, int report) {
+[[noreturn]] void read_in_child(const ChildReading& reading, rlim_t limit, unsigned seconds, int report) {
     restore_default_signals();
     const rlimit address_space{limit, limit}, no_core{0, 0};
     if (!kAddressSanitizer) ::setrlimit(RLIMIT_AS, &address_space);
@@ -72,10 +86,7 @@ void restore_default_signals() {
     if (null >= 0) ::dup2(null, STDERR_FILENO);
     std::string failure;
     try {
-        openvdb::io::File file(path.string());
-        file.open(/*delayLoad=*/false);
-        file.getGrids();
-        file.close();
+        reading();
     } catch (const std::bad_alloc&) {
         failure = "reading it needs more than " + std::to_string(limit >> 20) +
                   " MiB (OpenVDB's reader allocates without bound on a corrupt or truncated file)";
@@ -103,13 +114,13 @@ struct ChildOutcome {
     std::string failure;
 };
 
-ChildOutcome read_once_in_child(const std::filesystem::path& path, rlim_t limit, unsigned seconds) {
+ChildOutcome read_once_in_child(const std::filesystem::path& path, const ChildReading& reading, rlim_t limit, unsigned seconds) {
     int report[2];
     if (::pipe2(report, O_CLOEXEC) != 0) throw Error(path.string() + ": cannot create a pipe to check the .vdb file");
     const pid_t child = ::fork();
     if (child == 0) {
         ::close(report[0]);
-        read_in_child(path, limit, seconds, report[1]);
+        read_in_child(reading, limit, seconds, report[1]);
     }
     ::close(report[1]);
     ChildOutcome outcome;
@@ -123,19 +134,14 @@ ChildOutcome read_once_in_child(const std::filesystem::path& path, rlim_t limit,
 
 bool ended_by_alarm(const ChildOutcome& outcome) { return WIFSIGNALED(outcome.status) && WTERMSIG(outcome.status) == SIGALRM; }
 
-}  // namespace
-
-void probe_vdb_in_child(const std::filesystem::path& path) {
-    openvdb::initialize();
-    std::error_code ec;
-    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
-    const rlim_t limit = memory_limit(bytes);
-    const unsigned seconds = time_limit(bytes);
-    ChildOutcome outcome = read_once_in_child(path, limit, seconds);
+/// Runs @a reading in a child limited to @a limit bytes of address space and @a seconds;
+/// throws FormatError naming @a path when it crashes, runs out of either or throws.
+void run_in_child(const std::filesystem::path& path, const ChildReading& reading, rlim_t limit, unsigned seconds) {
+    ChildOutcome outcome = read_once_in_child(path, reading, limit, seconds);
     // A child can also block on a lock another thread of this process held at fork() (a fresh
     // small .vdb a test had just written timed out once in a CI run of the suite): a second
     // child, forked at another moment, tells that from a reader that loops on the file.
-    if (ended_by_alarm(outcome)) outcome = read_once_in_child(path, limit, seconds);
+    if (ended_by_alarm(outcome)) outcome = read_once_in_child(path, reading, limit, seconds);
     const int status = outcome.status;
     if (ended_by_alarm(outcome))
         throw FormatError(path.string(), "reading it did not finish in " + std::to_string(seconds) +
@@ -144,6 +150,42 @@ void probe_vdb_in_child(const std::filesystem::path& path) {
         throw FormatError(path.string(), std::string("corrupt .vdb file: OpenVDB's reader crashed on it (") +
                                              ::strsignal(WTERMSIG(status)) + ")");
     if (WEXITSTATUS(status) != 0) throw FormatError(path.string(), outcome.failure.empty() ? "not a readable .vdb file" : outcome.failure);
+}
+
+std::uintmax_t file_bytes(const std::filesystem::path& path) {
+    std::error_code ec;
+    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+    return ec ? 0 : bytes;
+}
+
+}  // namespace
+
+void probe_vdb_in_child(const std::filesystem::path& path) {
+    openvdb::initialize();
+    const std::uintmax_t bytes = file_bytes(path);
+    run_in_child(
+        path,
+        [&] {
+            openvdb::io::File file(path.string());
+            file.open(/*delayLoad=*/false);
+            file.getGrids();
+            file.close();
+        },
+        memory_limit(bytes), time_limit(bytes));
+}
+
+void probe_vdb_topology_in_child(const std::filesystem::path& path, const ChildReading& read_topology) {
+    openvdb::initialize();
+    const std::uintmax_t bytes = file_bytes(path);
+    // The file is mapped whole (delayed loading): its size counts in the address space.
+    const rlim_t limit = address_space_now() + static_cast<rlim_t>(bytes) + memory_limit(bytes / 16);
+    run_in_child(path, read_topology, limit, time_limit(bytes / 16));
+}
+
+void read_region_in_child(const std::filesystem::path& path, const ChildReading& read_values, std::uint64_t value_bytes) {
+    // The child starts with this process's address space (the mapped file, the topology).
+    const rlim_t limit = address_space_now() + std::max<rlim_t>(kTwoGiB, static_cast<rlim_t>(value_bytes) * 8);
+    run_in_child(path, read_values, limit, time_limit(value_bytes));
 }
 
 }  // namespace vdbmesh::detail

@@ -39,7 +39,7 @@ const SharedScan& shared_scan(const std::string& name) {
     throw std::invalid_argument("no shared scan named " + name);
 }
 
-void convert_shared_scan(const SharedScan& scan, openvdb::FloatGrid::Ptr& grid) {
+void open_shared_scan(const SharedScan& scan, OpenSlices& open) {
     std::vector<std::filesystem::path> paths;
     for (const std::string& input : scan.inputs) {
         VDBMESH_SHARED_DATA(path, input);
@@ -52,9 +52,20 @@ void convert_shared_scan(const SharedScan& scan, openvdb::FloatGrid::Ptr& grid) 
         read.raw_byte_order = ByteOrder::big;
         read.raw_more_files.assign(paths.begin() + 1, paths.end());
     }
+    open = [paths, read] { return std::unique_ptr<SliceReader>(open_volume(paths.front(), read)); };
+}
+
+void convert_shared_scan(const SharedScan& scan, openvdb::FloatGrid::Ptr& grid) {
+    OpenSlices open;
+    open_shared_scan(scan, open);
+    if (!open) return;
+    grid = convert_to_grid(*open(), shared_scan_options(scan));
+}
+
+ConvertOptions shared_scan_options(const SharedScan& scan) {
     ConvertOptions convert;
     convert.iso = scan.iso;
-    grid = convert_to_grid(*open_volume(paths.front(), read), convert);
+    return convert;
 }
 
 }  // namespace vdbmesh::test

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "vdbmesh/scan_regions.h"
+
 namespace vdbmesh::test {
 
 struct SharedScan {
@@ -32,5 +34,12 @@ const SharedScan& shared_scan(const std::string& name);
 /// test skips (a failure when VDBMESH_REQUIRE_DATA=1): call it through ASSERT_NO_FATAL_FAILURE
 /// and return when @a grid is empty.
 void convert_shared_scan(const SharedScan& scan, openvdb::FloatGrid::Ptr& grid);
+
+/// How to open the scan from its first slice into @a open, as convert_shared_scan() reads it.
+/// Left empty when the data is missing (as above).
+void open_shared_scan(const SharedScan& scan, OpenSlices& open);
+
+/// The options convert_shared_scan() converts with (its isovalue).
+ConvertOptions shared_scan_options(const SharedScan& scan);
 
 }  // namespace vdbmesh::test

@@ -1,0 +1,51 @@
+// The walk of region_walk.h: from the root down through the nodes that meet the box, tiles
+// copied at their own level, leaves gathered.
+
+#include "region_walk.h"
+
+namespace vdbmesh::detail::region_walk {
+
+openvdb::CoordBBox to_bbox(const IndexBox& box) {
+    return {openvdb::Coord(box.min[0], box.min[1], box.min[2]), openvdb::Coord(box.max[0] - 1, box.max[1] - 1, box.max[2] - 1)};
+}
+
+std::uint64_t TreeRegion::bytes() const {
+    return sizeof(openvdb::FloatGrid) + sizeof(Tree) + upper_nodes * sizeof(Upper) + lower_nodes * sizeof(Lower) +
+           leaves.size() * (sizeof(Leaf) + Leaf::SIZE * sizeof(float));
+}
+
+namespace {
+
+/// Copies a tile of a node at @a level into region.out when it meets the box and differs from
+/// the background there.
+template <class Iter>
+void copy_tile(const Iter& tile, openvdb::Index level, openvdb::Index tile_dim, TreeRegion& region) {
+    if (!region.out || !openvdb::CoordBBox::createCube(tile.getCoord(), tile_dim).hasOverlap(region.box)) return;
+    if (tile.isValueOn() || *tile != region.out->background()) region.out->addTile(level, tile.getCoord(), *tile, tile.isValueOn());
+}
+
+template <class Node>
+void walk_internal(const Node& node, TreeRegion& region) {
+    ++(Node::LEVEL == 1 ? region.lower_nodes : region.upper_nodes);
+    for (auto tile = node.cbeginValueAll(); tile; ++tile) copy_tile(tile, Node::LEVEL, Node::ChildNodeType::DIM, region);
+    for (auto child = node.cbeginChildOn(); child; ++child) {
+        if (!child->getNodeBoundingBox().hasOverlap(region.box)) continue;
+        if constexpr (Node::LEVEL == 1) {
+            region.leaves.push_back(&*child);
+        } else {
+            walk_internal(*child, region);
+        }
+    }
+}
+
+}  // namespace
+
+void walk_region(const Tree& tree, TreeRegion& region) {
+    const Root& root = tree.root();
+    for (auto tile = root.cbeginValueAll(); tile; ++tile) copy_tile(tile, Root::LEVEL, Upper::DIM, region);
+    for (auto child = root.cbeginChildOn(); child; ++child)
+        if (child->getNodeBoundingBox().hasOverlap(region.box)) walk_internal(*child, region);
+}
+
+
+}  // namespace vdbmesh::detail::region_walk

@@ -1,0 +1,98 @@
+// A scan read by region (open_scan_regions): the description, the nodes and every voxel inside
+// each box read as convert_to_grid() gives them, for boxes read in z order (bricks), out of it,
+// and from several threads.
+
+#include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
+
+#include <vector>
+
+#include "grid_test_util.h"
+#include "region_test_util.h"
+#include "shared_scan.h"
+#include "test_data.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/grid_region.h"
+#include "vdbmesh/scan_regions.h"
+
+namespace vdbmesh {
+namespace {
+
+using test::expect_same_inside;
+using test::expect_same_nodes;
+using test::kEverything;
+
+/// The bricks of @a nodes_per_brick^3 nodes over @a dims voxels, each widened by @a halo, z-major.
+std::vector<IndexBox> bricks(const std::array<int, 3>& dims, int nodes_per_brick, int halo) {
+    const int size = nodes_per_brick * kNodeVoxels;
+    std::vector<IndexBox> boxes;
+    for (int z = 0; z < dims[2]; z += size)
+        for (int y = 0; y < dims[1]; y += size)
+            for (int x = 0; x < dims[0]; x += size) boxes.push_back({{x - halo, y - halo, z - halo}, {x + size + halo, y + size + halo, z + size + halo}});
+    return boxes;
+}
+
+void expect_same_description(const openvdb::FloatGrid& whole, const openvdb::FloatGrid& description) {
+    EXPECT_EQ(description.background(), whole.background());
+    EXPECT_EQ(description.transform(), whole.transform());
+    EXPECT_EQ(description.str(), whole.str());  // name, class, every metadata value
+    EXPECT_EQ(description.tree().leafCount(), 0u);
+}
+
+/// The scan @a name by region against its whole conversion: description, nodes, then @a boxes
+/// in order, then the first again (back in z: the scan is reopened), then all from two threads.
+void expect_regions_equal_the_whole(const std::string& name, const std::vector<IndexBox>& boxes) {
+    const test::SharedScan& scan = test::shared_scan(name);
+    OpenSlices open;
+    ASSERT_NO_FATAL_FAILURE(test::open_shared_scan(scan, open));
+    if (!open) return;
+    const openvdb::FloatGrid::Ptr whole = convert_to_grid(*open(), test::shared_scan_options(scan));
+    const auto source = open_scan_regions(open, test::shared_scan_options(scan));
+    expect_same_description(*whole, *source->description());
+    expect_same_nodes(source->nodes(), test::nodes_counted(*whole));
+    for (const IndexBox& box : boxes) {
+        const auto part = source->read(box);
+        expect_same_inside(*whole, *part, box);
+        EXPECT_GT(source->estimated_bytes(box), 0u);
+    }
+    expect_same_inside(*whole, *source->read(boxes.front()), boxes.front());
+    std::vector<std::shared_ptr<openvdb::FloatGrid>> parts(boxes.size());
+    tbb::parallel_for(std::size_t{0}, boxes.size(), [&](std::size_t i) { parts[i] = source->read(boxes[i]); });
+    for (std::size_t i = 0; i < boxes.size(); ++i) expect_same_inside(*whole, *parts[i], boxes[i]);
+}
+
+TEST(ScanRegionsTest, CTheadByBricksOfOneNodeEqualsItsWholeConversion) {
+    // Halo 1 (the mesher's), halo 9 (more than a leaf: boxes reach two rows into the next layer).
+    std::vector<IndexBox> boxes = bricks({256, 256, 113}, 1, 1);
+    for (const IndexBox& box : bricks({256, 256, 113}, 1, 9)) boxes.push_back(box);
+    boxes.push_back(IndexBox{{30, 40, 50}, {31, 41, 51}});  // one voxel, back in z
+    boxes.push_back(kEverything);
+    expect_regions_equal_the_whole("CThead", boxes);
+}
+
+TEST(ScanRegionsTest, BunnyCtByBricksOfTwoNodesEqualsItsWholeConversion) {
+    // Two bricks of each z-layer (the corners in x and y): each layer is one band.
+    std::vector<IndexBox> boxes;
+    for (const IndexBox& box : bricks({512, 512, 361}, 2, 1))
+        if (box.min[0] == box.min[1]) boxes.push_back(box);
+    expect_regions_equal_the_whole("BunnyCt", boxes);
+}
+
+TEST(ScanRegionsTest, ASmallRawScanByBoxesAndABoxOutsideIt) {
+    test::ScratchDir dir;
+    const test::DenseVolume volume = test::make_volume({20, 30, 40}, [](int x, int y, int z) { return float((x * y + z) % 7); });
+    const auto path = dir / "small.raw";
+    test::write_and_open(volume, path);
+    ConvertOptions options;
+    options.iso = 3.5;
+    OpenSlices open = [&] { return std::unique_ptr<SliceReader>(test::write_and_open(volume, path)); };
+    const openvdb::FloatGrid::Ptr whole = convert_to_grid(*open(), options);
+    const auto source = open_scan_regions(open, options);
+    const auto far = source->read(IndexBox{{0, 0, 500}, {10, 10, 510}});
+    EXPECT_EQ(far->tree().leafCount(), 0u);
+    EXPECT_EQ(far->background(), whole->background());
+    for (const IndexBox& box : {IndexBox{{-3, -3, -3}, {25, 35, 17}}, IndexBox{{5, 5, 16}, {12, 40, 45}}, kEverything}) expect_same_inside(*whole, *source->read(box), box);
+}
+
+}  // namespace
+}  // namespace vdbmesh
