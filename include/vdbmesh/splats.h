@@ -23,6 +23,8 @@
 
 namespace vdbmesh {
 
+class GridRegionSource;
+
 /// The level of the root node (one above the 4096^3 internal nodes).
 inline constexpr std::uint8_t kSplatRootLevel = 12;
 /// The level of a node covering a VDB leaf (8^3 voxels).
@@ -65,6 +67,34 @@ struct SplatOptions {
 /// Threaded with TBB; the same tree for any thread count. Throws UsageError on a negative
 /// tolerance.
 SplatTree build_splat_tree(const openvdb::FloatGrid& grid, const SplatOptions& options);
+
+/// The same tree read by region: one 128^3 node at a time (its cells fitted in parallel), so
+/// that only a node's region and the splats are held, never the whole grid.
+SplatTree build_splat_tree(const GridRegionSource& source, const SplatOptions& options);
+
+/// A camera, as the page sends it.
+struct SplatView {
+    /// World to clip space, column-major as WebGL takes it (three.js projectionMatrix times
+    /// matrixWorldInverse).
+    std::array<double, 16> view_projection{};
+    std::array<double, 3> eye{};   ///< the camera's position, for back-face culling by the cones
+    double focal_pixels = 600;     ///< pixels per world unit at clip w = 1 (viewport height / (2 tan(fov / 2)))
+    double pixel_size = 2;         ///< a node is refined while its disc spans more pixels than this
+    std::size_t budget = 200'000;  ///< at most this many nodes
+};
+
+/// What a view shows of a tree.
+struct SplatSelection {
+    std::vector<std::uint32_t> nodes;  ///< ascending node indices, none an ancestor of another
+    std::uint8_t finest_level = kSplatRootLevel;  ///< the lowest level among them
+    /// No node was kept coarser than pixel_size for want of budget (the view is at full detail).
+    bool complete = true;
+};
+
+/// The nodes a view needs: from the root down, largest projected disc first, refined while it
+/// spans more than pixel_size and the budget allows; nodes outside the view frustum or whose
+/// normal cone faces wholly away from the eye are left out.
+SplatSelection select_splats(const SplatTree& tree, const SplatView& view);
 
 /// Writes @a tree quantised (12 bytes a node: centres in 16 bits over the tree's bounding
 /// box, radii rounded up so that discs still cover what they covered, octahedral normals in
