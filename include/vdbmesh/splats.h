@@ -87,6 +87,10 @@ struct SplatView {
 struct SplatSelection {
     std::vector<std::uint32_t> nodes;  ///< ascending node indices, none an ancestor of another
     std::uint8_t finest_level = kSplatRootLevel;  ///< the lowest level among them
+    /// The highest level among them of a node shown in place of its children (too small on
+    /// screen to refine, or over the budget); -1 when every node shown is childless (the view
+    /// is at the tree's full detail).
+    int cut_level = -1;
     /// No node was kept coarser than pixel_size for want of budget (the view is at full detail).
     bool complete = true;
 };

@@ -61,6 +61,7 @@ public:
                 if (wants_children) selection.complete = false;
                 selection.nodes.push_back(index);
                 selection.finest_level = std::min(selection.finest_level, node.level);
+                if (node.child_count != 0) selection.cut_level = std::max(selection.cut_level, int(node.level));
                 ++shown;
                 continue;
             }

@@ -184,6 +184,7 @@ private:
         const SplatSelection selection = select_splats(stored->tree, parsed.view);
         response.set_header("X-Splats", std::to_string(selection.nodes.size()));
         response.set_header("X-Level", std::to_string(selection.finest_level));
+        response.set_header("X-Cut-Level", std::to_string(selection.cut_level));
         response.set_header("X-Complete", selection.complete ? "1" : "0");
         response.set_header("X-Tree-Nodes", std::to_string(stored->tree.nodes.size()));
         response.set_header("X-Seconds", std::to_string(stored->seconds));

@@ -91,6 +91,7 @@ TEST_F(SplatSelectionTest, AFarCameraGetsFewCoarseNodes) {
     EXPECT_GT(selection.nodes.size(), 10u);
     EXPECT_LT(selection.nodes.size(), 100u);
     EXPECT_GT(selection.finest_level, kSplatLeafLevel);
+    EXPECT_GE(selection.cut_level, selection.finest_level);  // shown for their children
 }
 
 TEST_F(SplatSelectionTest, ACloseCameraGetsEveryFacingSurfaceAtFullDetail) {

@@ -329,6 +329,7 @@ TEST_F(ViewServerTest, SplatsAreTheLibrarysSelectionOfTheScansTree) {
         ASSERT_FALSE(expected.nodes.empty());
         EXPECT_EQ(response->get_header_value("X-Splats"), std::to_string(expected.nodes.size()));
         EXPECT_EQ(response->get_header_value("X-Level"), std::to_string(expected.finest_level));
+        EXPECT_EQ(response->get_header_value("X-Cut-Level"), std::to_string(expected.cut_level));
         EXPECT_EQ(response->get_header_value("X-Tree-Nodes"), std::to_string(tree.nodes.size()));
         ASSERT_EQ(response->body.size(), 28 * expected.nodes.size());
         float first[7];
