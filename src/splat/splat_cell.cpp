@@ -37,8 +37,13 @@ public:
                     in_scan_[i] = !rule.scan_box || rule.scan_box->isInside(c);
                     value_[i] = accessor.getValue(c);
                     inside_[i] = in_scan_[i] && (rule.inside_above ? value_[i] > rule.iso : value_[i] < rule.iso);
+                    const bool in_cube = x >= 1 && y >= 1 && z >= 1 && x <= kCell + 1 && y <= kCell + 1 && z <= kCell + 1;
+                    if (in_cube) (inside_[i] ? any_inside_ : any_outside_) = true;
                 }
     }
+
+    /// Whether the closed cube has samples on both sides (else no edge in it is crossed).
+    bool straddles() const { return any_inside_ && any_outside_; }
 
     /// Padded coordinates (0 is origin - 1).
     static std::size_t index(int x, int y, int z) { return (static_cast<std::size_t>(z) * kPad + y) * kPad + x; }
@@ -82,28 +87,61 @@ private:
 
     const SampleRule& rule_;
     Eigen::Vector3d origin_;
+    bool any_inside_ = false, any_outside_ = false;
     std::array<float, kPad * kPad * kPad> value_{};
     std::array<bool, kPad * kPad * kPad> inside_{};
     std::array<bool, kPad * kPad * kPad> in_scan_{};
 };
 
+/// The crossings of the closed 8^3 cube, and for each finest (2^3) cube the crossings in
+/// its closed cube: an edge on a face or line shared by finest cubes belongs to each.
+struct CellCrossings {
+    static constexpr int kCubes = kCell / kFine;
+    std::vector<Crossing> all;
+    std::array<std::vector<std::uint16_t>, kCubes * kCubes * kCubes> by_cube;
+};
+
+/// The finest cubes along one axis holding local sample coordinate @a l (0..8): l / 2, and the
+/// cube below too when l is on a shared face.
+int cubes_holding(int l, std::array<int, 2>& out) {
+    int n = 0;
+    if (l < kCell) out[n++] = l / kFine;
+    if (l % kFine == 0 && l > 0) out[n++] = l / kFine - 1;
+    return n;
+}
+
 /// Every crossed edge with both ends in the closed cube [origin, origin + 8]^3.
-std::vector<Crossing> cell_crossings(const CellSamples& samples) {
-    std::vector<Crossing> crossings;
+void cell_crossings(const CellSamples& samples, CellCrossings& crossings) {
+    if (!samples.straddles()) return;
+    constexpr std::size_t kStride[3] = {1, kPad, kPad * kPad};
     for (int z = 1; z <= kCell + 1; ++z)
         for (int y = 1; y <= kCell + 1; ++y)
             for (int x = 1; x <= kCell + 1; ++x) {
-                const std::array<int, 3> p{x, y, z};
-                const bool inside = samples.inside(CellSamples::index(x, y, z));
+                const std::size_t i = CellSamples::index(x, y, z);
+                const bool inside = samples.inside(i);
+                const int p_axis[3] = {x, y, z};
                 for (int axis = 0; axis < 3; ++axis) {
-                    if (p[axis] == kCell + 1) continue;
-                    std::array<int, 3> q = p;
-                    ++q[axis];
-                    if (samples.inside(CellSamples::index(q[0], q[1], q[2])) != inside)
-                        crossings.push_back(samples.crossing(p, axis));
+                    if (p_axis[axis] == kCell + 1 || samples.inside(i + kStride[axis]) == inside) continue;
+                    const std::array<int, 3> p{x, y, z};
+                    const auto index = static_cast<std::uint16_t>(crossings.all.size());
+                    crossings.all.push_back(samples.crossing(p, axis));
+                    std::array<std::array<int, 2>, 3> cubes{};
+                    std::array<int, 3> count{};
+                    for (int a = 0; a < 3; ++a) {
+                        if (a == axis) {
+                            cubes[a][0] = (p[a] - 1) / kFine;
+                            count[a] = 1;
+                        } else {
+                            count[a] = cubes_holding(p[a] - 1, cubes[a]);
+                        }
+                    }
+                    constexpr int n = CellCrossings::kCubes;
+                    for (int i = 0; i < count[0]; ++i)
+                        for (int j = 0; j < count[1]; ++j)
+                            for (int k = 0; k < count[2]; ++k)
+                                crossings.by_cube[(cubes[2][k] * n + cubes[1][j]) * n + cubes[0][i]].push_back(index);
                 }
             }
-    return crossings;
 }
 
 std::array<float, 3> floats(const Eigen::Vector3d& v) {
@@ -142,12 +180,6 @@ BuildNode fit_splat(const std::vector<const Crossing*>& points, const std::array
     return node;
 }
 
-bool in_closed_cube(const Eigen::Vector3d& p, const std::array<std::int32_t, 3>& min, int size) {
-    for (int axis = 0; axis < 3; ++axis)
-        if (p[axis] < min[axis] || p[axis] > min[axis] + size) return false;
-    return true;
-}
-
 /// Merges the nodes of @a below (cubes of size/2, z-major) into cubes of @a size inside the cell;
 /// children collapsed into a coplanar parent are dropped from @a below.
 std::vector<BuildNode> merge_level(std::vector<BuildNode>& below, const std::array<std::int32_t, 3>& cell, int size,
@@ -181,18 +213,21 @@ std::vector<BuildNode> merge_level(std::vector<BuildNode>& below, const std::arr
 CellNodes fit_cell(const openvdb::FloatGrid& grid, const openvdb::Coord& origin, const SampleRule& rule,
                    double tolerance) {
     const CellSamples samples(grid, origin, rule);
-    const std::vector<Crossing> crossings = cell_crossings(samples);
+    CellCrossings crossings;
+    cell_crossings(samples, crossings);
     CellNodes nodes;
-    if (crossings.empty()) return nodes;
+    if (crossings.all.empty()) return nodes;
     const std::array<std::int32_t, 3> cell{origin.x(), origin.y(), origin.z()};
+    std::vector<const Crossing*> points;
     for (int z = 0; z < kCell; z += kFine)
         for (int y = 0; y < kCell; y += kFine)
             for (int x = 0; x < kCell; x += kFine) {
-                const std::array<std::int32_t, 3> cube{cell[0] + x, cell[1] + y, cell[2] + z};
-                std::vector<const Crossing*> points;
-                for (const Crossing& c : crossings)
-                    if (in_closed_cube(c.point, cube, kFine)) points.push_back(&c);
-                if (!points.empty()) nodes.finest.push_back(fit_splat(points, cube));
+                constexpr int n = CellCrossings::kCubes;
+                const auto& indices = crossings.by_cube[((z / kFine) * n + y / kFine) * n + x / kFine];
+                if (indices.empty()) continue;
+                points.clear();
+                for (std::uint16_t i : indices) points.push_back(&crossings.all[i]);
+                nodes.finest.push_back(fit_splat(points, {cell[0] + x, cell[1] + y, cell[2] + z}));
             }
     nodes.middle = merge_level(nodes.finest, cell, 2 * kFine, tolerance);
     std::vector<BuildNode> leaf = merge_level(nodes.middle, cell, kCell, tolerance);
