@@ -210,11 +210,14 @@ async function checkClip(driver, checks) {
 /// reported level gets finer or stays at the finest, the picture changes), and turning it off
 /// brings the mesh back.
 async function checkSplats(driver, checks, solid, timeout) {
-  // After a camera move: the page asks once the camera has been still for 250 ms.
+  // The page asks once the camera has been still for 250 ms: wait for the camera to rest a
+  // second (wheel events may reach a busy page late) and the last view asked to be drawn.
   const waitForSplats = async (viewsBefore) => {
-    await driver.page.waitForTimeout(600);
     await driver.page.waitForFunction(
-      (before) => window.vdbmeshView.error || (window.vdbmeshView.splatViews > before && !window.vdbmeshView.splatBusy),
+      (before) => {
+        const s = window.vdbmeshView;
+        return s.error || (Date.now() - s.cameraMovedAt > 1000 && s.splatViews > before && !s.splatBusy);
+      },
       viewsBefore, { timeout, polling: 100 });
     const state = await driver.state();
     if (state.error) throw new Error(`the page reports: ${state.error}`);

@@ -13,10 +13,11 @@ const $ = (id) => document.getElementById(id);
 const radio = (name) => document.querySelector(`input[name=${name}]:checked`).value;
 const state = (window.vdbmeshView = {
   level: '', triangles: 0, meshes: 0, busy: false, timings: [], error: '', figures: null, overBudget: 0,
-  splatMode: false, splats: 0, splatLevel: null, splatCutLevel: null, splatComplete: false, splatViews: 0, splatBusy: false,
+  splatMode: false, cameraMovedAt: 0, splats: 0, splatLevel: null, splatCutLevel: null, splatComplete: false, splatViews: 0, splatBusy: false,
 });
 
 const scene3d = new Scene3D($('view'));
+scene3d.controls.addEventListener('change', () => (state.cameraMovedAt = Date.now()));
 const model = new Model(scene3d);
 const splatLayer = new SplatLayer(scene3d, {
   onAsk: () => (state.splatBusy = true),
