@@ -38,6 +38,10 @@ struct ReadFlags {
     /// The options that mean something only with --raw-dims (set by add_read_flags): given
     /// without it, they are refused rather than ignored.
     std::vector<const CLI::Option*> raw_only;
+    /// All of these flags (set by add_read_flags): given with a mesh input, they are refused.
+    std::vector<const CLI::Option*> scan_only;
+    /// Throws UsageError naming the first of these flags given, for the mesh file @a mesh.
+    void refuse_for_mesh(const std::string& mesh) const;
     /// Converts to ReadOptions; throws UsageError on malformed values. @a more_inputs are the
     /// positional inputs after the first: the further parts of a split raw scan, read in order
     /// (ReadOptions::raw_more_files), allowed only with --raw-dims.
@@ -83,5 +87,9 @@ private:
 
 /// Parses "a,b,c" into numbers; throws UsageError naming @a flag.
 std::vector<double> parse_number_list(const std::string& flag, const std::string& text);
+
+/// Parses a size in bytes as @a flag takes it: a whole number with an optional suffix K, M or
+/// G (powers of 1024, any case), at least 1M; throws UsageError naming @a flag otherwise.
+std::uint64_t parse_memory_size(const std::string& flag, const std::string& text);
 
 }  // namespace vdbmesh::cli
