@@ -31,8 +31,8 @@ openvdb::FloatGrid::Ptr sphere_across_nodes() {
     return grid;
 }
 
-/// The grid seen as regions (grid_regions_in_memory() belongs to another stage's work): the
-/// whole grid for any box, which the interface allows (outside the box: anything).
+/// The grid seen as regions in the simplest way the interface allows: the whole grid for any
+/// box (outside the box: anything).
 class WholeGridRegions : public GridRegionSource {
 public:
     explicit WholeGridRegions(openvdb::FloatGrid::Ptr grid) : grid_(std::move(grid)) {}
@@ -74,6 +74,14 @@ TEST(SplatRegions, ReadByRegionGivesTheWholeGridsTree) {
         EXPECT_EQ(by_region.nodes[i].centre, whole.nodes[i].centre) << i;
         EXPECT_EQ(by_region.nodes[i].radius, whole.nodes[i].radius) << i;
         EXPECT_EQ(by_region.nodes[i].child_count, whole.nodes[i].child_count) << i;
+    }
+    // The grid stage's source, whose regions hold only what meets the box: the same tree.
+    const SplatTree in_memory = build_splat_tree(*grid_regions_in_memory(grid), SplatOptions{});
+    ASSERT_EQ(in_memory.nodes.size(), whole.nodes.size());
+    for (std::size_t i = 0; i < whole.nodes.size(); ++i) {
+        EXPECT_EQ(in_memory.nodes[i].centre, whole.nodes[i].centre) << i;
+        EXPECT_EQ(in_memory.nodes[i].normal, whole.nodes[i].normal) << i;
+        EXPECT_EQ(in_memory.nodes[i].radius, whole.nodes[i].radius) << i;
     }
 }
 
