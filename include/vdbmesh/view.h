@@ -79,6 +79,12 @@ struct ViewServerOptions {
 ///                       Parameters: level=coarse|full, method=dc|dmc|mc|openvdb, iso, error, adaptivity
 /// GET /api/figures      JSON: the analysis of the mesh of the same parameters (as `check`)
 /// GET /api/download     the mesh of the same parameters as format=stl|ply|obj
+/// GET /api/splats       binary: the splats a camera needs (centre, normal as float32 x 3,
+///                       radius float32: 28 bytes each) of the scan's splat hierarchy at iso;
+///                       headers X-Splats, X-Level (finest level shown), X-Cut-Level (coarsest node
+///                       shown for its children, -1: full detail), X-Complete, X-Tree-Nodes,
+///                       X-Seconds (the tree's build). Parameters: iso, vp (16 numbers, world to
+///                       clip, column-major), eye (3), focal (pixels per unit at w = 1), pixel, budget
 class ViewServer {
 public:
     /// @throw Error when the address cannot be bound (a port in use).

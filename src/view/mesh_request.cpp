@@ -23,7 +23,9 @@ Value named(const std::map<std::string, Value>& names, const std::string& parame
     throw UsageError(parameter + ": expected " + expected + ", got \"" + text + "\"");
 }
 
-double number(const std::string& parameter, const std::string& text) {
+}  // namespace
+
+double number_param(const std::string& parameter, const std::string& text) {
     std::size_t used = 0;
     double value = NAN;
     try {
@@ -36,8 +38,6 @@ double number(const std::string& parameter, const std::string& text) {
     }
     return value;
 }
-
-}  // namespace
 
 std::string MeshRequest::key() const {
     std::ostringstream key;
@@ -52,11 +52,11 @@ MeshRequest parse_mesh_request(const ParamLookup& param, double default_iso) {
     if (auto level = param("level")) request.level = named(kLevels, "level", *level);
     if (auto method = param("method")) request.options.method = named(kMethods, "method", *method);
     request.options.iso = default_iso;
-    if (auto iso = param("iso")) request.options.iso = number("iso", *iso);
-    if (auto error = param("error")) request.options.error = number("error", *error);
-    if (auto adaptivity = param("adaptivity")) request.options.adaptivity = number("adaptivity", *adaptivity);
+    if (auto iso = param("iso")) request.options.iso = number_param("iso", *iso);
+    if (auto error = param("error")) request.options.error = number_param("error", *error);
+    if (auto adaptivity = param("adaptivity")) request.options.adaptivity = number_param("adaptivity", *adaptivity);
     if (auto most = param("max_triangles")) {
-        const double value = number("max_triangles", *most);
+        const double value = number_param("max_triangles", *most);
         if (value < 0) throw UsageError("max_triangles: expected a count >= 0, got \"" + *most + "\"");
         request.max_triangles = std::size_t(value);
     }

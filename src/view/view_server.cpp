@@ -18,6 +18,7 @@
 #include "vdbmesh/view.h"
 #include "view/mesh_buffers.h"
 #include "view/mesh_store.h"
+#include "view/splat_store.h"
 #include "view/view_json.h"
 #include "view/web_assets.h"
 
@@ -76,7 +77,7 @@ std::string encode_mesh(const Mesh& mesh, const std::string& format) {
 class ViewServer::Impl {
 public:
     Impl(ViewSource source, const ViewServerOptions& options)
-        : options_(options), store_(std::move(source), options.mesher) {
+        : options_(options), store_(std::move(source), options.mesher), splats_(store_.source().scan) {
         add_routes();
         bind();
     }
@@ -137,6 +138,7 @@ private:
         }));
         server_.Get("/api/mesh", guarded([this](const auto& request, auto& response) { serve_mesh(request, response); }));
         server_.Get("/api/figures", guarded([this](const auto& request, auto& response) { serve_figures(request, response); }));
+        server_.Get("/api/splats", guarded([this](const auto& request, auto& response) { serve_splats(request, response); }));
         server_.Get("/api/download", guarded([this](const auto& request, auto& response) { serve_download(request, response); }));
     }
 
@@ -176,6 +178,20 @@ private:
         response.set_content(detail::json_text(j), "application/json");
     }
 
+    void serve_splats(const httplib::Request& request, httplib::Response& response) {
+        const view::SplatRequest parsed = view::parse_splat_request(params_of(request), store_.source().initial_iso);
+        const auto stored = splats_.tree(parsed.iso);
+        const SplatSelection selection = select_splats(stored->tree, parsed.view);
+        response.set_header("X-Splats", std::to_string(selection.nodes.size()));
+        response.set_header("X-Level", std::to_string(selection.finest_level));
+        response.set_header("X-Cut-Level", std::to_string(selection.cut_level));
+        response.set_header("X-Complete", selection.complete ? "1" : "0");
+        response.set_header("X-Tree-Nodes", std::to_string(stored->tree.nodes.size()));
+        response.set_header("X-Seconds", std::to_string(stored->seconds));
+        response.set_header("Cache-Control", "no-store");
+        response.set_content(view::splat_buffers(stored->tree, selection), "application/octet-stream");
+    }
+
     void serve_download(const httplib::Request& request, httplib::Response& response) {
         const std::string format = request.has_param("format") ? request.get_param_value("format") : "stl";
         const auto stored = requested_mesh(request);
@@ -186,6 +202,7 @@ private:
 
     ViewServerOptions options_;
     view::MeshStore store_;
+    view::SplatStore splats_;
     httplib::Server server_;
     int port_ = 0;
     std::mutex run_mutex_;

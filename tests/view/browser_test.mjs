@@ -3,7 +3,8 @@
 // torus phantom (or --scan FILE), waits for the model, and checks screenshots by their
 // pixels: the model is drawn and centred, the isovalue slider re-meshes (the triangle count
 // the page reports and the picture change), wireframe differs from solid, a clip plane
-// removes the expected half and caps the cut, and Ctrl-C stops the server cleanly.
+// removes the expected half and caps the cut, splats cover the view and refine on a zoom
+// (the page's reported level), and Ctrl-C stops the server cleanly.
 // Prints the time from releasing the slider to the coarse and the full mesh on screen.
 // Exit 0 passed, 1 failed, 77 skipped (no Chromium; a failure under VDBMESH_REQUIRE_BROWSER=1).
 //
@@ -205,6 +206,54 @@ async function checkClip(driver, checks) {
   await driver.page.selectOption('#clip-mode', 'none');
 }
 
+/// Splat mode: the splats cover the view like the mesh, a zoom refines them (the page's
+/// reported level gets finer or stays at the finest, the picture changes), and turning it off
+/// brings the mesh back.
+async function checkSplats(driver, checks, solid, timeout) {
+  // The page asks once the camera has been still for 250 ms: wait for the camera to rest a
+  // second (wheel events may reach a busy page late) and the last view asked to be drawn.
+  const waitForSplats = async (viewsBefore) => {
+    await driver.page.waitForFunction(
+      (before) => {
+        const s = window.vdbmeshView;
+        return s.error || (Date.now() - s.cameraMovedAt > 1000 && s.splatViews > before && !s.splatBusy);
+      },
+      viewsBefore, { timeout, polling: 100 });
+    const state = await driver.state();
+    if (state.error) throw new Error(`the page reports: ${state.error}`);
+    return state;
+  };
+  const started = Date.now();
+  await driver.click('#splats');
+  const first = await waitForSplats(0);
+  console.log(`splats on screen ${Date.now() - started} ms after the switch: ${first.splats} at level ${first.splatLevel}`);
+  const splatted = await driver.shot('splats');
+  const drawn = foreground(splatted, BACKGROUND);
+  checks.expect(drawn.share > 0.03, `the splats cover ${(100 * drawn.share).toFixed(1)}% of the view (> 3%)`);
+  checks.expect(first.splats > 0 && Number.isInteger(first.splatLevel), `the page reports ${first.splats} splats at level ${first.splatLevel}`);
+  const shown = await driver.page.locator('#splat-figures').textContent();
+  checks.expect(shown.includes(`finest level ${first.splatLevel}`), `the figures name the level shown (${shown})`);
+  // From afar (the model some ten pixels wide) coarser nodes suffice; then close up.
+  const box = await driver.page.locator('#view canvas').boundingBox();
+  await driver.page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  for (let i = 0; i < 15; ++i) await driver.page.mouse.wheel(0, 400);
+  const coarse = await waitForSplats(first.splatViews);
+  const far = await driver.shot('splats-far');
+  for (let i = 0; i < 25; ++i) await driver.page.mouse.wheel(0, -400);
+  const zoomed = await waitForSplats(coarse.splatViews);
+  const closer = await driver.shot('splats-zoomed');
+  const changed = changedShare(far, closer);
+  checks.expect(changed > 0.05, `zooming in changes the picture (${(100 * changed).toFixed(1)}% of pixels)`);
+  // The page's level: the coarsest node shown in place of its children (-1: full detail).
+  checks.expect(coarse.splatCutLevel > 0, `from afar nodes stand for their children (coarsest level ${coarse.splatCutLevel}, ${coarse.splats} splats)`);
+  checks.expect(zoomed.splatCutLevel < coarse.splatCutLevel,
+    `zooming in refines the splats: coarsest level ${coarse.splatCutLevel} -> ${zoomed.splatCutLevel} (${zoomed.splats} splats)`);
+  await driver.click('#splats');
+  await driver.click('#reset-view');
+  const mesh = await driver.shot('splats-off');
+  checks.expect(changedShare(solid, mesh) < 0.02, 'turning splats off shows the mesh again');
+}
+
 async function main() {
   const options = parseArguments(process.argv.slice(2));
   const chromiumPath = findChromium();
@@ -238,6 +287,7 @@ async function main() {
     const remeshed = await checkIsoSlider(driver, checks, solid, options.isoTo === undefined ? undefined : Number(options.isoTo), timeout);
     await checkWireframe(driver, checks, remeshed);
     await checkClip(driver, checks);
+    await checkSplats(driver, checks, await driver.shot('solid-before-splats'), timeout);
   } finally {
     await browser?.close();
     if (viewer) checks.expect((await stopViewer(viewer.child)) === 0, 'vdbmesh view stops cleanly on SIGINT (exit 0)');

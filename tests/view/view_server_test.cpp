@@ -15,12 +15,14 @@
 
 #include "cli.h"
 #include "report_json.h"
+#include "splat_camera.h"
 #include "test_data.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/phantom.h"
+#include "vdbmesh/splats.h"
 #include "vdbmesh/view.h"
 #include "vdbmesh/write_volume.h"
 #include "view/coarse_grid.h"
@@ -299,6 +301,66 @@ TEST_F(ViewServerTest, BadRequestsAreAnsweredWithTheirReason) {
     const auto over = server.get("/api/mesh?iso=0.5&max_triangles=10");
     EXPECT_EQ(over->status, 413);
     EXPECT_GT(header_count(over, "X-Triangles"), 10u);
+}
+
+/// The query of GET /api/splats for @a camera.
+std::string splat_query(const SplatView& camera) {
+    std::string vp;
+    for (double v : camera.view_projection) vp += (vp.empty() ? "" : ",") + std::to_string(v);
+    return "/api/splats?vp=" + vp + "&eye=" + std::to_string(camera.eye[0]) + "," + std::to_string(camera.eye[1]) + "," +
+           std::to_string(camera.eye[2]) + "&focal=" + std::to_string(camera.focal_pixels);
+}
+
+TEST_F(ViewServerTest, SplatsAreTheLibrarysSelectionOfTheScansTree) {
+    RunningServer server(scan_source());
+    const openvdb::Vec3d centre = scan_->grid->transform().indexToWorld(openvdb::Vec3d(kSize / 2.0));
+    std::size_t far_count = 0;
+    int far_level = 0;
+    for (double distance : {10000.0, 60.0}) {
+        const SplatView camera = test::camera_at({centre.x(), centre.y(), centre.z() + distance}, centre);
+        const auto response = server.get(splat_query(camera));
+        ASSERT_TRUE(response);
+        ASSERT_EQ(response->status, 200) << response->body;
+        // The library's tree of the full grid at the initial isovalue, and its selection.
+        SplatOptions options;
+        options.iso = scan_source().initial_iso;
+        const SplatTree tree = build_splat_tree(*scan_->grid, options);
+        const SplatSelection expected = select_splats(tree, camera);
+        ASSERT_FALSE(expected.nodes.empty());
+        EXPECT_EQ(response->get_header_value("X-Splats"), std::to_string(expected.nodes.size()));
+        EXPECT_EQ(response->get_header_value("X-Level"), std::to_string(expected.finest_level));
+        EXPECT_EQ(response->get_header_value("X-Cut-Level"), std::to_string(expected.cut_level));
+        EXPECT_EQ(response->get_header_value("X-Tree-Nodes"), std::to_string(tree.nodes.size()));
+        ASSERT_EQ(response->body.size(), 28 * expected.nodes.size());
+        float first[7];
+        std::memcpy(first, response->body.data(), sizeof first);
+        EXPECT_EQ(first[0], tree.nodes[expected.nodes[0]].centre[0]);
+        EXPECT_EQ(first[6], tree.nodes[expected.nodes[0]].radius);
+        if (distance > 1000) {
+            far_count = expected.nodes.size();
+            far_level = expected.finest_level;
+        } else {
+            EXPECT_GT(expected.nodes.size(), far_count);  // closer: finer
+            EXPECT_LT(expected.finest_level, far_level);
+        }
+    }
+}
+
+TEST_F(ViewServerTest, BadSplatRequestsNameTheParameter) {
+    RunningServer server(scan_source());
+    const auto missing = server.get("/api/splats?eye=0,0,1");
+    ASSERT_TRUE(missing);
+    EXPECT_EQ(missing->status, 400);
+    EXPECT_NE(missing->body.find("vp: expected 16 comma-separated numbers"), std::string::npos) << missing->body;
+    const std::string vp = "1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1";
+    const auto short_eye = server.get("/api/splats?vp=" + vp + "&eye=0,1");
+    ASSERT_TRUE(short_eye);
+    EXPECT_EQ(short_eye->status, 400);
+    EXPECT_NE(short_eye->body.find("eye: expected 3"), std::string::npos) << short_eye->body;
+    const auto bad_budget = server.get("/api/splats?vp=" + vp + "&eye=0,0,1&budget=-4");
+    ASSERT_TRUE(bad_budget);
+    EXPECT_EQ(bad_budget->status, 400);
+    EXPECT_NE(bad_budget->body.find("budget: expected a number > 0"), std::string::npos) << bad_budget->body;
 }
 
 TEST_F(ViewServerTest, MeshFilesAreServedAsTheyAre) {

@@ -7,15 +7,26 @@ import { fetchJson, meshQuery } from './mesh_loader.js';
 import { HistogramView } from './histogram.js';
 import { addHistory, showCounts, showFigures } from './figures.js';
 import { Remesher } from './remesher.js';
+import { SplatLayer } from './splats.js';
 
 const $ = (id) => document.getElementById(id);
 const radio = (name) => document.querySelector(`input[name=${name}]:checked`).value;
 const state = (window.vdbmeshView = {
   level: '', triangles: 0, meshes: 0, busy: false, timings: [], error: '', figures: null, overBudget: 0,
+  splatMode: false, cameraMovedAt: 0, splats: 0, splatLevel: null, splatCutLevel: null, splatComplete: false, splatViews: 0, splatBusy: false,
 });
 
 const scene3d = new Scene3D($('view'));
+scene3d.controls.addEventListener('change', () => (state.cameraMovedAt = Date.now()));
 const model = new Model(scene3d);
+const splatLayer = new SplatLayer(scene3d, {
+  onAsk: () => (state.splatBusy = true),
+  onShown: showSplats,
+  onError: (error) => {
+    Object.assign(state, { splatBusy: false, error: error.message });
+    status(`error: ${error.message}`);
+  },
+});
 let info;
 let histogram;
 let fitted = false;
@@ -41,7 +52,28 @@ function applyClip() {
     mode: $('clip-mode').value, axis: Number($('clip-axis').value), flip: $('clip-flip').checked,
     position: Number($('clip-position').value), thickness: Number($('clip-thickness').value),
   };
-  model.setClipPlanes(clipPlanes(settings, model.geometry.boundingBox), model.geometry.boundingBox);
+  const planes = clipPlanes(settings, model.geometry.boundingBox);
+  model.setClipPlanes(planes, model.geometry.boundingBox);
+  splatLayer.setClipPlanes(planes);
+}
+
+/// The figures of the splats on screen: how many, the finest level (cubes of 2^(level+1) voxels).
+function showSplats(shown) {
+  Object.assign(state, {
+    splats: shown.splats, splatLevel: shown.level, splatCutLevel: shown.cutLevel, splatComplete: shown.complete, splatViews: state.splatViews + 1, splatBusy: false,
+  });
+  const cube = (level) => `${2 ** (level + 1)}³ voxels`;
+  const detail = shown.cutLevel < 0 ? 'full detail' : `coarsest level ${shown.cutLevel} (${cube(shown.cutLevel)})`;
+  $('splat-figures').textContent = `${shown.splats.toLocaleString('en-US')} splats, ${detail}, finest level ${shown.level} ` +
+    `(${cube(shown.level)})${shown.complete ? '' : ', budget reached'}; tree of ${shown.treeNodes.toLocaleString('en-US')} ` +
+    `nodes built in ${shown.seconds.toFixed(2)} s; view in ${shown.ms.toFixed(0)} ms`;
+  status(`splats: ${detail}`);
+}
+
+function setSplatMode(on) {
+  state.splatMode = on;
+  model.group.visible = !on;
+  splatLayer.setEnabled(on, info.scan ? Number($('iso-value').value) : undefined);
 }
 
 function showMesh(mesh, level, params) {
@@ -102,7 +134,10 @@ function setIso(value, andRemesh) {
   $('iso').value = iso;
   $('iso-value').value = Number(iso.toPrecision(6));
   histogram.setIso(iso);
-  if (andRemesh) remesh();
+  if (andRemesh) {
+    remesh();
+    splatLayer.setIso(iso);
+  }
 }
 
 function setUpScan(scan) {
@@ -133,6 +168,7 @@ function setUpPanel() {
   for (const input of document.querySelectorAll('input[name=style]')) input.onchange = () => { model.setStyle(radio('style')); applyClip(); };
   for (const input of document.querySelectorAll('input[name=shading]')) input.onchange = () => model.setFlatShading(radio('shading') === 'flat');
   $('shadows').onchange = () => scene3d.setShadows($('shadows').checked);
+  $('splats').onchange = () => setSplatMode($('splats').checked);
   for (const id of ['clip-mode', 'clip-axis', 'clip-flip', 'clip-position', 'clip-thickness']) $(id).addEventListener('input', applyClip);
   for (const button of document.querySelectorAll('[data-format]')) {
     const format = button.dataset.format;
@@ -148,6 +184,7 @@ async function start() {
   Object.assign(remesher, { isScan: Boolean(info.scan), budget: info.triangle_budget });
   setUpPanel();
   if (info.scan) setUpScan(info.scan);
+  if (info.scan) $('splat-controls').classList.remove('hidden');
   await remesh();
 }
 

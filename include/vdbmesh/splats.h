@@ -1,0 +1,120 @@
+#pragma once
+/// @file splats.h
+/// @brief The splat hierarchy of a grid's isosurface (seed 004, section 5; QSplat, Rusinkiewicz
+/// and Levoy 2000): what the viewer shows of a model too large to mesh. Built from the grid's
+/// samples alone (no mesh). OpenVDB-free: grids are only declared.
+///
+/// The tree is an octree aligned with the VDB tree. A node of level L covers a cube of
+/// 2^(L+1) voxels: level 0 is the finest (2^3 voxels), level 2 a leaf (8^3), level 6 a
+/// level-1 internal node (128^3), level 11 a level-2 internal node (4096^3); the root
+/// (kSplatRootLevel) joins those. A finest node's splat is the least-squares plane through the
+/// isosurface's crossings of the grid edges inside its cube (closed: crossings on a shared
+/// face belong to both cubes, so neighbouring splats meet), its radius reaching the farthest
+/// crossing. An inner node's splat is the crossing-weighted mean of its children's, its radius
+/// enclosing theirs and its normal cone their cones.
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "vdbmesh/mesher.h"
+#include "vdbmesh/openvdb_fwd.h"
+
+namespace vdbmesh {
+
+class GridRegionSource;
+
+/// The level of the root node (one above the 4096^3 internal nodes).
+inline constexpr std::uint8_t kSplatRootLevel = 12;
+/// The level of a node covering a VDB leaf (8^3 voxels).
+inline constexpr std::uint8_t kSplatLeafLevel = 2;
+
+/// One node of the hierarchy, in the grid's world space.
+struct SplatNode {
+    std::array<float, 3> centre{};
+    float radius = 0;              ///< the disc covers the surface of the whole subtree
+    std::array<float, 3> normal{}; ///< unit, pointing out of the object
+    float cone = 0;                ///< half-angle (radians) of the cone around normal holding every normal below
+    std::uint32_t first_child = 0; ///< index of the first child; the children are contiguous
+    std::uint32_t child_count = 0;
+    std::uint32_t weight = 0;      ///< edge crossings the subtree was fitted to (saturated)
+    std::uint8_t level = 0;
+};
+
+/// A splat hierarchy: nodes in breadth-first order, nodes[0] the root (empty tree: no nodes).
+struct SplatTree {
+    std::vector<SplatNode> nodes;
+    double iso = 0;
+    Inside inside = Inside::above;
+    double tolerance = 0;  ///< SplatOptions::coplanar_tolerance it was built with
+
+    /// Nodes without children (what the finest view shows).
+    std::size_t leaf_count() const;
+};
+
+struct SplatOptions {
+    double iso = 0;                ///< isovalue, in the grid's value units
+    Inside inside = Inside::above;
+    /// Children are dropped where every child's disc lies within this many voxels of their
+    /// parent's plane (and the children have no children of their own); only up to leaf level
+    /// (8^3 voxels), so a collapsed splat never reaches over neighbouring structure. 0: never.
+    double coplanar_tolerance = 0.1;
+};
+
+/// The splat hierarchy of @a grid's isosurface. Samples outside the grid's scan box are
+/// outside the object (the surface closes there, at the edge's midpoint, as the meshers do).
+/// Threaded with TBB; the same tree for any thread count. Throws UsageError on a negative
+/// tolerance.
+SplatTree build_splat_tree(const openvdb::FloatGrid& grid, const SplatOptions& options);
+
+/// The same tree read by region: one 128^3 node at a time (its cells fitted in parallel), so
+/// that only a node's region and the splats are held, never the whole grid.
+SplatTree build_splat_tree(const GridRegionSource& source, const SplatOptions& options);
+
+/// A camera, as the page sends it.
+struct SplatView {
+    /// World to clip space, column-major as WebGL takes it (three.js projectionMatrix times
+    /// matrixWorldInverse).
+    std::array<double, 16> view_projection{};
+    std::array<double, 3> eye{};   ///< the camera's position, for back-face culling by the cones
+    double focal_pixels = 600;     ///< pixels per world unit at clip w = 1 (viewport height / (2 tan(fov / 2)))
+    double pixel_size = 2;         ///< a node is refined while its disc spans more pixels than this
+    std::size_t budget = 200'000;  ///< at most this many nodes
+};
+
+/// What a view shows of a tree.
+struct SplatSelection {
+    std::vector<std::uint32_t> nodes;  ///< ascending node indices, none an ancestor of another
+    std::uint8_t finest_level = kSplatRootLevel;  ///< the lowest level among them
+    /// The highest level among them of a node shown in place of its children (too small on
+    /// screen to refine, or over the budget); -1 when every node shown is childless (the view
+    /// is at the tree's full detail).
+    int cut_level = -1;
+    /// No node was kept coarser than pixel_size for want of budget (the view is at full detail).
+    bool complete = true;
+};
+
+/// The nodes a view needs: from the root down, largest projected disc first, refined while it
+/// spans more than pixel_size and the budget allows; nodes outside the view frustum or whose
+/// normal cone faces wholly away from the eye are left out.
+SplatSelection select_splats(const SplatTree& tree, const SplatView& view);
+
+/// Writes @a tree quantised (12 bytes a node: centres in 16 bits over the tree's bounding
+/// box, radii rounded up so that discs still cover what they covered, octahedral normals in
+/// 16 bits, cones widened by the normals' rounding), through a temporary file renamed over
+/// @a path. Throws Error when it cannot be written.
+void write_splat_file(const SplatTree& tree, const std::filesystem::path& path);
+
+/// Reads a file of write_splat_file(). Throws FormatError naming the file and the field.
+SplatTree read_splat_file(const std::filesystem::path& path);
+
+namespace detail {
+/// The largest angle (radians) between a unit vector and its 16-bit octahedral encoding.
+inline constexpr double kSplatNormalRounding = 0.02;
+/// A unit vector to 8 + 8 bits (octahedral map) and back.
+std::array<std::uint8_t, 2> encode_splat_normal(const std::array<float, 3>& normal);
+std::array<float, 3> decode_splat_normal(const std::array<std::uint8_t, 2>& code);
+}  // namespace detail
+
+}  // namespace vdbmesh

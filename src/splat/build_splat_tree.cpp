@@ -1,0 +1,233 @@
+// The splat tree of a grid: the 8^3 cells fitted in parallel (splat_cell.cpp), merged level by
+// level up to the 4096^3 nodes and the root, then laid out breadth-first in world space.
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <iterator>
+#include <optional>
+#include <tuple>
+#include <utility>
+
+#include "splat/splat_build.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/grid_region.h"
+
+namespace vdbmesh::splat {
+namespace {
+
+constexpr int kCell = 8;
+
+bool z_major(const openvdb::Coord& a, const openvdb::Coord& b) {
+    return std::make_tuple(a.z(), a.y(), a.x()) < std::make_tuple(b.z(), b.y(), b.x());
+}
+
+/// Every 8^3 cell whose closed cube may hold a crossed edge: the leaves, and the cells just
+/// below them on each axis (their cube reaches the leaf's first samples), z-major; only those
+/// whose origin lies in @a within when given.
+std::vector<openvdb::Coord> candidate_cells(const openvdb::FloatGrid& grid, const std::optional<openvdb::CoordBBox>& within) {
+    std::vector<openvdb::Coord> cells;
+    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf)
+        for (int dz = 0; dz <= 1; ++dz)
+            for (int dy = 0; dy <= 1; ++dy)
+                for (int dx = 0; dx <= 1; ++dx) {
+                    const openvdb::Coord cell = leaf->origin() - openvdb::Coord(dx * kCell, dy * kCell, dz * kCell);
+                    if (!within || within->isInside(cell)) cells.push_back(cell);
+                }
+    std::sort(cells.begin(), cells.end(), z_major);
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    return cells;
+}
+
+/// A fitted cell and where it is.
+struct FittedCell {
+    openvdb::Coord origin;
+    CellNodes nodes;
+};
+
+/// Fits @a cells of @a grid in parallel, in their order (so the same for any thread count).
+std::vector<FittedCell> fit_cells(const openvdb::FloatGrid& grid, const std::vector<openvdb::Coord>& cells,
+                                  const SampleRule& rule, double tolerance) {
+    std::vector<FittedCell> fitted(cells.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 64), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i)
+            fitted[i] = FittedCell{cells[i], fit_cell(grid, cells[i], rule, tolerance)};
+    });
+    return fitted;
+}
+
+/// The nodes of every level while they are built; levels[L] holds level L's nodes, each
+/// one's children a range of levels[L - 1].
+using Levels = std::vector<std::vector<BuildNode>>;
+
+/// Levels 0 to 2 from the fitted cells (z-major).
+Levels cell_levels(std::vector<FittedCell>& fitted) {
+    Levels levels(kSplatRootLevel + 1);
+    for (FittedCell& fitted_cell : fitted) {
+        CellNodes& cell = fitted_cell.nodes;
+        if (!cell.leaf) continue;
+        const auto finest_offset = std::uint32_t(levels[0].size()), middle_offset = std::uint32_t(levels[1].size());
+        for (BuildNode& n : cell.middle) n.first_child += finest_offset;
+        if (cell.leaf->child_count != 0) cell.leaf->first_child += middle_offset;
+        levels[0].insert(levels[0].end(), cell.finest.begin(), cell.finest.end());
+        levels[1].insert(levels[1].end(), cell.middle.begin(), cell.middle.end());
+        levels[2].push_back(*cell.leaf);
+        cell = CellNodes{};  // free as we go
+    }
+    return levels;
+}
+
+/// The origin of the level-@a level cube holding @a origin.
+std::array<std::int32_t, 3> parent_origin(const std::array<std::int32_t, 3>& origin, int level) {
+    const std::int32_t mask = ~((std::int32_t(2) << level) - 1);
+    return {origin[0] & mask, origin[1] & mask, origin[2] & mask};
+}
+
+/// Builds levels[level] from levels[level - 1] (reordered so each parent's children are
+/// contiguous, by parent then z-major); the root level takes every node below as a child.
+void merge_up(Levels& levels, int level) {
+    std::vector<BuildNode>& below = levels[level - 1];
+    const bool root = level == kSplatRootLevel;
+    const auto key = [&](const BuildNode& n) {
+        const auto p = root ? std::array<std::int32_t, 3>{} : parent_origin(n.origin, level);
+        return std::make_tuple(p[2], p[1], p[0], n.origin[2], n.origin[1], n.origin[0]);
+    };
+    std::sort(below.begin(), below.end(), [&](const BuildNode& a, const BuildNode& b) { return key(a) < key(b); });
+    for (std::size_t begin = 0; begin < below.size();) {
+        const auto origin = root ? std::array<std::int32_t, 3>{} : parent_origin(below[begin].origin, level);
+        std::size_t end = begin + 1;
+        while (end < below.size() && (root || parent_origin(below[end].origin, level) == origin)) ++end;
+        BuildNode parent = merge_children(&below[begin], std::uint32_t(end - begin), origin);
+        parent.first_child = std::uint32_t(begin);
+        levels[level].push_back(parent);
+        begin = end;
+    }
+}
+
+/// The node in the grid's world space (normals by the inverse transpose of the index-to-world
+/// map; radii by its largest voxel edge).
+SplatNode to_world(const BuildNode& n, const openvdb::math::Transform& transform, double voxel, std::uint8_t level) {
+    const openvdb::Vec3d centre = transform.indexToWorld(openvdb::Vec3d(n.centre[0], n.centre[1], n.centre[2]));
+    openvdb::Vec3d normal = transform.baseMap()->applyIJT(openvdb::Vec3d(n.normal[0], n.normal[1], n.normal[2]));
+    normal.normalize();
+    SplatNode out;
+    out.centre = {float(centre.x()), float(centre.y()), float(centre.z())};
+    out.normal = {float(normal.x()), float(normal.y()), float(normal.z())};
+    out.radius = static_cast<float>(n.radius * voxel);
+    out.cone = n.cone;
+    out.weight = n.weight;
+    out.level = level;
+    return out;
+}
+
+/// The nodes breadth-first from the root, each node's children contiguous.
+std::vector<SplatNode> breadth_first(const Levels& levels, const openvdb::math::Transform& transform) {
+    std::vector<SplatNode> nodes;
+    if (levels[kSplatRootLevel].empty()) return nodes;
+    const openvdb::Vec3d voxel_size = transform.voxelSize();
+    const double voxel = std::max({voxel_size.x(), voxel_size.y(), voxel_size.z()});
+    std::deque<std::pair<int, std::uint32_t>> queue{{kSplatRootLevel, 0}};
+    nodes.push_back(to_world(levels[kSplatRootLevel][0], transform, voxel, kSplatRootLevel));
+    for (std::size_t out = 0; !queue.empty(); ++out) {
+        const auto [level, index] = queue.front();
+        queue.pop_front();
+        const BuildNode& n = levels[level][index];
+        nodes[out].first_child = std::uint32_t(nodes.size());
+        nodes[out].child_count = n.child_count;
+        for (std::uint32_t c = 0; c < n.child_count; ++c) {
+            queue.emplace_back(level - 1, n.first_child + c);
+            nodes.push_back(to_world(levels[level - 1][n.first_child + c], transform, voxel, std::uint8_t(level - 1)));
+        }
+    }
+    return nodes;
+}
+
+}  // namespace
+}  // namespace vdbmesh::splat
+
+namespace vdbmesh {
+
+std::size_t SplatTree::leaf_count() const {
+    return std::size_t(std::count_if(nodes.begin(), nodes.end(), [](const SplatNode& n) { return n.child_count == 0; }));
+}
+
+namespace splat {
+namespace {
+
+SampleRule sample_rule(const openvdb::FloatGrid& grid, const SplatOptions& options) {
+    if (!(options.coplanar_tolerance >= 0))
+        throw UsageError("splat tolerance: expected >= 0 voxels, got " + std::to_string(options.coplanar_tolerance));
+    SampleRule rule;
+    rule.iso = options.iso;
+    rule.inside_above = options.inside == Inside::above;
+    rule.scan_box = stored_scan_box(grid);
+    return rule;
+}
+
+/// The tree from the fitted cells of the whole grid (z-major).
+SplatTree assemble(std::vector<FittedCell>& fitted, const openvdb::math::Transform& transform, const SplatOptions& options) {
+    Levels levels = cell_levels(fitted);
+    fitted = {};
+    for (int level = kSplatLeafLevel + 1; level <= kSplatRootLevel; ++level)
+        if (!levels[level - 1].empty()) merge_up(levels, level);
+    SplatTree tree;
+    tree.nodes = breadth_first(levels, transform);
+    tree.iso = options.iso;
+    tree.inside = options.inside;
+    tree.tolerance = options.coplanar_tolerance;
+    return tree;
+}
+
+/// The 128^3 nodes whose cells may hold crossings: those holding active values and the ones
+/// just below them on each axis (their cells reach the first samples of the node above).
+std::vector<openvdb::Coord> candidate_nodes(const GridRegionSource& source) {
+    std::vector<openvdb::Coord> nodes;
+    for (const NodeWeight& node : source.nodes())
+        for (int dz = 0; dz <= 1; ++dz)
+            for (int dy = 0; dy <= 1; ++dy)
+                for (int dx = 0; dx <= 1; ++dx)
+                    nodes.push_back(openvdb::Coord(node.origin[0] - dx * kNodeVoxels, node.origin[1] - dy * kNodeVoxels,
+                                                   node.origin[2] - dz * kNodeVoxels));
+    std::sort(nodes.begin(), nodes.end(), z_major);
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    return nodes;
+}
+
+}  // namespace
+}  // namespace splat
+
+SplatTree build_splat_tree(const openvdb::FloatGrid& grid, const SplatOptions& options) {
+    const splat::SampleRule rule = splat::sample_rule(grid, options);
+    std::vector<splat::FittedCell> fitted =
+        splat::fit_cells(grid, splat::candidate_cells(grid, std::nullopt), rule, options.coplanar_tolerance);
+    return splat::assemble(fitted, grid.transform(), options);
+}
+
+SplatTree build_splat_tree(const GridRegionSource& source, const SplatOptions& options) {
+    const auto description = source.description();
+    const splat::SampleRule rule = splat::sample_rule(*description, options);
+    const std::vector<openvdb::Coord> nodes = splat::candidate_nodes(source);
+    // One node at a time (each fitted in parallel): a region holds the node's cells, their
+    // closed cubes and one sample beyond for gradients, and the leaves just above whose
+    // cells below lie in the node.
+    std::vector<splat::FittedCell> fitted;
+    for (const openvdb::Coord& node : nodes) {
+        const openvdb::CoordBBox cells_box(node, node.offsetBy(kNodeVoxels - 1));
+        IndexBox box;
+        for (int a = 0; a < 3; ++a) {
+            box.min[a] = node[a] - 1;
+            box.max[a] = node[a] + kNodeVoxels + splat::kCell + 2;
+        }
+        const auto region = source.read(box);
+        std::vector<splat::FittedCell> node_cells =
+            splat::fit_cells(*region, splat::candidate_cells(*region, cells_box), rule, options.coplanar_tolerance);
+        std::move(node_cells.begin(), node_cells.end(), std::back_inserter(fitted));
+    }
+    std::sort(fitted.begin(), fitted.end(), [](const auto& a, const auto& b) { return splat::z_major(a.origin, b.origin); });
+    return splat::assemble(fitted, description->transform(), options);
+}
+
+}  // namespace vdbmesh

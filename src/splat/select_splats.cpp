@@ -1,0 +1,120 @@
+// The nodes of a splat tree a camera needs (QSplat's traversal by projected size, with
+// frustum and normal-cone culling), largest first under a budget.
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <utility>
+
+#include "vdbmesh/splats.h"
+
+namespace vdbmesh {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+using Vec3 = std::array<double, 3>;
+
+Vec3 vec(const std::array<float, 3>& a) { return {a[0], a[1], a[2]}; }
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double length(const Vec3& a) { return std::sqrt(dot(a, a)); }
+
+/// The six planes of the view frustum (Gribb and Hartmann), normalised, pointing inwards:
+/// a point p is inside when dot(n, p) + d >= 0 for all.
+std::array<std::array<double, 4>, 6> frustum_planes(const std::array<double, 16>& m) {
+    const auto row = [&](int r) { return std::array<double, 4>{m[r], m[4 + r], m[8 + r], m[12 + r]}; };
+    const auto w = row(3);
+    std::array<std::array<double, 4>, 6> planes{};
+    for (int axis = 0; axis < 3; ++axis) {
+        const auto r = row(axis);
+        for (int i = 0; i < 4; ++i) {
+            planes[2 * axis][i] = w[i] + r[i];
+            planes[2 * axis + 1][i] = w[i] - r[i];
+        }
+    }
+    for (auto& p : planes) {
+        const double n = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+        if (n > 0)
+            for (double& x : p) x /= n;
+    }
+    return planes;
+}
+
+class Traversal {
+public:
+    Traversal(const SplatTree& tree, const SplatView& view) : tree_(tree), view_(view), planes_(frustum_planes(view.view_projection)) {}
+
+    SplatSelection run() {
+        SplatSelection selection;
+        if (tree_.nodes.empty()) return selection;
+        if (visible(tree_.nodes[0])) push(0);
+        std::size_t shown = 0;  // nodes kept so far; the queue's nodes are shown too if the traversal stops
+        while (!queue_.empty()) {
+            const auto [size, index] = queue_.top();
+            queue_.pop();
+            const SplatNode& node = tree_.nodes[index];
+            const bool wants_children = node.child_count != 0 && size > view_.pixel_size;
+            const std::size_t visible_children = wants_children ? count_visible(node) : 0;
+            if (wants_children && visible_children == 0) continue;  // its sphere peeks in, its surface does not
+            const bool refine = wants_children && shown + queue_.size() + visible_children <= view_.budget;
+            if (!refine) {
+                if (wants_children) selection.complete = false;
+                selection.nodes.push_back(index);
+                selection.finest_level = std::min(selection.finest_level, node.level);
+                if (node.child_count != 0) selection.cut_level = std::max(selection.cut_level, int(node.level));
+                ++shown;
+                continue;
+            }
+            for (std::uint32_t c = node.first_child; c < node.first_child + node.child_count; ++c)
+                if (visible(tree_.nodes[c])) push(c);
+        }
+        std::sort(selection.nodes.begin(), selection.nodes.end());
+        return selection;
+    }
+
+private:
+    /// The disc's diameter on screen in pixels (unbounded when the eye is inside its sphere).
+    double projected_size(const SplatNode& node) const {
+        const auto& m = view_.view_projection;
+        const double w = m[3] * node.centre[0] + m[7] * node.centre[1] + m[11] * node.centre[2] + m[15];
+        if (w <= node.radius) return INFINITY;
+        return 2 * node.radius * view_.focal_pixels / w;
+    }
+
+    bool in_frustum(const SplatNode& node) const {
+        for (const auto& p : planes_)
+            if (p[0] * node.centre[0] + p[1] * node.centre[1] + p[2] * node.centre[2] + p[3] < -node.radius) return false;
+        return true;
+    }
+
+    /// Whether some normal of the cone may face some point of the node's sphere towards the eye.
+    bool may_face_eye(const SplatNode& node) const {
+        const Vec3 to_eye{view_.eye[0] - node.centre[0], view_.eye[1] - node.centre[1], view_.eye[2] - node.centre[2]};
+        const double distance = length(to_eye);
+        if (distance <= node.radius || node.cone >= kPi / 2) return true;
+        const double angle = std::acos(std::clamp(dot(vec(node.normal), to_eye) / distance, -1.0, 1.0));
+        return angle <= kPi / 2 + node.cone + std::asin(node.radius / distance);
+    }
+
+    bool visible(const SplatNode& node) const { return in_frustum(node) && may_face_eye(node); }
+
+    std::size_t count_visible(const SplatNode& node) const {
+        std::size_t count = 0;
+        for (std::uint32_t c = node.first_child; c < node.first_child + node.child_count; ++c) count += visible(tree_.nodes[c]);
+        return count;
+    }
+
+    void push(std::uint32_t index) { queue_.emplace(projected_size(tree_.nodes[index]), index); }
+
+    const SplatTree& tree_;
+    const SplatView& view_;
+    const std::array<std::array<double, 4>, 6> planes_;
+    /// Largest first; equal sizes by the larger index (deterministic either way).
+    std::priority_queue<std::pair<double, std::uint32_t>> queue_;
+};
+
+}  // namespace
+
+SplatSelection select_splats(const SplatTree& tree, const SplatView& view) { return Traversal(tree, view).run(); }
+
+}  // namespace vdbmesh

@@ -1,0 +1,58 @@
+#pragma once
+// Private: the nodes of a splat tree while it is built, in the grid's index space, and the
+// two steps that make them: fitting the finest nodes of one 8^3 cell to its edge crossings
+// (splat_cell.cpp) and merging children into their parent (splat_merge.cpp).
+
+#include <openvdb/openvdb.h>
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "vdbmesh/splats.h"
+
+namespace vdbmesh::splat {
+
+/// A node under construction; children are a range of the level below's node vector.
+struct BuildNode {
+    std::array<float, 3> centre{};
+    std::array<float, 3> normal{};
+    float radius = 0;
+    float cone = 0;
+    std::uint32_t weight = 0;              ///< edge crossings below (saturated)
+    std::array<std::int32_t, 3> origin{};  ///< min corner of the node's cube (index space)
+    std::uint32_t first_child = 0;
+    std::uint32_t child_count = 0;
+};
+
+/// How samples are read: which side is inside, and the scan box outside which every sample
+/// is outside the object.
+struct SampleRule {
+    double iso = 0;
+    bool inside_above = true;
+    std::optional<openvdb::CoordBBox> scan_box;
+};
+
+/// The nodes of one 8^3 cell (levels 0, 1 and 2), the children of each level contiguous and
+/// referring to the level below's vector. Empty when no edge in the cell's closed cube is crossed.
+struct CellNodes {
+    std::vector<BuildNode> finest;  ///< level 0
+    std::vector<BuildNode> middle;  ///< level 1
+    std::optional<BuildNode> leaf;  ///< level 2
+};
+
+/// Fits the cell of origin @a origin (a multiple of 8) and merges it up to level 2,
+/// collapsing coplanar children within @a tolerance voxels.
+CellNodes fit_cell(const openvdb::FloatGrid& grid, const openvdb::Coord& origin, const SampleRule& rule,
+                   double tolerance);
+
+/// The parent of @a count nodes at @a children: their crossing-weighted mean centre and normal,
+/// a radius enclosing their discs, a cone enclosing their cones. first_child is left 0.
+BuildNode merge_children(const BuildNode* children, std::uint32_t count, const std::array<std::int32_t, 3>& origin);
+
+/// Whether @a parent may stand for its @a children: all childless and every child's disc within
+/// @a tolerance voxels of the parent's plane.
+bool coplanar_within(const BuildNode& parent, const BuildNode* children, std::uint32_t count, double tolerance);
+
+}  // namespace vdbmesh::splat

@@ -1,0 +1,238 @@
+// The finest splats of one 8^3 cell: the isosurface's crossings of the grid edges in each
+// 2^3-voxel cube, fitted by least squares (the plane of least squared distances, from the
+// crossings' covariance), then merged up to the cell (levels 1 and 2).
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+
+#include "splat/splat_build.h"
+
+namespace vdbmesh::splat {
+namespace {
+
+constexpr int kCell = 8;             // voxels per cell edge (a VDB leaf)
+constexpr int kFine = 2;             // voxels per finest cube edge
+constexpr int kPad = kCell + 3;      // samples read per axis: one beyond each side for gradients
+constexpr double kCrossingMargin = 1e-3;  // as the meshers: no crossing on a sample
+
+struct Crossing {
+    Eigen::Vector3d point;    // index space
+    Eigen::Vector3d outward;  // the field's gradient, turned to point out of the object
+};
+
+/// The samples of the cube [origin - 1, origin + 9]^3, and whether each is inside.
+class CellSamples {
+public:
+    CellSamples(const openvdb::FloatGrid& grid, const openvdb::Coord& origin, const SampleRule& rule)
+        : rule_(rule), origin_(origin.x(), origin.y(), origin.z()) {
+        const auto accessor = grid.getConstAccessor();
+        for (int z = 0; z < kPad; ++z)
+            for (int y = 0; y < kPad; ++y)
+                for (int x = 0; x < kPad; ++x) {
+                    const openvdb::Coord c = origin + openvdb::Coord(x - 1, y - 1, z - 1);
+                    const std::size_t i = index(x, y, z);
+                    in_scan_[i] = !rule.scan_box || rule.scan_box->isInside(c);
+                    value_[i] = accessor.getValue(c);
+                    inside_[i] = in_scan_[i] && (rule.inside_above ? value_[i] > rule.iso : value_[i] < rule.iso);
+                    const bool in_cube = x >= 1 && y >= 1 && z >= 1 && x <= kCell + 1 && y <= kCell + 1 && z <= kCell + 1;
+                    if (in_cube) (inside_[i] ? any_inside_ : any_outside_) = true;
+                }
+    }
+
+    /// Whether the closed cube has samples on both sides (else no edge in it is crossed).
+    bool straddles() const { return any_inside_ && any_outside_; }
+
+    /// Padded coordinates (0 is origin - 1).
+    static std::size_t index(int x, int y, int z) { return (static_cast<std::size_t>(z) * kPad + y) * kPad + x; }
+    bool inside(std::size_t i) const { return inside_[i]; }
+
+    /// The crossing on the edge from padded sample @a p along @a axis, as the meshers place it.
+    Crossing crossing(const std::array<int, 3>& p, int axis) const {
+        std::array<int, 3> q = p;
+        ++q[axis];
+        const std::size_t a = index(p[0], p[1], p[2]), b = index(q[0], q[1], q[2]);
+        double t = 0.5;  // an end outside the scan box: the surface closes at the midpoint
+        if (in_scan_[a] && in_scan_[b])
+            t = std::clamp((rule_.iso - value_[a]) / (double(value_[b]) - value_[a]), kCrossingMargin, 1 - kCrossingMargin);
+        Crossing c;
+        c.point = origin_ + Eigen::Vector3d(p[0] - 1, p[1] - 1, p[2] - 1);
+        c.point[axis] += t;
+        const Eigen::Vector3d gradient = (1 - t) * gradient_at(p) + t * gradient_at(q);
+        c.outward = rule_.inside_above ? -gradient : gradient;
+        return c;
+    }
+
+private:
+    /// Central differences (one-sided at the padding's faces).
+    Eigen::Vector3d gradient_at(const std::array<int, 3>& p) const {
+        Eigen::Vector3d g;
+        for (int axis = 0; axis < 3; ++axis) {
+            std::array<int, 3> lo = p, hi = p;
+            lo[axis] = std::max(p[axis] - 1, 0);
+            hi[axis] = std::min(p[axis] + 1, kPad - 1);
+            g[axis] = (sample(hi) - sample(lo)) / (hi[axis] - lo[axis]);
+        }
+        return g;
+    }
+
+    /// A sample's value for gradients: outside the scan box, one unit on the outside side.
+    double sample(const std::array<int, 3>& p) const {
+        const std::size_t i = index(p[0], p[1], p[2]);
+        if (in_scan_[i]) return value_[i];
+        return rule_.inside_above ? rule_.iso - 1 : rule_.iso + 1;
+    }
+
+    const SampleRule& rule_;
+    Eigen::Vector3d origin_;
+    bool any_inside_ = false, any_outside_ = false;
+    std::array<float, kPad * kPad * kPad> value_{};
+    std::array<bool, kPad * kPad * kPad> inside_{};
+    std::array<bool, kPad * kPad * kPad> in_scan_{};
+};
+
+/// The crossings of the closed 8^3 cube, and for each finest (2^3) cube the crossings in
+/// its closed cube: an edge on a face or line shared by finest cubes belongs to each.
+struct CellCrossings {
+    static constexpr int kCubes = kCell / kFine;
+    std::vector<Crossing> all;
+    std::array<std::vector<std::uint16_t>, kCubes * kCubes * kCubes> by_cube;
+};
+
+/// The finest cubes along one axis holding local sample coordinate @a l (0..8): l / 2, and the
+/// cube below too when l is on a shared face.
+int cubes_holding(int l, std::array<int, 2>& out) {
+    int n = 0;
+    if (l < kCell) out[n++] = l / kFine;
+    if (l % kFine == 0 && l > 0) out[n++] = l / kFine - 1;
+    return n;
+}
+
+/// Every crossed edge with both ends in the closed cube [origin, origin + 8]^3.
+void cell_crossings(const CellSamples& samples, CellCrossings& crossings) {
+    if (!samples.straddles()) return;
+    constexpr std::size_t kStride[3] = {1, kPad, kPad * kPad};
+    for (int z = 1; z <= kCell + 1; ++z)
+        for (int y = 1; y <= kCell + 1; ++y)
+            for (int x = 1; x <= kCell + 1; ++x) {
+                const std::size_t i = CellSamples::index(x, y, z);
+                const bool inside = samples.inside(i);
+                const int p_axis[3] = {x, y, z};
+                for (int axis = 0; axis < 3; ++axis) {
+                    if (p_axis[axis] == kCell + 1 || samples.inside(i + kStride[axis]) == inside) continue;
+                    const std::array<int, 3> p{x, y, z};
+                    const auto index = static_cast<std::uint16_t>(crossings.all.size());
+                    crossings.all.push_back(samples.crossing(p, axis));
+                    std::array<std::array<int, 2>, 3> cubes{};
+                    std::array<int, 3> count{};
+                    for (int a = 0; a < 3; ++a) {
+                        if (a == axis) {
+                            cubes[a][0] = (p[a] - 1) / kFine;
+                            count[a] = 1;
+                        } else {
+                            count[a] = cubes_holding(p[a] - 1, cubes[a]);
+                        }
+                    }
+                    constexpr int n = CellCrossings::kCubes;
+                    for (int i = 0; i < count[0]; ++i)
+                        for (int j = 0; j < count[1]; ++j)
+                            for (int k = 0; k < count[2]; ++k)
+                                crossings.by_cube[(cubes[2][k] * n + cubes[1][j]) * n + cubes[0][i]].push_back(index);
+                }
+            }
+}
+
+std::array<float, 3> floats(const Eigen::Vector3d& v) {
+    return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
+}
+
+/// The least-squares splat of @a points (at least one): centre their mean, normal the
+/// direction of least variance, oriented by the gradients (their sum alone where the points
+/// do not span a plane), radius reaching the farthest point.
+BuildNode fit_splat(const std::vector<const Crossing*>& points, const std::array<std::int32_t, 3>& origin) {
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero(), outward = Eigen::Vector3d::Zero();
+    for (const Crossing* c : points) {
+        centre += c->point;
+        outward += c->outward.normalized();
+    }
+    centre /= double(points.size());
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+    for (const Crossing* c : points) covariance += (c->point - centre) * (c->point - centre).transpose();
+    Eigen::Vector3d normal = outward.norm() > 0 ? outward.normalized() : Eigen::Vector3d::UnitZ();
+    if (points.size() >= 3) {
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+        // A plane needs two directions of spread; collinear crossings keep the gradient.
+        if (eigen.eigenvalues()[1] > 1e-6 * (1 + eigen.eigenvalues()[2])) {
+            const Eigen::Vector3d least = eigen.eigenvectors().col(0);
+            normal = least.dot(outward) < 0 ? -least : least;
+        }
+    }
+    double radius = 0;
+    for (const Crossing* c : points) radius = std::max(radius, (c->point - centre).norm());
+    BuildNode node;
+    node.centre = floats(centre);
+    node.normal = floats(normal);
+    node.radius = static_cast<float>(radius * (1 + 1e-6) + 1e-6);  // float centre: stay covering
+    node.weight = static_cast<std::uint32_t>(points.size());
+    node.origin = origin;
+    return node;
+}
+
+/// Merges the nodes of @a below (cubes of size/2, z-major) into cubes of @a size inside the cell;
+/// children collapsed into a coplanar parent are dropped from @a below.
+std::vector<BuildNode> merge_level(std::vector<BuildNode>& below, const std::array<std::int32_t, 3>& cell, int size,
+                                   double tolerance) {
+    std::vector<BuildNode> kept, parents;
+    for (int z = 0; z < kCell; z += size)
+        for (int y = 0; y < kCell; y += size)
+            for (int x = 0; x < kCell; x += size) {
+                const std::array<std::int32_t, 3> origin{cell[0] + x, cell[1] + y, cell[2] + z};
+                std::vector<BuildNode> children;
+                for (const BuildNode& n : below)
+                    if (n.origin[0] - origin[0] >= 0 && n.origin[0] - origin[0] < size && n.origin[1] - origin[1] >= 0 &&
+                        n.origin[1] - origin[1] < size && n.origin[2] - origin[2] >= 0 && n.origin[2] - origin[2] < size)
+                        children.push_back(n);
+                if (children.empty()) continue;
+                BuildNode parent = merge_children(children.data(), std::uint32_t(children.size()), origin);
+                if (coplanar_within(parent, children.data(), parent.child_count, tolerance)) {
+                    parent.child_count = 0;
+                } else {
+                    parent.first_child = std::uint32_t(kept.size());
+                    kept.insert(kept.end(), children.begin(), children.end());
+                }
+                parents.push_back(parent);
+            }
+    below = std::move(kept);
+    return parents;
+}
+
+}  // namespace
+
+CellNodes fit_cell(const openvdb::FloatGrid& grid, const openvdb::Coord& origin, const SampleRule& rule,
+                   double tolerance) {
+    const CellSamples samples(grid, origin, rule);
+    CellCrossings crossings;
+    cell_crossings(samples, crossings);
+    CellNodes nodes;
+    if (crossings.all.empty()) return nodes;
+    const std::array<std::int32_t, 3> cell{origin.x(), origin.y(), origin.z()};
+    std::vector<const Crossing*> points;
+    for (int z = 0; z < kCell; z += kFine)
+        for (int y = 0; y < kCell; y += kFine)
+            for (int x = 0; x < kCell; x += kFine) {
+                constexpr int n = CellCrossings::kCubes;
+                const auto& indices = crossings.by_cube[((z / kFine) * n + y / kFine) * n + x / kFine];
+                if (indices.empty()) continue;
+                points.clear();
+                for (std::uint16_t i : indices) points.push_back(&crossings.all[i]);
+                nodes.finest.push_back(fit_splat(points, {cell[0] + x, cell[1] + y, cell[2] + z}));
+            }
+    nodes.middle = merge_level(nodes.finest, cell, 2 * kFine, tolerance);
+    std::vector<BuildNode> leaf = merge_level(nodes.middle, cell, kCell, tolerance);
+    nodes.leaf = leaf.front();
+    return nodes;
+}
+
+}  // namespace vdbmesh::splat

@@ -1,0 +1,200 @@
+// The splat tree's file: a header, then 12 bytes a node in breadth-first order (little-endian).
+//
+//   header  "VDBSPLT1", u32 node count, u32 the root's child count, f32 x 3 box minimum,
+//           f32 box extent, f64 isovalue, u8 inside (0 above, 1 below), f32 tolerance
+//   node    u16 x 3 centre (65535 steps over the box's extent), u16 radius (steps of twice
+//           that, rounded up and widened by the centre's rounding), u8 x 2 octahedral normal,
+//           u8 cone (steps of pi / 255, rounded up and widened by the normals' rounding),
+//           u8 child count (the root's is in the header)
+//
+// The levels follow from the order (the root's children are level 11, each child one below
+// its parent); weights are not kept.
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include "vdbmesh/atomic_file.h"
+#include "vdbmesh/error.h"
+#include "vdbmesh/splats.h"
+
+namespace vdbmesh {
+namespace {
+
+constexpr char kMagic[8] = {'V', 'D', 'B', 'S', 'P', 'L', 'T', '1'};
+constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 12 + 4 + 8 + 1 + 4;
+constexpr std::size_t kNodeBytes = 12;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kSteps = 65535;
+
+template <typename T>
+void put(std::string& out, T value) {
+    char bytes[sizeof(T)];
+    std::memcpy(bytes, &value, sizeof(T));
+    out.append(bytes, sizeof(T));
+}
+
+template <typename T>
+T get(const std::string& in, std::size_t& at) {
+    T value;
+    std::memcpy(&value, in.data() + at, sizeof(T));
+    at += sizeof(T);
+    return value;
+}
+
+/// The box the centres are quantised over: its minimum and its largest edge.
+struct QuantBox {
+    std::array<float, 3> min{};
+    float extent = 1;
+    double step() const { return extent / kSteps; }
+};
+
+QuantBox centre_box(const std::vector<SplatNode>& nodes) {
+    QuantBox box;
+    if (nodes.empty()) return box;
+    std::array<float, 3> lo = nodes[0].centre, hi = nodes[0].centre;
+    for (const SplatNode& n : nodes)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], n.centre[a]);
+            hi[a] = std::max(hi[a], n.centre[a]);
+        }
+    box.min = lo;
+    box.extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-6f});
+    return box;
+}
+
+/// A whole number of steps (already rounded) as 16 bits.
+std::uint16_t steps16(double steps) { return static_cast<std::uint16_t>(std::clamp(steps, 0.0, kSteps)); }
+
+void put_node(std::string& out, const SplatNode& n, const QuantBox& box) {
+    const double step = box.step();
+    for (int a = 0; a < 3; ++a) put(out, steps16(std::round((n.centre[a] - box.min[a]) / step)));
+    // Rounded centres move by up to half a step on each axis: the radius grows by that much.
+    put(out, steps16(std::ceil((n.radius + step * std::sqrt(3.0) / 2) / (2 * step))));
+    const auto code = detail::encode_splat_normal(n.normal);
+    put(out, code[0]);
+    put(out, code[1]);
+    const double cone = std::ceil((n.cone + 2 * detail::kSplatNormalRounding) / (kPi / 255));
+    put(out, static_cast<std::uint8_t>(std::min(cone, 255.0)));
+    put(out, static_cast<std::uint8_t>(std::min<std::uint32_t>(n.child_count, 255)));
+}
+
+std::string read_all(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(path.string() + ": cannot open for reading");
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// Sets each node's first child, child count (the root's from the header) and level from the
+/// breadth-first order; throws when the counts do not add up to the nodes.
+void link_children(std::vector<SplatNode>& nodes, std::uint32_t root_children, const std::string& file) {
+    nodes[0].child_count = root_children;
+    nodes[0].level = kSplatRootLevel;
+    std::uint64_t next = 1;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        SplatNode& n = nodes[i];
+        if (i >= next) throw FormatError(file, "node " + std::to_string(i), "a child of an earlier node", "none");
+        if (n.child_count != 0 && n.level == 0)
+            throw FormatError(file, "node " + std::to_string(i) + " child count", "0 at level 0", std::to_string(n.child_count));
+        n.first_child = static_cast<std::uint32_t>(next);
+        next += n.child_count;
+        if (next > nodes.size())
+            throw FormatError(file, "node " + std::to_string(i) + " child count", "children within the " +
+                              std::to_string(nodes.size()) + " nodes", std::to_string(n.child_count));
+        for (std::uint32_t c = 0; c < n.child_count; ++c) nodes[n.first_child + c].level = std::uint8_t(n.level - 1);
+    }
+    if (next != nodes.size())
+        throw FormatError(file, "child counts", "a total of " + std::to_string(nodes.size() - 1), std::to_string(next - 1));
+}
+
+}  // namespace
+
+namespace detail {
+
+std::array<std::uint8_t, 2> encode_splat_normal(const std::array<float, 3>& normal) {
+    const double l1 = std::abs(normal[0]) + std::abs(normal[1]) + std::abs(normal[2]);
+    double u = l1 > 0 ? normal[0] / l1 : 0, v = l1 > 0 ? normal[1] / l1 : 0;
+    if (normal[2] < 0) {
+        const double fu = (1 - std::abs(v)) * (u >= 0 ? 1 : -1), fv = (1 - std::abs(u)) * (v >= 0 ? 1 : -1);
+        u = fu;
+        v = fv;
+    }
+    const auto byte = [](double x) { return static_cast<std::uint8_t>(std::lround((x + 1) * 127.5)); };
+    return {byte(u), byte(v)};
+}
+
+std::array<float, 3> decode_splat_normal(const std::array<std::uint8_t, 2>& code) {
+    double u = code[0] / 127.5 - 1, v = code[1] / 127.5 - 1;
+    const double z = 1 - std::abs(u) - std::abs(v);
+    if (z < 0) {
+        const double fu = (1 - std::abs(v)) * (u >= 0 ? 1 : -1), fv = (1 - std::abs(u)) * (v >= 0 ? 1 : -1);
+        u = fu;
+        v = fv;
+    }
+    const double length = std::sqrt(u * u + v * v + z * z);
+    return {float(u / length), float(v / length), float(z / length)};
+}
+
+}  // namespace detail
+
+void write_splat_file(const SplatTree& tree, const std::filesystem::path& path) {
+    const QuantBox box = centre_box(tree.nodes);
+    std::string out;
+    out.reserve(kHeaderBytes + kNodeBytes * tree.nodes.size());
+    out.append(kMagic, sizeof(kMagic));
+    put(out, static_cast<std::uint32_t>(tree.nodes.size()));
+    put(out, static_cast<std::uint32_t>(tree.nodes.empty() ? 0 : tree.nodes[0].child_count));
+    for (float m : box.min) put(out, m);
+    put(out, box.extent);
+    put(out, tree.iso);
+    put(out, static_cast<std::uint8_t>(tree.inside == Inside::below));
+    put(out, static_cast<float>(tree.tolerance));
+    for (const SplatNode& n : tree.nodes) put_node(out, n, box);
+    AtomicFile file(path);
+    std::ofstream stream(file.temp_path(), std::ios::binary);
+    stream.write(out.data(), std::streamsize(out.size()));
+    stream.close();
+    if (!stream) throw Error(path.string() + ": cannot write the splat file");
+    file.commit();
+}
+
+SplatTree read_splat_file(const std::filesystem::path& path) {
+    const std::string file = path.string();
+    const std::string in = read_all(path);
+    if (in.size() < kHeaderBytes || std::memcmp(in.data(), kMagic, sizeof(kMagic)) != 0)
+        throw FormatError(file, "header", "a splat file starting with VDBSPLT1", in.size() < kHeaderBytes ? "a shorter file" : "other bytes");
+    std::size_t at = sizeof(kMagic);
+    const auto count = get<std::uint32_t>(in, at);
+    const auto root_children = get<std::uint32_t>(in, at);
+    if (in.size() != kHeaderBytes + kNodeBytes * std::uint64_t(count))
+        throw FormatError(file, "size", std::to_string(kHeaderBytes + kNodeBytes * std::uint64_t(count)) + " bytes for " +
+                          std::to_string(count) + " nodes", std::to_string(in.size()));
+    QuantBox box;
+    for (float& m : box.min) m = get<float>(in, at);
+    box.extent = get<float>(in, at);
+    SplatTree tree;
+    tree.iso = get<double>(in, at);
+    const auto inside = get<std::uint8_t>(in, at);
+    if (inside > 1) throw FormatError(file, "inside", "0 or 1", std::to_string(inside));
+    tree.inside = inside ? Inside::below : Inside::above;
+    tree.tolerance = get<float>(in, at);
+    if (!(box.extent > 0)) throw FormatError(file, "box extent", "> 0", std::to_string(box.extent));
+    tree.nodes.resize(count);
+    const double step = box.step();
+    for (SplatNode& n : tree.nodes) {
+        for (int a = 0; a < 3; ++a) n.centre[a] = static_cast<float>(box.min[a] + get<std::uint16_t>(in, at) * step);
+        n.radius = static_cast<float>(get<std::uint16_t>(in, at) * 2 * step);
+        std::array<std::uint8_t, 2> code{};
+        code[0] = get<std::uint8_t>(in, at);
+        code[1] = get<std::uint8_t>(in, at);
+        n.normal = detail::decode_splat_normal(code);
+        n.cone = static_cast<float>(get<std::uint8_t>(in, at) * kPi / 255);
+        n.child_count = get<std::uint8_t>(in, at);
+    }
+    if (count != 0) link_children(tree.nodes, root_children, file);
+    return tree;
+}
+
+}  // namespace vdbmesh

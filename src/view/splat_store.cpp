@@ -1,0 +1,86 @@
+#include "view/splat_store.h"
+
+#include <chrono>
+#include <cstring>
+#include <sstream>
+
+#include "vdbmesh/error.h"
+
+namespace vdbmesh::view {
+namespace {
+
+/// The comma-separated numbers of @a parameter, exactly @a count of them.
+template <std::size_t count>
+std::array<double, count> numbers(const ParamLookup& param, const std::string& parameter) {
+    const auto text = param(parameter);
+    if (!text) throw UsageError(parameter + ": expected " + std::to_string(count) + " comma-separated numbers, got nothing");
+    std::array<double, count> values{};
+    std::stringstream in(*text);
+    std::string item;
+    std::size_t n = 0;
+    while (std::getline(in, item, ',')) {
+        if (n == count) break;
+        values[n++] = number_param(parameter, item);
+    }
+    if (n != count || in.good())
+        throw UsageError(parameter + ": expected " + std::to_string(count) + " comma-separated numbers, got \"" + *text + "\"");
+    return values;
+}
+
+double positive(const ParamLookup& param, const std::string& parameter, double fallback) {
+    const auto text = param(parameter);
+    if (!text) return fallback;
+    const double value = number_param(parameter, *text);
+    if (!(value > 0)) throw UsageError(parameter + ": expected a number > 0, got \"" + *text + "\"");
+    return value;
+}
+
+void put_floats(std::string& out, std::initializer_list<float> values) {
+    for (float v : values) {
+        char bytes[4];
+        std::memcpy(bytes, &v, 4);
+        out.append(bytes, 4);
+    }
+}
+
+}  // namespace
+
+SplatRequest parse_splat_request(const ParamLookup& param, double default_iso) {
+    SplatRequest request;
+    request.iso = default_iso;
+    if (auto iso = param("iso")) request.iso = number_param("iso", *iso);
+    request.view.view_projection = numbers<16>(param, "vp");
+    request.view.eye = numbers<3>(param, "eye");
+    request.view.focal_pixels = positive(param, "focal", request.view.focal_pixels);
+    request.view.pixel_size = positive(param, "pixel", request.view.pixel_size);
+    request.view.budget = std::size_t(positive(param, "budget", double(request.view.budget)));
+    return request;
+}
+
+std::string splat_buffers(const SplatTree& tree, const SplatSelection& selection) {
+    std::string out;
+    out.reserve(28 * selection.nodes.size());
+    for (std::uint32_t i : selection.nodes) {
+        const SplatNode& n = tree.nodes[i];
+        put_floats(out, {n.centre[0], n.centre[1], n.centre[2], n.normal[0], n.normal[1], n.normal[2], n.radius});
+    }
+    return out;
+}
+
+std::shared_ptr<const StoredSplats> SplatStore::tree(double iso) {
+    if (!scan_) throw UsageError("splats: the input is a mesh, not a scan or grid");
+    const std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& [kept_iso, stored] : kept_)
+        if (kept_iso == iso) return stored;
+    const auto start = std::chrono::steady_clock::now();
+    auto stored = std::make_shared<StoredSplats>();
+    SplatOptions options;
+    options.iso = iso;
+    stored->tree = build_splat_tree(*scan_->grid, options);
+    stored->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    kept_.emplace_front(iso, stored);
+    if (kept_.size() > kKept) kept_.pop_back();
+    return stored;
+}
+
+}  // namespace vdbmesh::view

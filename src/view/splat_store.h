@@ -1,0 +1,52 @@
+#pragma once
+// GET /api/splats: the splat hierarchy of the scan at an isovalue (built on the first request
+// for it, the last few kept), and the nodes a camera sent by the page needs.
+
+#include <cstddef>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
+
+#include "vdbmesh/splats.h"
+#include "vdbmesh/view.h"
+#include "view/mesh_request.h"
+
+namespace vdbmesh::view {
+
+/// A tree made for the page and the seconds it took.
+struct StoredSplats {
+    SplatTree tree;
+    double seconds = 0;
+};
+
+/// What the page asks for: iso (the scan's initial one), vp (16 numbers, column-major, world
+/// to clip), eye (3 numbers), focal (pixels per unit at w = 1), pixel (2), budget (200000).
+struct SplatRequest {
+    double iso = 0;
+    SplatView view;
+};
+
+/// @throw UsageError naming the parameter for a missing or bad value.
+SplatRequest parse_splat_request(const ParamLookup& param, double default_iso);
+
+/// The selected nodes as the page draws them, back to back and little-endian: per node
+/// centre (float32 x 3), normal (float32 x 3), radius (float32): 28 bytes a node.
+std::string splat_buffers(const SplatTree& tree, const SplatSelection& selection);
+
+class SplatStore {
+public:
+    explicit SplatStore(std::shared_ptr<const ViewScan> scan) : scan_(std::move(scan)) {}
+    /// The tree of the scan's full grid at @a iso, built now unless kept.
+    /// @throw UsageError when the source is a mesh file (no grid to fit).
+    std::shared_ptr<const StoredSplats> tree(double iso);
+
+private:
+    static constexpr std::size_t kKept = 2;
+    std::shared_ptr<const ViewScan> scan_;
+    std::mutex mutex_;
+    std::deque<std::pair<double, std::shared_ptr<const StoredSplats>>> kept_;  ///< newest first
+};
+
+}  // namespace vdbmesh::view

@@ -1,0 +1,121 @@
+// Splat mode (GET /api/splats): the scan's splat hierarchy as oriented discs, lit like the
+// mesh. The page sends its camera when it stops moving and the server answers with the
+// nodes that view needs (by projected size, within the budget); while the camera moves the
+// last answer stays on screen, so a view is refined each time the camera comes to rest.
+import * as THREE from 'three';
+
+const SPLAT_COLOUR = 0xd9cbb0;  // the mesh's
+const DISC_SEGMENTS = 8;
+const SETTLE_MS = 250;           // the camera counts as still after this long without a change
+export const SPLAT_BUDGET = 60000;
+const PIXEL_SIZE = 3;            // refine while a disc spans more pixels than this
+
+const Z = new THREE.Vector3(0, 0, 1);
+
+export class SplatLayer {
+  /// @a handlers: onAsk() when a view is asked for, onShown(figures) when its answer is drawn
+  /// ({ splats, level, cutLevel, complete, treeNodes, seconds, ms }), onError(error).
+  constructor(scene3d, handlers) {
+    Object.assign(this, { scene3d, handlers });
+    this.group = new THREE.Group();
+    this.group.visible = false;
+    scene3d.scene.add(this.group);
+    this.material = new THREE.MeshStandardMaterial({ color: SPLAT_COLOUR, roughness: 0.6, metalness: 0.05, side: THREE.DoubleSide });
+    this.disc = new THREE.CircleGeometry(1, DISC_SEGMENTS);
+    this.iso = undefined;
+    scene3d.controls.addEventListener('change', () => this.cameraMoved());
+  }
+
+  get enabled() {
+    return this.group.visible;
+  }
+
+  /// Shows splats at @a iso instead of the mesh (or stops).
+  setEnabled(on, iso) {
+    this.group.visible = on;
+    this.iso = iso;
+    if (on) this.refresh();
+    this.scene3d.requestRender();
+  }
+
+  setIso(iso) {
+    this.iso = iso;
+    if (this.enabled) this.refresh();
+  }
+
+  setClipPlanes(planes) {
+    this.material.clippingPlanes = planes;
+    this.scene3d.requestRender();
+  }
+
+  cameraMoved() {
+    if (!this.enabled) return;
+    clearTimeout(this.settle);
+    this.settle = setTimeout(() => this.refresh(), SETTLE_MS);
+  }
+
+  query() {
+    const camera = this.scene3d.camera;
+    camera.updateMatrixWorld();
+    const viewProjection = new THREE.Matrix4().multiplyMatrices(camera.projectionMatrix, camera.matrixWorldInverse);
+    const height = this.scene3d.renderer.domElement.height;
+    const focal = height / (2 * Math.tan(THREE.MathUtils.degToRad(camera.fov) / 2));
+    const params = {
+      vp: viewProjection.elements.map((v) => v.toPrecision(9)).join(','),
+      eye: camera.position.toArray().map((v) => v.toPrecision(9)).join(','),
+      focal: focal.toPrecision(9), pixel: PIXEL_SIZE, budget: SPLAT_BUDGET,
+    };
+    if (this.iso !== undefined) params.iso = this.iso;
+    return new URLSearchParams(params).toString();
+  }
+
+  /// Asks for the current view's splats; a newer request aborts an older one.
+  async refresh() {
+    this.abort?.abort();
+    const abort = (this.abort = new AbortController());
+    this.handlers.onAsk();
+    const started = performance.now();
+    try {
+      const response = await fetch(`/api/splats?${this.query()}`, { signal: abort.signal });
+      if (!response.ok) throw new Error((await response.json()).error ?? response.statusText);
+      const count = Number(response.headers.get('X-Splats'));
+      const buffer = await response.arrayBuffer();
+      if (buffer.byteLength !== 28 * count) throw new Error('splat buffers: unexpected size');
+      this.show(new Float32Array(buffer), count);
+      await this.scene3d.nextRender();
+      if (abort !== this.abort) return;
+      this.handlers.onShown({
+        splats: count, level: Number(response.headers.get('X-Level')), cutLevel: Number(response.headers.get('X-Cut-Level')), complete: response.headers.get('X-Complete') === '1',
+        treeNodes: Number(response.headers.get('X-Tree-Nodes')), seconds: Number(response.headers.get('X-Seconds')),
+        ms: performance.now() - started,
+      });
+    } catch (error) {
+      if (error.name === 'AbortError') return;
+      this.handlers.onError(error);
+    }
+  }
+
+  /// One disc per splat: centred, turned from +z onto its normal, scaled to its radius.
+  show(values, count) {
+    this.mesh?.dispose();
+    this.group.clear();
+    this.mesh = new THREE.InstancedMesh(this.disc, this.material, Math.max(count, 1));
+    this.mesh.count = count;
+    const matrix = new THREE.Matrix4();
+    const position = new THREE.Vector3(), normal = new THREE.Vector3(), scale = new THREE.Vector3();
+    const turn = new THREE.Quaternion();
+    for (let i = 0; i < count; ++i) {
+      const at = 7 * i;
+      position.set(values[at], values[at + 1], values[at + 2]);
+      normal.set(values[at + 3], values[at + 4], values[at + 5]);
+      turn.setFromUnitVectors(Z, normal);
+      scale.setScalar(values[at + 6]);
+      this.mesh.setMatrixAt(i, matrix.compose(position, turn, scale));
+    }
+    this.mesh.instanceMatrix.needsUpdate = true;
+    this.mesh.frustumCulled = false;  // the server culled; three's bounds would be the disc's
+    // No shadows: discs that overlap at slightly different tilts would shade each other's rims.
+    this.group.add(this.mesh);
+    this.scene3d.requestRender();
+  }
+}
