@@ -1,7 +1,8 @@
 // `vdbmesh mesh`: a .vdb grid or a scan (converted on the fly) to a triangle mesh file. It
 // reports its figures on stderr, or with --json as one JSON object on stdout. With --verify the
 // whole mesh is checked as `vdbmesh check` does (the meshers never run that check themselves);
-// a defective mesh is reported, not written, and the exit status is 3.
+// a defective mesh is reported, not written, and the exit status is 3. With --labels the input
+// is a label map meshed per label (label_mesh_command.h).
 
 #include <algorithm>
 #include <cctype>
@@ -17,6 +18,7 @@
 
 #include "commands.h"
 #include "common_options.h"
+#include "label_mesh_command.h"
 #include "load_grid.h"
 #include "mesh_processing.h"
 #include "option_checks.h"
@@ -24,6 +26,7 @@
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/grid_region.h"
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/mesher.h"
@@ -48,9 +51,11 @@ struct MeshCommandOptions {
     bool normals = false;
     bool json = false;
     bool verify = false;
+    std::string memory;  ///< --memory SIZE, empty when not given
     ReadFlags read;
     ProcessingOptions processing;
     CommonOptions common;
+    LabelMeshRequest labels;  ///< used with --labels (its inputs, output, read and common options are copied in)
 };
 
 std::string lowercase(std::string text) {
@@ -94,14 +99,33 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
     return j;
 }
 
+/// --memory in bytes, if given; refused (a usage error) with a method that meshes only whole
+/// grids.
+std::optional<std::uint64_t> memory_limit(const MeshCommandOptions& options) {
+    if (options.memory.empty()) return std::nullopt;
+    const std::uint64_t bytes = parse_memory_size("--memory", options.memory);
+    if (options.mesh.method != MeshMethod::dc || options.mesh.error <= 0) {
+        throw UsageError("--memory: only --method dc with --error above 0 meshes by bricks; dmc's checks, Marching Cubes and "
+                         "volumeToMesh mesh the whole grid at once");
+    }
+    return bytes;
+}
+
 /// Exit status 0, or 3 when --verify found a defect (the mesh is then not written).
 int run_mesh(MeshCommandOptions& options) {
+    if (options.labels.label.labels) {
+        LabelMeshRequest& request = options.labels;
+        request.inputs = options.inputs, request.output = options.output, request.ascii = options.ascii;
+        request.json = options.json, request.read = options.read, request.common = options.common;
+        return run_label_mesh(request);
+    }
     const std::string extension = lowercase_extension(options.output);
     if (extension != ".stl" && extension != ".ply" && extension != ".obj") {
         throw UsageError("-o: expected a .stl, .ply or .obj file, got \"" + options.output + "\"");
     }
     // Both words were checked (IsMember, any case).
     options.mesh.method = kMethods.at(lowercase(options.method));
+    const std::optional<std::uint64_t> memory = memory_limit(options);
     const ThreadLimit limit(options.common);
     const auto start = std::chrono::steady_clock::now();
     Progress progress("meshing", options.common.quiet);
@@ -109,7 +133,8 @@ int run_mesh(MeshCommandOptions& options) {
     ProcessingReport processing;
     process_grid(grid, options.mesh, options.processing, processing);
     options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
-    MeshResult result = mesh_grid(*grid, options.mesh);
+    MeshResult result = memory ? mesh_bricks(*grid_regions_in_memory(grid), options.mesh, BrickOptions{0, *memory})
+                               : mesh_grid(*grid, options.mesh);
     result.mesh = process_mesh(std::move(result.mesh), options.processing, processing);
     const Mesh& mesh = result.mesh;
     if (mesh.triangles.empty())
@@ -144,7 +169,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     auto options = std::make_shared<MeshCommandOptions>();
     input_files(command.add_option("INPUT", options->inputs, "A .vdb grid or a scan (extra files: the parts of a split raw scan)"))
         ->required();
-    output_file(command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj"))->required();
+    output_file(command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj (with --labels: DIR/, .ply or .glb/.gltf)"))->required();
     command.add_option("--iso", options->iso, "Isovalue (default for a .vdb: the one stored by convert)");
     command.add_option("--method", options->method,
                        "Mesher: dc (intersection-free Dual Contouring, the default), dmc (Dual Marching Cubes), mc, openvdb (volumeToMesh)")
@@ -166,11 +191,23 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     command.add_flag("--json", options->json, "Print the figures as one JSON object on stdout");
     command.add_flag("--verify", options->verify,
                      "Check the whole mesh as `vdbmesh check` does; a defect: nothing written, exit status 3");
+    command.add_option("--memory", options->memory,
+                       "Mesh brick by brick within about SIZE bytes (K, M, G suffixes; dc at --error > 0): the same mesh");
     add_read_flags(command, options->read);
     add_processing_options(command, options->processing);
     add_common_options(command, options->common);
-    command.callback([options, &result, error, adaptivity] {
+    add_label_flags(command, options->labels.label, "Mesh a label map: all, or a list like 3,5,10-12; one closed mesh per label, walls shared");
+    const CLI::Option* format = command.add_option("--format", options->labels.format, "--labels into a folder: the files' format")
+        ->check(CLI::IsMember({"stl", "ply", "obj"}))
+        ->capture_default_str();
+    const CLI::Option* smooth_iterations = command.add_option("--smooth-iterations", options->labels.smooth_iterations, "--labels: constrained smoothing passes (0: voxel faces)")
+        ->check(CLI::Range(0, 1000))
+        ->capture_default_str();
+    command.callback([options, &result, error, adaptivity, format, smooth_iterations] {
         const std::string method = lowercase(options->method);
+        const bool labels = bool(options->labels.label.labels);
+        refuse_unless(format, labels, "with --labels, got none");
+        refuse_unless(smooth_iterations, labels, "with --labels, got none");
         refuse_unless(error, method == "dc" || method == "dmc", "with --method dc or dmc, got --method " + method);
         refuse_unless(adaptivity, method == "openvdb", "with --method openvdb, got --method " + method);
         result.status = run_mesh(*options);

@@ -42,6 +42,21 @@ std::vector<double> parse_number_list(const std::string& flag, const std::string
     return values;
 }
 
+std::uint64_t parse_memory_size(const std::string& flag, const std::string& text) {
+    const auto fail = [&] { return UsageError(flag + ": expected a size such as 512M or 4G (K, M, G: powers of 1024), at least 1M, got \"" + text + "\""); };
+    std::uint64_t number = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), number);
+    if (ec != std::errc() || end == text.data()) throw fail();
+    const std::string suffix(end, text.data() + text.size());
+    int shift = 0;
+    if (suffix == "K" || suffix == "k") shift = 10;
+    else if (suffix == "M" || suffix == "m") shift = 20;
+    else if (suffix == "G" || suffix == "g") shift = 30;
+    else if (!suffix.empty()) throw fail();
+    if (number > (~std::uint64_t(0) >> shift) || (number << shift) < (std::uint64_t(1) << 20)) throw fail();
+    return number << shift;
+}
+
 ReadOptions ReadFlags::to_read_options(const std::vector<std::string>& more_inputs) const {
     ReadOptions options;
     if (!more_inputs.empty() && raw_dims.empty())

@@ -101,4 +101,8 @@ private:
 /// Parses "a,b,c" into numbers; throws UsageError naming @a flag.
 std::vector<double> parse_number_list(const std::string& flag, const std::string& text);
 
+/// Parses a size in bytes as @a flag takes it: a whole number with an optional suffix K, M or
+/// G (powers of 1024, any case), at least 1M; throws UsageError naming @a flag otherwise.
+std::uint64_t parse_memory_size(const std::string& flag, const std::string& text);
+
 }  // namespace vdbmesh::cli

@@ -3,7 +3,9 @@
 /// @brief Reading and writing triangle meshes: STL (binary and ASCII), PLY and OBJ (OpenVDB-free).
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <vector>
 
 #include "vdbmesh/mesh.h"
@@ -22,6 +24,34 @@ struct MeshWriteOptions {
 /// reading the file back gives bit-identical coordinates. The file is written atomically.
 /// @throw UsageError for an unknown extension, Error when the file cannot be written.
 void write_mesh(const Mesh& mesh, const std::filesystem::path& path, const MeshWriteOptions& options = {});
+
+/// @brief A mesh file written as a stream, for meshes too large to hold (issue 28): the counts
+/// first, then every vertex, then every triangle, in as many calls as wanted, through the same
+/// atomic temporary file as write_mesh(), whose bytes it writes for the same mesh. STL writes
+/// each triangle's corners, so add_triangle() takes them; per-vertex normals need every
+/// triangle before the first vertex, so options.normals is refused.
+class MeshStreamWriter {
+public:
+    /// @throw UsageError for an unknown extension or options.normals, Error when the file
+    /// cannot be created.
+    MeshStreamWriter(const std::filesystem::path& path, const MeshWriteOptions& options, std::uint64_t vertex_count,
+                     std::uint64_t triangle_count);
+    ~MeshStreamWriter();
+    MeshStreamWriter(const MeshStreamWriter&) = delete;
+    MeshStreamWriter& operator=(const MeshStreamWriter&) = delete;
+
+    /// The next vertex; all of them before the first triangle.
+    void add_vertex(const std::array<float, 3>& position);
+    /// The next triangle (vertex numbers from 0) and the positions of its three vertices.
+    void add_triangle(const std::array<std::uint32_t, 3>& triangle, const std::array<std::array<float, 3>, 3>& corners);
+    /// Renames the file into place. @throw Error when the counts given at the start were not
+    /// met or a write failed; the target is then left as it was.
+    void commit();
+
+private:
+    struct Stream;
+    std::unique_ptr<Stream> stream_;
+};
 
 /// @brief Reads a mesh, choosing the format by extension (.stl, .ply, .obj).
 /// - STL: binary or ASCII, told apart by the file size (a binary file is exactly 84 + 50 n

@@ -5,10 +5,12 @@
 /// report of what the mesher did. OpenVDB-free: the grid is only declared (openvdb_fwd.h);
 /// grid.h makes and reads grids.
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesh.h"
 #include "vdbmesh/openvdb_fwd.h"
 
@@ -75,5 +77,26 @@ struct MeshResult {
 /// @throw UsageError for a non-finite iso, error < 0, adaptivity outside [0, 1], or
 /// open_boundary with MeshMethod::openvdb.
 MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options);
+
+/// How mesh_bricks() cuts the grid (docs/dmc.md, "Bricks").
+struct BrickOptions {
+    /// Edge of a brick in nodes (kNodeVoxels each): a brick is read with a halo of one node
+    /// on every side. 0: one brick holding the whole grid, unless memory_bytes is set.
+    int nodes_per_brick = 0;
+    /// With nodes_per_brick 0: the largest brick whose estimated peak (brick_peak_bytes()) fits.
+    std::uint64_t memory_bytes = 0;
+};
+
+/// The estimated peak of meshing one brick of @a nodes_per_brick^3 nodes of @a source (the
+/// largest over its bricks): the region read with its halo and the mesher's work on it.
+std::uint64_t brick_peak_bytes(const GridRegionSource& source, int nodes_per_brick);
+
+/// The mesh mesh_grid() makes of the grid @a source holds, read brick by brick: the same
+/// bytes for any brick size and thread count. Only MeshMethod::dc at options.error > 0 meshes
+/// by bricks; with nodes_per_brick 0 any method meshes the whole grid, read as one region.
+/// @throw UsageError as mesh_grid(), and for bricks with another method, error 0, or
+/// nodes_per_brick outside [0, 4096]; before any work, when memory_bytes is below
+/// brick_peak_bytes() of a brick of one node (naming the smallest limit that works).
+MeshResult mesh_bricks(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks);
 
 }  // namespace vdbmesh

@@ -7,6 +7,8 @@
 #include "vdbmesh/error.h"
 #include "vdbmesh/parse_util.h"
 
+#include <string>
+
 namespace vdbmesh {
 namespace {
 
@@ -37,6 +39,69 @@ void write_mesh(const Mesh& mesh, const std::filesystem::path& path, const MeshW
         case MeshFormat::kObj: detail::write_obj(mesh, file.stream(), options.normals); break;
     }
     file.commit();
+}
+
+struct MeshStreamWriter::Stream {
+    Stream(const std::filesystem::path& path, const MeshWriteOptions& options, std::uint64_t vertices, std::uint64_t triangles)
+        : target(path), format(format_of(path)), ascii(options.ascii), vertex_count(vertices), triangle_count(triangles), file(path),
+          out(file.stream()) {}
+    std::filesystem::path target;
+    MeshFormat format;
+    bool ascii;
+    std::uint64_t vertex_count, triangle_count;
+    std::uint64_t vertices_written = 0, triangles_written = 0;
+    CheckedOutput file;
+    detail::OutputBuffer out;
+};
+
+MeshStreamWriter::MeshStreamWriter(const std::filesystem::path& path, const MeshWriteOptions& options, std::uint64_t vertex_count,
+                                   std::uint64_t triangle_count) {
+    if (options.normals) throw UsageError(path.string() + ": per-vertex normals are not available when the mesh is written as a stream");
+    format_of(path);  // an unknown extension is refused before the file is made
+    stream_ = std::make_unique<Stream>(path, options, vertex_count, triangle_count);
+    Stream& s = *stream_;
+    switch (s.format) {
+        case MeshFormat::kStl: detail::write_stl_header(s.out, triangle_count, s.ascii); break;
+        case MeshFormat::kPly: detail::write_ply_header(s.out, vertex_count, triangle_count, s.ascii, false); break;
+        case MeshFormat::kObj: detail::write_obj_header(s.out); break;
+    }
+}
+
+MeshStreamWriter::~MeshStreamWriter() = default;
+
+void MeshStreamWriter::add_vertex(const std::array<float, 3>& position) {
+    Stream& s = *stream_;
+    if (s.triangles_written > 0 || s.vertices_written == s.vertex_count) {
+        throw Error(s.target.string() + ": a vertex beyond the " + std::to_string(s.vertex_count) + " announced, or after a triangle");
+    }
+    ++s.vertices_written;
+    if (s.format == MeshFormat::kPly) detail::write_ply_vertex(s.out, position, nullptr, s.ascii);
+    else if (s.format == MeshFormat::kObj) detail::write_obj_vertex(s.out, position);
+}
+
+void MeshStreamWriter::add_triangle(const std::array<std::uint32_t, 3>& triangle, const std::array<std::array<float, 3>, 3>& corners) {
+    Stream& s = *stream_;
+    if (s.triangles_written == s.triangle_count) throw Error(s.target.string() + ": a triangle beyond the " + std::to_string(s.triangle_count) + " announced");
+    for (const std::uint32_t v : triangle) {
+        if (v >= s.vertex_count) throw Error(s.target.string() + ": mesh has a vertex index out of range");
+    }
+    ++s.triangles_written;
+    switch (s.format) {
+        case MeshFormat::kStl: detail::write_stl_facet(s.out, corners, s.ascii); break;
+        case MeshFormat::kPly: detail::write_ply_face(s.out, triangle, s.ascii); break;
+        case MeshFormat::kObj: detail::write_obj_face(s.out, triangle, false); break;
+    }
+}
+
+void MeshStreamWriter::commit() {
+    Stream& s = *stream_;
+    if (s.vertices_written != s.vertex_count || s.triangles_written != s.triangle_count) {
+        throw Error(s.target.string() + ": " + std::to_string(s.vertices_written) + " vertices and " + std::to_string(s.triangles_written) +
+                    " triangles written, " + std::to_string(s.vertex_count) + " and " + std::to_string(s.triangle_count) + " announced");
+    }
+    if (s.format == MeshFormat::kStl) detail::write_stl_footer(s.out, s.ascii);
+    s.out.flush();
+    s.file.commit();
 }
 
 Mesh read_mesh(const std::filesystem::path& path) {

@@ -22,6 +22,23 @@ namespace vdbmesh::detail {
 
 using Bytes = std::vector<unsigned char>;
 
+class OutputBuffer;
+/// A triangle's three corners, in its order.
+using Corners = std::array<std::array<float, 3>, 3>;
+
+// Each format as records, which write_mesh() and MeshStreamWriter both write (the same bytes).
+void write_stl_header(OutputBuffer& out, std::uint64_t triangles, bool ascii);
+void write_stl_facet(OutputBuffer& out, const Corners& corners, bool ascii);
+void write_stl_footer(OutputBuffer& out, bool ascii);
+void write_ply_header(OutputBuffer& out, std::uint64_t vertices, std::uint64_t triangles, bool ascii, bool normals);
+/// A vertex, and its normal when @a normal is not null.
+void write_ply_vertex(OutputBuffer& out, const std::array<float, 3>& position, const std::array<float, 3>* normal, bool ascii);
+void write_ply_face(OutputBuffer& out, const std::array<std::uint32_t, 3>& triangle, bool ascii);
+void write_obj_header(OutputBuffer& out);
+void write_obj_vertex(OutputBuffer& out, const std::array<float, 3>& position);
+void write_obj_normal(OutputBuffer& out, const std::array<float, 3>& normal);
+void write_obj_face(OutputBuffer& out, const std::array<std::uint32_t, 3>& triangle, bool normals);
+
 void write_stl(const Mesh& mesh, std::ostream& out, bool ascii);
 void write_ply(const Mesh& mesh, std::ostream& out, bool ascii, bool normals);
 void write_obj(const Mesh& mesh, std::ostream& out, bool normals);
@@ -33,7 +50,7 @@ Mesh read_obj(const std::filesystem::path& file, const Bytes& bytes);
 /// Unit normal of each vertex: the area-weighted average of its triangles' normals (0 when none).
 std::vector<std::array<float, 3>> vertex_normals(const Mesh& mesh);
 /// Unit normal of a triangle (0 when degenerate).
-std::array<float, 3> facet_normal(const Mesh& mesh, const std::array<std::uint32_t, 3>& triangle);
+std::array<float, 3> facet_normal(const Corners& corners);
 
 /// Collects output in memory and hands it to the stream in large blocks.
 class OutputBuffer {

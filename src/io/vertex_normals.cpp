@@ -7,13 +7,15 @@
 namespace vdbmesh::detail {
 namespace {
 
-std::array<double, 3> cross_product(const Mesh& mesh, const std::array<std::uint32_t, 3>& t) {
-    const auto& a = mesh.vertices[t[0]];
-    const auto& b = mesh.vertices[t[1]];
-    const auto& c = mesh.vertices[t[2]];
+std::array<double, 3> cross_product(const Corners& corners) {
+    const auto& [a, b, c] = corners;
     const double u[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
     const double w[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
     return {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+}
+
+std::array<double, 3> cross_product(const Mesh& mesh, const std::array<std::uint32_t, 3>& t) {
+    return cross_product(Corners{mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]});
 }
 
 std::array<float, 3> normalized(const std::array<double, 3>& v) {
@@ -24,9 +26,7 @@ std::array<float, 3> normalized(const std::array<double, 3>& v) {
 
 }  // namespace
 
-std::array<float, 3> facet_normal(const Mesh& mesh, const std::array<std::uint32_t, 3>& triangle) {
-    return normalized(cross_product(mesh, triangle));
-}
+std::array<float, 3> facet_normal(const Corners& corners) { return normalized(cross_product(corners)); }
 
 std::vector<std::array<float, 3>> vertex_normals(const Mesh& mesh) {
     std::vector<std::array<double, 3>> sums(mesh.vertices.size(), {0, 0, 0});

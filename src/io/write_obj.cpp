@@ -16,25 +16,31 @@ void write_line(OutputBuffer& out, std::string_view keyword, const std::array<fl
 
 }  // namespace
 
+void write_obj_header(OutputBuffer& out) { out.text("# written by vdbmesh\n"); }
+void write_obj_vertex(OutputBuffer& out, const std::array<float, 3>& position) { write_line(out, "v", position); }
+void write_obj_normal(OutputBuffer& out, const std::array<float, 3>& normal) { write_line(out, "vn", normal); }
+
+void write_obj_face(OutputBuffer& out, const std::array<std::uint32_t, 3>& triangle, bool normals) {
+    out.text("f");
+    for (const std::uint32_t v : triangle) {
+        out.text(" ");
+        out.number(std::uint64_t(v) + 1);
+        if (normals) {
+            out.text("//");
+            out.number(std::uint64_t(v) + 1);
+        }
+    }
+    out.text("\n");
+}
+
 void write_obj(const Mesh& mesh, std::ostream& stream, bool normals) {
     OutputBuffer out(stream);
-    out.text("# written by vdbmesh\n");
-    for (const auto& v : mesh.vertices) write_line(out, "v", v);
+    write_obj_header(out);
+    for (const auto& v : mesh.vertices) write_obj_vertex(out, v);
     if (normals) {
-        for (const auto& n : vertex_normals(mesh)) write_line(out, "vn", n);
+        for (const auto& n : vertex_normals(mesh)) write_obj_normal(out, n);
     }
-    for (const auto& t : mesh.triangles) {
-        out.text("f");
-        for (const std::uint32_t v : t) {
-            out.text(" ");
-            out.number(std::uint64_t(v) + 1);
-            if (normals) {
-                out.text("//");
-                out.number(std::uint64_t(v) + 1);
-            }
-        }
-        out.text("\n");
-    }
+    for (const auto& t : mesh.triangles) write_obj_face(out, t, normals);
 }
 
 }  // namespace vdbmesh::detail

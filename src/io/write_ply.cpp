@@ -6,18 +6,6 @@
 namespace vdbmesh::detail {
 namespace {
 
-void write_header(const Mesh& mesh, OutputBuffer& out, bool ascii, bool normals) {
-    out.text("ply\nformat ");
-    out.text(ascii ? "ascii 1.0\n" : "binary_little_endian 1.0\n");
-    out.text("comment written by vdbmesh\nelement vertex ");
-    out.number(std::uint64_t(mesh.vertices.size()));
-    out.text("\nproperty float x\nproperty float y\nproperty float z\n");
-    if (normals) out.text("property float nx\nproperty float ny\nproperty float nz\n");
-    out.text("element face ");
-    out.number(std::uint64_t(mesh.triangles.size()));
-    out.text("\nproperty list uchar uint vertex_indices\nend_header\n");
-}
-
 void write_values(OutputBuffer& out, bool ascii, const std::array<float, 3>& values, bool last) {
     for (int k = 0; k < 3; ++k) {
         if (ascii) {
@@ -31,28 +19,43 @@ void write_values(OutputBuffer& out, bool ascii, const std::array<float, 3>& val
 
 }  // namespace
 
+void write_ply_header(OutputBuffer& out, std::uint64_t vertices, std::uint64_t triangles, bool ascii, bool normals) {
+    out.text("ply\nformat ");
+    out.text(ascii ? "ascii 1.0\n" : "binary_little_endian 1.0\n");
+    out.text("comment written by vdbmesh\nelement vertex ");
+    out.number(vertices);
+    out.text("\nproperty float x\nproperty float y\nproperty float z\n");
+    if (normals) out.text("property float nx\nproperty float ny\nproperty float nz\n");
+    out.text("element face ");
+    out.number(triangles);
+    out.text("\nproperty list uchar uint vertex_indices\nend_header\n");
+}
+
+void write_ply_vertex(OutputBuffer& out, const std::array<float, 3>& position, const std::array<float, 3>* normal, bool ascii) {
+    write_values(out, ascii, position, !normal);
+    if (normal) write_values(out, ascii, *normal, true);
+}
+
+void write_ply_face(OutputBuffer& out, const std::array<std::uint32_t, 3>& triangle, bool ascii) {
+    if (ascii) {
+        out.text("3");
+        for (const std::uint32_t v : triangle) {
+            out.text(" ");
+            out.number(std::uint64_t(v));
+        }
+        out.text("\n");
+    } else {
+        out.binary(std::uint8_t(3));
+        for (const std::uint32_t v : triangle) out.binary(v);
+    }
+}
+
 void write_ply(const Mesh& mesh, std::ostream& stream, bool ascii, bool normals) {
     OutputBuffer out(stream);
-    write_header(mesh, out, ascii, normals);
-    const std::vector<std::array<float, 3>> vertex_normal = 
-        normals ? vertex_normals(mesh) : std::vector<std::array<float, 3>>{};
-    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-        write_values(out, ascii, mesh.vertices[v], !normals);
-        if (normals) write_values(out, ascii, vertex_normal[v], true);
-    }
-    for (const auto& t : mesh.triangles) {
-        if (ascii) {
-            out.text("3");
-            for (const std::uint32_t v : t) {
-                out.text(" ");
-                out.number(std::uint64_t(v));
-            }
-            out.text("\n");
-        } else {
-            out.binary(std::uint8_t(3));
-            for (const std::uint32_t v : t) out.binary(v);
-        }
-    }
+    write_ply_header(out, mesh.vertices.size(), mesh.triangles.size(), ascii, normals);
+    const std::vector<std::array<float, 3>> vertex_normal = normals ? vertex_normals(mesh) : std::vector<std::array<float, 3>>{};
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) write_ply_vertex(out, mesh.vertices[v], normals ? &vertex_normal[v] : nullptr, ascii);
+    for (const auto& t : mesh.triangles) write_ply_face(out, t, ascii);
 }
 
 }  // namespace vdbmesh::detail

@@ -10,20 +10,6 @@ namespace {
 // The binary header must not start with "solid": readers would guess ASCII.
 constexpr char kBinaryHeader[] = "vdbmesh binary STL";
 
-void write_binary(const Mesh& mesh, OutputBuffer& out) {
-    std::string header(80, ' ');
-    header.replace(0, sizeof kBinaryHeader - 1, kBinaryHeader);
-    out.text(header);
-    out.binary(std::uint32_t(mesh.triangles.size()));
-    for (const auto& t : mesh.triangles) {
-        for (const float c : facet_normal(mesh, t)) out.binary(c);
-        for (const std::uint32_t v : t) {
-            for (const float c : mesh.vertices[v]) out.binary(c);
-        }
-        out.binary(std::uint16_t(0));
-    }
-}
-
 void write_triple(OutputBuffer& out, const std::array<float, 3>& v) {
     for (int k = 0; k < 3; ++k) {
         out.text(" ");
@@ -32,30 +18,47 @@ void write_triple(OutputBuffer& out, const std::array<float, 3>& v) {
     out.text("\n");
 }
 
-void write_ascii(const Mesh& mesh, OutputBuffer& out) {
-    out.text("solid vdbmesh\n");
-    for (const auto& t : mesh.triangles) {
-        out.text("facet normal");
-        write_triple(out, facet_normal(mesh, t));
-        out.text(" outer loop\n");
-        for (const std::uint32_t v : t) {
-            out.text("  vertex");
-            write_triple(out, mesh.vertices[v]);
-        }
-        out.text(" endloop\nendfacet\n");
+}  // namespace
+
+void write_stl_header(OutputBuffer& out, std::uint64_t triangles, bool ascii) {
+    if (ascii) {
+        out.text("solid vdbmesh\n");
+        return;
     }
-    out.text("endsolid vdbmesh\n");
+    std::string header(80, ' ');
+    header.replace(0, sizeof kBinaryHeader - 1, kBinaryHeader);
+    out.text(header);
+    out.binary(std::uint32_t(triangles));
 }
 
-}  // namespace
+void write_stl_facet(OutputBuffer& out, const Corners& corners, bool ascii) {
+    if (ascii) {
+        out.text("facet normal");
+        write_triple(out, facet_normal(corners));
+        out.text(" outer loop\n");
+        for (const auto& corner : corners) {
+            out.text("  vertex");
+            write_triple(out, corner);
+        }
+        out.text(" endloop\nendfacet\n");
+        return;
+    }
+    for (const float c : facet_normal(corners)) out.binary(c);
+    for (const auto& corner : corners) {
+        for (const float c : corner) out.binary(c);
+    }
+    out.binary(std::uint16_t(0));
+}
+
+void write_stl_footer(OutputBuffer& out, bool ascii) {
+    if (ascii) out.text("endsolid vdbmesh\n");
+}
 
 void write_stl(const Mesh& mesh, std::ostream& stream, bool ascii) {
     OutputBuffer out(stream);
-    if (ascii) {
-        write_ascii(mesh, out);
-    } else {
-        write_binary(mesh, out);
-    }
+    write_stl_header(out, mesh.triangles.size(), ascii);
+    for (const auto& t : mesh.triangles) write_stl_facet(out, {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]}, ascii);
+    write_stl_footer(out, ascii);
 }
 
 }  // namespace vdbmesh::detail

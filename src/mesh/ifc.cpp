@@ -1,7 +1,8 @@
 // Intersection-free octree contouring, the driver: per block in parallel, the octree; per
 // lower internal node in parallel, the cells across blocks; per block, the triangles with
-// keyed vertices; then one weld of the keys. Blocks and nodes are visited in a fixed order
-// and every vertex list has a fixed order, so the mesh does not depend on the thread count.
+// keyed vertices, grouped by node; then one weld of the keys (ifc_weld.cpp). Blocks and nodes
+// are visited in a fixed order and every vertex list has a fixed order, so the mesh does not
+// depend on the thread count, nor on bricks (ifc_bricks.cpp; docs/dmc.md, "Bricks").
 
 #include "mesh/ifc.h"
 
@@ -16,13 +17,10 @@
 #include <array>
 #include <memory>
 
-#include "vdbmesh/huge_pages.h"
-#include "mesh/ifc_key_index.h"
 #include "mesh/ifc_polygons.h"
 #include "mesh/marching_cubes.h"
 #include "mesh/mesh_phases.h"
 #include "mesh/surface_blocks.h"
-#include "vdbmesh/error.h"
 
 namespace vdbmesh::detail {
 
@@ -107,127 +105,68 @@ void split_clipped_blocks(IfcCellGrid& cells) {
     });
 }
 
-/// The blocks' vertices, each key once, as keys and positions apart (the positions become the
-/// mesh's): block after block, then the cells larger than a block in key order. A block lists
-/// each of its keys once, and only those cells are listed by several blocks
-/// (ifc_key_of_coarse_cell()), so no global sort is needed. Each block's list is released once
-/// copied.
-struct GatheredVertices {
-    std::vector<std::uint64_t> keys;
-    std::vector<std::array<float, 3>> positions;
-};
-
-GatheredVertices gather_vertices(std::vector<IfcBlockOutput>& outputs) {
-    std::vector<std::size_t> first_own(outputs.size() + 1, 0), first_coarse(outputs.size() + 1, 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
-        for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            const auto& listed = outputs[b].vertices;
-            first_coarse[b + 1] = std::size_t(std::count_if(listed.begin(), listed.end(), [](const IfcVertex& v) { return ifc_key_of_coarse_cell(v.key); }));
-            first_own[b + 1] = listed.size() - first_coarse[b + 1];
-        }
-    });
-    for (std::size_t b = 0; b < outputs.size(); ++b) {
-        first_own[b + 1] += first_own[b];
-        first_coarse[b + 1] += first_coarse[b];
+/// The blocks' outputs grouped by node, nodes in z-major order, blocks in origin order inside
+/// each; the coarse cells each block lists (every block a coarse cell covers lists it, all in
+/// its node) taken out, once each per node in key order. Each block's output is moved, not copied.
+std::vector<IfcNodeOutput> group_by_node(const std::vector<openvdb::Coord>& origins, std::vector<IfcBlockOutput>& outputs) {
+    constexpr int kNodeMask = ~(kNodeVoxels - 1);
+    std::vector<IfcNodeOutput> nodes;
+    std::vector<std::vector<std::size_t>> members;
+    std::vector<std::pair<openvdb::Coord, std::size_t>> by_node;  // node origin, block
+    for (std::size_t b = 0; b < origins.size(); ++b) {
+        if (outputs[b].vertices.empty() && outputs[b].triangles.empty()) continue;
+        const openvdb::Coord& o = origins[b];
+        by_node.push_back({openvdb::Coord(o.x() & kNodeMask, o.y() & kNodeMask, o.z() & kNodeMask), b});
     }
-    const std::size_t own_count = first_own.back();
-    GatheredVertices gathered;
-    reserve_on_huge_pages(gathered.keys, own_count + first_coarse.back());
-    gathered.keys.resize(own_count);
-    reserve_on_huge_pages(gathered.positions, own_count + first_coarse.back());
-    gathered.positions.resize(own_count);
-    std::vector<IfcVertex> coarse(first_coarse.back());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
-        for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            std::size_t own = first_own[b], next_coarse = first_coarse[b];
-            for (const IfcVertex& v : outputs[b].vertices) {
-                if (ifc_key_of_coarse_cell(v.key)) {
-                    coarse[next_coarse++] = v;
-                } else {
-                    gathered.keys[own] = v.key;
-                    gathered.positions[own++] = v.position;
+    // Stable: the blocks of a node keep their origin order.
+    std::stable_sort(by_node.begin(), by_node.end(), [](const auto& a, const auto& b) { return ifc_node_before(a.first, b.first); });
+    for (std::size_t i = 0; i < by_node.size(); ++i) {
+        if (i == 0 || by_node[i].first != by_node[i - 1].first) {
+            nodes.push_back({by_node[i].first, {}, {}});
+            members.emplace_back();
+        }
+        members.back().push_back(by_node[i].second);
+    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes.size()), [&](const auto& range) {
+        for (std::size_t n = range.begin(); n != range.end(); ++n) {
+            IfcNodeOutput& node = nodes[n];
+            for (const std::size_t b : members[n]) {
+                std::vector<IfcVertex>& listed = outputs[b].vertices;
+                for (const IfcVertex& v : listed) {
+                    if (ifc_key_of_coarse_cell(v.key)) node.coarse.push_back(v);
                 }
+                listed.erase(std::remove_if(listed.begin(), listed.end(), [](const IfcVertex& v) { return ifc_key_of_coarse_cell(v.key); }),
+                             listed.end());
+                node.blocks.push_back(std::move(outputs[b]));
             }
-            outputs[b].vertices = {};
+            auto by_key = [](const IfcVertex& a, const IfcVertex& b) { return a.key < b.key; };
+            std::sort(node.coarse.begin(), node.coarse.end(), by_key);
+            node.coarse.erase(std::unique(node.coarse.begin(), node.coarse.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key == b.key; }),
+                              node.coarse.end());
         }
     });
-    std::sort(coarse.begin(), coarse.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key < b.key; });
-    coarse.erase(std::unique(coarse.begin(), coarse.end(), [](const IfcVertex& a, const IfcVertex& b) { return a.key == b.key; }), coarse.end());
-    for (const IfcVertex& v : coarse) {
-        gathered.keys.push_back(v.key);
-        gathered.positions.push_back(v.position);
-    }
-    return gathered;
+    return nodes;
 }
 
-/// One vertex per key, numbered as gather_vertices() lists them; vertices no triangle uses are
-/// dropped. Each block's output is released once read, so no part of it is held twice.
-Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
-    std::vector<std::size_t> first_triangle(outputs.size() + 1, 0);
-    for (std::size_t b = 0; b < outputs.size(); ++b) first_triangle[b + 1] = first_triangle[b] + outputs[b].triangles.size();
-    GatheredVertices vertices = gather_vertices(outputs);
-    const std::size_t vertex_count = vertices.keys.size();
-    if (vertex_count >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
-    const IfcKeyIndex index_of(vertices.keys);
-    vertices.keys = {};
-    Mesh mesh;
-    reserve_on_huge_pages(mesh.triangles, first_triangle.back());
-    mesh.triangles.resize(first_triangle.back());
-    std::vector<std::uint8_t> used;
-    reserve_on_huge_pages(used, vertex_count);
-    used.resize(vertex_count, 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
-        for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            auto& keyed = outputs[b].triangles;
-            constexpr std::size_t kAhead = 8;  // triangles: about the latency of a miss
-            for (std::size_t t = 0; t < std::min(kAhead, keyed.size()); ++t) {
-                for (const std::uint64_t key : keyed[t]) index_of.prefetch(key);
-            }
-            for (std::size_t t = 0; t < keyed.size(); ++t) {
-                if (t + kAhead < keyed.size()) {
-                    for (const std::uint64_t key : keyed[t + kAhead]) index_of.prefetch(key);
-                }
-                for (int k = 0; k < 3; ++k) {
-                    const std::uint32_t index = index_of.find(keyed[t][k]);
-                    if (index == IfcKeyIndex::kMissing) throw Error("contouring: a triangle refers to a missing vertex");
-                    mesh.triangles[first_triangle[b] + t][k] = index;
-                    used[index] = 1;  // every writer writes 1: no race on the value
-                }
-            }
-            keyed = {};
-        }
-    });
-    const std::size_t used_count = std::size_t(std::count(used.begin(), used.end(), std::uint8_t(1)));
-    if (used_count == vertex_count) {  // as on every scan measured: no renumbering
-        mesh.vertices = std::move(vertices.positions);
-        return mesh;
-    }
-    reserve_on_huge_pages(mesh.vertices, used_count);
-    std::vector<std::uint32_t> new_index;
-    reserve_on_huge_pages(new_index, vertex_count);
-    new_index.resize(vertex_count);
-    for (std::size_t v = 0; v < vertex_count; ++v) {
-        new_index[v] = std::uint32_t(mesh.vertices.size());
-        if (used[v]) mesh.vertices.push_back(vertices.positions[v]);
-    }
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size()), [&](const auto& range) {
-        for (std::size_t t = range.begin(); t != range.end(); ++t) {
-            for (auto& v : mesh.triangles[t]) v = new_index[v];
-        }
-    });
-    return mesh;
+/// Whether block origin @a o lies in @a box widened by @a by voxels on every side.
+bool within(const openvdb::Coord& o, const openvdb::CoordBBox& box, int by) {
+    return o.x() >= box.min().x() - by && o.y() >= box.min().y() - by && o.z() >= box.min().z() - by && o.x() <= box.max().x() + by &&
+           o.y() <= box.max().y() + by && o.z() <= box.max().z() + by;
 }
 
 }  // namespace
 
-Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report) {
-    // No merging at error 0, not even of exactly flat surfaces (the faces of the scan box): the
-    // mesh is Marching Cubes, as documented.
-    if (options.error <= 0) return marching_cubes(grid, options);
+std::vector<IfcNodeOutput> contour_ifc_nodes(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
+                                             const openvdb::CoordBBox* owned, MeshReport& report) {
     PhaseClock clock;
-    const SampleClassifier classifier(grid, options);
     IfcCellGrid cells;
     cells.origins = surface_blocks(grid, classifier);
+    if (owned) {
+        // The blocks within one node of the owned ones: the halo every decision about an owned
+        // triangle reads (docs/dmc.md, "Bricks").
+        auto beyond = [&](const openvdb::Coord& o) { return !within(o, *owned, kNodeVoxels); };
+        cells.origins.erase(std::remove_if(cells.origins.begin(), cells.origins.end(), beyond), cells.origins.end());
+    }
     cells.blocks.resize(cells.origins.size());
     auto may_hold_surface = [&](std::size_t b, auto& accessor) { return block_may_hold_surface(accessor, classifier, cells.origins[b]); };
     for_each_surface_block(grid, classifier, cells.origins, may_hold_surface, [&](const IfcSamples& samples, std::size_t b) {
@@ -245,7 +184,7 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.origins.size()), [&](const auto& range) {
         auto accessor = grid.getConstAccessor();
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            if (!cells.blocks[b] || !cells.blocks[b]->sampled) continue;
+            if (!cells.blocks[b] || !cells.blocks[b]->sampled || (owned && !within(cells.origins[b], *owned, 0))) continue;
             contour_ifc_block(classifier, accessor, cells, b, options.error, grid.transform(), outputs[b]);
             outputs[b].vertices.shrink_to_fit();  // growth leaves up to half unused: it adds up over blocks
             outputs[b].triangles.shrink_to_fit();
@@ -258,9 +197,22 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
         for (std::size_t b = range.begin(); b != range.end(); ++b) cells.blocks[b].reset();
     });
     const bool trim = cells.blocks.size() * sizeof(IfcBlockCells) > kTrimAboveBytes;
-    cells = IfcCellGrid();
+    cells.blocks.clear();
+    cells.blocks.shrink_to_fit();
     if (trim) release_free_memory();
-    Mesh mesh = weld(std::move(outputs));
+    std::vector<IfcNodeOutput> nodes = group_by_node(cells.origins, outputs);
+    clock.lap(report, "weld");
+    return nodes;
+}
+
+Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report) {
+    // No merging at error 0, not even of exactly flat surfaces (the faces of the scan box): the
+    // mesh is Marching Cubes, as documented.
+    if (options.error <= 0) return marching_cubes(grid, options);
+    const SampleClassifier classifier(grid, options);
+    std::vector<IfcNodeOutput> nodes = contour_ifc_nodes(grid, classifier, options, nullptr, report);
+    PhaseClock clock;
+    Mesh mesh = weld_ifc_nodes(std::move(nodes));
     clock.lap(report, "weld");
     if (options.progress) options.progress(1.0);
     return mesh;

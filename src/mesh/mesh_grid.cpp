@@ -1,6 +1,7 @@
 // mesh_grid(): checks the options, hands the grid to the chosen mesher, and keeps the
 // triangles counter-clockwise seen from outside in world space.
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -54,6 +55,28 @@ bool mirrors(const openvdb::math::Transform& transform) {
     return transform.baseMap()->getAffineMap()->getMat4().getMat3().det() < 0;
 }
 
+/// Winds @a mesh's triangles counter-clockwise seen from outside in world space: the meshers
+/// wind them so in index space.
+void orient_outward(const openvdb::math::Transform& transform, Mesh& mesh) {
+    if (!mirrors(transform)) return;
+    for (auto& triangle : mesh.triangles) std::swap(triangle[1], triangle[2]);
+}
+
+/// The box of every node @a source lists, widened by two leaves (the sample windows of the blocks below it): what one brick of the whole grid reads.
+IndexBox whole_region(const GridRegionSource& source) {
+    IndexBox box{{0, 0, 0}, {0, 0, 0}};
+    bool first = true;
+    for (const NodeWeight& node : source.nodes()) {
+        for (std::size_t a = 0; a < 3; ++a) {
+            const std::int32_t lo = node.origin[a] - 16, hi = node.origin[a] + kNodeVoxels + 16;
+            box.min[a] = first ? lo : std::min(box.min[a], lo);
+            box.max[a] = first ? hi : std::max(box.max[a], hi);
+        }
+        first = false;
+    }
+    return box;
+}
+
 }  // namespace
 
 double MeshReport::total_seconds() const {
@@ -65,15 +88,31 @@ double MeshReport::total_seconds() const {
 MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options) {
     check_options(options);
     MeshResult result;
-    MeshReport& report = result.report;
-    report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, 0, {}};
+    result.report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, 0, {}};
     detail::PhaseClock clock;
-    result.mesh = run_mesher(grid, options, report);
+    result.mesh = run_mesher(grid, options, result.report);
     // Meshers that time no phases of their own are one phase.
-    if (report.phases.empty()) clock.lap(report, "mesh");
-    if (mirrors(grid.transform())) {
-        for (auto& triangle : result.mesh.triangles) std::swap(triangle[1], triangle[2]);
+    if (result.report.phases.empty()) clock.lap(result.report, "mesh");
+    orient_outward(grid.transform(), result.mesh);
+    return result;
+}
+
+MeshResult mesh_bricks(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks) {
+    check_options(options);
+    if (bricks.nodes_per_brick < 0 || bricks.nodes_per_brick > 4096) {
+        throw UsageError("bricks: expected 0 to 4096 nodes per brick edge, got " + std::to_string(bricks.nodes_per_brick));
     }
+    const bool by_bricks = bricks.nodes_per_brick > 0 || bricks.memory_bytes > 0;
+    if (!by_bricks) return mesh_grid(*source.read(whole_region(source)), options);
+    if (options.method != MeshMethod::dc || options.error <= 0) {
+        throw UsageError("bricks: only the dc method at an error above 0 meshes by bricks (the others mesh the whole grid)");
+    }
+    BrickOptions planned = bricks;
+    if (planned.nodes_per_brick == 0) planned.nodes_per_brick = detail::plan_brick_size(source, bricks.memory_bytes);
+    MeshResult result;
+    result.report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, 0, {}};
+    result.mesh = detail::bricked_contouring(source, options, planned, result.report);
+    orient_outward(source.description()->transform(), result.mesh);
     return result;
 }
 

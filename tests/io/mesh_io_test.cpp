@@ -5,6 +5,8 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <iterator>
+#include <string>
 
 #include "test_data.h"
 #include "test_meshes.h"
@@ -47,6 +49,42 @@ TEST(MeshIoTest, IndexedFormatsRoundTripExactly) {
         EXPECT_EQ(back.vertices, sample_mesh().vertices) << name;
         EXPECT_EQ(back.triangles, sample_mesh().triangles) << name;
     }
+}
+
+std::string file_bytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Issue 28: a mesh written as a stream is byte for byte what write_mesh() writes.
+TEST(MeshIoTest, StreamWriterWritesWriteMeshsBytes) {
+    const ScratchDir dir;
+    const Mesh& mesh = sample_mesh();
+    const std::vector<std::pair<std::string, MeshWriteOptions>> cases = {
+        {"binary.stl", {}}, {"ascii.stl", {true, false}}, {"binary.ply", {}}, {"ascii.ply", {true, false}}, {"plain.obj", {}}};
+    for (const auto& [name, options] : cases) {
+        write_mesh(mesh, dir / ("whole_" + name), options);
+        MeshStreamWriter stream(dir / ("stream_" + name), options, mesh.vertices.size(), mesh.triangles.size());
+        for (const auto& v : mesh.vertices) stream.add_vertex(v);
+        for (const auto& t : mesh.triangles) stream.add_triangle(t, {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]});
+        stream.commit();
+        EXPECT_EQ(file_bytes(dir / ("stream_" + name)), file_bytes(dir / ("whole_" + name))) << name;
+    }
+}
+
+TEST(MeshIoTest, StreamWriterRefusesWhatItCannotWriteAndLeavesNoFile) {
+    const ScratchDir dir;
+    EXPECT_THROW(MeshStreamWriter(dir / "normals.ply", {false, true}, 3, 1), UsageError);
+    EXPECT_THROW(MeshStreamWriter(dir / "mesh.xyz", {}, 3, 1), UsageError);
+    {
+        MeshStreamWriter short_of_triangles(dir / "short.ply", {}, 3, 2);
+        for (int v = 0; v < 3; ++v) short_of_triangles.add_vertex({float(v), float(v * v), 0});
+        EXPECT_THROW(short_of_triangles.add_triangle({0, 1, 3}, {}), Error);  // vertex 3 of 3
+        short_of_triangles.add_triangle({0, 1, 2}, {});
+        EXPECT_THROW(short_of_triangles.add_vertex({0, 0, 0}), Error);  // after a triangle
+        EXPECT_THROW(short_of_triangles.commit(), Error);  // one triangle of two
+    }
+    EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 
 TEST(MeshIoTest, StlRoundTripsWeldingBitIdenticalCorners) {

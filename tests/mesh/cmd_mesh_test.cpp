@@ -179,6 +179,38 @@ TEST(CmdMeshTest, MirroredScanGivesOutwardMeshes) {
     }
 }
 
+// --memory (issue 28): the same bytes as without it; a limit too small, a malformed size, or a
+// method that meshes only whole grids is refused before any work, nothing written.
+TEST(CmdMeshTest, MemoryLimitGivesTheSameBytesOrIsRefused) {
+    ScratchDir scratch;
+    const auto input = write_ball_raw(scratch);
+    const std::vector<std::string> scan = {"mesh", input.string(), "--raw-dims", "20,20,20", "--iso", "100", "-q"};
+    auto run_with = [&](const std::vector<std::string>& more) {
+        std::vector<std::string> args = scan;
+        args.insert(args.end(), more.begin(), more.end());
+        return cli::run(args);
+    };
+    const auto whole = scratch / "whole.ply", bounded = scratch / "bounded.ply";
+    ASSERT_EQ(run_with({"-o", whole.string(), "--error", "0.5"}), cli::kSuccess);
+    ASSERT_EQ(run_with({"-o", bounded.string(), "--error", "0.5", "--memory", "64M"}), cli::kSuccess);
+    auto bytes = [](const std::filesystem::path& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    EXPECT_EQ(bytes(bounded), bytes(whole));
+    const auto refused = scratch / "refused.ply";
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(run_with({"-o", refused.string(), "--error", "0.5", "--memory", "1M"}), cli::kUsageError);
+    const std::string message = testing::internal::GetCapturedStderr();
+    EXPECT_NE(message.find("the smallest limit that works is"), std::string::npos) << message;
+    for (const char* size : {"12Q", "-1G", "0", "1K"}) {
+        EXPECT_EQ(run_with({"-o", refused.string(), "--error", "0.5", "--memory", size}), cli::kUsageError) << size;
+    }
+    EXPECT_EQ(run_with({"-o", refused.string(), "--memory", "1G", "--method", "openvdb"}), cli::kUsageError);
+    EXPECT_EQ(run_with({"-o", refused.string(), "--memory", "1G"}), cli::kUsageError);  // error 0: Marching Cubes
+    EXPECT_FALSE(std::filesystem::exists(refused));
+}
+
 TEST(CmdMeshTest, FailuresLeaveNoOutput) {
     ScratchDir scratch;
     const auto vdb_without_iso = write_ball_vdb(scratch, false);
