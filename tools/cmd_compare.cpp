@@ -88,6 +88,7 @@ ConvertOptions convert_with_progress(Progress& progress) {
 /// The phantom written as float samples (density 0..1, surface at 0.5), then converted.
 LoadedGrid load_phantom(const CompareCommandOptions& o) {
     if (!o.inputs.empty()) throw UsageError("--phantom: takes no input file");
+    o.read.refuse_for("--phantom");
     LoadedGrid loaded;
     PhantomSpec spec = phantom_preset(o.phantom, {o.size, o.size, o.size});
     spec.blur = o.blur;
@@ -230,6 +231,17 @@ int run_compare(const CompareCommandOptions& o) {
     options.errors = parse_number_list("--error", o.errors);
     if (!o.dmc_errors.empty()) options.dmc_errors = parse_number_list("--dmc-error", o.dmc_errors);
     options.adaptivities = parse_number_list("--adaptivity", o.adaptivities);
+    const auto require_each = [](const std::string& flag, const std::vector<double>& values, double high, const char* expected) {
+        for (const double v : values) {
+            if (v >= 0 && v <= high) continue;
+            std::ostringstream got;
+            got << v;
+            throw UsageError(flag + ": expected " + expected + ", got " + got.str());
+        }
+    };
+    require_each("--error", options.errors, HUGE_VAL, "tolerances >= 0");
+    require_each("--dmc-error", options.dmc_errors, HUGE_VAL, "tolerances >= 0");
+    require_each("--adaptivity", options.adaptivities, 1, "adaptivities in [0, 1]");
     if (!o.decimate.empty()) options.decimate_fractions = parse_number_list("--decimate", o.decimate);
     for (const double f : options.decimate_fractions) {
         if (!(f > 0 && f <= 1)) {
@@ -278,8 +290,14 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
     const auto names = phantom_preset_names();
     auto* phantom = command.add_option("--phantom", o.phantom, "Compare on a phantom instead, against its exact surface")
         ->check(CLI::IsMember(names));
-    command.add_option("--size", o.size, "--phantom: edge of the cubic volume in voxels")->capture_default_str()->needs(phantom);
-    command.add_option("--blur", o.blur, "--phantom: half-width of the density ramp in voxels")->capture_default_str()->needs(phantom);
+    command.add_option("--size", o.size, "--phantom: edge of the cubic volume in voxels")
+        ->check(kFinitePositive)
+        ->capture_default_str()
+        ->needs(phantom);
+    command.add_option("--blur", o.blur, "--phantom: half-width of the density ramp in voxels")
+        ->check(kFiniteNonNegative)
+        ->capture_default_str()
+        ->needs(phantom);
     command.add_option("--error", o.errors, "Error tolerances (voxels) of the default mesher (intersection-free DC), one mesh each")
         ->capture_default_str();
     command.add_option("--dmc-error", o.dmc_errors, "Error tolerances (voxels) of --method dmc, one mesh each");

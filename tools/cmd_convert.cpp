@@ -85,6 +85,7 @@ void add_convert_command(CLI::App& command, CommandResult& result) {
     auto* iso = command.add_option("--iso", o.iso, "Isovalue V (samples above V are inside), or auto for Otsu's threshold");
     command.add_option("--iso-range", o.iso_range, "Keep the surfaces of every isovalue in A,B")->excludes(iso);
     command.add_option("--band", o.band, "Active band: straddling cells' corners dilated by N voxels (1..32)")
+        ->check(CLI::Range(1, 32))
         ->capture_default_str();
     output_file(command.add_option("-o,--output", o.output, "Output .vdb file (written atomically)"))->required();
     add_read_flags(command, o.read);

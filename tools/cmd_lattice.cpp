@@ -102,6 +102,7 @@ int run_lattice(const LatticeCommandOptions& o) {
     Progress progress("lattice", o.common.quiet);
 
     std::shared_ptr<openvdb::FloatGrid> clip;
+    if (o.clip.empty()) o.clip_input.read.refuse_for("no --clip");
     if (!o.clip.empty()) {
         MeshInputOptions clip_input = o.clip_input;
         clip_input.inside = o.clip_inside == "below" ? Inside::below : Inside::above;

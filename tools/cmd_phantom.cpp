@@ -156,9 +156,11 @@ void add_phantom_command(CLI::App& command, CommandResult&) {
     command.add_option("-o,--output", o.output, "Output file (format by extension) or folder/ for DICOM")->required();
     auto* size = command.add_option("--size", o.size, "Cubic volume of N^3 voxels")->capture_default_str();
     command.add_option("--dims", o.dims, "Volume dims X,Y,Z instead of --size")->excludes(size);
-    command.add_option("--type", o.type, "Sample type: u8|i8|u16|i16|u32|i32|f32|f64")->capture_default_str();
-    command.add_option("--blur", o.blur, "Blur w of s(d, w) in voxels (0: a step)")->capture_default_str();
-    command.add_option("--noise", o.noise, "Gaussian noise sigma, in density units (0..1)")->capture_default_str();
+    command.add_option("--type", o.type, "Sample type: u8|i8|u16|i16|u32|i32|f32|f64")
+        ->check(kSampleTypeName)
+        ->capture_default_str();
+    command.add_option("--blur", o.blur, "Blur w of s(d, w) in voxels (0: a step)")->check(kFiniteNonNegative)->capture_default_str();
+    command.add_option("--noise", o.noise, "Gaussian noise sigma, in density units (0..1)")->check(kFiniteNonNegative)->capture_default_str();
     command.add_option("--seed", o.seed, "Noise seed: the same seed writes the same bytes")->capture_default_str();
     command.add_option("--spacing", o.spacing, "Voxel spacing SX,SY,SZ (mm)")->capture_default_str();
     command.add_option("--scale", o.scale,
@@ -169,11 +171,11 @@ void add_phantom_command(CLI::App& command, CommandResult&) {
     command.add_flag("--analyze", o.analyze, "Write .hdr/.img as Analyze 7.5 (default: a NIfTI pair)");
     command.add_flag("--gzip", o.gzip, "NRRD: gzip encoding (other formats: name the file .nii.gz or .raw.gz)");
     auto* geometry = command.add_option_group("Shape parameters (voxels; default: the preset)");
-    geometry->add_option("--radius", o.radius, "Sphere/cylinder radius, torus ring radius");
-    geometry->add_option("--tube-radius", o.tube_radius, "Torus tube radius");
-    geometry->add_option("--side", o.side, "Cube edge length");
-    geometry->add_option("--height", o.height, "Cylinder height");
-    geometry->add_option("--hole-radius", o.hole_radius, "cube-minus-sphere: radius of the removed ball");
+    geometry->add_option("--radius", o.radius, "Sphere/cylinder radius, torus ring radius")->check(kFinitePositive);
+    geometry->add_option("--tube-radius", o.tube_radius, "Torus tube radius")->check(kFinitePositive);
+    geometry->add_option("--side", o.side, "Cube edge length")->check(kFinitePositive);
+    geometry->add_option("--height", o.height, "Cylinder height")->check(kFinitePositive);
+    geometry->add_option("--hole-radius", o.hole_radius, "cube-minus-sphere: radius of the removed ball")->check(kFinitePositive);
     geometry->add_option("--rotate", o.rotate, "Rotation AX,AY,AZ in degrees (about x, then y, then z)");
     geometry->add_option("--centre", o.centre, "Shape centre X,Y,Z in voxel indices (default: the volume centre)");
     add_common_options(command, o.common);

@@ -47,13 +47,14 @@ ViewSource load_source(const ViewCommandOptions& options) {
     source.name = std::filesystem::path(input).filename().string();
     if (is_mesh_file(input)) {
         if (options.iso) throw UsageError("--iso: only for a scan or .vdb input, got the mesh " + input);
-        options.read.refuse_for_mesh(input);
+        options.read.refuse_for("the mesh " + input);
         if (options.inputs.size() > 1) throw UsageError("a mesh input takes no further input files");
         source.mesh = std::make_shared<const Mesh>(read_mesh(input));
         return source;
     }
     std::optional<double> stored_iso;
     if (lowercase_extension(input) == ".vdb") {
+        options.read.refuse_for("the grid " + input);
         auto grid = read_vdb(input);
         stored_iso = stored_isovalue(*grid);
         source.scan = std::make_shared<const ViewScan>(prepare_grid(std::move(grid)));

@@ -97,7 +97,9 @@ void add_read_flags(CLI::App& command, ReadFlags& flags) {
     auto* group = command.add_option_group("Headerless raw input");
     const CLI::Option* dims = group->add_option("--raw-dims", flags.raw_dims, "Read INPUT as headerless raw with these dims X,Y,Z");
     flags.raw_only = {
-        group->add_option("--raw-type", flags.raw_type, "Sample type: u8|i8|u16|i16|u32|i32|f32|f64")->capture_default_str(),
+        group->add_option("--raw-type", flags.raw_type, "Sample type: u8|i8|u16|i16|u32|i32|f32|f64")
+            ->check(kSampleTypeName)
+            ->capture_default_str(),
         group->add_option("--raw-endian", flags.raw_endian, "Byte order: little|big")->capture_default_str(),
         group->add_option("--spacing", flags.spacing, "Voxel spacing SX,SY,SZ (world units)"),
         group->add_option("--header-bytes", flags.header_bytes, "Bytes to skip before the samples"),
@@ -109,8 +111,8 @@ void add_read_flags(CLI::App& command, ReadFlags& flags) {
     flags.scan_only.push_back(outside);
 }
 
-void ReadFlags::refuse_for_mesh(const std::string& mesh) const {
-    for (const CLI::Option* option : scan_only) refuse_unless(option, false, "for a scan input, got the mesh " + mesh);
+void ReadFlags::refuse_for(const std::string& input) const {
+    for (const CLI::Option* option : scan_only) refuse_unless(option, false, "for a scan input, got " + input);
 }
 
 Progress::Progress(std::string label, bool quiet) : label_(std::move(label)), enabled_(!quiet && ::isatty(2)) {}

@@ -38,10 +38,11 @@ struct ReadFlags {
     /// The options that mean something only with --raw-dims (set by add_read_flags): given
     /// without it, they are refused rather than ignored.
     std::vector<const CLI::Option*> raw_only;
-    /// All of these flags (set by add_read_flags): given with a mesh input, they are refused.
+    /// All of these flags (set by add_read_flags): given with an input that is no scan, they are refused.
     std::vector<const CLI::Option*> scan_only;
-    /// Throws UsageError naming the first of these flags given, for the mesh file @a mesh.
-    void refuse_for_mesh(const std::string& mesh) const;
+    /// Throws UsageError naming the first of these flags given, for @a input ("the mesh x.stl",
+    /// "the .vdb x.vdb", "--phantom") that is no scan.
+    void refuse_for(const std::string& input) const;
     /// Converts to ReadOptions; throws UsageError on malformed values. @a more_inputs are the
     /// positional inputs after the first: the further parts of a split raw scan, read in order
     /// (ReadOptions::raw_more_files), allowed only with --raw-dims.
@@ -71,6 +72,18 @@ inline const CLI::Validator kFinitePositive(
         return {};
     },
     "FINITE > 0");
+
+/// Accepts a sample type name (u8 ... f64, parse_sample_type()).
+inline const CLI::Validator kSampleTypeName(
+    [](std::string& text) -> std::string {
+        try {
+            parse_sample_type(text);
+        } catch (const std::exception&) {
+            return "expected u8, i8, u16, i16, u32, i32, f32 or f64, got " + text;
+        }
+        return {};
+    },
+    "");
 
 /// A one-line percentage on stderr, shown only on a terminal and without --quiet.
 class Progress {

@@ -5,13 +5,14 @@
 #include <cctype>
 
 #include "load_grid.h"
+#include "option_checks.h"
 
 namespace vdbmesh::cli {
 
 void add_label_flags(CLI::App& command, LabelFlags& flags, const std::string& labels_help) {
     command.add_option("--labels", flags.labels, labels_help);
-    command.add_option("--label-names", flags.names,
-                       "Label table (value name per line: MRIcron .txt, FreeSurfer LUT, ITK-SNAP); default: the one beside the file")
+    input_files(command.add_option("--label-names", flags.names,
+                                   "Label table (value name per line: MRIcron .txt, FreeSurfer LUT, ITK-SNAP); default: the one beside the file"))
         ->check(CLI::ExistingFile);
 }
 

@@ -68,6 +68,7 @@ GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double
     GridInput loaded;
     if (lowercase_extension(input) == ".vdb") {
         if (inputs.size() > 1) throw UsageError("a .vdb input takes no further input files");
+        read.refuse_for("the grid " + input);
         loaded.grid = read_vdb(input);
         loaded.level_set = loaded.grid->getGridClass() == openvdb::GRID_LEVEL_SET;
         const std::optional<double> stored = loaded.level_set ? std::optional<double>(0.0) : stored_isovalue(*loaded.grid);

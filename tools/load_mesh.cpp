@@ -30,7 +30,7 @@ Mesh load_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& o
         if (inputs.size() > 1) throw UsageError("a mesh input takes no further input files");
         if (options.refine) throw UsageError("--refine: only for a scan or .vdb input, got the mesh " + inputs.front());
         if (options.iso) throw UsageError(options.iso_option + ": only for a scan or .vdb input, got the mesh " + inputs.front());
-        options.read.refuse_for_mesh(inputs.front());
+        options.read.refuse_for("the mesh " + inputs.front());
         return read_mesh(inputs.front());
     }
     ConvertOptions convert;

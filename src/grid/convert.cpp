@@ -62,7 +62,9 @@ void check_convert_options(const VolumeHeader& header, const ConvertOptions& opt
     const double hi = options.iso_range ? options.iso_range->second : options.iso;
     const double limit = 0.5 * std::numeric_limits<float>::max();
     if (!(lo >= -limit && hi <= limit && lo <= hi))
-        throw UsageError("isovalue: expected a finite value (or a range A <= B) within the float range");
+        throw UsageError(std::string(options.iso_range ? "--iso-range: expected A <= B" : "--iso: expected a value") +
+                         " within half the float range (|iso| <= 1.7e38), got " + std::to_string(lo) +
+                         (options.iso_range ? ", " + std::to_string(hi) : std::string()));
     // Voxel coordinates are 32-bit in OpenVDB; keep room for the band and a leaf.
     const std::int64_t max_dim = std::numeric_limits<std::int32_t>::max() - 2 * (kMaxBand + kLeafDim);
     for (int axis = 0; axis < 3; ++axis)

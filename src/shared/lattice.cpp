@@ -271,7 +271,7 @@ void check_lattice_options(const LatticeOptions& o) {
     for (double b : o.box) {
         const double n = b / o.voxel;
         if (n > 1 << 20) throw UsageError("--box / --voxel: expected at most 2^20 voxels per axis, got " + str(n));
-        if (n < 1) throw UsageError("--box: expected at least one voxel (" + str(o.voxel) + ") per axis, got " + str(b));
+        if (n < 1) throw UsageError("--voxel: expected at most the --box side " + str(b) + ", got " + str(o.voxel));
     }
 }
 

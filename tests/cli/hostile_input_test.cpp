@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -139,6 +140,46 @@ TEST_F(HostileInput, ProcessMayReplaceItsInputButNotTheStopLayer) {
     EXPECT_EQ(o.status, kUsageError) << o.message;
     EXPECT_TRUE(mentions(o, "--stop-layer")) << o.message;
     EXPECT_EQ(read_file(path("stop.vdb")), stop_before);
+}
+
+// ---- 3. unbounded work from one number ----
+
+TEST_F(HostileInput, WorkAndMemoryBeyondTheLimitsAreRefusedBeforeStarting) {
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"process", path("level.vdb"), "--deposit", "1000", "-o", path("o.vdb")}, "--deposit: expected at most 1 hour of work"},
+        {{"lattice", "gyroid", "--period", "2", "--thickness", "0.5", "--box", "2", "--voxel", "0.25", "--band", "100000", "--measure"},
+         "--band: expected at most 1 hour of work"},
+        {{"lattice", "gyroid", "--period", "2", "--thickness", "0.5", "--box", "20", "--voxel", "1e-3", "--measure"},
+         "--voxel: expected at most 1 hour of work"},
+        {{"reconstruct", path("p.xyz"), "--voxel", "1e-3", "-o", path("o.stl")}, "--voxel: expected at most 16 GiB of memory"},
+        {{"mesh", path("scan.vdb"), "-o", path("o.stl"), "--threads", "99999999"}, "--threads"},
+        {{"compare", path("scan.vdb"), "--samples", "4000000000"}, "--samples: expected at most 16 GiB of memory"},
+        {{"check", path("io.stl"), "--ref", path("io.stl"), "--samples", "4000000000"}, "--samples: expected at most 1 hour of work"},
+        {{"compare", "--phantom", "sphere", "--size", "100000"}, "--size: expected at most 16 GiB of memory"},
+    };
+    for (const auto& [args, text] : cases) {
+        const auto start = std::chrono::steady_clock::now();
+        const Outcome o = run_cli(args);
+        EXPECT_EQ(o.status, kUsageError) << args[0] << ": " << o.message;
+        EXPECT_TRUE(mentions(o, text) && (mentions(o, "got an estimate of") || text == "--threads")) << o.message;
+        EXPECT_FALSE(mentions(o, "/tmp/") || mentions(o, "vdbmesh-compare")) << o.message;  // no temporary path
+        EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(20)) << args[0];  // refused, not started
+    }
+    EXPECT_FALSE(std::filesystem::exists(*dir_ / "o.vdb"));
+}
+
+TEST_F(HostileInput, AGzipRawTooSmallForItsDimsSaysWhatThePlainRawSays) {
+    write_file(*dir_ / "small.raw", std::string(1000, '\0'));
+    const std::string dims = "100000,100000,100000";
+    const Outcome plain = run_cli({"info", path("small.raw"), "--raw-dims", dims});
+    ASSERT_EQ(run_cli({"phantom", "sphere", "--size", "10", "-o", path("small.raw.gz")}).status, 0);
+    const Outcome gzip = run_cli({"info", path("small.raw.gz"), "--raw-dims", dims});
+    const std::string expected = "sample data: expected 1000000000000000 bytes of samples (100000 x 100000 x 100000 u8), got ";
+    EXPECT_EQ(plain.status, kRuntimeError) << plain.message;
+    EXPECT_EQ(gzip.status, kRuntimeError) << gzip.message;
+    EXPECT_TRUE(mentions(plain, "small.raw: " + expected + "only 1000 bytes (truncated)")) << plain.message;
+    EXPECT_TRUE(mentions(gzip, "small.raw.gz: " + expected + "at most ")) << gzip.message;
+    EXPECT_TRUE(mentions(gzip, "(truncated")) << gzip.message;
 }
 
 // ---- 4. options that slip through ----
