@@ -53,10 +53,10 @@ IndexBox halo_box(const openvdb::CoordBBox& owned) {
 }
 
 /// Bytes of the mesher's work per byte of grid it reads (the cells of the octree and coarse
-/// merges, the keyed triangles and vertices): measured, see bench/README.md ("Bricks").
+/// merges, the keyed triangles and vertices): a first guess, not yet calibrated (bench/README.md, "Bricks").
 constexpr double kWorkPerGridByte = 2.0;
 /// What the process holds before it reads a grid (the program, its libraries, the thread
-/// pool): measured, see bench/README.md ("Bricks").
+/// pool): a first guess, not yet calibrated (bench/README.md, "Bricks").
 constexpr std::uint64_t kBaseBytes = std::uint64_t(24) << 20;
 
 }  // namespace
