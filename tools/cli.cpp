@@ -2,20 +2,51 @@
 
 #include <algorithm>
 #include <iostream>
+#include <memory>
 
 #include "commands.h"
+#include "option_checks.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::cli {
 
 namespace {
 
-/// @a message, cut after its first kShownBytes bytes: a bad value is echoed in the messages,
-/// and a value of megabytes would bury the message itself.
+/// The length of the valid UTF-8 sequence at @a i of @a text (no overlong forms), 0 if none.
+std::size_t utf8_length(const std::string& text, std::size_t i) {
+    const auto byte = [&](std::size_t k) { return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u; };
+    const unsigned lead = byte(i);
+    const std::size_t length = lead >= 0xf0 ? (lead <= 0xf4 ? 4 : 0) : lead >= 0xe0 ? 3 : lead >= 0xc2 ? 2 : 0;
+    for (std::size_t k = 1; k < length; ++k)
+        if ((byte(i + k) & 0xc0u) != 0x80u) return 0;
+    return length;
+}
+
+/// @a text with control bytes and bytes that are not UTF-8 written as \xNN: a message quotes
+/// what it found in a file, and a binary file's bytes would garble the terminal.
+std::string printable(const std::string& text) {
+    std::string shown;
+    for (std::size_t i = 0; i < text.size();) {
+        const auto c = static_cast<unsigned char>(text[i]);
+        const std::size_t length = c >= 0x80 ? utf8_length(text, i) : (c >= 0x20 && c != 0x7f) || c == '\n' || c == '\t' ? 1 : 0;
+        if (length == 0) {
+            const char* hex = "0123456789abcdef";
+            shown += std::string("\\x") + hex[c >> 4] + hex[c & 15];
+            ++i;
+        } else {
+            shown.append(text, i, length);
+            i += length;
+        }
+    }
+    return shown;
+}
+
+/// @a message, cut after its first kShownBytes bytes (a bad value is echoed in the messages,
+/// and a value of megabytes would bury the message itself), made printable().
 std::string bounded(const std::string& message) {
     constexpr std::size_t kShownBytes = 400;
-    if (message.size() <= kShownBytes) return message;
-    return message.substr(0, kShownBytes) + "... (" + std::to_string(message.size()) + " bytes in all)";
+    if (message.size() <= kShownBytes) return printable(message);
+    return printable(message.substr(0, kShownBytes)) + "... (" + std::to_string(message.size()) + " bytes in all)";
 }
 
 }  // namespace
@@ -26,7 +57,8 @@ int run(const std::vector<std::string>& args) {
     app.require_subcommand(1);
     app.set_version_flag("--version", "vdbmesh 0.1.0");
     CommandResult result;
-    for (const CommandEntry& entry : kCommands) entry.add(*app.add_subcommand(entry.name, entry.summary), result);
+    for (const CommandEntry& entry : kCommands)
+        entry.add(*app.add_subcommand(std::make_shared<CheckedCommand>(entry.summary, entry.name, &app)), result);
 
     // CLI11 would say only "A subcommand is required" for a word that is not a command.
     if (!args.empty() && !args.front().empty() && args.front()[0] != '-' &&

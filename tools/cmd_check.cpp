@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "common_options.h"
 #include "report_json.h"
+#include "work_limits.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_io.h"
@@ -81,6 +82,7 @@ void print_table(const nlohmann::ordered_json& j, std::ostream& out) {
 }
 
 int run_check(const CheckOptions& o) {
+    refuse_beyond_work("--samples", 2.0 * double(o.samples), "distance queries", 1e-6);
     const ThreadLimit limit(o.common);
     const Mesh mesh = read_mesh(o.mesh);
     const MeshAnalysis report = analyze_mesh(mesh);
@@ -104,10 +106,11 @@ void add_check_command(CLI::App& command, CommandResult& result) {
     auto options = std::make_shared<CheckOptions>();
     CheckOptions& o = *options;
     command.add_option("mesh", o.mesh, "Mesh to check (.stl, .ply, .obj)")->required();
-    command.add_option("--ref", o.reference, "Reference mesh: adds two-sided Hausdorff, mean and RMS distances");
+    auto* reference = command.add_option("--ref", o.reference, "Reference mesh: adds two-sided Hausdorff, mean and RMS distances");
     command.add_option("--samples", o.samples, "Points sampled on each mesh for --ref")
         ->check(kFinitePositive)
-        ->capture_default_str();
+        ->capture_default_str()
+        ->needs(reference);
     command.add_flag("--json", o.json, "One JSON object instead of a table");
     add_common_options(command, o.common);
     command.footer("Exit status: 0 clean (closed, manifold, oriented outward, no self-intersections or "

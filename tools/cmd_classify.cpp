@@ -33,7 +33,10 @@ void run_classify(ClassifyCommandOptions& o) {
         const auto eq = c.find('=');
         if (eq == std::string::npos || eq == 0 || eq + 1 == c.size())
             throw UsageError("--class: expected NAME=POINTS_FILE, got \"" + c + "\"");
-        classes.emplace_back(c.substr(0, eq), c.substr(eq + 1));
+        const std::string name = c.substr(0, eq);
+        for (const auto& named : classes)
+            if (named.first == name) throw UsageError("--class: expected each NAME once, got \"" + name + "\" twice");
+        classes.emplace_back(name, c.substr(eq + 1));
     }
     const ThreadLimit limit(o.common);
     std::unique_ptr<RbfField> sample_field;

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -24,8 +25,10 @@
 #include "commands.h"
 #include "common_options.h"
 #include "load_grid.h"
+#include "option_checks.h"
 #include "report_json.h"
 #include "svg_plot.h"
+#include "work_limits.h"
 #include "write_text_file.h"
 #include "vdbmesh/compare.h"
 #include "vdbmesh/error.h"
@@ -89,6 +92,7 @@ LoadedGrid load_phantom(const CompareCommandOptions& o) {
     PhantomSpec spec = phantom_preset(o.phantom, {o.size, o.size, o.size});
     spec.blur = o.blur;
     validate_phantom(spec);
+    refuse_beyond_memory("--size", "the phantom's float samples, written to a temporary file", 4.0 * std::pow(double(o.size), 3));
     loaded.phantom = spec;
     loaded.iso = o.iso.value_or(0.5);
     const TempFolder folder;
@@ -236,6 +240,11 @@ int run_compare(const CompareCommandOptions& o) {
     }
     options.inside = o.inside;
     options.accuracy.samples = o.samples;
+    const std::size_t mesh_count = options.errors.size() + options.dmc_errors.size() + options.adaptivities.size() +
+                               options.decimate_fractions.size() + 1;  // and Marching Cubes
+    refuse_beyond_memory("--samples", "the surface samples (24 bytes each)", 24.0 * double(o.samples));
+    refuse_beyond_work("--samples", 2.0 * double(o.samples) * double(mesh_count),
+                       "distance queries (samples both ways on " + std::to_string(mesh_count) + " meshes)", 1e-6);
     const LoadedGrid loaded = load_input(o);
     options.iso = loaded.iso;
     if (loaded.phantom) {
@@ -264,13 +273,13 @@ int run_compare(const CompareCommandOptions& o) {
 void add_compare_command(CLI::App& command, CommandResult& result) {
     auto options = std::make_shared<CompareCommandOptions>();
     CompareCommandOptions& o = *options;
-    command.add_option("input", o.inputs, "A scan or .vdb grid (further files: the parts of a split raw scan)");
+    input_files(command.add_option("input", o.inputs, "A scan or .vdb grid (further files: the parts of a split raw scan)"));
     command.add_option("--iso", o.iso, "Isovalue (a .vdb: default the stored one; a phantom: 0.5)");
     const auto names = phantom_preset_names();
-    command.add_option("--phantom", o.phantom, "Compare on a phantom instead, against its exact surface")
+    auto* phantom = command.add_option("--phantom", o.phantom, "Compare on a phantom instead, against its exact surface")
         ->check(CLI::IsMember(names));
-    command.add_option("--size", o.size, "--phantom: edge of the cubic volume in voxels")->capture_default_str();
-    command.add_option("--blur", o.blur, "--phantom: half-width of the density ramp in voxels")->capture_default_str();
+    command.add_option("--size", o.size, "--phantom: edge of the cubic volume in voxels")->capture_default_str()->needs(phantom);
+    command.add_option("--blur", o.blur, "--phantom: half-width of the density ramp in voxels")->capture_default_str()->needs(phantom);
     command.add_option("--error", o.errors, "Error tolerances (voxels) of the default mesher (intersection-free DC), one mesh each")
         ->capture_default_str();
     command.add_option("--dmc-error", o.dmc_errors, "Error tolerances (voxels) of --method dmc, one mesh each");
@@ -285,8 +294,8 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
     command.add_option("--samples", o.samples, "Points sampled on each mesh and on the true surface")
         ->check(kFinitePositive)
         ->capture_default_str();
-    command.add_option("--json", o.json, "Write the whole report as JSON to FILE");
-    command.add_option("--plot", o.plot, "Write triangles against Hausdorff distance as an SVG chart to FILE");
+    output_file(command.add_option("--json", o.json, "Write the whole report as JSON to FILE"));
+    output_file(command.add_option("--plot", o.plot, "Write triangles against Hausdorff distance as an SVG chart to FILE"));
     add_read_flags(command, o.read);
     add_common_options(command, o.common);
     command.callback([options, &result] { result.status = run_compare(*options); });

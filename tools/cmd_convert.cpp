@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "common_options.h"
 #include "load_grid.h"
+#include "option_checks.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/volume_stats.h"
@@ -79,13 +80,13 @@ int run_convert(const ConvertCommandOptions& o) {
 void add_convert_command(CLI::App& command, CommandResult& result) {
     auto options = std::make_shared<ConvertCommandOptions>();
     ConvertCommandOptions& o = *options;
-    command.add_option("input", o.inputs, "Scan to convert; further files are the next parts of a split raw scan")
+    input_files(command.add_option("input", o.inputs, "Scan to convert; further files are the next parts of a split raw scan"))
         ->required();
     auto* iso = command.add_option("--iso", o.iso, "Isovalue V (samples above V are inside), or auto for Otsu's threshold");
     command.add_option("--iso-range", o.iso_range, "Keep the surfaces of every isovalue in A,B")->excludes(iso);
     command.add_option("--band", o.band, "Active band: straddling cells' corners dilated by N voxels (1..32)")
         ->capture_default_str();
-    command.add_option("-o,--output", o.output, "Output .vdb file (written atomically)")->required();
+    output_file(command.add_option("-o,--output", o.output, "Output .vdb file (written atomically)"))->required();
     add_read_flags(command, o.read);
     add_common_options(command, o.common);
     command.callback([options, &result] { result.status = run_convert(*options); });

@@ -8,7 +8,9 @@
 //  - --measure: volume, area, components, voxels, unique and represented leaves, nothing written.
 // --clip intersects the lattice with a solid: a mesh file, or a .vdb / scan meshed as `measure` does.
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -20,6 +22,8 @@
 #include "gltf_instanced.h"
 #include "load_grid.h"
 #include "load_mesh.h"
+#include "option_checks.h"
+#include "work_limits.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/json_text.h"
@@ -54,6 +58,25 @@ std::array<double, 3> parse_triple(const std::string& flag, const std::string& t
     return {v[0], v[1], v[2]};
 }
 
+/// Refuses a lattice whose leaf positions take more work than a run may plan for. The shared
+/// tree is built over every leaf position of the box widened by the band on each side (about
+/// 1 us each: 74088 in 0.07 s), however few are distinct; those within the band of the surface
+/// cost about 10 us (140608 positions in 1.24 s at --band 200). The surface is bounded by 6.2 /
+/// period per unit volume (a gyroid sheet's two sides; its surface has 3.1 / period).
+void refuse_unbounded_lattice(const LatticeOptions& lattice) {
+    const double band = std::ceil(lattice.band), leaf = 8 * lattice.voxel;
+    double positions = 1, volume = 1, widest = 0;
+    for (const double side : lattice.box) {
+        positions *= std::ceil((side / lattice.voxel + 2 * band + 2) / 8);
+        volume *= side;
+        widest = std::max(widest, side / lattice.voxel);
+    }
+    const double surface_leaves = 6.2 / lattice.period * volume / (leaf * leaf);
+    const double band_leaves = std::min(positions, surface_leaves * (2 * band / 8 + 2));
+    refuse_beyond_work(2 * band > widest ? "--band" : "--voxel", positions, "leaf positions in --box and the band around it",
+                       1e-6 + 9e-6 * band_leaves / positions);
+}
+
 int run_lattice(const LatticeCommandOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     LatticeOptions lattice;
@@ -74,6 +97,7 @@ int run_lattice(const LatticeCommandOptions& o) {
     if (!o.box.empty()) lattice.box = parse_triple("--box", o.box);
     if (!o.box_min.empty()) lattice.box_min = parse_triple("--box-min", o.box_min);
     if (o.clip.empty() || !o.box.empty()) check_lattice_options(lattice);  // with --clip alone: once its box is known
+    if (!o.box.empty()) refuse_unbounded_lattice(lattice);
     const ThreadLimit limit(o.common);
     Progress progress("lattice", o.common.quiet);
 
@@ -81,6 +105,7 @@ int run_lattice(const LatticeCommandOptions& o) {
     if (!o.clip.empty()) {
         MeshInputOptions clip_input = o.clip_input;
         clip_input.inside = o.clip_inside == "below" ? Inside::below : Inside::above;
+        clip_input.iso_option = "--clip-iso";
         const Mesh solid = load_mesh(o.clip, clip_input, "clip with");
         if (o.box.empty()) {
             // The solid's bounding box.
@@ -95,6 +120,7 @@ int run_lattice(const LatticeCommandOptions& o) {
                 lattice.box[a] = hi[a] - lo[a] + 2 * o.voxel;
             }
             check_lattice_options(lattice);
+            refuse_unbounded_lattice(lattice);
         }
         clip = clip_level_set(solid, o.voxel, o.band);
     }
@@ -159,13 +185,14 @@ void add_lattice_command(CLI::App& command, CommandResult& result) {
     command.add_option("--box-min", o->box_min, "Minimum corner x,y,z of the box (default 0,0,0)");
     command.add_option("--voxel", o->voxel, "Voxel size (world units)")->required();
     command.add_option("--band", o->band, "Narrow band half-width in voxels")->capture_default_str();
-    command.add_option("--clip", o->clip,
+    auto* clip = input_files(command.add_option("--clip", o->clip,
                        "Intersect with this solid: a mesh file, or a .vdb or scan (meshed at --clip-iso; further files: "
-                       "the parts of a split raw scan, read with the --raw-* flags)");
-    command.add_option("--clip-iso", o->clip_input.iso, "Isovalue of a --clip .vdb or scan (default: the stored one)");
+                       "the parts of a split raw scan, read with the --raw-* flags)"));
+    command.add_option("--clip-iso", o->clip_input.iso, "Isovalue of a --clip .vdb or scan (default: the stored one)")->needs(clip);
     command.add_option("--clip-inside", o->clip_inside, "Which side of --clip-iso is the solid: above (default) or below (a level set)")
-        ->check(CLI::IsMember({"above", "below"}));
-    command.add_option("-o,--output", o->output, "Output: .vdb (level set), .stl/.ply/.obj (mesh), .gltf/.glb (instanced mesh)");
+        ->check(CLI::IsMember({"above", "below"}))
+        ->needs(clip);
+    output_file(command.add_option("-o,--output", o->output, "Output: .vdb (level set), .stl/.ply/.obj (mesh), .gltf/.glb (instanced mesh)"));
     command.add_flag("--measure", o->measure, "Print volume, area, components, voxels, unique_leaves, leaves; write nothing");
     command.add_flag("--json", o->json, "Print the figures as one JSON object on stdout");
     command.add_flag("--ascii", o->ascii, "ASCII STL or PLY");

@@ -1,7 +1,8 @@
 // `vdbmesh mesh`: a .vdb grid or a scan (converted on the fly) to a triangle mesh file. It
 // reports its figures on stderr, or with --json as one JSON object on stdout. With --verify the
 // whole mesh is checked as `vdbmesh check` does (the meshers never run that check themselves);
-// a defective mesh is reported, not written, and the exit status is 3.
+// a defective mesh is reported, not written, and the exit status is 3. With --labels the input
+// is a label map meshed per label (label_mesh_command.h).
 
 #include <algorithm>
 #include <cctype>
@@ -17,8 +18,10 @@
 
 #include "commands.h"
 #include "common_options.h"
+#include "label_mesh_command.h"
 #include "load_grid.h"
 #include "mesh_processing.h"
+#include "option_checks.h"
 #include "report_json.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
@@ -52,6 +55,7 @@ struct MeshCommandOptions {
     ReadFlags read;
     ProcessingOptions processing;
     CommonOptions common;
+    LabelMeshRequest labels;  ///< used with --labels (its inputs, output, read and common options are copied in)
 };
 
 std::string lowercase(std::string text) {
@@ -155,6 +159,12 @@ int run_bricked(const MeshCommandOptions& options, const openvdb::FloatGrid::Ptr
 
 /// Exit status 0, or 3 when --verify found a defect (the mesh is then not written).
 int run_mesh(MeshCommandOptions& options) {
+    if (options.labels.label.labels) {
+        LabelMeshRequest& request = options.labels;
+        request.inputs = options.inputs, request.output = options.output, request.ascii = options.ascii;
+        request.json = options.json, request.read = options.read, request.common = options.common;
+        return run_label_mesh(request);
+    }
     const std::string extension = lowercase_extension(options.output);
     if (extension != ".stl" && extension != ".ply" && extension != ".obj") {
         throw UsageError("-o: expected a .stl, .ply or .obj file, got \"" + options.output + "\"");
@@ -174,7 +184,8 @@ int run_mesh(MeshCommandOptions& options) {
     result.mesh = process_mesh(std::move(result.mesh), options.processing, processing);
     const Mesh& mesh = result.mesh;
     if (mesh.triangles.empty())
-        throw no_surface_error(options.inputs.front(), *grid, {options.mesh.iso, options.mesh.iso}, options.output);
+        throw no_surface_error(options.inputs.front(), *grid, {options.mesh.iso, options.mesh.iso}, options.output,
+                               grid_steps_text(options.processing));
     std::optional<MeshAnalysis> verified;
     if (options.verify) verified = analyze_mesh(mesh);
     const bool defective = verified && !verified->is_clean();
@@ -203,18 +214,18 @@ int run_mesh(MeshCommandOptions& options) {
 
 void add_mesh_command(CLI::App& command, CommandResult& result) {
     auto options = std::make_shared<MeshCommandOptions>();
-    command.add_option("INPUT", options->inputs, "A .vdb grid or a scan (extra files: the parts of a split raw scan)")
+    input_files(command.add_option("INPUT", options->inputs, "A .vdb grid or a scan (extra files: the parts of a split raw scan)"))
         ->required();
-    command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj")->required();
+    output_file(command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj (with --labels: DIR/, .ply or .glb/.gltf)"))->required();
     command.add_option("--iso", options->iso, "Isovalue (default for a .vdb: the one stored by convert)");
     command.add_option("--method", options->method,
                        "Mesher: dc (intersection-free Dual Contouring, the default), dmc (Dual Marching Cubes), mc, openvdb (volumeToMesh)")
         ->check(CLI::IsMember(kMethods, CLI::ignore_case))
         ->capture_default_str();
-    command.add_option("--error", options->mesh.error, "dc, dmc: tolerated error in voxels (0: no simplification, Marching Cubes)")
+    auto* error = command.add_option("--error", options->mesh.error, "dc, dmc: tolerated error in voxels (0: no simplification, Marching Cubes)")
         ->check(kFiniteNonNegative)
         ->capture_default_str();
-    command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")
+    auto* adaptivity = command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     command.add_option("--inside", options->inside,
@@ -232,7 +243,20 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     add_read_flags(command, options->read);
     add_processing_options(command, options->processing);
     add_common_options(command, options->common);
-    command.callback([options, &result] {
+    add_label_flags(command, options->labels.label, "Mesh a label map: all, or a list like 3,5,10-12; one closed mesh per label, walls shared");
+    const CLI::Option* format = command.add_option("--format", options->labels.format, "--labels into a folder: the files' format")
+        ->check(CLI::IsMember({"stl", "ply", "obj"}))
+        ->capture_default_str();
+    const CLI::Option* smooth_iterations = command.add_option("--smooth-iterations", options->labels.smooth_iterations, "--labels: constrained smoothing passes (0: voxel faces)")
+        ->check(CLI::Range(0, 1000))
+        ->capture_default_str();
+    command.callback([options, &result, error, adaptivity, format, smooth_iterations] {
+        const std::string method = lowercase(options->method);
+        const bool labels = bool(options->labels.label.labels);
+        refuse_unless(format, labels, "with --labels, got none");
+        refuse_unless(smooth_iterations, labels, "with --labels, got none");
+        refuse_unless(error, method == "dc" || method == "dmc", "with --method dc or dmc, got --method " + method);
+        refuse_unless(adaptivity, method == "openvdb", "with --method openvdb, got --method " + method);
         result.status = run_mesh(*options);
     });
 }

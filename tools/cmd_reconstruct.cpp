@@ -2,7 +2,9 @@
 // closed surface (.stl/.ply/.obj) or to the sampled field (.vdb), by the partition-of-unity
 // RBF of include/vdbmesh/points.h meshed with DMC.
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -10,6 +12,8 @@
 #include "cli.h"
 #include "commands.h"
 #include "common_options.h"
+#include "option_checks.h"
+#include "work_limits.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/json_text.h"
@@ -29,15 +33,40 @@ struct ReconstructCommandOptions {
     CommonOptions common;
 };
 
+/// Refuses a --voxel whose surface would take more memory or work than a run may plan for. The
+/// surface's voxels are bounded by the area of the points' box over voxel^2; each took about
+/// 2 us and 700 bytes (a sphere of radius 10 at --voxel 0.025: 6.4 s, 1.36 GB, for 3.8e6).
+void refuse_unbounded_sampling(const PointCloud& points, double voxel) {
+    if (!(voxel > 0)) return;  // the default: the longest side / 256
+    Vec3d lo = points.points.front(), hi = lo;
+    for (const Vec3d& p : points.points)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+    const Vec3d side{hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+    const double surface_voxels = 2 * (side[0] * side[1] + side[1] * side[2] + side[2] * side[0]) / (voxel * voxel);
+    refuse_beyond_memory("--voxel", "the surface's voxels", 700 * surface_voxels);
+    refuse_beyond_work("--voxel", surface_voxels, "surface voxels", 2e-6);
+}
+
 int run_reconstruct(ReconstructCommandOptions& o) {
     const std::string ext = detail::to_lower(std::filesystem::path(o.output).extension().string());
     if (ext != ".stl" && ext != ".ply" && ext != ".obj" && ext != ".vdb")
         throw UsageError("-o: expected a .stl, .ply, .obj or .vdb file, got \"" + o.output + "\"");
+    if (!(o.rec.cluster >= 0 || o.rec.cluster == -1))
+        throw UsageError("--cluster: expected a cell size >= 0 or -1 (no averaging), got " + std::to_string(o.rec.cluster));
     const ThreadLimit limit(o.common);
     const auto start = std::chrono::steady_clock::now();
     Progress progress("reconstructing", o.common.quiet);
     o.rec.progress = [&](double f) { progress(f); };
-    const Reconstruction rec = reconstruct(read_points(o.input), o.rec);
+    PointCloud points = read_points(o.input);
+    refuse_unbounded_sampling(points, o.rec.sample.voxel);
+    Reconstruction rec;
+    try {
+        rec = reconstruct(std::move(points), o.rec);
+    } catch (const FormatError&) {
+        throw;
+    } catch (const Error& e) {  // "reconstruct: need at least 10 points": say which file's
+        throw Error(o.input + ": " + e.what());
+    }
     if (rec.mesh.triangles.empty()) throw Error(o.input + ": the reconstructed field has no surface; " + o.output + " not written");
     if (ext == ".vdb") {
         write_vdb(*rec.grid, o.output);
@@ -76,8 +105,9 @@ int run_reconstruct(ReconstructCommandOptions& o) {
 
 void add_reconstruct_command(CLI::App& command, CommandResult& result) {
     auto o = std::make_shared<ReconstructCommandOptions>();
-    command.add_option("INPUT", o->input, "Points: .xyz/.pts (x y z [nx ny nz]), .ply, or a .conf range-scan set")->required();
-    command.add_option("-o,--output", o->output, "The surface (.stl, .ply, .obj) or the sampled field (.vdb, negative inside)")->required();
+    input_files(command.add_option("INPUT", o->input, "Points: .xyz/.pts (x y z [nx ny nz]), .ply, or a .conf range-scan set"))->required();
+    output_file(command.add_option("-o,--output", o->output, "The surface (.stl, .ply, .obj) or the sampled field (.vdb, negative inside)"))
+        ->required();
     command.add_option("--voxel", o->rec.sample.voxel, "Voxel size of the sampled field (0: the points' longest side / 256)")
         ->check(kFiniteNonNegative);
     command.add_option("--decimate", o->rec.rbf.decimate.fraction, "Adaptive decimation: the fraction of each leaf's fitted points to remove, in [0, 1)")

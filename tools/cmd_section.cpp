@@ -14,6 +14,7 @@
 #include "commands.h"
 #include "common_options.h"
 #include "load_mesh.h"
+#include "option_checks.h"
 #include "section_svg.h"
 #include "write_text_file.h"
 #include "vdbmesh/error.h"
@@ -139,15 +140,15 @@ void run_section(const SectionOptions& o) {
 
 void add_section_command(CLI::App& command, CommandResult& result) {
     auto options = std::make_shared<SectionOptions>();
-    command.add_option("INPUT", options->inputs,
-                       "A closed mesh (.stl, .ply, .obj), or a .vdb or scan meshed in memory (extra files: the parts of a split raw scan)")
+    input_files(command.add_option("INPUT", options->inputs,
+                                   "A closed mesh (.stl, .ply, .obj), or a .vdb or scan meshed in memory (extra files: the parts of a split raw scan)"))
         ->required();
     command.add_option("--plane", options->planes, "A plane AXIS=VALUE, e.g. z=42.5 (world units; repeatable)");
     command.add_option("--planes", options->ranges, "Parallel planes AXIS=FIRST:LAST:STEP, e.g. z=0:100:5 (repeatable)");
     command.add_option("--normal", options->normal, "A plane by its normal NX,NY,NZ (with --offset)");
     command.add_option("--offset", options->offset, "With --normal: the plane's signed distance from the origin along the unit normal")
         ->capture_default_str();
-    command.add_option("--svg", options->svg, "Draw the sections to scale into this SVG file");
+    output_file(command.add_option("--svg", options->svg, "Draw the sections to scale into this SVG file"));
     command.add_flag("--json", options->json, "One JSON object {\"sections\": [...]} instead of text");
     add_mesh_input_options(command, options->input);
     add_common_options(command, options->common);

@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "common_options.h"
 #include "points_commands.h"
+#include "vdbmesh/error.h"
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/points.h"
 
@@ -30,9 +31,15 @@ nlohmann::ordered_json similarity_json(const SimilarityResult& r) {
 
 PointCloud load_solid(const std::string& path, const SolidOptions& options, std::unique_ptr<RbfField>* field) {
     PointCloud cloud = read_points(path);
-    remove_outliers(cloud, 8, 4.0);
-    estimate_normals(cloud, {options.neighbours});
-    if (field) *field = std::make_unique<RbfField>(cloud, RbfOptions{});
+    try {
+        remove_outliers(cloud, 8, 4.0);
+        estimate_normals(cloud, {options.neighbours});
+        if (field) *field = std::make_unique<RbfField>(cloud, RbfOptions{});
+    } catch (const FormatError&) {
+        throw;
+    } catch (const Error& e) {  // "normals: need at least 3 points": say which file's
+        throw Error(path + ": " + e.what());
+    }
     return cloud;
 }
 

@@ -39,10 +39,6 @@ volatile std::sig_atomic_t g_stop_requested = 0;
 
 extern "C" void request_stop(int) { g_stop_requested = 1; }
 
-bool is_mesh_file(const std::string& path) {
-    const std::string extension = lowercase_extension(path);
-    return extension == ".stl" || extension == ".ply" || extension == ".obj";
-}
 
 /// Reads the input before anything is served, so that a bad file is reported at once.
 ViewSource load_source(const ViewCommandOptions& options) {
@@ -50,6 +46,9 @@ ViewSource load_source(const ViewCommandOptions& options) {
     ViewSource source;
     source.name = std::filesystem::path(input).filename().string();
     if (is_mesh_file(input)) {
+        if (options.iso) throw UsageError("--iso: only for a scan or .vdb input, got the mesh " + input);
+        options.read.refuse_for_mesh(input);
+        if (options.inputs.size() > 1) throw UsageError("a mesh input takes no further input files");
         source.mesh = std::make_shared<const Mesh>(read_mesh(input));
         return source;
     }

@@ -7,13 +7,15 @@
 #include <cmath>
 #include <iostream>
 
+#include "option_checks.h"
+#include "work_limits.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::cli {
 
 void add_common_options(CLI::App& command, CommonOptions& options) {
     command.add_option("--threads", options.threads, "Worker threads (0: all cores); output is the same for any count")
-        ->check(kFiniteNonNegative);
+        ->check(CLI::Range(0, kMaxThreads));
     command.add_flag("-q,--quiet", options.quiet, "No progress output");
 }
 
@@ -93,15 +95,22 @@ ReadOptions ReadFlags::to_read_options(const std::vector<std::string>& more_inpu
 
 void add_read_flags(CLI::App& command, ReadFlags& flags) {
     auto* group = command.add_option_group("Headerless raw input");
-    group->add_option("--raw-dims", flags.raw_dims, "Read INPUT as headerless raw with these dims X,Y,Z");
+    const CLI::Option* dims = group->add_option("--raw-dims", flags.raw_dims, "Read INPUT as headerless raw with these dims X,Y,Z");
     flags.raw_only = {
         group->add_option("--raw-type", flags.raw_type, "Sample type: u8|i8|u16|i16|u32|i32|f32|f64")->capture_default_str(),
         group->add_option("--raw-endian", flags.raw_endian, "Byte order: little|big")->capture_default_str(),
         group->add_option("--spacing", flags.spacing, "Voxel spacing SX,SY,SZ (world units)"),
         group->add_option("--header-bytes", flags.header_bytes, "Bytes to skip before the samples"),
     };
-    command.add_flag("--allow-outside-data", flags.allow_outside_data,
-                     "Read a data file that a MetaImage, NRRD or OpenQVis header names outside its own folder");
+    const CLI::Option* outside = command.add_flag("--allow-outside-data", flags.allow_outside_data,
+                                                  "Read a data file that a MetaImage, NRRD or OpenQVis header names outside its own folder");
+    flags.scan_only = flags.raw_only;
+    flags.scan_only.insert(flags.scan_only.begin(), dims);
+    flags.scan_only.push_back(outside);
+}
+
+void ReadFlags::refuse_for_mesh(const std::string& mesh) const {
+    for (const CLI::Option* option : scan_only) refuse_unless(option, false, "for a scan input, got the mesh " + mesh);
 }
 
 Progress::Progress(std::string label, bool quiet) : label_(std::move(label)), enabled_(!quiet && ::isatty(2)) {}

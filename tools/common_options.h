@@ -38,6 +38,10 @@ struct ReadFlags {
     /// The options that mean something only with --raw-dims (set by add_read_flags): given
     /// without it, they are refused rather than ignored.
     std::vector<const CLI::Option*> raw_only;
+    /// All of these flags (set by add_read_flags): given with a mesh input, they are refused.
+    std::vector<const CLI::Option*> scan_only;
+    /// Throws UsageError naming the first of these flags given, for the mesh file @a mesh.
+    void refuse_for_mesh(const std::string& mesh) const;
     /// Converts to ReadOptions; throws UsageError on malformed values. @a more_inputs are the
     /// positional inputs after the first: the further parts of a split raw scan, read in order
     /// (ReadOptions::raw_more_files), allowed only with --raw-dims.

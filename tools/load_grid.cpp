@@ -20,6 +20,11 @@ std::string lowercase_extension(const std::string& path) {
     return extension;
 }
 
+bool is_mesh_file(const std::string& path) {
+    const std::string extension = lowercase_extension(path);
+    return extension == ".stl" || extension == ".ply" || extension == ".obj";
+}
+
 namespace {
 
 std::string number_text(double value) {
@@ -33,10 +38,10 @@ std::string isovalues_text(double low, double high) {
     return low == high ? number_text(low) : number_text(low) + ".." + number_text(high);
 }
 
-void require_iso_in_band(const std::string& input, const openvdb::FloatGrid& grid, double iso) {
+void require_iso_in_band(const std::string& input, const openvdb::FloatGrid& grid, double iso, const std::string& iso_option) {
     const auto band = band_isovalues(grid);
     if (!band || (iso >= band->first && iso <= band->second)) return;
-    throw Error(input + ": --iso " + number_text(iso) + " lies outside the isovalues its active band was built for (" +
+    throw Error(input + ": " + iso_option + " " + number_text(iso) + " lies outside the isovalues its active band was built for (" +
                 isovalues_text(band->first, band->second) + "), so the surface there would be wrong; convert the scan again at that isovalue "
                 "(or with --iso-range)");
 }
@@ -56,8 +61,10 @@ openvdb::FloatGrid::Ptr convert_timed(VolumeReader& reader, const ConvertOptions
 }
 
 GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double> iso, const ReadFlags& read,
-                    const std::string& purpose, ConvertOptions convert) {
+                    const std::string& purpose, ConvertOptions convert, const std::string& iso_option) {
     const std::string& input = inputs.front();
+    if (is_mesh_file(input))
+        throw UsageError("expected a .vdb grid or a scan to " + purpose + ", got the mesh " + input + " (a surface already)");
     GridInput loaded;
     if (lowercase_extension(input) == ".vdb") {
         if (inputs.size() > 1) throw UsageError("a .vdb input takes no further input files");
@@ -65,12 +72,12 @@ GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double
         loaded.level_set = loaded.grid->getGridClass() == openvdb::GRID_LEVEL_SET;
         const std::optional<double> stored = loaded.level_set ? std::optional<double>(0.0) : stored_isovalue(*loaded.grid);
         const std::optional<double> chosen = iso ? iso : stored;
-        if (!chosen) throw UsageError("--iso: required, " + input + " stores no isovalue");
+        if (!chosen) throw UsageError(iso_option + ": required, " + input + " stores no isovalue");
         loaded.iso = *chosen;
-        require_iso_in_band(input, *loaded.grid, loaded.iso);
+        require_iso_in_band(input, *loaded.grid, loaded.iso, iso_option);
         return loaded;
     }
-    if (!iso) throw UsageError("--iso: required to " + purpose + " a scan");
+    if (!iso) throw UsageError(iso_option + ": required to " + purpose + " a scan");
     loaded.iso = *iso;
     convert.iso = *iso;
     auto reader = open_scan(inputs, read);
@@ -79,12 +86,17 @@ GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double
 }
 
 Error no_surface_error(const std::string& input, const openvdb::FloatGrid& grid, std::pair<double, double> isovalues,
-                       const std::string& output) {
+                       const std::string& output, const std::string& grid_steps) {
     const auto low = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMin);
     const auto high = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMax);
     const std::string values =
         low && high ? " (its values range from " + number_text(low->value()) + " to " + number_text(high->value()) + ")" : "";
-    return Error(input + ": no surface at iso " + isovalues_text(isovalues.first, isovalues.second) + values + "; " + output + " not written");
+    const std::string not_written = output.empty() ? "" : "; " + output + " not written";
+    const bool values_cross = low && high && low->value() < isovalues.first && high->value() > isovalues.second;
+    if (!grid_steps.empty() && values_cross)
+        return Error(input + ": no surface left after " + grid_steps + " (the values cross iso " +
+                     isovalues_text(isovalues.first, isovalues.second) + values + ", so these steps removed it)" + not_written);
+    return Error(input + ": no surface at iso " + isovalues_text(isovalues.first, isovalues.second) + values + not_written);
 }
 
 }  // namespace vdbmesh::cli

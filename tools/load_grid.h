@@ -18,6 +18,9 @@ namespace vdbmesh::cli {
 /// The extension of @a path ("" if none) in lower case, with its dot: ".vdb".
 std::string lowercase_extension(const std::string& path);
 
+/// True when @a path names a mesh file (.stl, .ply, .obj).
+bool is_mesh_file(const std::string& path);
+
 /// Opens inputs.front() as a scan; the further inputs are the next parts of a split raw scan.
 std::unique_ptr<VolumeReader> open_scan(const std::vector<std::string>& inputs, const ReadFlags& read);
 
@@ -31,16 +34,18 @@ struct GridInput {
 
 /// A .vdb (lowercase_extension()) as stored, at @a iso or else its stored isovalue (0 for a
 /// level set); or a scan converted with @a convert at @a iso (required). @a purpose ("mesh",
-/// "compare on") completes the UsageError text when --iso is missing. Throws Error when @a iso
-/// lies outside the isovalues a .vdb's band was built for (band_isovalues()).
+/// "compare on") completes the UsageError text when @a iso_option (the option giving @a iso:
+/// "--iso", "--clip-iso") is missing. Throws Error when @a iso lies outside the isovalues a
+/// .vdb's band was built for (band_isovalues()); UsageError for a mesh file (is_mesh_file()).
 GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double> iso, const ReadFlags& read,
-                    const std::string& purpose, ConvertOptions convert);
+                    const std::string& purpose, ConvertOptions convert, const std::string& iso_option = "--iso");
 
 /// The error for a grid of @a input with no surface at @a isovalues (low, high; equal for one
 /// isovalue) outside the values or in a constant volume: it names the stored value range when
-/// known, and says @a output was not written.
+/// known, and says @a output was not written (when not empty). When @a grid_steps (grid_steps_text()) removed a
+/// surface that the stored values have at the isovalue, it blames them, not the isovalue.
 Error no_surface_error(const std::string& input, const openvdb::FloatGrid& grid, std::pair<double, double> isovalues,
-                       const std::string& output);
+                       const std::string& output, const std::string& grid_steps = "");
 
 /// convert_to_grid(), timed into @a seconds.
 openvdb::FloatGrid::Ptr convert_timed(VolumeReader& reader, const ConvertOptions& convert,

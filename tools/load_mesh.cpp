@@ -25,24 +25,22 @@ void add_mesh_input_options(CLI::App& command, MeshInputOptions& options) {
     add_read_flags(command, options.read);
 }
 
-bool is_mesh_file(const std::string& path) {
-    const std::string extension = lowercase_extension(path);
-    return extension == ".stl" || extension == ".ply" || extension == ".obj";
-}
-
 Mesh load_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& options, const std::string& purpose) {
     if (is_mesh_file(inputs.front())) {
         if (inputs.size() > 1) throw UsageError("a mesh input takes no further input files");
         if (options.refine) throw UsageError("--refine: only for a scan or .vdb input, got the mesh " + inputs.front());
+        if (options.iso) throw UsageError(options.iso_option + ": only for a scan or .vdb input, got the mesh " + inputs.front());
+        options.read.refuse_for_mesh(inputs.front());
         return read_mesh(inputs.front());
     }
     ConvertOptions convert;
     convert.band = 1;
-    const GridInput loaded = load_grid(inputs, options.iso, options.read, purpose, convert);
+    const GridInput loaded = load_grid(inputs, options.iso, options.read, purpose, convert, options.iso_option);
     MeshOptions mesh;
     mesh.iso = loaded.iso;
     mesh.inside = options.inside;
     Mesh result = mesh_grid(*loaded.grid, mesh).mesh;
+    if (result.triangles.empty()) throw no_surface_error(inputs.front(), *loaded.grid, {loaded.iso, loaded.iso}, "");
     if (options.refine) refine_to_isosurface(result, *loaded.grid, loaded.iso);
     return result;
 }

@@ -15,6 +15,7 @@ namespace vdbmesh::cli {
 /// How a scan or grid input is meshed.
 struct MeshInputOptions {
     std::optional<double> iso;
+    std::string iso_option = "--iso";  ///< the option that gives iso, for messages
     Inside inside = Inside::above;
     bool refine = false;  ///< vertices onto the triquadratic isosurface (refine_to_isosurface)
     ReadFlags read;
@@ -22,9 +23,6 @@ struct MeshInputOptions {
 
 /// --iso, --inside, --refine and the raw-scan flags.
 void add_mesh_input_options(CLI::App& command, MeshInputOptions& options);
-
-/// True when @a path names a mesh file (.stl, .ply, .obj).
-bool is_mesh_file(const std::string& path);
 
 /// inputs.front() read as a mesh when is_mesh_file(), else loaded as a grid (load_grid) and
 /// meshed (and refined with --refine); @a purpose ("measure") completes the message when --iso

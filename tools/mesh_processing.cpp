@@ -89,6 +89,18 @@ void process_grid(openvdb::FloatGrid::Ptr& grid, const MeshOptions& mesh, const 
     if (options.solids.keep_largest || options.solids.min_volume > 0) report.solids = select_solids(*grid, mesh, options.solids);
 }
 
+std::string grid_steps_text(const ProcessingOptions& options) {
+    std::vector<std::string> steps;
+    if (!options.slab.empty()) steps.push_back("--slab " + options.slab);
+    if (options.smooth > 0) steps.push_back("--smooth " + std::to_string(filter_radius(options)));
+    if (options.step > 1) steps.push_back("--step " + std::to_string(options.step));
+    if (options.solids.keep_largest) steps.push_back("--keep-largest");
+    if (options.solids.min_volume > 0) steps.push_back("--min-component-volume");
+    std::string text;
+    for (const std::string& step : steps) text += (text.empty() ? "" : ", ") + step;
+    return text;
+}
+
 Mesh process_mesh(Mesh mesh, const ProcessingOptions& options, ProcessingReport& report) {
     report.triangles_meshed = mesh.triangles.size();
     if (options.taubin > 0) {

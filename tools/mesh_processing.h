@@ -45,6 +45,10 @@ struct ProcessingReport {
 void process_grid(openvdb::FloatGrid::Ptr& grid, const MeshOptions& mesh, const ProcessingOptions& options,
                   ProcessingReport& report);
 
+/// The grid steps given ("--slab 40:80, --step 4"), "" when none: what a missing surface may be
+/// owed to besides the isovalue.
+std::string grid_steps_text(const ProcessingOptions& options);
+
 /// --taubin, then --decimate / --max-error.
 Mesh process_mesh(Mesh mesh, const ProcessingOptions& options, ProcessingReport& report);
 

@@ -62,8 +62,9 @@ private:
 ///   polygons are triangulated as fans; other elements and properties are skipped.
 /// - OBJ: `v` and `f` (forms a, a/b, a/b/c, a//c, negative indices relative to the end);
 ///   other statements are ignored; polygons are triangulated as fans.
-/// @throw FormatError (file, field, expected, actual) for a malformed or truncated file,
-/// UsageError for an unknown extension.
+/// @throw FormatError (file, field, expected, actual) for a malformed or truncated file, and
+/// for a file with no triangle (an empty file, random bytes or text read as OBJ, a PLY of points
+/// only): no valid record is no mesh. UsageError for an unknown extension.
 Mesh read_mesh(const std::filesystem::path& path);
 
 /// The unit normal of each vertex: the area-weighted average of its triangles' normals (0 for

@@ -107,12 +107,19 @@ void MeshStreamWriter::commit() {
 Mesh read_mesh(const std::filesystem::path& path) {
     const MeshFormat format = format_of(path);
     const detail::Bytes bytes = detail::read_prefix(path, detail::file_size_or_throw(path));
+    Mesh mesh;
     switch (format) {
-        case MeshFormat::kStl: return detail::read_stl(path, bytes);
-        case MeshFormat::kPly: return detail::read_ply(path, bytes);
-        case MeshFormat::kObj: return detail::read_obj(path, bytes);
+        case MeshFormat::kStl: mesh = detail::read_stl(path, bytes); break;
+        case MeshFormat::kPly: mesh = detail::read_ply(path, bytes); break;
+        case MeshFormat::kObj: mesh = detail::read_obj(path, bytes); break;
     }
-    return {};
+    // An OBJ reader skips the statements it does not know, so random bytes or a text file read
+    // as no mesh at all rather than as an error; an empty mesh is no valid input anywhere.
+    if (mesh.triangles.empty()) {
+        const char* records = format == MeshFormat::kObj ? "'f' lines" : format == MeshFormat::kPly ? "faces" : "facets";
+        throw FormatError(path.string(), "triangles", std::string("a mesh: at least one triangle (") + records + ")", "none");
+    }
+    return mesh;
 }
 
 std::vector<std::array<float, 3>> vertex_normals(const Mesh& mesh) { return detail::vertex_normals(mesh); }

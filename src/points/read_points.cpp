@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <sys/stat.h>
 
 #include "vdbmesh/error.h"
 #include "vdbmesh/parse_util.h"
@@ -301,7 +302,43 @@ PointCloud read_ply(const std::filesystem::path& path) {
 
 // ---- .conf ----
 
-PointCloud read_conf(const std::filesystem::path& path) {
+/// A .conf nests at most this deep (the Stanford sets nest none): a bound besides the cycle
+/// check, against chains of distinct files.
+constexpr std::size_t kMaxConfDepth = 16;
+
+/// The .conf files being read, outermost first: a file by its device and inode (the same file
+/// through any link or path), and by its name for messages.
+struct ConfChain {
+    std::vector<std::pair<dev_t, ino_t>> ids;
+    std::vector<std::string> names;
+    std::string text(const std::string& last) const {
+        std::string t;
+        for (const std::string& name : names) t += name + " -> ";
+        return t + last;
+    }
+};
+
+PointCloud read_points_in(const std::filesystem::path& path, ConfChain& chain);
+
+/// Refuses a `bmesh` line of @a path naming a .conf already being read (a cycle) or one too deep.
+void refuse_conf_cycle(const std::filesystem::path& path, const std::string& where, const std::filesystem::path& scan_path,
+                       const ConfChain& chain) {
+    if (to_lower(scan_path.extension().string()) != ".conf") return;
+    struct stat info {};
+    if (::stat(scan_path.c_str(), &info) == 0 &&
+        std::find(chain.ids.begin(), chain.ids.end(), std::make_pair(info.st_dev, info.st_ino)) != chain.ids.end())
+        throw FormatError(path.string(), where + ": bmesh", "a scan file, not a .conf already being read",
+                          "a cycle " + chain.text(scan_path.string()));
+    if (chain.ids.size() >= kMaxConfDepth)
+        throw FormatError(path.string(), where + ": bmesh", ".conf files nested at most " + std::to_string(kMaxConfDepth) + " deep",
+                          "a deeper chain " + chain.text(scan_path.string()));
+}
+
+PointCloud read_conf(const std::filesystem::path& path, ConfChain& chain) {
+    struct stat info {};
+    if (::stat(path.c_str(), &info) != 0) throw FormatError(path.string(), "cannot open the file");
+    chain.ids.emplace_back(info.st_dev, info.st_ino);
+    chain.names.push_back(path.string());
     const std::string text = read_all(path);
     PointCloud cloud;
     std::istringstream in(text);
@@ -327,9 +364,10 @@ PointCloud read_conf(const std::filesystem::path& path) {
                                 {2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)}};
         std::filesystem::path scan_path = w[1];
         if (scan_path.is_relative()) scan_path = path.parent_path() / scan_path;
+        refuse_conf_cycle(path, where, scan_path, chain);
         PointCloud scan;
         try {
-            scan = read_points(scan_path);
+            scan = read_points_in(scan_path, chain);
         } catch (const FormatError& e) {
             throw FormatError(path.string(), where + ": " + e.what());
         }
@@ -352,18 +390,25 @@ PointCloud read_conf(const std::filesystem::path& path) {
         }
     }
     if (cloud.points.empty()) throw FormatError(path.string(), "bmesh lines", "at least one scan with points", "none");
+    chain.ids.pop_back();
+    chain.names.pop_back();
     return cloud;
+}
+
+PointCloud read_points_in(const std::filesystem::path& path, ConfChain& chain) {
+    if (!std::filesystem::exists(path)) throw FormatError(path.string(), "the file does not exist");
+    const std::string ext = to_lower(path.extension().string());
+    if (ext == ".ply") return read_ply(path);
+    if (ext == ".conf") return read_conf(path, chain);
+    if (ext == ".xyz" || ext == ".pts" || ext == ".txt" || ext == ".xyzn") return read_xyz(path);
+    throw FormatError(path.string(), "extension", ".xyz, .pts, .txt, .ply or .conf", "\"" + ext + "\"");
 }
 
 }  // namespace
 
 PointCloud read_points(const std::filesystem::path& path) {
-    if (!std::filesystem::exists(path)) throw FormatError(path.string(), "the file does not exist");
-    const std::string ext = to_lower(path.extension().string());
-    if (ext == ".ply") return read_ply(path);
-    if (ext == ".conf") return read_conf(path);
-    if (ext == ".xyz" || ext == ".pts" || ext == ".txt" || ext == ".xyzn") return read_xyz(path);
-    throw FormatError(path.string(), "extension", ".xyz, .pts, .txt, .ply or .conf", "\"" + ext + "\"");
+    ConfChain chain;
+    return read_points_in(path, chain);
 }
 
 void write_points_xyz(const PointCloud& cloud, const std::filesystem::path& path) {

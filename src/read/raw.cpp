@@ -20,17 +20,34 @@ std::string describe_expected(const VolumeHeader& h, std::uint64_t sample_bytes,
            (files > 1 ? " in " + std::to_string(files) + " files" : "");
 }
 
+/// Deflate expands its input at most 1032-fold (a 258-byte match in 2 bits at best, RFC 1951),
+/// so a gzip file of n bytes holds at most 1032 n bytes.
+constexpr std::uint64_t kMaxDeflateRatio = 1032;
+
 /// When no file is gzipped, checks their sizes now rather than after streaming them all;
-/// compressed files are checked while they are read (VolumeReader).
+/// compressed files are checked while they are read (VolumeReader), and now only against what
+/// they can hold at most: dims too large for the files are refused before any allocation, with
+/// the message a plain file gets.
 void check_plain_sizes(const VolumeSource& source, std::uint64_t header_bytes) {
-    std::uint64_t total = 0;
+    std::uint64_t total = 0, most = 0;
     bool compressed = false;
     for (const DataSegment& segment : source.segments) {
-        total += file_size_or_throw(segment.path);
-        compressed = compressed || is_gzip(segment.path);
+        const std::uint64_t size = file_size_or_throw(segment.path);
+        const bool gzip = is_gzip(segment.path);
+        total += size;
+        most += gzip ? size * kMaxDeflateRatio : size;
+        compressed = compressed || gzip;
     }
-    if (compressed) return;
     const std::string file = source.header.path.string();
+    if (compressed) {
+        const std::uint64_t sample_bytes =
+            static_cast<std::uint64_t>(source.header.voxel_count()) * sample_size(source.header.type);
+        if (most < header_bytes || most - header_bytes < sample_bytes)
+            throw FormatError(file, "sample data", describe_expected(source.header, sample_bytes, source.segments.size()),
+                              "at most " + std::to_string(most - std::min(most, header_bytes)) +
+                                  " bytes (truncated: gzip holds at most " + std::to_string(kMaxDeflateRatio) + " times its size)");
+        return;
+    }
     const std::uint64_t first_size = file_size_or_throw(source.segments.front().path);
     if (header_bytes > first_size)
         throw FormatError(file, "--header-bytes", "at most the file size, " + std::to_string(first_size),

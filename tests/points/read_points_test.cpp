@@ -109,6 +109,37 @@ TEST(ReadPoints, ConfAppliesTheInverseRotationThenTheTranslation) {
     EXPECT_NE(error_of(dir / "missing.conf").find("nothere.ply"), std::string::npos);
 }
 
+// Issue 32: a .conf naming itself, or two naming each other, recursed until SIGSEGV.
+TEST(ReadPoints, ConfCyclesAndDeepChainsAreRefusedNamingFileAndLine) {
+    test::ScratchDir dir;
+    write_text(dir / "s.xyz", "0 0 0\n1 0 0\n0 1 0\n");
+    write_text(dir / "self.conf", "bmesh s.xyz 0 0 0 0 0 0 1\nbmesh self.conf 0 0 0 0 0 0 1\n");
+    std::string e = error_of(dir / "self.conf");
+    EXPECT_NE(e.find("self.conf: line 2"), std::string::npos) << e;
+    EXPECT_NE(e.find("cycle"), std::string::npos) << e;
+    write_text(dir / "a.conf", "bmesh b.conf 0 0 0 0 0 0 1\n");
+    write_text(dir / "b.conf", "bmesh s.xyz 0 0 0 0 0 0 1\nbmesh a.conf 0 0 0 0 0 0 1\n");
+    e = error_of(dir / "a.conf");
+    EXPECT_NE(e.find("a.conf: line 1"), std::string::npos) << e;
+    EXPECT_NE(e.find("b.conf: line 2"), std::string::npos) << e;
+    EXPECT_NE(e.find("cycle"), std::string::npos) << e;
+    // The same file by another name (a symbolic link) is the same file.
+    std::filesystem::create_symlink(dir / "self.conf", dir / "link.conf");
+    write_text(dir / "via.conf", "bmesh link.conf 0 0 0 0 0 0 1\n");
+    write_text(dir / "self.conf", "bmesh via.conf 0 0 0 0 0 0 1\n");
+    EXPECT_NE(error_of(dir / "via.conf").find("cycle"), std::string::npos);
+    // A chain of distinct files deeper than the bound: refused, not followed.
+    for (int i = 0; i < 40; ++i)
+        write_text(dir / ("d" + std::to_string(i) + ".conf"), "bmesh d" + std::to_string(i + 1) + ".conf 0 0 0 0 0 0 1\n");
+    write_text(dir / "d40.conf", "bmesh s.xyz 0 0 0 0 0 0 1\n");
+    e = error_of(dir / "d0.conf");
+    EXPECT_NE(e.find("nested at most 16 deep"), std::string::npos) << e.substr(0, 300);
+    // A file named twice, not nested, is no cycle.
+    write_text(dir / "twice.conf", "bmesh s.xyz 0 0 0 0 0 0 1\nbmesh s.xyz 1 0 0 0 0 0 1\n");
+    write_text(dir / "outer.conf", "bmesh twice.conf 0 0 0 0 0 0 1\nbmesh twice.conf 5 0 0 0 0 0 1\n");
+    EXPECT_EQ(read_points(dir / "outer.conf").points.size(), 12u);
+}
+
 TEST(ReadPoints, StanfordScansLineUpWithBunZipper) {
     VDBMESH_SHARED_DATA(conf, "pointcloud_stanford_bunny_scans/data/bun.conf");
     const PointCloud c = read_points(conf);
