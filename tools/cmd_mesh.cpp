@@ -122,7 +122,8 @@ public:
     FileSink(const MeshCommandOptions& options, const openvdb::FloatGrid& grid) : options_(options), grid_(grid) {}
     void begin(std::uint64_t vertex_count, std::uint64_t triangle_count) override {
         if (triangle_count == 0) {
-            throw no_surface_error(options_.inputs.front(), grid_, {options_.mesh.iso, options_.mesh.iso}, options_.output);
+            throw no_surface_error(options_.inputs.front(), grid_, {options_.mesh.iso, options_.mesh.iso}, options_.output,
+                                   grid_steps_text(options_.processing));
         }
         vertices = vertex_count;
         triangles = triangle_count;
