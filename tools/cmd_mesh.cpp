@@ -77,9 +77,9 @@ openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& pr
 
 /// What was made: the settings that made it, then its figures (the setting a method does not
 /// use is null).
-nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const ProcessingReport& processing,
-                                    const MeshResult& result, const std::optional<MeshAnalysis>& verified, double seconds) {
-    const Mesh& mesh = result.mesh;
+nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const ProcessingReport& processing, const MeshReport& report,
+                                    std::uint64_t triangles, std::uint64_t vertices, const std::optional<MeshAnalysis>& verified,
+                                    double seconds) {
     const bool dmc = options.mesh.method == MeshMethod::dmc || options.mesh.method == MeshMethod::dc, openvdb = options.mesh.method == MeshMethod::openvdb;
     nlohmann::ordered_json j;
     j["output"] = options.output;
@@ -88,13 +88,13 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
     j["error"] = dmc ? nlohmann::ordered_json(options.mesh.error) : nlohmann::ordered_json(nullptr);
     j["adaptivity"] = openvdb ? nlohmann::ordered_json(options.mesh.adaptivity) : nlohmann::ordered_json(nullptr);
     j["processing"] = processing_json(options.processing, processing);
-    j["triangles"] = mesh.triangles.size();
-    j["vertices"] = mesh.vertices.size();
+    j["triangles"] = triangles;
+    j["vertices"] = vertices;
     j["seconds"] = seconds;
     // What the mesher did: its phases in the order run, DMC's safety-net rounds, fallbacks.
-    j["phases"] = phases_json(result.report);
-    j["refinement_rounds"] = result.report.refinement_rounds;
-    j["fallbacks"] = result.report.fallbacks;
+    j["phases"] = phases_json(report);
+    j["refinement_rounds"] = report.refinement_rounds;
+    j["fallbacks"] = report.fallbacks;
     j["verified"] = verified ? report_json(*verified) : nlohmann::ordered_json(nullptr);
     return j;
 }
@@ -108,7 +108,54 @@ std::optional<std::uint64_t> memory_limit(const MeshCommandOptions& options) {
         throw UsageError("--memory: only --method dc with --error above 0 meshes by bricks; dmc's checks, Marching Cubes and "
                          "volumeToMesh mesh the whole grid at once");
     }
+    const ProcessingOptions& p = options.processing;
+    if (options.verify || options.normals || p.taubin > 0 || p.decimate || p.max_error) {
+        throw UsageError("--memory: the mesh is written as a stream, never held whole, so --verify, --normals, --taubin, --decimate and "
+                         "--max-error (which need the whole mesh) are not available with it");
+    }
     return bytes;
+}
+
+/// Sends the bricked mesh into the output file as it comes.
+class FileSink final : public MeshStreamSink {
+public:
+    FileSink(const MeshCommandOptions& options, const openvdb::FloatGrid& grid) : options_(options), grid_(grid) {}
+    void begin(std::uint64_t vertex_count, std::uint64_t triangle_count) override {
+        if (triangle_count == 0) {
+            throw no_surface_error(options_.inputs.front(), grid_, {options_.mesh.iso, options_.mesh.iso}, options_.output,
+                                   grid_steps_text(options_.processing));
+        }
+        vertices = vertex_count;
+        triangles = triangle_count;
+        writer_.emplace(options_.output, MeshWriteOptions{options_.ascii, false}, vertex_count, triangle_count);
+    }
+    void vertex(const std::array<float, 3>& position) override { writer_->add_vertex(position); }
+    void triangle(const std::array<std::uint32_t, 3>& t, const std::array<std::array<float, 3>, 3>& corners) override {
+        writer_->add_triangle(t, corners);
+    }
+    void commit() { writer_->commit(); }
+    std::uint64_t vertices = 0, triangles = 0;
+
+private:
+    const MeshCommandOptions& options_;
+    const openvdb::FloatGrid& grid_;
+    std::optional<MeshStreamWriter> writer_;
+};
+
+/// With --memory: brick by brick into the file (exit status 0).
+int run_bricked(const MeshCommandOptions& options, const openvdb::FloatGrid::Ptr& grid, std::uint64_t memory,
+                const ProcessingReport& processing, std::chrono::steady_clock::time_point start) {
+    FileSink sink(options, *grid);
+    const MeshReport report = mesh_bricks_to_stream(*grid_regions_in_memory(grid), options.mesh, BrickOptions{0, memory}, sink);
+    sink.commit();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (options.json) {
+        std::cout << detail::json_text(figures_json(options, processing, report, sink.triangles, sink.vertices, std::nullopt, seconds)) << "\n";
+    } else if (!options.common.quiet) {
+        std::cerr << "vdbmesh mesh: " << sink.triangles << " triangles, " << sink.vertices << " vertices, " << seconds << " s -> "
+                  << options.output << "\n";
+    }
+    return 0;
 }
 
 /// Exit status 0, or 3 when --verify found a defect (the mesh is then not written).
@@ -133,8 +180,8 @@ int run_mesh(MeshCommandOptions& options) {
     ProcessingReport processing;
     process_grid(grid, options.mesh, options.processing, processing);
     options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
-    MeshResult result = memory ? mesh_bricks(*grid_regions_in_memory(grid), options.mesh, BrickOptions{0, *memory})
-                               : mesh_grid(*grid, options.mesh);
+    if (memory) return run_bricked(options, grid, *memory, processing, start);
+    MeshResult result = mesh_grid(*grid, options.mesh);
     result.mesh = process_mesh(std::move(result.mesh), options.processing, processing);
     const Mesh& mesh = result.mesh;
     if (mesh.triangles.empty())
@@ -146,7 +193,8 @@ int run_mesh(MeshCommandOptions& options) {
     if (!defective) write_mesh(mesh, options.output, MeshWriteOptions{options.ascii, options.normals});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.json) {
-        std::cout << detail::json_text(figures_json(options, processing, result, verified, seconds)) << "\n";
+        std::cout << detail::json_text(figures_json(options, processing, result.report, mesh.triangles.size(), mesh.vertices.size(), verified, seconds))
+                  << "\n";
     } else if (!options.common.quiet || defective) {
         for (const std::string& fallback : result.report.fallbacks) std::cerr << "vdbmesh mesh: fell back to " << fallback << "\n";
         if (defective) {

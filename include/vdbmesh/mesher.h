@@ -5,6 +5,7 @@
 /// report of what the mesher did. OpenVDB-free: the grid is only declared (openvdb_fwd.h);
 /// grid.h makes and reads grids.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -86,6 +87,25 @@ struct BrickOptions {
     /// With nodes_per_brick 0: the largest brick whose estimated peak (brick_peak_bytes()) fits.
     std::uint64_t memory_bytes = 0;
 };
+
+/// Where mesh_bricks_to_stream() sends the mesh, in mesh_bricks()'s order: the counts, every
+/// vertex, then every triangle with its corners' positions (what a MeshStreamWriter takes).
+class MeshStreamSink {
+public:
+    virtual ~MeshStreamSink() = default;
+    virtual void begin(std::uint64_t vertex_count, std::uint64_t triangle_count) = 0;
+    virtual void vertex(const std::array<float, 3>& position) = 0;
+    virtual void triangle(const std::array<std::uint32_t, 3>& triangle, const std::array<std::array<float, 3>, 3>& corners) = 0;
+};
+
+/// mesh_bricks() without holding the mesh: each brick's vertices and triangles go to a spill
+/// (an unlinked temporary file) as soon as it is meshed, and after the last brick the spill is
+/// read back node by node into @a sink (docs/dmc.md, "Bricks"). The same vertices and triangles
+/// in the same order as mesh_bricks(); MeshMethod::dc at options.error > 0 only. Returns the
+/// report (its mesh went to the sink).
+/// @throw UsageError as mesh_bricks(); Error when the spill cannot be written.
+MeshReport mesh_bricks_to_stream(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks,
+                                 MeshStreamSink& sink);
 
 /// The estimated peak of meshing one brick of @a nodes_per_brick^3 nodes of @a source (the
 /// largest over its bricks): the region read with its halo and the mesher's work on it.

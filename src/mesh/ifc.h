@@ -23,6 +23,11 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
 /// (options.error > 0). The same bytes for any brick size and thread count.
 Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report);
 
+/// The same mesh into @a sink through a spill (ifc_spill.h), never held whole; with
+/// @a mirrored every triangle wound the other way.
+void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, bool mirrored,
+                                  MeshStreamSink& sink, MeshReport& report);
+
 /// The largest brick edge (nodes) whose brick_peak_bytes() fits in @a memory_bytes.
 /// @throw UsageError naming the smallest limit that works when even one node does not fit.
 int plan_brick_size(const GridRegionSource& source, std::uint64_t memory_bytes);

@@ -4,12 +4,15 @@
 // the mesh is the whole-grid run's, byte for byte.
 
 #include <algorithm>
+#include <functional>
+#include <iterator>
 #include <array>
 #include <string>
 #include <set>
 #include <tuple>
 
 #include "mesh/ifc.h"
+#include "mesh/ifc_spill.h"
 #include "mesh/mesh_phases.h"
 #include "vdbmesh/error.h"
 
@@ -50,10 +53,10 @@ IndexBox halo_box(const openvdb::CoordBBox& owned) {
 }
 
 /// Bytes of the mesher's work per byte of grid it reads (the cells of the octree and coarse
-/// merges, the keyed triangles and vertices): measured, see bench/README.md ("Bricks").
+/// merges, the keyed triangles and vertices): a first guess, not yet calibrated (bench/README.md, "Bricks").
 constexpr double kWorkPerGridByte = 2.0;
 /// What the process holds before it reads a grid (the program, its libraries, the thread
-/// pool): measured, see bench/README.md ("Bricks").
+/// pool): a first guess, not yet calibrated (bench/README.md, "Bricks").
 constexpr std::uint64_t kBaseBytes = std::uint64_t(24) << 20;
 
 }  // namespace
@@ -70,6 +73,7 @@ int plan_brick_size(const GridRegionSource& source, std::uint64_t memory_bytes) 
     }
     int extent = 1;  // nodes per edge of a brick holding them all, and their lower neighbours
     for (std::size_t a = 0; a < 3; ++a) extent = std::max(extent, (hi[a] - lo[a]) / kNodeVoxels + 2);
+    if (memory_bytes == 0) return extent;  // no limit: one brick
     for (int n = extent; n >= 1; --n) {
         if (brick_peak_bytes(source, n) <= memory_bytes) return n;
     }
@@ -80,13 +84,13 @@ int plan_brick_size(const GridRegionSource& source, std::uint64_t memory_bytes) 
                      std::to_string((smallest + kMiB - 1) / kMiB) + "M");
 }
 
-Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report) {
+void for_each_brick(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report,
+                    const std::function<void(std::vector<IfcNodeOutput>&&)>& consume) {
     const int brick_voxels = bricks.nodes_per_brick * kNodeVoxels;
     const std::vector<openvdb::Coord> corners = bricks_to_visit(source, brick_voxels);
     const SampleClassifier classifier(*source.description(), options);
     MeshOptions per_brick = options;
     per_brick.progress = nullptr;
-    std::vector<IfcNodeOutput> nodes;
     for (std::size_t i = 0; i < corners.size(); ++i) {
         PhaseClock clock;
         const openvdb::CoordBBox owned(corners[i], corners[i].offsetBy(brick_voxels - 1));
@@ -94,15 +98,36 @@ Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& optio
         clock.lap(report, "read");
         std::vector<IfcNodeOutput> made = contour_ifc_nodes(*region, classifier, per_brick, &owned, report);
         region.reset();
-        std::move(made.begin(), made.end(), std::back_inserter(nodes));
+        consume(std::move(made));
         if (options.progress) options.progress(0.9 * double(i + 1) / double(corners.size()));
     }
+}
+
+Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report) {
+    std::vector<IfcNodeOutput> nodes;
+    for_each_brick(source, options, bricks, report, [&](std::vector<IfcNodeOutput>&& made) {
+        std::move(made.begin(), made.end(), std::back_inserter(nodes));
+    });
     PhaseClock clock;
     std::stable_sort(nodes.begin(), nodes.end(), [](const IfcNodeOutput& a, const IfcNodeOutput& b) { return ifc_node_before(a.origin, b.origin); });
     Mesh mesh = weld_ifc_nodes(std::move(nodes));
     clock.lap(report, "weld");
     if (options.progress) options.progress(1.0);
     return mesh;
+}
+
+void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, bool mirrored,
+                                  MeshStreamSink& sink, MeshReport& report) {
+    IfcSpill spill;
+    for_each_brick(source, options, bricks, report, [&](std::vector<IfcNodeOutput>&& made) {
+        PhaseClock clock;
+        for (IfcNodeOutput& node : made) spill.append(std::move(node));
+        clock.lap(report, "spill");
+    });
+    PhaseClock clock;
+    spill.emit(sink, mirrored);
+    clock.lap(report, "write");
+    if (options.progress) options.progress(1.0);
 }
 
 }  // namespace vdbmesh::detail

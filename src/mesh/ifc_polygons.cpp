@@ -489,6 +489,13 @@ bool ifc_key_of_coarse_cell(std::uint64_t key) {
     return (key >> kKindShift) == kCellKind && ((key >> kPayloadShift) & 31u) > unsigned(kIfcMaxLevel);
 }
 
+openvdb::Coord ifc_key_point(std::uint64_t key) {
+    constexpr std::uint64_t kMask = (std::uint64_t(1) << kCoordBits) - 1;
+    openvdb::Coord p;
+    for (int a = 0; a < 3; ++a) p[a] = int(std::int64_t((key >> (kCoordBits * (2 - a))) & kMask) - kCoordBias);
+    return p;
+}
+
 void contour_ifc_block(const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid,
                        std::size_t block, double error, const openvdb::math::Transform& transform, IfcBlockOutput& out) {
     thread_local IfcSamples rows;  // the rows of bits only: the contour reads no value

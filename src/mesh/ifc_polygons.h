@@ -23,6 +23,10 @@ struct IfcVertex {
 /// of its minimum sample, a cell of a block by that block), at most once.
 bool ifc_key_of_coarse_cell(std::uint64_t key);
 
+/// The grid point a key names (a grid edge's minimum sample, a cell's minimum corner): its
+/// owner node is the node holding it (docs/dmc.md, "Bricks").
+openvdb::Coord ifc_key_point(std::uint64_t key);
+
 struct IfcBlockOutput {
     std::vector<IfcVertex> vertices;                     ///< unique keys but those of coarse cells
     std::vector<std::array<std::uint64_t, 3>> triangles;  ///< counter-clockwise seen from outside

@@ -77,7 +77,34 @@ IndexBox whole_region(const GridRegionSource& source) {
     return box;
 }
 
+void check_brick_options(const MeshOptions& options, const BrickOptions& bricks) {
+    check_options(options);
+    if (bricks.nodes_per_brick < 0 || bricks.nodes_per_brick > 4096) {
+        throw UsageError("bricks: expected 0 to 4096 nodes per brick edge, got " + std::to_string(bricks.nodes_per_brick));
+    }
+}
+
+/// @a bricks with a brick size: the one given, else the largest that fits bricks.memory_bytes
+/// (else the whole grid's extent); only for the methods that mesh by bricks.
+BrickOptions planned_bricks(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks) {
+    if (options.method != MeshMethod::dc || options.error <= 0) {
+        throw UsageError("bricks: only the dc method at an error above 0 meshes by bricks (the others mesh the whole grid)");
+    }
+    BrickOptions planned = bricks;
+    if (planned.nodes_per_brick == 0) planned.nodes_per_brick = detail::plan_brick_size(source, bricks.memory_bytes);
+    return planned;
+}
+
 }  // namespace
+
+MeshReport mesh_bricks_to_stream(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks,
+                                 MeshStreamSink& sink) {
+    check_brick_options(options, bricks);
+    const BrickOptions planned = planned_bricks(source, options, bricks);
+    MeshReport report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, 0, {}};
+    detail::bricked_contouring_to_stream(source, options, planned, mirrors(source.description()->transform()), sink, report);
+    return report;
+}
 
 double MeshReport::total_seconds() const {
     double total = 0;
@@ -98,17 +125,9 @@ MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options)
 }
 
 MeshResult mesh_bricks(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks) {
-    check_options(options);
-    if (bricks.nodes_per_brick < 0 || bricks.nodes_per_brick > 4096) {
-        throw UsageError("bricks: expected 0 to 4096 nodes per brick edge, got " + std::to_string(bricks.nodes_per_brick));
-    }
-    const bool by_bricks = bricks.nodes_per_brick > 0 || bricks.memory_bytes > 0;
-    if (!by_bricks) return mesh_grid(*source.read(whole_region(source)), options);
-    if (options.method != MeshMethod::dc || options.error <= 0) {
-        throw UsageError("bricks: only the dc method at an error above 0 meshes by bricks (the others mesh the whole grid)");
-    }
-    BrickOptions planned = bricks;
-    if (planned.nodes_per_brick == 0) planned.nodes_per_brick = detail::plan_brick_size(source, bricks.memory_bytes);
+    check_brick_options(options, bricks);
+    if (bricks.nodes_per_brick == 0 && bricks.memory_bytes == 0) return mesh_grid(*source.read(whole_region(source)), options);
+    const BrickOptions planned = planned_bricks(source, options, bricks);
     MeshResult result;
     result.report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, 0, {}};
     result.mesh = detail::bricked_contouring(source, options, planned, result.report);

@@ -1,0 +1,206 @@
+// The spill of bricked contouring (ifc_spill.h). A triangle's vertices lie in its node or in a
+// neighbour (keys name grid points at most a node away), so resolving the triangles of the
+// nodes in z-major order needs the vertices of three layers of nodes at most: each node's
+// table is loaded when first asked for and dropped once every node that can refer to it is done.
+
+#include "mesh/ifc_spill.h"
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <string>
+#include <tuple>
+
+#include "mesh/ifc_key_index.h"
+#include "vdbmesh/error.h"
+
+namespace vdbmesh::detail {
+
+namespace {
+
+using KeyedTriangle = std::array<std::uint64_t, 3>;
+
+openvdb::Coord node_of(const openvdb::Coord& p) {
+    constexpr int kMask = ~(kNodeVoxels - 1);
+    return openvdb::Coord(p.x() & kMask, p.y() & kMask, p.z() & kMask);
+}
+
+std::tuple<int, int, int> z_major(const openvdb::Coord& c) { return {c.z(), c.y(), c.x()}; }
+
+/// Which vertices some triangle uses, and each used one's number among them (rank()).
+class UsedVertices {
+public:
+    explicit UsedVertices(std::uint64_t count) : words_((count + 63) / 64, 0) {}
+    void mark(std::uint64_t v) { words_[v / 64] |= std::uint64_t(1) << (v % 64); }
+    bool used(std::uint64_t v) const { return (words_[v / 64] >> (v % 64)) & 1u; }
+    /// Counts the used vertices; rank() answers after this.
+    std::uint64_t count() {
+        before_.resize(words_.size());
+        std::uint64_t total = 0;
+        for (std::size_t w = 0; w < words_.size(); ++w) {
+            before_[w] = total;
+            total += std::uint64_t(__builtin_popcountll(words_[w]));
+        }
+        return total;
+    }
+    /// The number of used vertices before @a v.
+    std::uint64_t rank(std::uint64_t v) const {
+        const std::uint64_t below = words_[v / 64] & ((std::uint64_t(1) << (v % 64)) - 1);
+        return before_[v / 64] + std::uint64_t(__builtin_popcountll(below));
+    }
+
+private:
+    std::vector<std::uint64_t> words_, before_;
+};
+
+}  // namespace
+
+/// The vertices of the nodes near the one being resolved, by key.
+class IfcSpill::Tables {
+public:
+    Tables(const IfcSpill& spill) : spill_(spill) {
+        for (std::size_t n = 0; n < spill.nodes_.size(); ++n) by_origin_[z_major(spill.nodes_[n].origin)] = n;
+    }
+
+    /// The vertex @a key names: its number (before unused ones are dropped) and position.
+    std::pair<std::uint64_t, const std::array<float, 3>*> find(std::uint64_t key) {
+        const openvdb::Coord node = node_of(ifc_key_point(key));
+        const Table* table = (last_ && last_->origin == node) ? last_ : load(node);
+        const std::uint32_t index = table ? table->index->find(key) : IfcKeyIndex::kMissing;
+        if (index == IfcKeyIndex::kMissing) throw Error("contouring: a triangle refers to a missing vertex");
+        last_ = table;
+        return {table->first_vertex + index, &table->positions[index]};
+    }
+
+    /// Drops the tables no node at or after z-layer @a z can refer to.
+    void drop_below(int z) {
+        for (auto it = loaded_.begin(); it != loaded_.end() && std::get<0>(it->first) < z - kNodeVoxels;) it = loaded_.erase(it);
+        last_ = nullptr;
+    }
+
+private:
+    struct Table {
+        openvdb::Coord origin;
+        std::uint64_t first_vertex;
+        std::vector<std::array<float, 3>> positions;
+        std::unique_ptr<IfcKeyIndex> index;
+    };
+
+    const Table* load(const openvdb::Coord& node) {
+        const auto key = z_major(node);
+        if (auto it = loaded_.find(key); it != loaded_.end()) return it->second.get();
+        const auto record = by_origin_.find(key);
+        if (record == by_origin_.end()) return nullptr;
+        const NodeRecord& r = spill_.nodes_[record->second];
+        const std::vector<VertexRecord> vertices = spill_.read<VertexRecord>(r.vertex_offset, r.vertex_count);
+        auto table = std::make_unique<Table>();
+        table->origin = node;
+        table->first_vertex = r.first_vertex;
+        std::vector<std::uint64_t> keys(vertices.size());
+        table->positions.resize(vertices.size());
+        for (std::size_t v = 0; v < vertices.size(); ++v) {
+            keys[v] = vertices[v].key;
+            table->positions[v] = vertices[v].position;
+        }
+        table->index = std::make_unique<IfcKeyIndex>(keys);
+        return (loaded_[key] = std::move(table)).get();
+    }
+
+    const IfcSpill& spill_;
+    std::map<std::tuple<int, int, int>, std::size_t> by_origin_;
+    std::map<std::tuple<int, int, int>, std::unique_ptr<Table>> loaded_;
+    const Table* last_ = nullptr;
+};
+
+IfcSpill::IfcSpill() : file_(std::tmpfile()) {
+    if (!file_) throw Error("bricks: cannot create the temporary spill file");
+}
+
+IfcSpill::~IfcSpill() { std::fclose(file_); }
+
+template <typename T>
+void IfcSpill::write(const std::vector<T>& records) {
+    if (records.empty()) return;
+    if (std::fseek(file_, 0, SEEK_END) != 0 || std::fwrite(records.data(), sizeof(T), records.size(), file_) != records.size()) {
+        throw Error("bricks: cannot write the temporary spill file (disk full?)");
+    }
+    size_ += records.size() * sizeof(T);
+}
+
+template <typename T>
+std::vector<T> IfcSpill::read(std::uint64_t offset, std::uint64_t count) const {
+    std::vector<T> records(count);
+    if (count == 0) return records;
+    if (::fseeko(file_, off_t(offset), SEEK_SET) != 0 || std::fread(records.data(), sizeof(T), count, file_) != count) {
+        throw Error("bricks: cannot read back the temporary spill file");
+    }
+    return records;
+}
+
+void IfcSpill::append(IfcNodeOutput&& node) {
+    NodeRecord record;
+    record.origin = node.origin;
+    std::vector<VertexRecord> vertices;
+    std::vector<KeyedTriangle> triangles;
+    for (const IfcBlockOutput& block : node.blocks) {
+        for (const IfcVertex& v : block.vertices) vertices.push_back({v.key, v.position});
+        triangles.insert(triangles.end(), block.triangles.begin(), block.triangles.end());
+    }
+    for (const IfcVertex& v : node.coarse) vertices.push_back({v.key, v.position});
+    node = IfcNodeOutput();
+    record.vertex_offset = size_;
+    record.vertex_count = vertices.size();
+    write(vertices);
+    record.triangle_offset = size_;
+    record.triangle_count = triangles.size();
+    write(triangles);
+    nodes_.push_back(record);
+}
+
+void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
+    std::sort(nodes_.begin(), nodes_.end(), [](const NodeRecord& a, const NodeRecord& b) { return ifc_node_before(a.origin, b.origin); });
+    std::uint64_t vertex_count = 0, triangle_count = 0;
+    for (NodeRecord& node : nodes_) {
+        node.first_vertex = vertex_count;
+        vertex_count += node.vertex_count;
+        triangle_count += node.triangle_count;
+    }
+    // First pass: which vertices a triangle uses (the weld drops the others).
+    UsedVertices used(vertex_count);
+    auto for_each_triangle = [&](auto&& visit) {
+        Tables tables(*this);
+        for (const NodeRecord& node : nodes_) {
+            tables.drop_below(node.origin.z());
+            for (const KeyedTriangle& t : read<KeyedTriangle>(node.triangle_offset, node.triangle_count)) {
+                visit(std::array{tables.find(t[0]), tables.find(t[1]), tables.find(t[2])});
+            }
+        }
+    };
+    for_each_triangle([&](const auto& corners) {
+        for (const auto& [number, position] : corners) used.mark(number);
+    });
+    const std::uint64_t used_count = used.count();
+    if (used_count >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
+    sink.begin(used_count, triangle_count);
+    for (const NodeRecord& node : nodes_) {
+        const std::vector<VertexRecord> vertices = read<VertexRecord>(node.vertex_offset, node.vertex_count);
+        for (std::size_t v = 0; v < vertices.size(); ++v) {
+            if (used.used(node.first_vertex + v)) sink.vertex(vertices[v].position);
+        }
+    }
+    for_each_triangle([&](const auto& corners) {
+        std::array<std::uint32_t, 3> triangle;
+        std::array<std::array<float, 3>, 3> positions;
+        for (int k = 0; k < 3; ++k) {
+            triangle[k] = std::uint32_t(used.rank(corners[k].first));
+            positions[k] = *corners[k].second;
+        }
+        if (mirrored) {
+            std::swap(triangle[1], triangle[2]);
+            std::swap(positions[1], positions[2]);
+        }
+        sink.triangle(triangle, positions);
+    });
+}
+
+}  // namespace vdbmesh::detail

@@ -1,0 +1,51 @@
+#pragma once
+// Private: the spill of bricked contouring (docs/dmc.md, "Bricks"): each node's keyed vertices
+// and triangles appended to an unlinked temporary file as soon as its brick is meshed, then
+// read back node by node in z-major order, keys resolved to vertex numbers, into a sink.
+
+#include <cstdio>
+#include <cstdint>
+#include <vector>
+
+#include "mesh/ifc.h"
+
+namespace vdbmesh::detail {
+
+class IfcSpill {
+public:
+    IfcSpill();
+    ~IfcSpill();
+    IfcSpill(const IfcSpill&) = delete;
+    IfcSpill& operator=(const IfcSpill&) = delete;
+
+    /// Writes @a node's vertices (its blocks' lists, then its coarse cells) and triangles, and
+    /// frees them. Each node comes once, in any order.
+    void append(IfcNodeOutput&& node);
+    /// The mesh weld_ifc_nodes() makes of every node appended, into @a sink; with @a mirrored
+    /// every triangle wound the other way (mesh_grid()'s rule for a mirroring transform).
+    void emit(MeshStreamSink& sink, bool mirrored);
+
+    struct NodeRecord {
+        openvdb::Coord origin;
+        std::uint64_t vertex_offset = 0, vertex_count = 0;  ///< in the file: bytes, records
+        std::uint64_t triangle_offset = 0, triangle_count = 0;
+        std::uint64_t first_vertex = 0;  ///< its first vertex's number before unused ones are dropped
+    };
+
+private:
+    struct VertexRecord {
+        std::uint64_t key;
+        std::array<float, 3> position;
+    };
+    template <typename T>
+    void write(const std::vector<T>& records);
+    template <typename T>
+    std::vector<T> read(std::uint64_t offset, std::uint64_t count) const;
+    class Tables;
+
+    std::FILE* file_ = nullptr;
+    std::uint64_t size_ = 0;
+    std::vector<NodeRecord> nodes_;
+};
+
+}  // namespace vdbmesh::detail
