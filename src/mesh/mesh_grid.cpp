@@ -5,7 +5,6 @@
 #include <string>
 #include <utility>
 
-#include "mesh/dmc.h"
 #include "mesh/ifc.h"
 #include "mesh/marching_cubes.h"
 #include "mesh/mesh_phases.h"
@@ -35,8 +34,6 @@ void check_options(const MeshOptions& options) {
 
 Mesh run_mesher(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report) {
     switch (options.method) {
-        case MeshMethod::dmc:
-            return detail::dual_marching_cubes(grid, options, report);
         case MeshMethod::mc:
             return detail::marching_cubes(grid, options);
         case MeshMethod::openvdb:
@@ -66,7 +63,7 @@ MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options)
     check_options(options);
     MeshResult result;
     MeshReport& report = result.report;
-    report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, 0, {}};
+    report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, {}};
     detail::PhaseClock clock;
     result.mesh = run_mesher(grid, options, report);
     // Meshers that time no phases of their own are one phase.

@@ -25,7 +25,7 @@ struct MeshRequest {
 /// The value of a query parameter, none when absent.
 using ParamLookup = std::function<std::optional<std::string>(const std::string& name)>;
 
-/// level=coarse|full (full), method=dc|dmc|mc|openvdb (dc), iso (@a default_iso), error (0),
+/// level=coarse|full (full), method=dc|mc|openvdb (dc), iso (@a default_iso), error (0),
 /// adaptivity (0), max_triangles (none). @throw UsageError naming the parameter for a value it cannot take.
 MeshRequest parse_mesh_request(const ParamLookup& param, double default_iso);
 

@@ -1,16 +1,18 @@
-// Accuracy of Dual Marching Cubes against exact surfaces: phantoms of 128^3 samples whose
-// density is the coursework's ramp s(d, w) = (w - d) / (2w) of the exact signed distance d
-// (blur w = 5 voxels, surface at s = 0.5), from include/vdbmesh/phantom.h.
+// Accuracy of intersection-free DC (MeshMethod::dc) against exact surfaces: phantoms of 128^3
+// samples whose density is the coursework's ramp s(d, w) = (w - d) / (2w) of the exact signed
+// distance d (blur w = 5 voxels, surface at s = 0.5), from include/vdbmesh/phantom.h.
 
 #include <gtest/gtest.h>
+#include <openvdb/openvdb.h>
 
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <functional>
 
-#include "mesh/dmc.h"
+#include "cgal_judge.h"
 #include "vdbmesh/analysis.h"
+#include "vdbmesh/mesher.h"
 #include "vdbmesh/phantom.h"
 
 namespace vdbmesh {
@@ -120,6 +122,7 @@ std::vector<std::array<double, 3>> torus_points(double major, double minor) {
 
 MeshOptions options_at(double error) {
     MeshOptions options;
+    options.method = MeshMethod::dc;
     options.iso = 0.5;
     options.error = error;
     return options;
@@ -130,22 +133,16 @@ DistanceReport distance(const Mesh& mesh, const SignedDistance& sd, const std::v
 }
 
 void expect_clean(const Mesh& mesh) {
-    const MeshAnalysis report = analyze_mesh(mesh);
-    EXPECT_TRUE(report.closed);
-    EXPECT_EQ(report.nonmanifold_edges, 0u);
-    EXPECT_EQ(report.nonmanifold_vertices, 0u);
-    EXPECT_EQ(report.misoriented_edges, 0u);
-    EXPECT_EQ(report.degenerate_faces, 0u);
-    EXPECT_EQ(report.self_intersecting_pairs, 0u);
-    EXPECT_TRUE(report.outward);
+    const test::CgalVerdict verdict = test::judge_with_cgal(mesh);
+    EXPECT_TRUE(verdict.clean()) << verdict.describe();
 }
 
 // Issue targets at error 0: two-sided Hausdorff <= 0.05 voxel, area and volume within 0.2%.
-TEST(DmcAccuracyTest, SphereAtErrorZero) {
+TEST(DcAccuracyTest, SphereAtErrorZero) {
     const PhantomSpec spec = phantom_spec(PhantomShape::sphere);
     const double radius = spec.radius;
     const SignedDistance sd = signed_distance(spec);
-    const Mesh mesh = detail::dual_marching_cubes(*phantom_grid(spec), options_at(0.0));
+    const Mesh mesh = mesh_grid(*phantom_grid(spec), options_at(0.0)).mesh;
     const DistanceReport d = distance(mesh, sd, sphere_points(radius, 20000));
     EXPECT_LE(d.hausdorff, 0.05);
     const MeshIntegrals integrals = mesh_integrals(mesh);
@@ -154,11 +151,11 @@ TEST(DmcAccuracyTest, SphereAtErrorZero) {
     expect_clean(mesh);
 }
 
-TEST(DmcAccuracyTest, TorusAtErrorZero) {
+TEST(DcAccuracyTest, TorusAtErrorZero) {
     const PhantomSpec spec = phantom_spec(PhantomShape::torus);
     const double major = spec.radius, minor = spec.tube_radius;
     const SignedDistance sd = signed_distance(spec);
-    const Mesh mesh = detail::dual_marching_cubes(*phantom_grid(spec), options_at(0.0));
+    const Mesh mesh = mesh_grid(*phantom_grid(spec), options_at(0.0)).mesh;
     const DistanceReport d = distance(mesh, sd, torus_points(major, minor));
     EXPECT_LE(d.hausdorff, 0.05);
     const MeshIntegrals integrals = mesh_integrals(mesh);
@@ -185,8 +182,8 @@ CubeRun mesh_cube(const std::array<double, 3>& degrees, double error) {
     const PhantomSpec spec = cube_spec(degrees);
     const auto grid = phantom_grid(spec);
     CubeRun run;
-    run.fine = detail::dual_marching_cubes(*grid, options_at(0.0));
-    run.coarse = detail::dual_marching_cubes(*grid, options_at(error));
+    run.fine = mesh_grid(*grid, options_at(0.0)).mesh;
+    run.coarse = mesh_grid(*grid, options_at(error)).mesh;
     run.distance = distance(run.coarse, signed_distance(spec), cube_points(spec));
     std::printf("cube %g %g %g: error 0: %zu triangles; error %g: %zu triangles, Hausdorff %.3f\n", degrees[0], degrees[1],
                 degrees[2], run.fine.triangles.size(), error, run.coarse.triangles.size(), run.distance.hausdorff);
@@ -199,7 +196,7 @@ CubeRun mesh_cube(const std::array<double, 3>& degrees, double error) {
 // vertices of the cells holding corners and edges on the features (dmc_tangent.h: one-sided
 // tangents at creases; dmc_qef.cpp: the free ridge direction moved to the isovalue) and the
 // self-check accepts them (dmc_tangent.h: tangent-plane distance).
-TEST(DmcAccuracyTest, AxisAlignedCubeCornersAndEdgesAreSharpAtErrorPointOne) {
+TEST(DcAccuracyTest, AxisAlignedCubeCornersAndEdgesAreSharpAtErrorPointOne) {
     const CubeRun run = mesh_cube({0, 0, 0}, 0.1);
     EXPECT_LE(run.distance.hausdorff, 0.2);
     EXPECT_LE(run.coarse.triangles.size() * 5, run.fine.triangles.size());
@@ -211,7 +208,7 @@ TEST(DmcAccuracyTest, AxisAlignedCubeCornersAndEdgesAreSharpAtErrorPointOne) {
 // the edges where the self-check split the merged cells back into voxels: there Marching
 // Cubes' chords cut the edge. (Tried: voxels keeping a vertex moved onto the edge; the MC
 // table's triangles still join crossings on both faces across the edge.)
-TEST(DmcAccuracyTest, TiltedCubeAtErrorPointOneIsCleanAndCoarser) {
+TEST(DcAccuracyTest, TiltedCubeAtErrorPointOneIsCleanAndCoarser) {
     const CubeRun run = mesh_cube({17, 31, 7}, 0.1);
     EXPECT_LE(run.distance.hausdorff, 0.6);
     EXPECT_LE(run.coarse.triangles.size() * 5, run.fine.triangles.size());
@@ -220,13 +217,13 @@ TEST(DmcAccuracyTest, TiltedCubeAtErrorPointOneIsCleanAndCoarser) {
 
 // Smooth shapes merge well: at error 0.25 the mesh stays within twice the tolerance (the
 // self-check's bound on chords) with far fewer triangles.
-TEST(DmcAccuracyTest, SphereAtErrorQuarterIsCleanAccurateAndCoarser) {
+TEST(DcAccuracyTest, SphereAtErrorQuarterIsCleanAccurateAndCoarser) {
     const PhantomSpec spec = phantom_spec(PhantomShape::sphere);
     const double radius = spec.radius;
     const SignedDistance sd = signed_distance(spec);
     const auto grid = phantom_grid(spec);
-    const Mesh fine = detail::dual_marching_cubes(*grid, options_at(0.0));
-    const Mesh coarse = detail::dual_marching_cubes(*grid, options_at(0.25));
+    const Mesh fine = mesh_grid(*grid, options_at(0.0)).mesh;
+    const Mesh coarse = mesh_grid(*grid, options_at(0.25)).mesh;
     const DistanceReport d = distance(coarse, sd, sphere_points(radius, 20000));
     std::printf("sphere: error 0: %zu triangles; error 0.25: %zu triangles, Hausdorff %.3f\n", fine.triangles.size(),
                 coarse.triangles.size(), d.hausdorff);
@@ -249,14 +246,14 @@ double sample_noise(const openvdb::Coord& c, double amplitude) {
 // RMS 0.12 voxel, below the tolerance) must still let most cells merge. The sphere kept 37%
 // of its error-0 triangles before the smooth merge test, 23% before surface-free cells merged
 // and the self-check split cells one level at a time; it now keeps 9%.
-TEST(DmcAccuracyTest, NoisySphereAtErrorQuarterIsCleanAndCoarser) {
+TEST(DcAccuracyTest, NoisySphereAtErrorQuarterIsCleanAndCoarser) {
     const PhantomSpec spec = phantom_spec(PhantomShape::sphere);
     const auto grid = phantom_grid(spec);
     for (auto leaf = grid->tree().beginLeaf(); leaf; ++leaf) {
         for (auto voxel = leaf->beginValueOn(); voxel; ++voxel) voxel.setValue(float(*voxel + sample_noise(voxel.getCoord(), 0.02)));
     }
-    const Mesh fine = detail::dual_marching_cubes(*grid, options_at(0.0));
-    const Mesh coarse = detail::dual_marching_cubes(*grid, options_at(0.25));
+    const Mesh fine = mesh_grid(*grid, options_at(0.0)).mesh;
+    const Mesh coarse = mesh_grid(*grid, options_at(0.25)).mesh;
     const DistanceReport d = distance(coarse, signed_distance(spec), sphere_points(spec.radius, 20000));
     std::printf("noisy sphere: error 0: %zu triangles; error 0.25: %zu triangles, Hausdorff %.3f\n", fine.triangles.size(),
                 coarse.triangles.size(), d.hausdorff);
