@@ -12,7 +12,7 @@
 // .vdb file (written last, into a temporary folder).
 //
 // Usage: vdbmesh_bench [--scans bunny,cthead,engine,walnut] [--phantom-sizes 256,512]
-//                      [--errors 0,0.1,0.25,0.5] [--dc-errors 0.1,0.25,1] [--adaptivities 0,0.1,0.25,1]
+//                      [--errors 0,0.1,0.25,1] [--adaptivities 0,0.1,0.25,1]
 //                      [--threads 1,2]
 
 #include <openvdb/openvdb.h>
@@ -63,10 +63,10 @@ struct Scan {
 
 struct Setting {
     MeshMethod method;
-    double value = 0;  ///< error (DC, DMC) or adaptivity (volumeToMesh)
+    double value = 0;  ///< error (DC) or adaptivity (volumeToMesh)
     std::string label() const {
         std::ostringstream text;
-        text << (method == MeshMethod::dmc ? "dmc e=" : method == MeshMethod::dc ? "dc e=" : method == MeshMethod::mc ? "mc" : "openvdb a=");
+        text << (method == MeshMethod::dc ? "dc e=" : method == MeshMethod::mc ? "mc" : "openvdb a=");
         if (method != MeshMethod::mc) text << value;
         return text.str();
     }
@@ -166,8 +166,7 @@ Json convert_and_mesh(const Scan& scan, const std::vector<Setting>& settings, in
         result["meshes"].push_back({{"seconds", best},
                                     {"triangles", triangles},
                                     {"peak_mb", peak_rss_mb()},
-                                    {"phases", phases},
-                                    {"rounds", best_report.refinement_rounds}});
+                                    {"phases", phases}});
     }
     // Last, so that writing leaves the conversion's and the meshers' peaks as they were.
     result["grid"] = grid_figures(*grid, scratch / "sparse.vdb");
@@ -215,18 +214,16 @@ std::string grid_text(const Json& g) {
            fixed(g["vdb_mb"].get<double>(), 1) + " MB on disk";
 }
 
-/// A mesher's phases as "octree 0.41, contour 0.10, check 1.20 (3 rounds)": where its time goes.
+/// A mesher's phases as "octree 0.41, coarse 0.05, split 0.02, contour 0.10, weld 0.03": where its time goes.
 std::string phases_text(const Json& mesher) {
     std::string text;
     for (const Json& phase : mesher["phases"]) {
         text += (text.empty() ? "" : ", ") + phase[0].get<std::string>() + " " + fixed(phase[1].get<double>(), 3);
     }
-    const int rounds = mesher["rounds"].get<int>();
-    if (rounds > 0) text += " (" + std::to_string(rounds) + " rounds)";
     return text;
 }
 
-/// The volumeToMesh setting a DC or DMC setting is timed against: same position in the lists.
+/// The volumeToMesh setting a DC setting is timed against: same position in the lists.
 std::size_t matching_openvdb(const std::vector<Setting>& settings, std::size_t adaptive_index) {
     std::size_t first_openvdb = 0;
     while (first_openvdb < settings.size() && settings[first_openvdb].method != MeshMethod::openvdb) ++first_openvdb;
@@ -262,13 +259,13 @@ void report(const Scan& scan, const std::vector<Setting>& settings, const std::m
     std::cout << "\n|---|---|---|---|---|---|---|";
     for (std::size_t i = 1; i < runs.size(); ++i) std::cout << "---|";
     std::cout << "\n";
-    std::map<MeshMethod, std::size_t> adaptive_index;  // DC and DMC settings, each in their own order
+    std::size_t adaptive_index = 0;  // DC settings, in their order
     for (std::size_t i = 0; i < settings.size(); ++i) {
         const Json& m = r["meshes"][i];
         const double s = m["seconds"].get<double>(), triangles = m["triangles"].get<double>();
         std::string ratio = "";
-        if (settings[i].method == MeshMethod::dmc || settings[i].method == MeshMethod::dc) {
-            const std::size_t j = matching_openvdb(settings, adaptive_index[settings[i].method]++);
+        if (settings[i].method == MeshMethod::dc) {
+            const std::size_t j = matching_openvdb(settings, adaptive_index++);
             ratio = fixed(s / r["meshes"][j]["seconds"].get<double>(), 2) + " (vs " + settings[j].label() + ")";
         } else if (settings[i].method == MeshMethod::mc) {
             ratio = fixed(s / r["meshes"][matching_openvdb(settings, 0)]["seconds"].get<double>(), 2);
@@ -340,8 +337,7 @@ Scan write_phantom(const std::filesystem::path& folder, std::int64_t size) {
 int run(int argc, char** argv) {
     std::map<std::string, std::string> flags = {{"--scans", "bunny,cthead,engine,walnut"},
                                                 {"--phantom-sizes", "256,512"},
-                                                {"--errors", "0,0.1,0.25,0.5"},
-                                                {"--dc-errors", "0.1,0.25,1"},
+                                                {"--errors", "0,0.1,0.25,1"},
                                                 {"--adaptivities", "0,0.1,0.25,1"},
                                                 {"--threads", "1,2"}};
     for (int i = 1; i + 1 < argc; i += 2) {
@@ -352,8 +348,7 @@ int run(int argc, char** argv) {
         flags[argv[i]] = argv[i + 1];
     }
     std::vector<Setting> settings;
-    for (double e : numbers(flags["--errors"])) settings.push_back({MeshMethod::dmc, e});
-    for (double e : numbers(flags["--dc-errors"])) settings.push_back({MeshMethod::dc, e});
+    for (double e : numbers(flags["--errors"])) settings.push_back({MeshMethod::dc, e});
     settings.push_back({MeshMethod::mc, 0});
     for (double a : numbers(flags["--adaptivities"])) settings.push_back({MeshMethod::openvdb, a});
 

@@ -1,11 +1,11 @@
 // vdbmesh_decimate_bench: decimate_mesh() against meshoptimizer's meshopt_simplify on the same
-// mesh (the bunny CT meshed by DMC at error 0), both judged by `vdbmesh check`'s analysis, and
-// against DMC's own adaptivity (--error), each beside the decimator at its triangle count.
+// mesh (the bunny CT meshed by DC at error 0), both judged by `vdbmesh check`'s analysis, and
+// against DC's own adaptivity (--error), each beside the decimator at its triangle count.
 // One JSON object on stdout; figures in bench/README.md.
 //
-// Usage: vdbmesh_decimate_bench [--keep 0.2] [--dmc-errors 0.5,1,1.5,2] [--samples 200000] [--repeat 3]
+// Usage: vdbmesh_decimate_bench [--keep 0.2] [--errors 0.5,1,1.5,2] [--samples 200000] [--repeat 3]
 // --repeat: decimate_mesh() and meshopt_simplify alternately this many times each; the ratio is
-// that of the fastest of each (timing under load is noisy). --dmc-errors "": no DMC rows.
+// that of the fastest of each (timing under load is noisy). --errors "": no DC rows.
 
 #include <meshoptimizer.h>
 
@@ -86,7 +86,7 @@ std::vector<double> numbers(const std::string& text) {
 
 int run(int argc, char** argv) {
     std::map<std::string, std::string> flags = {
-        {"--keep", "0.2"}, {"--dmc-errors", "0.5,1,1.5,2"}, {"--samples", "200000"}, {"--repeat", "3"}};
+        {"--keep", "0.2"}, {"--errors", "0.5,1,1.5,2"}, {"--samples", "200000"}, {"--repeat", "3"}};
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!flags.count(argv[i])) throw std::invalid_argument(std::string("unknown flag ") + argv[i]);
         flags[argv[i]] = argv[i + 1];
@@ -100,7 +100,7 @@ int run(int argc, char** argv) {
     options.iso = 1200.5;
     const Mesh full = mesh_grid(*grid, options).mesh;
     Json report;
-    report["input"] = {{"scan", "bunny CT 512x512x361, iso 1200.5, DMC error 0"}, {"triangles", full.triangles.size()}};
+    report["input"] = {{"scan", "bunny CT 512x512x361, iso 1200.5, DC error 0"}, {"triangles", full.triangles.size()}};
 
     DecimateOptions decimate;
     decimate.keep_fraction = keep;
@@ -124,8 +124,8 @@ int run(int argc, char** argv) {
     report["meshoptimizer"] = judged(theirs, full, theirs_seconds, samples);
     Clock::time_point start;
 
-    report["dmc_error"] = Json::array();
-    for (const double error : numbers(flags["--dmc-errors"])) {
+    report["dc_error"] = Json::array();
+    for (const double error : numbers(flags["--errors"])) {
         options.error = error;
         start = Clock::now();
         const Mesh adaptive = mesh_grid(*grid, options).mesh;
@@ -137,7 +137,7 @@ int run(int argc, char** argv) {
         start = Clock::now();
         const Mesh decimated = decimate_mesh(full, same_count);
         j["decimate_at_same_count"] = judged(decimated, full, seconds_since(start), samples);
-        report["dmc_error"].push_back(j);
+        report["dc_error"].push_back(j);
     }
     std::cout << report.dump(2) << "\n";
     return 0;

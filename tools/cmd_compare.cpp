@@ -1,7 +1,7 @@
 // `vdbmesh compare IN [--iso V] [--error LIST] [--adaptivity LIST] [--decimate LIST] [--json FILE] [--plot FILE.svg]`
 // `vdbmesh compare --phantom SHAPE [--size N] [--blur W] ...`
 // Converts once, then meshes the same grid in this process with DC (the default mesher) at each
-// --error, DMC at each --dmc-error, Marching Cubes, volumeToMesh at each --adaptivity, and DC at
+// --error, Marching Cubes, volumeToMesh at each --adaptivity, and DC at
 // error 0 decimated to each --decimate fraction (as `vdbmesh mesh --decimate`), and measures each mesh (compare_meshers(),
 // include/vdbmesh/compare.h): time, `vdbmesh check`'s figures, two-sided distance to the true
 // isosurface in voxels and normal deviation. The true surface of a scan or .vdb is the
@@ -47,7 +47,8 @@ struct CompareCommandOptions {
     std::int64_t size = 64;
     double blur = 5;
     std::string errors = "0,0.1,0.25,0.5", adaptivities = "0,0.1,0.25,1";
-    std::string dmc_errors, decimate;
+    std::string decimate;
+    std::optional<std::string> dmc_errors;  ///< refused: DMC was retired (docs/dmc.md)
     Inside inside = Inside::above;
     std::size_t samples = 100000;
     std::string json, plot;
@@ -208,10 +209,10 @@ Plot make_plot(const std::string& title, const std::vector<MeshComparison>& mesh
     plot.title = title;
     plot.x_label = "triangles (log scale)";
     plot.y_label = "two-sided Hausdorff distance (voxels)";
-    for (MeshMethod method : {MeshMethod::dmc, MeshMethod::dc, MeshMethod::mc, MeshMethod::openvdb}) {
+    for (MeshMethod method : {MeshMethod::dc, MeshMethod::mc, MeshMethod::openvdb}) {
         for (const bool decimated : {false, true}) {
             PlotSeries series;
-            series.name = method == MeshMethod::openvdb ? "volumeToMesh" : method == MeshMethod::dmc ? "DMC" : method == MeshMethod::dc ? "DC" : "MC";
+            series.name = method == MeshMethod::openvdb ? "volumeToMesh" : method == MeshMethod::dc ? "DC" : "MC";
             if (decimated) series.name += " + decimate";
             for (const auto& m : meshes) {
                 if (m.method != method || m.decimate.has_value() != decimated) continue;
@@ -229,7 +230,8 @@ int run_compare(const CompareCommandOptions& o) {
     if (!o.plot.empty() && std::filesystem::path(o.plot).extension() != ".svg")
         throw UsageError("--plot: expected a file name ending in .svg (the chart is SVG), got \"" + o.plot + "\"");
     options.errors = parse_number_list("--error", o.errors);
-    if (!o.dmc_errors.empty()) options.dmc_errors = parse_number_list("--dmc-error", o.dmc_errors);
+    if (o.dmc_errors)
+        throw UsageError("--dmc-error: dmc was retired (docs/dmc.md); give dc's error tolerances with --error, got \"" + *o.dmc_errors + "\"");
     options.adaptivities = parse_number_list("--adaptivity", o.adaptivities);
     const auto require_each = [](const std::string& flag, const std::vector<double>& values, double high, const char* expected) {
         for (const double v : values) {
@@ -240,7 +242,6 @@ int run_compare(const CompareCommandOptions& o) {
         }
     };
     require_each("--error", options.errors, HUGE_VAL, "tolerances >= 0");
-    require_each("--dmc-error", options.dmc_errors, HUGE_VAL, "tolerances >= 0");
     require_each("--adaptivity", options.adaptivities, 1, "adaptivities in [0, 1]");
     if (!o.decimate.empty()) options.decimate_fractions = parse_number_list("--decimate", o.decimate);
     for (const double f : options.decimate_fractions) {
@@ -252,7 +253,7 @@ int run_compare(const CompareCommandOptions& o) {
     }
     options.inside = o.inside;
     options.accuracy.samples = o.samples;
-    const std::size_t mesh_count = options.errors.size() + options.dmc_errors.size() + options.adaptivities.size() +
+    const std::size_t mesh_count = options.errors.size() + options.adaptivities.size() +
                                options.decimate_fractions.size() + 1;  // and Marching Cubes
     refuse_beyond_memory("--samples", "the surface samples (24 bytes each)", 24.0 * double(o.samples));
     refuse_beyond_work("--samples", 2.0 * double(o.samples) * double(mesh_count),
@@ -300,7 +301,7 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
         ->needs(phantom);
     command.add_option("--error", o.errors, "Error tolerances (voxels) of the default mesher (intersection-free DC), one mesh each")
         ->capture_default_str();
-    command.add_option("--dmc-error", o.dmc_errors, "Error tolerances (voxels) of --method dmc, one mesh each");
+    command.add_option("--dmc-error", o.dmc_errors, "Retired with dmc: refused, naming --error")->group("");
     command.add_option("--adaptivity", o.adaptivities, "volumeToMesh adaptivities in [0, 1], one mesh each")
         ->capture_default_str();
     command.add_option("--decimate", o.decimate,

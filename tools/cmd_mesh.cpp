@@ -36,8 +36,10 @@ namespace vdbmesh::cli {
 
 namespace {
 
+// "dmc" stays accepted so that scripts keep working: Dual Marching Cubes was retired, dc runs
+// instead (docs/dmc.md).
 const std::map<std::string, MeshMethod> kMethods = {
-    {"dmc", MeshMethod::dmc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}, {"dc", MeshMethod::dc}};
+    {"dmc", MeshMethod::dc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}, {"dc", MeshMethod::dc}};
 const std::map<std::string, Inside> kSides = {{"above", Inside::above}, {"below", Inside::below}};
 
 struct MeshCommandOptions {
@@ -80,20 +82,19 @@ openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& pr
 nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const ProcessingReport& processing, const MeshReport& report,
                                     std::uint64_t triangles, std::uint64_t vertices, const std::optional<MeshAnalysis>& verified,
                                     double seconds) {
-    const bool dmc = options.mesh.method == MeshMethod::dmc || options.mesh.method == MeshMethod::dc, openvdb = options.mesh.method == MeshMethod::openvdb;
+    const bool dc = options.mesh.method == MeshMethod::dc, openvdb = options.mesh.method == MeshMethod::openvdb;
     nlohmann::ordered_json j;
     j["output"] = options.output;
     j["method"] = lowercase(options.method);
     j["iso"] = options.mesh.iso;
-    j["error"] = dmc ? nlohmann::ordered_json(options.mesh.error) : nlohmann::ordered_json(nullptr);
+    j["error"] = dc ? nlohmann::ordered_json(options.mesh.error) : nlohmann::ordered_json(nullptr);
     j["adaptivity"] = openvdb ? nlohmann::ordered_json(options.mesh.adaptivity) : nlohmann::ordered_json(nullptr);
     j["processing"] = processing_json(options.processing, processing);
     j["triangles"] = triangles;
     j["vertices"] = vertices;
     j["seconds"] = seconds;
-    // What the mesher did: its phases in the order run, DMC's safety-net rounds, fallbacks.
+    // What the mesher did: its phases in the order run, fallbacks.
     j["phases"] = phases_json(report);
-    j["refinement_rounds"] = report.refinement_rounds;
     j["fallbacks"] = report.fallbacks;
     j["verified"] = verified ? report_json(*verified) : nlohmann::ordered_json(nullptr);
     return j;
@@ -172,6 +173,10 @@ int run_mesh(MeshCommandOptions& options) {
     }
     // Both words were checked (IsMember, any case).
     options.mesh.method = kMethods.at(lowercase(options.method));
+    if (lowercase(options.method) == "dmc") {
+        if (!options.common.quiet) std::cerr << "vdbmesh mesh: dmc was retired: it runs dc, see docs/dmc.md\n";
+        options.method = "dc";
+    }
     const std::optional<std::uint64_t> memory = memory_limit(options);
     const ThreadLimit limit(options.common);
     const auto start = std::chrono::steady_clock::now();
@@ -220,10 +225,10 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     output_file(command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj (with --labels: DIR/, .ply or .glb/.gltf)"))->required();
     auto* iso = command.add_option("--iso", options->iso, "Isovalue (default for a .vdb: the one stored by convert)");
     command.add_option("--method", options->method,
-                       "Mesher: dc (intersection-free Dual Contouring, the default), dmc (Dual Marching Cubes), mc, openvdb (volumeToMesh)")
+                       "Mesher: dc (intersection-free Dual Contouring, the default), mc, openvdb (volumeToMesh); dmc was retired: it runs dc")
         ->check(CLI::IsMember(kMethods, CLI::ignore_case))
         ->capture_default_str();
-    auto* error = command.add_option("--error", options->mesh.error, "dc, dmc: tolerated error in voxels (0: no simplification, Marching Cubes)")
+    auto* error = command.add_option("--error", options->mesh.error, "dc: tolerated error in voxels (0: no simplification, Marching Cubes)")
         ->check(kFiniteNonNegative)
         ->capture_default_str();
     auto* adaptivity = command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")

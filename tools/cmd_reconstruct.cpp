@@ -1,6 +1,6 @@
 // `vdbmesh reconstruct POINTS -o OUT`: points (.xyz/.pts, .ply, a .conf range-scan set) to a
 // closed surface (.stl/.ply/.obj) or to the sampled field (.vdb), by the partition-of-unity
-// RBF of include/vdbmesh/points.h meshed with DMC.
+// RBF of include/vdbmesh/points.h meshed with DC.
 
 #include <algorithm>
 #include <chrono>

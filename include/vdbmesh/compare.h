@@ -2,7 +2,7 @@
 /// @file compare.h
 /// @brief Measuring meshers against the true isosurface of a grid (`vdbmesh compare`,
 /// bench/; OpenVDB-free: the grid is only declared, openvdb_fwd.h): distance and normal deviation of a mesh to the surface the samples define, and
-/// the same grid meshed by DMC, Marching Cubes and volumeToMesh side by side.
+/// the same grid meshed by DC, Marching Cubes and volumeToMesh side by side.
 ///
 /// The true surface is, for a scan, the isovalue surface of the grid's trilinear interpolant
 /// (the surface every sample-based mesher approximates) and, for a phantom, the analytic
@@ -95,7 +95,6 @@ struct CompareOptions {
     double iso = 0;
     Inside inside = Inside::above;
     std::vector<double> errors{0, 0.1, 0.25, 0.5};         ///< the default mesher (intersection-free DC), one mesh each
-    std::vector<double> dmc_errors;                        ///< the first adaptive mesher (DMC), one mesh each
     std::vector<double> adaptivities{0, 0.1, 0.25, 1};     ///< volumeToMesh, one mesh each
     /// Shares of triangles to keep: the default mesher's error-0 mesh decimated by
     /// decimate_mesh() (as `vdbmesh mesh --decimate`), one mesh each.
@@ -108,8 +107,8 @@ struct CompareOptions {
 
 /// One mesher's result.
 struct MeshComparison {
-    MeshMethod method = MeshMethod::dmc;
-    std::optional<double> error;       ///< DMC
+    MeshMethod method = MeshMethod::dc;
+    std::optional<double> error;       ///< DC
     std::optional<double> adaptivity;  ///< volumeToMesh
     std::optional<double> decimate;    ///< the share of triangles kept by decimate_mesh()
     double seconds = 0;                ///< mesh_grid() wall time, the fastest of up to 3 runs under 0.2 s (with decimate: plus decimate_seconds)
@@ -128,13 +127,13 @@ struct Comparison {
     std::size_t reference_triangles = 0;  ///< of the MC mesh the reference samples come from
 };
 
-/// Meshes @a grid with every setting (DC at each error, DMC at each of its errors, MC, volumeToMesh at each
+/// Meshes @a grid with every setting (DC at each error, MC, volumeToMesh at each
 /// adaptivity, DC at error 0 decimated to each fraction, in that order), one at a time in this
 /// process, timing mesh_grid() (and decimate_mesh()) alone, and measures each result (once per
 /// distinct mesh). Meshes are dropped once measured, but for the error-0 mesh that is decimated.
 Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions& options);
 
-/// "dmc", "mc" or "openvdb".
+/// "dc", "mc" or "openvdb".
 const char* method_name(MeshMethod method);
 
 }  // namespace vdbmesh

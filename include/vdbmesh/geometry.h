@@ -3,8 +3,8 @@
 /// @brief The geometry stage: exact self-intersection tests, the combinatorial checks of a
 /// triangle mesh (edges, vertex fans, components, coincident vertices) and a bounding-volume
 /// hierarchy over its triangles (OpenVDB-free). find_self_intersections() is the API; the
-/// declarations in vdbmesh::detail are shared with the stages above (analysis, the DMC
-/// self-check) and may change between versions.
+/// declarations in vdbmesh::detail are shared with the stages above (analysis, the
+/// meshers) and may change between versions.
 
 #include <algorithm>
 #include <array>

@@ -1,7 +1,7 @@
 #pragma once
 /// @file mesher.h
-/// @brief Meshing a sparse grid: Dual Marching Cubes on the VDB tree, Marching Cubes, or
-/// OpenVDB's volumeToMesh, all returning the same indexed, welded, oriented Mesh, with a
+/// @brief Meshing a sparse grid: intersection-free Dual Contouring on the VDB tree, Marching
+/// Cubes, or OpenVDB's volumeToMesh, all returning the same indexed, welded, oriented Mesh, with a
 /// report of what the mesher did. OpenVDB-free: the grid is only declared (openvdb_fwd.h);
 /// grid.h makes and reads grids.
 
@@ -18,8 +18,6 @@
 namespace vdbmesh {
 
 enum class MeshMethod {
-    dmc,      ///< Dual Marching Cubes on the leaf octrees (Schaefer and Warren 2004), adaptive by --error,
-              ///< clean by a whole-mesh check-and-refine loop
     mc,       ///< Marching Cubes on the samples, vertices welded by grid edge
     openvdb,  ///< openvdb::tools::volumeToMesh, quads split along the shorter diagonal
     dc,       ///< intersection-free Dual Contouring on the leaf octrees (Ju and Udeshi 2006), Marching
@@ -35,7 +33,7 @@ enum class Inside {
 struct MeshOptions {
     MeshMethod method = MeshMethod::dc;  ///< the default: clean by construction at any error
     double iso = 0.0;           ///< isovalue, in the grid's value units
-    double error = 0.0;         ///< dc, dmc: error tolerance in voxels (0: no merging, equals MC)
+    double error = 0.0;         ///< dc: error tolerance in voxels (0: no merging, equals MC)
     double adaptivity = 0.0;    ///< openvdb: volumeToMesh adaptivity in [0, 1]
     Inside inside = Inside::above;
     bool open_boundary = false; ///< leave the surface open where it meets the scan's box
@@ -44,21 +42,20 @@ struct MeshOptions {
 
 /// One step of a mesher and the wall time it took.
 struct MeshPhase {
-    std::string name;  ///< "mesh" (MC, volumeToMesh); DMC: "octree", "contour", "check"
+    std::string name;  ///< "mesh" (MC, volumeToMesh); DC: "octree", "coarse", "split", "contour", "weld"
     double seconds = 0;
 };
 
 /// What mesh_grid() did: the settings it ran with, where the time went, and anything it
 /// did instead of what was asked.
 struct MeshReport {
-    MeshMethod method = MeshMethod::dmc;
+    MeshMethod method = MeshMethod::dc;
     double iso = 0;
     double error = 0;
     double adaptivity = 0;
     Inside inside = Inside::above;
     bool open_boundary = false;
     std::vector<MeshPhase> phases;       ///< in the order run
-    int refinement_rounds = 0;           ///< DMC safety-net rounds, 0 when none ran
     std::vector<std::string> fallbacks;  ///< anything the mesher fell back to, in words; empty when none
     double total_seconds() const;        ///< the sum of the phases
 };

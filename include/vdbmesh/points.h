@@ -4,7 +4,7 @@
 /// range-scan sets), normals by PCA oriented by a minimum spanning tree or towards each
 /// scanner, adaptive decimation, the partition-of-unity RBF field (polyharmonic r^3 with a
 /// linear polynomial per leaf of an overlapping binary partition, Carr et al. 2001
-/// off-surface constraints), its sampling into a sparse grid (negative inside) meshed by DMC,
+/// off-surface constraints), its sampling into a sparse grid (negative inside) meshed by DC (mesher.h),
 /// and the similarity of two solids (coarse PCA alignment, Levenberg-Marquardt on scale,
 /// rotation and translation). OpenVDB-free: the grid is only declared (openvdb_fwd.h).
 
@@ -147,7 +147,7 @@ struct ReconstructOptions {
     double cluster = 0.0;         ///< average the points per cell of this side first; 0: the voxel; < 0: no clustering
     RbfOptions rbf;
     SampleOptions sample;
-    double dmc_error = 0.0;       ///< DMC QEF tolerance in voxels
+    double mesh_error = 0.0;      ///< the mesher's (DC) error tolerance in voxels
     double min_component = 0.01;  ///< drop mesh components with |volume| below this fraction of the largest; 0: keep all
     std::function<void(double)> progress;
 };
@@ -157,7 +157,7 @@ struct ReconstructReport {
     std::size_t fitted_points = 0;  ///< used points left in some leaf's fit after decimation
     double voxel = 0;
     std::size_t dropped_components = 0;
-    std::vector<std::string> mesh_fallbacks;  ///< MeshReport::fallbacks of DMC
+    std::vector<std::string> mesh_fallbacks;  ///< MeshReport::fallbacks of the mesher
     std::vector<std::pair<std::string, double>> phases;  ///< name, seconds
 };
 
@@ -168,7 +168,7 @@ struct Reconstruction {
 };
 
 /// The whole pipeline: outliers, normals, averaging per cell, the RBF field (decimated per
-/// leaf), sampling, DMC.
+/// leaf), sampling, DC.
 Reconstruction reconstruct(PointCloud cloud, const ReconstructOptions& options = {});
 
 /// A similarity transform y = scale * R x + t.

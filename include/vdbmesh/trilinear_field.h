@@ -3,7 +3,7 @@
 /// @brief The grid stage's trilinear interpolant of a float grid in index space, with its
 /// exact gradient (the derivative of the interpolating polynomial inside the cell holding the
 /// point), and the search for the nearest point of its isosurface (isosurface_search.cpp):
-/// the surface sample-based meshers approximate. The DMC self-check and compare.h measure
+/// the surface sample-based meshers approximate. compare.h measures
 /// against it. Includes OpenVDB; in vdbmesh::detail: shared between the stages, not a stable API.
 
 #include <openvdb/openvdb.h>

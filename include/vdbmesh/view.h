@@ -76,7 +76,7 @@ struct ViewServerOptions {
 /// GET /api/info         JSON: the input, its histogram and suggested isovalue, the budget
 /// GET /api/mesh         binary: positions (float32 x 3V), normals (float32 x 3V), indices
 ///                       (uint32 x 3T); headers X-Vertices, X-Triangles, X-Seconds.
-///                       Parameters: level=coarse|full, method=dc|dmc|mc|openvdb, iso, error, adaptivity
+///                       Parameters: level=coarse|full, method=dc|mc|openvdb, iso, error, adaptivity
 /// GET /api/figures      JSON: the analysis of the mesh of the same parameters (as `check`)
 /// GET /api/download     the mesh of the same parameters as format=stl|ply|obj
 /// GET /api/splats       binary: the splats a camera needs (centre, normal as float32 x 3,

@@ -65,10 +65,9 @@ StridedVolume strided_volume(const py::array& array) {
 
 MeshMethod parse_method(const std::string& name) {
     if (name == "dc") return MeshMethod::dc;
-    if (name == "dmc") return MeshMethod::dmc;
     if (name == "mc") return MeshMethod::mc;
     if (name == "openvdb") return MeshMethod::openvdb;
-    throw UsageError("method: expected \"dc\", \"dmc\", \"mc\" or \"openvdb\", got \"" + name + "\"");
+    throw UsageError("method: expected \"dc\", \"mc\" or \"openvdb\", got \"" + name + "\"");
 }
 
 Inside parse_inside(const std::string& name) {

@@ -29,7 +29,7 @@ def test_format_errors_are_value_errors_and_vdbmesh_errors():
 @pytest.mark.parametrize(
     "options, message",
     [
-        ({"method": "marching"}, 'method: expected "dc", "dmc", "mc" or "openvdb", got "marching"'),
+        ({"method": "marching"}, 'method: expected "dc", "mc" or "openvdb", got "marching"'),
         ({"inside": "outside"}, 'inside: expected "auto", "above" or "below", got \'outside\''),
         ({"error": -1}, "error: expected a finite number >= 0"),
         ({"adaptivity": 2, "method": "openvdb"}, r"adaptivity: expected a number in \[0, 1\]"),

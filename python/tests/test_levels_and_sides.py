@@ -9,7 +9,7 @@ import vdbmesh
 from shared_data import testdata
 from volumes import ball, sphere_field
 
-METHODS = ["dc", "dmc", "mc", "openvdb"]
+METHODS = ["dc", "mc", "openvdb"]
 RADIUS = 10.0
 SPHERE_VOLUME = 4 / 3 * np.pi * RADIUS**3
 
@@ -105,8 +105,7 @@ def test_no_surface_at_the_level_is_an_error():
         vdbmesh.mesh(ball((12, 12, 12), 1), 1.0)  # the top of the range: nothing above it
 
 
-@pytest.mark.parametrize("method", ["mc", "dmc"])
-def test_closed_false_leaves_the_border_open(method):
+def test_closed_false_leaves_the_border_open(method="mc"):
     volume = sphere_field(32, RADIUS)[:16]  # the sphere cut in half by the array's border
     closed = vdbmesh.check(*vdbmesh.mesh(volume, 0.0, method=method))
     assert closed["closed"] and closed["boundary_edges"] == 0
@@ -115,9 +114,9 @@ def test_closed_false_leaves_the_border_open(method):
 
 
 @pytest.mark.parametrize("options, message", [
-    ({"closed": False}, 'closed=False: only for method "mc" or "dmc"'),
-    ({"closed": False, "method": "openvdb"}, 'closed=False: only for method "mc" or "dmc"'),
-    ({"error": 0.5, "method": "mc"}, 'error: only for method "dc" or "dmc"'),
+    ({"closed": False}, 'closed=False: only for method "mc"'),
+    ({"closed": False, "method": "openvdb"}, 'closed=False: only for method "mc"'),
+    ({"error": 0.5, "method": "mc"}, 'error: only for method "dc"'),
     ({"adaptivity": 0.5}, 'adaptivity: only for method "openvdb"'),
     ({"inside": "outside"}, 'inside: expected "auto", "above" or "below", got \'outside\''),
 ])

@@ -24,6 +24,7 @@ missing input FileNotFoundError.
 
 import errno
 import os
+import warnings
 
 import numpy as np
 
@@ -57,14 +58,15 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
     stored (0 for a level set); a scan file needs one.
     method: "dc" (intersection-free Dual Contouring, adaptive with ``error`` > 0, in voxels,
     closed, manifold and free of self-intersections by construction; at 0 it equals Marching
-    Cubes), "dmc" (Dual Marching Cubes, made clean by a check-and-refine loop), "mc"
-    (Marching Cubes) or "openvdb" (volumeToMesh, adaptive with ``adaptivity`` in [0, 1]).
+    Cubes), "mc" (Marching Cubes) or "openvdb" (volumeToMesh, adaptive with ``adaptivity``
+    in [0, 1]). "dmc" (Dual Marching Cubes) was retired: it runs "dc", with a
+    DeprecationWarning (docs/dmc.md says why).
     inside: "above" (values above the level are the object), "below", or "auto": the side
     that touches less of the volume's border (a level set's negative inside, a CT's dense
     material, not their complement; above on a tie; a .vdb that records no scanned box:
     below for a level set, else the side away from its background).
     closed: the surface is closed where the object meets the border of the volume; False
-    leaves it open there (methods "mc" and "dmc").
+    leaves it open there (method "mc").
     NaN samples count as outside the object (as scikit-image counts them: not above the level);
     the surface passes next to them.
     Arrays of int64, uint64 and float16 are cast (numpy's safe casts); other types raise.
@@ -75,6 +77,9 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
     if volume_or_path is None:
         raise ValueError("volume_or_path: expected a 3D array or the path of a scan or .vdb file, got None")
     level = _alias(iso, level)
+    if method == "dmc":
+        warnings.warn("dmc was retired: it runs dc, see docs/dmc.md", DeprecationWarning, stacklevel=2)
+        method = "dc"
     _check_applicable(method, error, adaptivity, closed)
     _arrays.check_inside(inside)
     if isinstance(volume_or_path, (str, os.PathLike)):
@@ -166,12 +171,12 @@ def _alias(iso, level):
 
 def _check_applicable(method, error, adaptivity, closed):
     """Refuses options that the method does not use, rather than ignoring them."""
-    if error != 0 and method not in ("dc", "dmc"):
-        raise ValueError(f'error: only for method "dc" or "dmc", got method {method!r}')
+    if error != 0 and method != "dc":
+        raise ValueError(f'error: only for method "dc", got method {method!r}')
     if adaptivity != 0 and method != "openvdb":
         raise ValueError(f'adaptivity: only for method "openvdb", got method {method!r}')
-    if not closed and method not in ("mc", "dmc"):
-        raise ValueError(f'closed=False: only for method "mc" or "dmc" (method {method!r} closes the surface)')
+    if not closed and method != "mc":
+        raise ValueError(f'closed=False: only for method "mc" (method {method!r} closes the surface)')
 
 
 # Voxels smaller than this (cube root of the determinant) are meshed in a unit a power of two

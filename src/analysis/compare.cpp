@@ -226,8 +226,6 @@ Mesh mesh_of(const openvdb::FloatGrid& grid, const CompareOptions& options, Mesh
 
 const char* method_name(MeshMethod method) {
     switch (method) {
-        case MeshMethod::dmc:
-            return "dmc";
         case MeshMethod::mc:
             return "mc";
         case MeshMethod::openvdb:
@@ -313,7 +311,6 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
         runs.push_back(run);
     };
     for (double error : options.errors) add_run(MeshMethod::dc, error, std::nullopt);
-    for (double error : options.dmc_errors) add_run(MeshMethod::dmc, error, std::nullopt);
     if (options.marching_cubes) add_run(MeshMethod::mc, std::nullopt, std::nullopt);
     for (double adaptivity : options.adaptivities) add_run(MeshMethod::openvdb, std::nullopt, adaptivity);
     for (double fraction : options.decimate_fractions) add_run(MeshMethod::dc, 0.0, std::nullopt, fraction);

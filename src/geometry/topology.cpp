@@ -3,7 +3,7 @@
 // (1: boundary, > 2: non-manifold, a direction used twice: misoriented); a vertex is manifold
 // when the triangles around it form one fan (its link is connected); components, boundary
 // loops and the vertex fans come from union-find; coincident vertices from a sort of the
-// coordinates' bits. analyze_mesh() counts them, the DMC self-check marks the triangles.
+// coordinates' bits. analyze_mesh() counts them.
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 

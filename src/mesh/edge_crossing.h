@@ -1,12 +1,12 @@
 #pragma once
 // Private: the ONE rule for inside/outside and for where the surface crosses an edge, shared
-// by Marching Cubes (marching_cubes.cpp) and Dual Marching Cubes (dmc_*.cpp) so that DMC at
+// by Marching Cubes (marching_cubes.cpp) and intersection-free DC (ifc_*.cpp) so that DC at
 // error 0 reproduces MC bit for bit.
 //
 // - A sample is inside iff its value is strictly above the isovalue (Inside::above) or strictly
 //   below it (Inside::below): a value equal to the isovalue counts as outside.
-// - Samples outside the scanned box (kMetaScanMin/Max) are outside the object; DMC gives them
-//   the value outside_scan_value() (an infinity on the outside side). An edge with such an
+// - Samples outside the scanned box (kMetaScanMin/Max) are outside the object; the meshers give
+//   them the value outside_scan_value() (an infinity on the outside side). An edge with such an
 //   end is crossed at its midpoint, so the surface closes half a voxel beyond the last sample
 //   (on the voxel's face).
 // - Otherwise the crossing parameter is t = (iso - f0) / (f1 - f0), clamped to

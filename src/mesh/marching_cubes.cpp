@@ -9,7 +9,7 @@
 //  3. per block, in parallel: vertices and triangles written at their offsets.
 // The output therefore depends on the grid and options only, not on the thread count.
 //
-// Inside/outside, the scan box and the crossing points follow edge_crossing.h, so that DMC at
+// Inside/outside, the scan box and the crossing points follow edge_crossing.h, so that DC at
 // error 0 gives the same vertices. Every triangle has three distinct vertices (on three distinct
 // edges) and, the crossings being kept off the samples, non-zero area: three interior points
 // of three distinct edges of a cube are never collinear.

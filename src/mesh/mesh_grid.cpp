@@ -6,7 +6,6 @@
 #include <string>
 #include <utility>
 
-#include "mesh/dmc.h"
 #include "mesh/ifc.h"
 #include "mesh/marching_cubes.h"
 #include "mesh/mesh_phases.h"
@@ -36,8 +35,6 @@ void check_options(const MeshOptions& options) {
 
 Mesh run_mesher(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report) {
     switch (options.method) {
-        case MeshMethod::dmc:
-            return detail::dual_marching_cubes(grid, options, report);
         case MeshMethod::mc:
             return detail::marching_cubes(grid, options);
         case MeshMethod::openvdb:
@@ -101,7 +98,7 @@ MeshReport mesh_bricks_to_stream(const GridRegionSource& source, const MeshOptio
                                  MeshStreamSink& sink) {
     check_brick_options(options, bricks);
     const BrickOptions planned = planned_bricks(source, options, bricks);
-    MeshReport report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, 0, {}};
+    MeshReport report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, {}};
     detail::bricked_contouring_to_stream(source, options, planned, mirrors(source.description()->transform()), sink, report);
     return report;
 }
@@ -115,7 +112,7 @@ double MeshReport::total_seconds() const {
 MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options) {
     check_options(options);
     MeshResult result;
-    result.report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, 0, {}};
+    result.report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, {}};
     detail::PhaseClock clock;
     result.mesh = run_mesher(grid, options, result.report);
     // Meshers that time no phases of their own are one phase.
@@ -129,7 +126,7 @@ MeshResult mesh_bricks(const GridRegionSource& source, const MeshOptions& option
     if (bricks.nodes_per_brick == 0 && bricks.memory_bytes == 0) return mesh_grid(*source.read(whole_region(source)), options);
     const BrickOptions planned = planned_bricks(source, options, bricks);
     MeshResult result;
-    result.report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, 0, {}};
+    result.report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, {}};
     result.mesh = detail::bricked_contouring(source, options, planned, result.report);
     orient_outward(source.description()->transform(), result.mesh);
     return result;

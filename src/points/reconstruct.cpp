@@ -329,7 +329,7 @@ Reconstruction reconstruct(PointCloud cloud, const ReconstructOptions& options) 
     MeshOptions mesh;
     mesh.iso = 0;
     mesh.inside = Inside::below;
-    mesh.error = options.dmc_error;
+    mesh.error = options.mesh_error;
     MeshResult meshed = mesh_grid(*result.grid, mesh);
     result.mesh = std::move(meshed.mesh);
     report.mesh_fallbacks = meshed.report.fallbacks;

@@ -12,7 +12,7 @@ namespace {
 
 const std::map<std::string, MeshLevel> kLevels = {{"coarse", MeshLevel::coarse}, {"full", MeshLevel::full}};
 const std::map<std::string, MeshMethod> kMethods = {
-    {"dc", MeshMethod::dc}, {"dmc", MeshMethod::dmc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}};
+    {"dc", MeshMethod::dc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}};
 
 template <typename Value>
 Value named(const std::map<std::string, Value>& names, const std::string& parameter, const std::string& text) {

@@ -28,7 +28,7 @@ using ParamLookup = std::function<std::optional<std::string>(const std::string& 
 /// @a text as a finite number. @throw UsageError naming @a parameter otherwise.
 double number_param(const std::string& parameter, const std::string& text);
 
-/// level=coarse|full (full), method=dc|dmc|mc|openvdb (dc), iso (@a default_iso), error (0),
+/// level=coarse|full (full), method=dc|mc|openvdb (dc), iso (@a default_iso), error (0),
 /// adaptivity (0), max_triangles (none). @throw UsageError naming the parameter for a value it cannot take.
 MeshRequest parse_mesh_request(const ParamLookup& param, double default_iso);
 

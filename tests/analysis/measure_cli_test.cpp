@@ -86,7 +86,7 @@ class MeasureEllipsoidTest : public testing::TestWithParam<EllipsoidCase> {};
 // vertices on the triquadratic isosurface (--refine; exact for this quadratic field, so what is
 // left is the chord error of the flat triangles). Plain Marching Cubes of the quadratic field
 // puts every vertex inside: scikit-image's own marching_cubes gives -0.53% area, -1.04% volume
-// (isotropic) and -1.16%, -2.09% (anisotropic) on it, and so does the DMC mesh at error 0; those
+// (isotropic) and -1.16%, -2.09% (anisotropic) on it, and so does the DC mesh at error 0 (Marching Cubes); those
 // get 1.2% and 2.2%. On skimage's anisotropic grid (the spacing of its own test) the lower poles
 // lie on the first samples: the interpolant's parabolas are shifted inwards there (before they
 // were not, the vertices near the poles stayed, and the refined volume was -1.22%). Refined:

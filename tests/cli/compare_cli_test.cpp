@@ -105,6 +105,16 @@ TEST(CompareCliTest, APlotNotNamedSvgIsRefusedBeforeAnyWork) {
     EXPECT_FALSE(std::filesystem::exists(dir / "p.png"));
 }
 
+// DMC was retired (docs/dmc.md): its option is refused, naming the one that gives DC's errors.
+TEST(CompareCliTest, TheRetiredDmcErrorIsAUsageErrorNamingError) {
+    testing::internal::CaptureStderr();
+    const int status = run({"compare", "--phantom", "sphere", "--size", "16", "--dmc-error", "0.5", "--quiet"});
+    const std::string message = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(status, kUsageError);
+    EXPECT_NE(message.find("--dmc-error: dmc was retired"), std::string::npos) << message;
+    EXPECT_NE(message.find("with --error"), std::string::npos) << message;
+}
+
 TEST(CompareCliTest, ScanWithoutIsoIsAUsageError) {
     EXPECT_EQ(run({"compare", test::testdata("sphere_phantom.nii.gz").string(), "--quiet"}), kUsageError);
 }

@@ -64,7 +64,7 @@ TEST(CmdMeshTest, JsonReportsTheSettingsAndTheWrittenMesh) {
     EXPECT_EQ(report["triangles"], written.triangles.size());
     EXPECT_EQ(report["vertices"], written.vertices.size());
     EXPECT_GT(report["seconds"].get<double>(), 0.0);
-    // What the mesher did: its phases in order, no check-and-refine round, no fallback.
+    // What the mesher did: its phases in order, no fallback.
     ASSERT_TRUE(report["phases"].is_array());
     ASSERT_EQ(report["phases"].size(), 5u);
     EXPECT_EQ(report["phases"][0]["name"], "octree");
@@ -73,7 +73,6 @@ TEST(CmdMeshTest, JsonReportsTheSettingsAndTheWrittenMesh) {
     EXPECT_EQ(report["phases"][3]["name"], "contour");
     EXPECT_EQ(report["phases"][4]["name"], "weld");
     EXPECT_GE(report["phases"][0]["seconds"].get<double>(), 0.0);
-    EXPECT_EQ(report["refinement_rounds"].get<int>(), 0);
     EXPECT_TRUE(report["fallbacks"].is_array());
     EXPECT_TRUE(report["fallbacks"].empty());
 }
@@ -140,7 +139,7 @@ TEST(CmdMeshTest, MeshesAVdbAtItsStoredIsovalue) {
 TEST(CmdMeshTest, EveryMethodWritesAClosedOutwardMesh) {
     ScratchDir scratch;
     const auto input = write_ball_vdb(scratch, true);
-    for (const char* method : {"dmc", "mc", "openvdb"}) {
+    for (const char* method : {"dc", "mc", "openvdb"}) {
         const auto output = scratch / (std::string(method) + ".stl");
         ASSERT_EQ(cli::run({"mesh", input.string(), "--method", method, "-o", output.string(), "-q", "--threads", "2"}),
                   cli::kSuccess) << method;
@@ -149,6 +148,25 @@ TEST(CmdMeshTest, EveryMethodWritesAClosedOutwardMesh) {
         EXPECT_TRUE(report.outward) << method;
         EXPECT_EQ(report.nonmanifold_edges, 0u) << method;
     }
+}
+
+// Dual Marching Cubes was retired (docs/dmc.md): --method dmc still runs, as dc, with a note.
+TEST(CmdMeshTest, RetiredDmcMethodRunsDcWithANote) {
+    ScratchDir scratch;
+    const auto input = write_ball_vdb(scratch, true);
+    const auto retired = scratch / "dmc.ply", dc = scratch / "dc.ply";
+    testing::internal::CaptureStderr();
+    testing::internal::CaptureStdout();
+    const int status = cli::run({"mesh", input.string(), "--method", "DMC", "--error", "0.25", "-o", retired.string(), "--json"});
+    const std::string json = testing::internal::GetCapturedStdout();
+    const std::string note = testing::internal::GetCapturedStderr();
+    ASSERT_EQ(status, cli::kSuccess);
+    EXPECT_NE(note.find("dmc was retired: it runs dc, see docs/dmc.md"), std::string::npos) << note;
+    EXPECT_EQ(nlohmann::json::parse(json)["method"], "dc");
+    ASSERT_EQ(cli::run({"mesh", input.string(), "--error", "0.25", "-o", dc.string(), "-q"}), cli::kSuccess);
+    const Mesh a = read_mesh(retired), b = read_mesh(dc);
+    EXPECT_EQ(a.vertices, b.vertices);
+    EXPECT_EQ(a.triangles, b.triangles);
 }
 
 TEST(CmdMeshTest, MeshesARawScanConvertedOnTheFly) {

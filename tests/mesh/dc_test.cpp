@@ -95,7 +95,6 @@ TEST(DcTest, SmoothBallMergesAndStaysClean) {
         const MeshResult result = mesh_grid(*grid, dc_options(error));
         const test::CgalVerdict verdict = test::judge_with_cgal(result.mesh);
         EXPECT_TRUE(verdict.clean()) << "error " << error << ": " << verdict.describe();
-        EXPECT_EQ(result.report.refinement_rounds, 0);
         EXPECT_TRUE(result.report.fallbacks.empty());
         std::cout << "[ figures  ] ball, dc --error " << error << ": " << result.mesh.triangles.size() << " of MC's "
                   << mc.triangles.size() << " triangles\n";

@@ -14,7 +14,7 @@ namespace vdbmesh::test {
 
 inline constexpr double kPi = 3.14159265358979323846;
 
-/// The phantom meshed like a scan (DMC at error 0, iso 0.5).
+/// The phantom meshed like a scan (DC at error 0, iso 0.5).
 inline Mesh phantom_mesh(const PhantomSpec& spec) {
     MeshOptions options;
     options.iso = 0.5;

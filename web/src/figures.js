@@ -39,7 +39,7 @@ export function showFigures(table, figures, note) {
 
 /// One line per full mesh made: method, its parameter, isovalue, triangles, seconds.
 export function addHistory(table, params, mesh) {
-  const parameter = params.method === 'dc' || params.method === 'dmc' ? `error ${params.error}` : params.method === 'openvdb' ? `adapt. ${params.adaptivity}` : '';
+  const parameter = params.method === 'dc' ? `error ${params.error}` : params.method === 'openvdb' ? `adapt. ${params.adaptivity}` : '';
   const row = `<tr><td>${params.method} ${parameter} @ ${number(params.iso)}</td><td>${count(mesh.triangles)} · ${number(mesh.seconds, 2)} s</td></tr>`;
   table.insertAdjacentHTML('afterbegin', row);
   while (table.rows.length > 8) table.deleteRow(-1);

@@ -41,7 +41,7 @@ function meshParams() {
   return {
     method,
     iso: info.scan ? Number($('iso-value').value) : undefined,
-    error: method === 'dc' || method === 'dmc' ? parameter : 0,
+    error: method === 'dc' ? parameter : 0,
     adaptivity: method === 'openvdb' ? Math.min(parameter, 1) : 0,
   };
 }

@@ -1,4 +1,6 @@
-// Tests of Dual Marching Cubes (src/mesh/dmc*.cpp) on grids filled from analytic densities.
+// Intersection-free DC (MeshMethod::dc) on sparse grids filled from analytic densities: leaves
+// next to inside tiles, a scan box ending inside the object, samples on the isovalue, the
+// inside below. (These were Dual Marching Cubes' tests; DC must meet them too, docs/dmc.md.)
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
@@ -9,10 +11,9 @@
 #include <map>
 #include <set>
 
-#include "mesh/dmc.h"
-#include "mesh/marching_cubes.h"
-#include "same_triangles.h"
+#include "cgal_judge.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/mesher.h"
 
 namespace vdbmesh {
 namespace {
@@ -62,8 +63,9 @@ Density ball(const openvdb::Vec3d& centre, double radius, double sigma) {
     return [=](const openvdb::Vec3d& p) { return 0.5 * std::erfc(((p - centre).length() - radius) / sigma); };
 }
 
-MeshOptions dmc_options(double error = 0.0) {
+MeshOptions dc_options(double error = 0.0) {
     MeshOptions options;
+    options.method = MeshMethod::dc;
     options.iso = 0.5;
     options.error = error;
     return options;
@@ -123,9 +125,9 @@ double distance_to_sphere(const Mesh& mesh, const openvdb::Vec3d& centre, double
     return worst;
 }
 
-TEST(DmcTest, SphereAtErrorZeroIsClosedAndOriented) {
+TEST(DcSparseGridTest, SphereAtErrorZeroIsClosedAndOriented) {
     const auto grid = analytic_grid(48, ball({23.3, 24.1, 22.7}, 15.0, 2.0));
-    const Mesh mesh = detail::dual_marching_cubes(*grid, dmc_options());
+    const Mesh mesh = mesh_grid(*grid, dc_options()).mesh;
     ASSERT_GT(mesh.triangles.size(), 1000u);
     const EdgeReport report = edge_report(mesh);
     EXPECT_EQ(report.boundary, 0u);
@@ -134,11 +136,11 @@ TEST(DmcTest, SphereAtErrorZeroIsClosedAndOriented) {
     EXPECT_GT(signed_volume(mesh), 0.0);  // outward normals
 }
 
-TEST(DmcTest, SphereAtErrorZeroIsAccurate) {
+TEST(DcSparseGridTest, SphereAtErrorZeroIsAccurate) {
     const openvdb::Vec3d centre(31.6, 32.2, 30.9);
     const double radius = 20.0;
     const auto grid = analytic_grid(64, ball(centre, radius, 2.0));
-    const Mesh mesh = detail::dual_marching_cubes(*grid, dmc_options());
+    const Mesh mesh = mesh_grid(*grid, dc_options()).mesh;
     // Linear interpolation on a smooth erf ramp of curvature 1/20: vertices lie within a few
     // hundredths of a voxel; chords between them sag by at most h^2/(8R) ~ 0.006 voxel.
     EXPECT_LT(distance_to_sphere(mesh, centre, radius), 0.05);
@@ -147,75 +149,52 @@ TEST(DmcTest, SphereAtErrorZeroIsAccurate) {
     EXPECT_NEAR(area(mesh) / (4.0 * pi * radius * radius), 1.0, 0.002);
 }
 
-TEST(DmcTest, ErrorZeroEqualsMarchingCubes) {
-    const auto grid = analytic_grid(40, ball({19.5, 20.25, 18.75}, 12.0, 1.5));
-    const Mesh dmc = detail::dual_marching_cubes(*grid, dmc_options());
-    const Mesh mc = detail::marching_cubes(*grid, dmc_options());
-    EXPECT_TRUE(test::same_triangles(dmc, mc));
-}
-
-TEST(DmcTest, SameBytesWithOneOrTwoThreads) {
+TEST(DcSparseGridTest, MergedMeshSameBytesWithOneOrTwoThreads) {
     const auto grid = analytic_grid(48, ball({23.3, 24.1, 22.7}, 15.0, 2.0));
     Mesh one, two;
-    tbb::task_arena(1).execute([&] { one = detail::dual_marching_cubes(*grid, dmc_options()); });
-    tbb::task_arena(2).execute([&] { two = detail::dual_marching_cubes(*grid, dmc_options()); });
+    tbb::task_arena(1).execute([&] { one = mesh_grid(*grid, dc_options(0.25)).mesh; });
+    tbb::task_arena(2).execute([&] { two = mesh_grid(*grid, dc_options(0.25)).mesh; });
+    EXPECT_LT(one.triangles.size(), mesh_grid(*grid, dc_options()).mesh.triangles.size());
     EXPECT_EQ(one.vertices, two.vertices);
     EXPECT_EQ(one.triangles, two.triangles);
 }
 
-TEST(DmcTest, MergedMeshSameBytesWithOneOrTwoThreads) {
-    const auto grid = analytic_grid(48, ball({23.3, 24.1, 22.7}, 15.0, 2.0));
-    Mesh one, two;
-    tbb::task_arena(1).execute([&] { one = detail::dual_marching_cubes(*grid, dmc_options(0.25)); });
-    tbb::task_arena(2).execute([&] { two = detail::dual_marching_cubes(*grid, dmc_options(0.25)); });
-    EXPECT_LT(one.triangles.size(), detail::dual_marching_cubes(*grid, dmc_options()).triangles.size());
-    EXPECT_EQ(one.vertices, two.vertices);
-    EXPECT_EQ(one.triangles, two.triangles);
-}
-
-TEST(DmcTest, MergedMeshIsClosedAndOriented) {
-    const auto grid = analytic_grid(48, ball({23.3, 24.1, 22.7}, 15.0, 2.0));
-    const Mesh mesh = detail::dual_marching_cubes(*grid, dmc_options(0.5));
-    const EdgeReport report = edge_report(mesh);
-    EXPECT_EQ(report.boundary, 0u);
-    EXPECT_EQ(report.repeated, 0u);
-    EXPECT_EQ(report.degenerate, 0u);
-    EXPECT_GT(signed_volume(mesh), 0.0);
-}
-
-TEST(DmcTest, InsideBelowOnNegatedFieldGivesTheSameSurface) {
+TEST(DcSparseGridTest, InsideBelowOnNegatedFieldGivesTheSameSurface) {
     const Density density = ball({15.5, 16.0, 15.0}, 9.0, 1.5);
     const auto grid = analytic_grid(32, density);
     auto negated = grid->deepCopy();
     for (auto it = negated->tree().beginValueAll(); it; ++it) it.setValue(-*it);
     negated->tree().root().setBackground(-0.0f, false);
     for (double error : {0.0, 0.25}) {  // merged cells, their checks and splits included
-        MeshOptions below = dmc_options(error);
+        MeshOptions below = dc_options(error);
         below.iso = -0.5;
         below.inside = Inside::below;
-        const Mesh a = detail::dual_marching_cubes(*grid, dmc_options(error));
-        const Mesh b = detail::dual_marching_cubes(*negated, below);
+        const Mesh a = mesh_grid(*grid, dc_options(error)).mesh;
+        const Mesh b = mesh_grid(*negated, below).mesh;
         EXPECT_EQ(a.vertices, b.vertices) << "error " << error;
         EXPECT_EQ(a.triangles, b.triangles) << "error " << error;
     }
 }
 
-TEST(DmcTest, IsovalueOnSamplesGivesNoCoincidentVertices) {
+TEST(DcSparseGridTest, IsovalueOnSamplesGivesNoCoincidentVertices) {
     // Integer samples and an integer isovalue: many samples equal the isovalue.
     const Density density = ball({12.0, 12.0, 12.0}, 7.0, 1.0);
     const auto grid = analytic_grid(24, [&](const openvdb::Vec3d& p) { return std::round(density(p) * 4.0) / 4.0; });
-    MeshOptions options = dmc_options();
-    const Mesh mesh = detail::dual_marching_cubes(*grid, options);
-    ASSERT_GT(mesh.triangles.size(), 100u);
-    const EdgeReport report = edge_report(mesh);
-    EXPECT_EQ(report.boundary, 0u);
-    EXPECT_EQ(report.repeated, 0u);
-    std::set<std::array<float, 3>> distinct(mesh.vertices.begin(), mesh.vertices.end());
-    EXPECT_EQ(distinct.size(), mesh.vertices.size());
-    for (const auto& t : mesh.triangles) {
-        const double twice_area =
-            (vertex(mesh, t[1]) - vertex(mesh, t[0])).cross(vertex(mesh, t[2]) - vertex(mesh, t[0])).length();
-        EXPECT_GT(twice_area, 0.0);
+    for (double error : {0.0, 0.25}) {
+        const Mesh mesh = mesh_grid(*grid, dc_options(error)).mesh;
+        ASSERT_GT(mesh.triangles.size(), 100u) << "error " << error;
+        const EdgeReport report = edge_report(mesh);
+        EXPECT_EQ(report.boundary, 0u) << "error " << error;
+        EXPECT_EQ(report.repeated, 0u) << "error " << error;
+        std::set<std::array<float, 3>> distinct(mesh.vertices.begin(), mesh.vertices.end());
+        EXPECT_EQ(distinct.size(), mesh.vertices.size()) << "error " << error;
+        for (const auto& t : mesh.triangles) {
+            const double twice_area =
+                (vertex(mesh, t[1]) - vertex(mesh, t[0])).cross(vertex(mesh, t[2]) - vertex(mesh, t[0])).length();
+            EXPECT_GT(twice_area, 0.0) << "error " << error;
+        }
+        const test::CgalVerdict verdict = test::judge_with_cgal(mesh);
+        EXPECT_TRUE(verdict.clean()) << "error " << error << ": " << verdict.describe();
     }
 }
 
@@ -227,25 +206,16 @@ openvdb::FloatGrid::Ptr cut_ball_grid() {
     return grid;
 }
 
-TEST(DmcTest, ScanBoxClosesTheSurfaceHalfAVoxelOut) {
-    const Mesh mesh = detail::dual_marching_cubes(*cut_ball_grid(), dmc_options());
-    const EdgeReport report = edge_report(mesh);
-    EXPECT_EQ(report.boundary, 0u);
-    EXPECT_EQ(report.repeated, 0u);
-    EXPECT_GT(signed_volume(mesh), 0.0);
-    float top = -1e30f;
-    for (const auto& v : mesh.vertices) top = std::max(top, v[2]);
-    EXPECT_FLOAT_EQ(top, 20.5f);  // the cap sits on the last voxel's face
-}
-
-TEST(DmcTest, OpenBoundaryLeavesTheCutOpen) {
-    MeshOptions options = dmc_options();
-    options.open_boundary = true;
-    const Mesh mesh = detail::dual_marching_cubes(*cut_ball_grid(), options);
-    const EdgeReport report = edge_report(mesh);
-    EXPECT_GT(report.boundary, 0u);
-    EXPECT_EQ(report.repeated, 0u);
-    for (const auto& v : mesh.vertices) EXPECT_LE(v[2], 20.0f);
+TEST(DcSparseGridTest, ScanBoxClosesTheSurfaceHalfAVoxelOut) {
+    for (double error : {0.0, 0.25}) {
+        const Mesh mesh = mesh_grid(*cut_ball_grid(), dc_options(error)).mesh;
+        const test::CgalVerdict verdict = test::judge_with_cgal(mesh);
+        EXPECT_TRUE(verdict.clean()) << "error " << error << ": " << verdict.describe();
+        EXPECT_GT(signed_volume(mesh), 0.0) << "error " << error;
+        float top = -1e30f;
+        for (const auto& v : mesh.vertices) top = std::max(top, v[2]);
+        EXPECT_FLOAT_EQ(top, 20.5f) << "error " << error;  // the cap sits on the last voxel's face
+    }
 }
 
 }  // namespace
