@@ -19,7 +19,6 @@
 #include "vdbmesh/huge_pages.h"
 #include "mesh/ifc_key_index.h"
 #include "mesh/ifc_polygons.h"
-#include "mesh/marching_cubes.h"
 #include "mesh/mesh_phases.h"
 #include "mesh/surface_blocks.h"
 #include "vdbmesh/error.h"
@@ -221,9 +220,6 @@ Mesh weld(std::vector<IfcBlockOutput>&& outputs) {
 }  // namespace
 
 Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report) {
-    // No merging at error 0, not even of exactly flat surfaces (the faces of the scan box): the
-    // mesh is Marching Cubes, as documented.
-    if (options.error <= 0) return marching_cubes(grid, options);
     PhaseClock clock;
     const SampleClassifier classifier(grid, options);
     IfcCellGrid cells;

@@ -75,9 +75,12 @@ struct Hermite {
     Point3d normal;
 };
 Hermite edge_hermite(const IfcSamples& samples, double iso, int x, int y, int z, int axis);
+/// The crossing alone (Hermite::point).
+Point3d edge_point(const IfcSamples& samples, double iso, int x, int y, int z, int axis);
 
-/// A merged cell holding surface: its level (size 2^level), minimum corner and vertex (index
-/// space). A cell larger than a block is copied into each block it covers.
+/// A cell with a vertex, holding surface: a merged cell, or a dual unit cell (level 0); its
+/// level (size 2^level), minimum corner and vertex (index space). A cell larger than a block is
+/// copied into each block it covers.
 struct IfcCell {
     std::uint8_t level;
     openvdb::Coord min;
@@ -87,13 +90,13 @@ struct IfcCell {
 /// The leaves of a block's octree: per unit cell its leaf's level and merged cell, and the
 /// merged cells holding surface.
 struct IfcLeaves {
-    using UnitArray = std::array<std::uint8_t, kIfcBlock * kIfcBlock * kIfcBlock>;
+    static constexpr int kUnitCells = kIfcBlock * kIfcBlock * kIfcBlock;
     /// Per unit cell (local x * 64 + y * 8 + z): the level of the cell holding it (0: a unit
-    /// Marching Cubes cell).
-    UnitArray level{};
-    /// Per unit cell: index into @a cells of its merged cell, or kNoCell (unit, or merged
-    /// without surface).
-    UnitArray cell;  // at most 1 + 8 + 64 merged cells
+    /// cell: a dual one where it has a vertex in @a cells, else a Marching Cubes cell).
+    std::array<std::uint8_t, kUnitCells> level{};
+    /// Per unit cell: index into @a cells of the cell holding it, or kNoCell (a Marching Cubes
+    /// unit cell, or a cell without surface). At most 512 cells: a block of dual unit cells.
+    std::array<std::uint16_t, kUnitCells> cell;
     std::vector<IfcCell> cells;
 };
 
@@ -119,7 +122,7 @@ struct IfcBlockCells : IfcLeaves {
     std::array<std::uint16_t, kIfcSampleDim * kIfcSampleDim> inside_rows{};
     std::vector<double> crossings;
 
-    static constexpr std::uint8_t kNoCell = 0xff;
+    static constexpr std::uint16_t kNoCell = 0xffff;
     /// All unit cells, no surface: a block never built.
     IfcBlockCells() { cell.fill(kNoCell); }
     static int unit_index(int x, int y, int z) { return (x * kIfcBlock + y) * kIfcBlock + z; }

@@ -27,21 +27,30 @@ bool IfcFan::near(const Point3d& p, double distance) {
     return false;
 }
 
-double trilinear_surface_distance(const std::array<double, 8>& values, const std::array<double, 3>& t, double iso) {
-    double f = 0;
-    Point3d g = {0, 0, 0};
+TrilinearSample trilinear_sample(const std::array<double, 8>& values, const std::array<double, 3>& t) {
+    TrilinearSample s;
     for (int c = 0; c < 8; ++c) {
         const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
         const double value = values[c];
-        if (!std::isfinite(value)) return 0;
+        if (!std::isfinite(value)) {
+            s.finite = false;
+            return s;
+        }
         const double wx = dx ? t[0] : 1 - t[0], wy = dy ? t[1] : 1 - t[1], wz = dz ? t[2] : 1 - t[2];
-        f += wx * wy * wz * value;
-        g[0] += (dx ? 1 : -1) * wy * wz * value;
-        g[1] += (dy ? 1 : -1) * wx * wz * value;
-        g[2] += (dz ? 1 : -1) * wx * wy * value;
+        s.value += wx * wy * wz * value;
+        s.gradient[0] += (dx ? 1 : -1) * wy * wz * value;
+        s.gradient[1] += (dy ? 1 : -1) * wx * wz * value;
+        s.gradient[2] += (dz ? 1 : -1) * wx * wy * value;
     }
+    return s;
+}
+
+double trilinear_surface_distance(const std::array<double, 8>& values, const std::array<double, 3>& t, double iso) {
+    const TrilinearSample s = trilinear_sample(values, t);
+    if (!s.finite) return 0;
+    const Point3d& g = s.gradient;
     const double length = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-    return length > 0 ? std::abs(f - iso) / length : std::numeric_limits<double>::infinity();
+    return length > 0 ? std::abs(s.value - iso) / length : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace vdbmesh::detail

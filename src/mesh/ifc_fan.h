@@ -54,6 +54,16 @@ inline bool ifc_chord_spans_face(const Point3d& a, const Point3d& b, int size) {
     return squared_distance(a, b) >= double(size) * size;
 }
 
+/// The trilinear interpolant of the 8 corner values of a unit cell (corner c at (c & 1,
+/// (c >> 1) & 1, c >> 2)) and its gradient at the local position @a t in [0, 1]^3; not finite
+/// where a value is not (beyond the scan box).
+struct TrilinearSample {
+    double value = 0;
+    Point3d gradient = {0, 0, 0};
+    bool finite = true;
+};
+TrilinearSample trilinear_sample(const std::array<double, 8>& corner_values, const std::array<double, 3>& t);
+
 /// First-order distance |f - iso| / |grad f| (voxels) of the trilinear interpolant of the 8
 /// corner values of a unit cell (corner c at (c & 1, (c >> 1) & 1, c >> 2)) at the local
 /// position @a t in [0, 1]^3; 0 where a value is not finite (beyond the scan box).

@@ -25,6 +25,7 @@
 #include "mesh/ifc_qef.h"
 #include "mesh/ifc_topology.h"
 #include "mesh/mc_table.h"
+#include "mesh/unit_cell_vertex.h"
 #include "vdbmesh/geometry.h"
 
 namespace vdbmesh::detail {
@@ -128,13 +129,18 @@ Point3d gradient(const IfcSamples& s, int x, int y, int z) {
 
 }  // namespace
 
-Hermite edge_hermite(const IfcSamples& s, double iso, int x, int y, int z, int axis) {
-    const int x1 = x + (axis == 0), y1 = y + (axis == 1), z1 = z + (axis == 2);
+Point3d edge_point(const IfcSamples& s, double iso, int x, int y, int z, int axis) {
     const Point3d p0 = {double(s.origin.x() + x), double(s.origin.y() + y), double(s.origin.z() + z)};
     Point3d p1 = p0;
     p1[axis] += 1.0;
+    return edge_crossing(p0, s.at(x, y, z), p1, s.at(x + (axis == 0), y + (axis == 1), z + (axis == 2)), iso);
+}
+
+Hermite edge_hermite(const IfcSamples& s, double iso, int x, int y, int z, int axis) {
+    const int x1 = x + (axis == 0), y1 = y + (axis == 1), z1 = z + (axis == 2);
+    const Point3d p0 = {double(s.origin.x() + x), double(s.origin.y() + y), double(s.origin.z() + z)};
     Hermite h;
-    h.point = edge_crossing(p0, s.at(x, y, z), p1, s.at(x1, y1, z1), iso);
+    h.point = edge_point(s, iso, x, y, z, axis);
     const double t = h.point[axis] - p0[axis];
     const Point3d g0 = gradient(s, x, y, z), g1 = gradient(s, x1, y1, z1);
     double length = 0;
@@ -210,10 +216,18 @@ public:
         error_ = error;
         out.sampled = true;
         out.inside_rows = samples.inside_rows;
+        // At error 0 nothing merges: every simple unit cell gets a vertex (the dual mesh), the
+        // others stay Marching Cubes cells.
+        dual_units_ = error <= 0;
         collect_hermite(out.crossings);
         init_unit_cells();
-        sum_levels();
-        refine(kIfcMaxLevel, 0, 0, 0);
+        classify_unit_cells();
+        if (dual_units_) {
+            for (int level = 1; level <= kIfcMaxLevel; ++level) std::fill(state_[level].begin(), state_[level].end(), CellState::inner);
+        } else {
+            sum_levels();
+            refine(kIfcMaxLevel, 0, 0, 0);
+        }
         assign(out);
         keep_parts(out);
     }
@@ -256,7 +270,9 @@ private:
                         if (!((along[axis] >> (z + 1)) & 1u)) continue;
                         const int i = edge_index(x, y, z, axis);
                         slot_[i] = std::uint16_t(hermite_.size());
-                        hermite_.push_back(edge_hermite(*s_, iso_, x, y, z, axis));
+                        // The dual unit cells need no normals (no QEF, no merge test).
+                        hermite_.push_back(dual_units_ ? Hermite{edge_point(*s_, iso_, x, y, z, axis), {}}
+                                                       : edge_hermite(*s_, iso_, x, y, z, axis));
                         crossings_.push_back({std::uint8_t(x), std::uint8_t(y), std::uint8_t(z), std::uint8_t(axis)});
                         if (x < kIfcBlock && y < kIfcBlock && z < kIfcBlock) {
                             const double f0 = s_->at(x, y, z), f1 = s_->at(x + (axis == 0), y + (axis == 1), z + (axis == 2));
@@ -311,6 +327,17 @@ private:
         // The plane's QEF is formed once and added to each cell (the same sums, bit for bit,
         // as adding the plane to each: every term starts from zero).
         std::fill(state_[0].begin(), state_[0].end(), CellState::empty);
+        if (dual_units_) {  // no QEF: a unit cell holds surface iff its corners differ
+            for (int x = 0; x < kIfcBlock; ++x) {
+                for (int y = 0; y < kIfcBlock; ++y) {
+                    const unsigned mixed = s_->mixed_cells_row(x, y);
+                    for (int z = 0; z < kIfcBlock; ++z) {
+                        if ((mixed >> (z + 1)) & 1u) state_[0][cell_index(0, x, y, z)] = CellState::surface;
+                    }
+                }
+            }
+            return;
+        }
         for (std::size_t k = 0; k < crossings_.size(); ++k) {
             const auto& c = crossings_[k];
             const int axis = c[3], u = (axis + 1) % 3, w = (axis + 2) % 3;
@@ -333,11 +360,8 @@ private:
         }
     }
 
-    /// The QEFs, states and topology of the cells of 2, 4 and 8 voxels from their children's:
-    /// a cell holds surface (for now; refine() decides) when a child does, and is simple (one
-    /// disk, one crossing per edge, one chain per face) when its children are and their 27
-    /// corner signs say so.
-    void sum_levels() {
+    /// Whether each unit cell is simple: no surface, or one disk without an ambiguous face.
+    void classify_unit_cells() {
         const auto& simple_units = simple_unit_cells();
         for (int x = 0; x < kIfcBlock; ++x) {
             for (int y = 0; y < kIfcBlock; ++y) {
@@ -347,6 +371,13 @@ private:
                 }
             }
         }
+    }
+
+    /// The QEFs, states and topology of the cells of 2, 4 and 8 voxels from their children's:
+    /// a cell holds surface (for now; refine() decides) when a child does, and is simple (one
+    /// disk, one crossing per edge, one chain per face) when its children are and their 27
+    /// corner signs say so.
+    void sum_levels() {
         for (int level = 1; level <= kIfcMaxLevel; ++level) {
             const int n = cells_per_axis(level);
             const int m = 2 * n;  // children per axis
@@ -553,9 +584,9 @@ private:
                         const CellState state = state_[level][cell_index(level, i, j, k)];
                         if (state != CellState::empty && state != CellState::surface) continue;
                         if (out.level[IfcBlockCells::unit_index(i * size, j * size, k * size)] != 0) continue;  // inside a larger leaf
-                        std::uint8_t id = IfcBlockCells::kNoCell;
+                        std::uint16_t id = IfcBlockCells::kNoCell;
                         if (state == CellState::surface) {
-                            id = std::uint8_t(out.cells.size());
+                            id = std::uint16_t(out.cells.size());
                             out.cells.push_back({std::uint8_t(level), s_->origin.offsetBy(i * size, j * size, k * size),
                                                  vertex_[level][cell_index(level, i, j, k)]});
                         }
@@ -571,6 +602,44 @@ private:
                 }
             }
         }
+        if (dual_units_) assign_dual_unit_cells(out);
+    }
+
+    /// A vertex for each simple unit cell holding surface that no larger leaf covers.
+    void assign_dual_unit_cells(IfcLeaves& out) const {
+        // Sized once: a block of dual cells holds up to 512 (growing by doubling faulted in
+        // fresh pages at every step).
+        std::size_t count = out.cells.size();
+        for (int i = 0; i < IfcLeaves::kUnitCells; ++i) count += state_[0][std::size_t(i)] == CellState::surface && simple_[0][std::size_t(i)];
+        out.cells.reserve(count);
+        for (int x = 0; x < kIfcBlock; ++x) {
+            for (int y = 0; y < kIfcBlock; ++y) {
+                for (int z = 0; z < kIfcBlock; ++z) {
+                    const int u = IfcBlockCells::unit_index(x, y, z), i = cell_index(0, x, y, z);
+                    if (out.level[u] != 0 || state_[0][i] != CellState::surface || !simple_[0][i]) continue;
+                    out.cell[u] = std::uint16_t(out.cells.size());
+                    out.cells.push_back({0, s_->origin.offsetBy(x, y, z), unit_vertex({x, y, z})});
+                }
+            }
+        }
+    }
+
+    /// The vertex of the simple unit cell at local @a min (unit_cell_vertex()), index space.
+    Point3d unit_vertex(const std::array<int, 3>& min) const {
+        Point3d mass = {0, 0, 0};
+        int count = 0;
+        const Point3d corner = {double(s_->origin.x() + min[0]), double(s_->origin.y() + min[1]), double(s_->origin.z() + min[2])};
+        for_each_cell_edge(min, 1, [&](const std::array<int, 3>& p, int axis) {
+            const std::uint16_t slot = slot_[edge_index(p[0], p[1], p[2], axis)];
+            if (slot == kNoSlot) return;
+            for (int a = 0; a < 3; ++a) mass[a] += hermite_[slot].point[a] - corner[a];
+            ++count;
+        });
+        for (double& m : mass) m /= count;
+        std::array<double, 8> values;
+        for (int c = 0; c < 8; ++c) values[c] = s_->at(min[0] + (c & 1), min[1] + ((c >> 1) & 1), min[2] + (c >> 2));
+        const Point3d local = unit_cell_vertex(values, mass, iso_);
+        return {corner[0] + local[0], corner[1] + local[1], corner[2] + local[2]};
     }
 
     /// Where the whole block is one cell whose surface only clips some of its faces: the cells
@@ -587,6 +656,7 @@ private:
     }
 
     const IfcSamples* s_ = nullptr;
+    bool dual_units_ = false;  ///< whether simple unit cells get a vertex (build())
     double iso_ = 0;
     double error_ = 0;
     /// Per grid edge of the block (edge_index()): its crossing's index in hermite_ and

@@ -71,6 +71,11 @@ namespace {
 /// Six times a tetrahedron's volume (voxels^3) below which a flip is not trusted.
 constexpr double kOrientationFloor = 1e-3;
 
+/// How far (voxels) the polygon of dual unit cells round an edge may pass from the edge's
+/// crossing (their vertices lie on the trilinear isosurface, so this only catches a polygon
+/// that cuts off a thin wall's tip); else the fan round the crossing keeps it.
+constexpr double kUnitPolygonReach = 0.5;
+
 // ---- Vertex keys: kind (2 bits), payload (5 bits), x, y, z (19 bits each, biased) ----
 constexpr int kCoordBits = 19;
 constexpr int kKindShift = 62, kPayloadShift = 57;
@@ -176,11 +181,21 @@ public:
         const std::array<std::ptrdiff_t, 27> around = grid_.neighbours(block_);
         for (int n = 0; n < 27; ++n) neighbour_[n] = around[n] < 0 ? nullptr : &grid_.block(std::size_t(around[n]));
         const IfcBlockCells& cells = grid_.block(block_);
+        if (error_ <= 0) {
+            // The dual mesh: about two triangles per crossed edge, a vertex per cell and a few
+            // crossings; sized once (growing, then shrinking, copied them twice).
+            out_.vertices.reserve(cells.cells.size() + cells.crossings.size() / 4);
+            out_.triangles.reserve(2 * cells.crossings.size() + cells.crossings.size() / 8);
+        }
         for (const IfcCell& cell : cells.cells) add_vertex(make_key(kCellKind, cell.level, cell.min), cell.vertex);
         crossings_ = &cells.crossings;
         next_crossing_ = 0;
         walk_block(
-            s_, [&](int x, int y, int z) { if (cells.level[IfcBlockCells::unit_index(x, y, z)] == 0) marching_cube(x, y, z); },
+            s_,
+            [&](int x, int y, int z) {
+                const int u = IfcBlockCells::unit_index(x, y, z);
+                if (cells.level[u] == 0 && cells.cell[u] == IfcBlockCells::kNoCell) marching_cube(x, y, z);
+            },
             [&](int x, int y, int z, int axis) {
                 crossed_edge(x, y, z, axis);
                 ++next_crossing_;
@@ -400,7 +415,10 @@ private:
     /// CThead at --error 1 lost the tip of a thin wall, 1.72 voxels short; with it, 14 more
     /// triangles).
     bool polygon_near(const Ring& ring, int s, const Point3d& crossing) const {
-        const double limit = error_ * error_;
+        bool units = true;
+        for (int i = 0; i < ring.count; ++i) units &= ring.cell[i].level == 0;
+        const double reach = units ? std::max(error_, kUnitPolygonReach) : error_;
+        const double limit = reach * reach;
         for (int j = 1; j + 1 < ring.count; ++j) {
             const Point3d q = closest_point_on_triangle(crossing, *ring.cell[s].vertex, *ring.cell[(s + j) % ring.count].vertex,
                                                         *ring.cell[(s + j + 1) % ring.count].vertex);

@@ -121,7 +121,8 @@ TEST_P(RealScanGuaranteesTest, DmcAndMcMeshesAreClean) {
 
 // Intersection-free DC (issue 9, point 2): clean by construction at every error, so no check
 // runs; CGAL judges it. It keeps every Marching Cubes component (a merged cell holds one disk of
-// surface) and, at error 0, is Marching Cubes.
+// surface). At error 0 it is the dual mesh (issue 29): a vertex per simple unit cell on the
+// trilinear isosurface, Marching Cubes in the cells with two sheets or an ambiguous face.
 TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
     const SharedScan& scan = GetParam();
     openvdb::FloatGrid::Ptr grid;
@@ -129,8 +130,7 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
     if (!grid) return;  // skipped: the shared data is missing
     const Mesh mc = mesh_scan(*grid, scan, MeshMethod::mc);
     const MeshAnalysis mc_report = analyze_mesh(mc);
-    EXPECT_TRUE(test::same_triangles(mesh_scan(*grid, scan, MeshMethod::dc), mc)) << scan.name << ": DC at error 0 differs from MC";
-    for (double error : {0.25, 1.0}) {
+    for (double error : {0.0, 0.25, 1.0}) {
         const Mesh dc = mesh_scan(*grid, scan, MeshMethod::dc, error);
         const MeshAnalysis report = analyze_mesh(dc);
         std::cout << "[ figures  ] " << scan.name << " dc --error " << error << ": " << describe(report) << "\n";
@@ -140,7 +140,11 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
         // Merging pays at error 1 (a DC that returned MC fails). At 0.25 the noise-bound MRIs
         // barely merge and the fans between merged and unit cells cost a little: measured
         // 98.3% of MC (headsq) to 100.8% (the SPM T1s, 132,168 of 131,160), so at most 1% more.
-        EXPECT_LE(double(report.triangles), 1.01 * double(mc_report.triangles)) << scan.name << " dc --error " << error;
+        // At error 0 the fans between dual and Marching Cubes cells cost more where ambiguous
+        // cells are many: measured 0.2% (engine) to 19% (Seg3D MR, 2,728,812 of 2,293,400) more
+        // than MC; 12% on the walnut, 9.5% on the SPM T1s.
+        const double triangle_bound = error == 0 ? 1.2 : 1.01;
+        EXPECT_LE(double(report.triangles), triangle_bound * double(mc_report.triangles)) << scan.name << " dc --error " << error;
         if (error == 1.0) {
             EXPECT_LE(double(report.triangles), kMaxTriangleShare * double(mc_report.triangles)) << scan.name << " dc --error 1";
         }
@@ -154,8 +158,11 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
         std::cout << "[ figures  ] " << scan.name << " dc --error " << error << " vs MC: two-sided Hausdorff "
                   << distance.hausdorff << " voxels\n";
         // Twice the error (the vertex is within the error of every tangent plane in its cell),
-        // plus half a voxel for points between samples.
-        EXPECT_LE(distance.hausdorff, 2 * error + 0.5) << scan.name << " dc --error " << error;
+        // plus half a voxel for points between samples. At error 0 the two meshes are different
+        // approximations of the trilinear isosurface (MC's flat triangles across its curved
+        // cells, the dual vertices on it): measured 0.29 (nucleon) to 0.56 voxel (SPM2 T1), so
+        // within a voxel.
+        EXPECT_LE(distance.hausdorff, error == 0 ? 1.0 : 2 * error + 0.5) << scan.name << " dc --error " << error;
     }
 }
 
