@@ -1,22 +1,33 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages vdbmesh needs, only those that are missing.
+#   install-deps.sh          what the library and the `vdbmesh` program need (the quick start)
+#   install-deps.sh --tests  that and what the tests, the benchmarks and the Python module need
 set -euo pipefail
 packages=(
   cmake g++ ninja-build ccache pkg-config
-  libopenvdb-dev libopenvdb-tools libtbb-dev libblosc-dev
+  libopenvdb-dev libtbb-dev libblosc-dev
   libboost-dev libboost-iostreams-dev   # OpenVDB's CMake module fails without them
-  libeigen3-dev zlib1g-dev libgdcm-dev libcli11-dev nlohmann-json3-dev libgtest-dev
-  libcgal-dev   # test-only: the independent judge of the mesh guarantees (tests/common/cgal_judge.cpp)
+  libeigen3-dev zlib1g-dev libgdcm-dev libcli11-dev nlohmann-json3-dev
   libnanoflann-dev                      # the k-d tree of the points stage (src/points, header-only)
   libcpp-httplib-dev                    # the server of `vdbmesh view`
-  chromium chromium-driver              # the browser test of its page (headless, WebGL through SwiftShader)
-  pybind11-dev python3-dev python3-numpy python3-pytest   # the Python module and its tests
-  python3-skimage                                          # its comparison test and bench/python_vs_skimage.py
-  libmeshoptimizer-dev                  # bench/decimate_bench.cpp: the speed reference of vdbmesh mesh --decimate
 )
-# Node.js and npm build the page (web/: npm ci, esbuild); Debian's, unless the machine has its own.
+# Node.js and npm build the page of `vdbmesh view` (web/: npm ci, esbuild); Debian's, unless the machine has its own.
 command -v node >/dev/null || packages+=(nodejs)
 command -v npm >/dev/null || packages+=(npm)
+if [ "${1:-}" = "--tests" ]; then
+  packages+=(
+    libgtest-dev
+    libopenvdb-tools                      # vdb_print: the tests open our .vdb files with OpenVDB's own tool
+    libcgal-dev   # test-only: the independent judge of the mesh guarantees (tests/common/cgal_judge.cpp)
+    chromium chromium-driver              # the browser test of the page (headless, WebGL through SwiftShader)
+    pybind11-dev python3-dev python3-numpy python3-pytest   # the Python module and its tests
+    python3-skimage                                          # its comparison tests and bench/python_vs_skimage.py
+    libmeshoptimizer-dev                  # bench/decimate_bench.cpp: the speed reference of vdbmesh mesh --decimate
+  )
+elif [ -n "${1:-}" ]; then
+  echo "usage: install-deps.sh [--tests]" >&2
+  exit 2
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,7 +1,8 @@
 // `vdbmesh info FILE [MORE_PARTS...] [--json]`: describes a scan (header, value statistics from
 // one streaming pass, Otsu's threshold as the suggested isovalue; include/vdbmesh/volume_stats.h)
 // or a .vdb file (grids, counts, memory, bounding boxes, metadata; describe_vdb_file).
-// --json prints exactly one JSON object on stdout.
+// --json prints exactly one JSON object on stdout. A label map (integer samples with few
+// distinct values, or --labels) also lists its labels with voxel counts and names (labels.h).
 
 #include <algorithm>
 #include <iomanip>
@@ -13,10 +14,12 @@
 #include "cli.h"
 #include "commands.h"
 #include "common_options.h"
+#include "label_input.h"
 #include "load_grid.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/json_text.h"
+#include "vdbmesh/labels.h"
 #include "vdbmesh/read.h"
 #include "vdbmesh/shared_tree.h"
 #include "vdbmesh/volume_stats.h"
@@ -31,6 +34,7 @@ struct InfoOptions {
     bool json = false;
     bool shared = false;
     ReadFlags read;
+    LabelFlags label;
     CommonOptions common;
 };
 
@@ -184,6 +188,49 @@ void print_shared(const Json& j, std::ostream& out) {
         << j["unshared_bytes"].get<std::uint64_t>() << " unshared\n";
 }
 
+/// Distinct values up to which an integer scan holding 0 is taken for a label map without
+/// --labels (the atlases and TotalSegmentator have 50-120; a CT stored as u8 uses most of its 256 values).
+constexpr std::size_t kLabelMapMaxValues = 160;
+
+bool is_integer(SampleType type) { return type != SampleType::f32 && type != SampleType::f64; }
+
+/// The labels of the scan, when it is a label map (always with --labels: an error otherwise).
+std::optional<std::vector<LabelCount>> scan_labels(const InfoOptions& o, const VolumeHeader& header) {
+    if (!o.label.labels && !is_integer(header.type)) return std::nullopt;
+    auto reader = open_scan(o.inputs, o.read);
+    Progress progress("counting labels", o.common.quiet);
+    auto labels = count_labels(*reader, o.label.labels ? kMaxLabel + 1 : kLabelMapMaxValues, [&](double f) { progress(f); });
+    if (!labels && o.label.labels)
+        throw FormatError(o.inputs.front(), "--labels: samples", "integer labels 0.." + std::to_string(kMaxLabel),
+                          "a sample that is not one");
+    // Found without --labels only with a background 0, as label maps and masks have.
+    if (labels && !o.label.labels && labels->front().value != 0) return std::nullopt;
+    return labels;
+}
+
+Json labels_json(const std::vector<LabelCount>& labels, const LabelTable& table, const std::string& table_path) {
+    Json j;
+    j["label_table"] = table_path.empty() ? Json() : Json(table_path);
+    j["labels"] = Json::array();
+    for (const LabelCount& label : labels) {
+        const auto row = table.find(label.value);
+        Json entry = {{"value", label.value}, {"voxels", label.voxels}, {"name", row != table.end() ? Json(row->second.name) : Json()}};
+        if (row != table.end() && row->second.color) entry["color"] = *row->second.color;
+        j["labels"].push_back(entry);
+    }
+    return j;
+}
+
+void print_labels(const Json& j, std::ostream& out) {
+    const std::size_t structures = std::count_if(j["labels"].begin(), j["labels"].end(), [](const Json& l) { return l["value"] != 0; });
+    out << "label map       " << structures << " labels besides the background 0"
+        << (j["label_table"].is_null() ? ", no name table" : ", names from " + j["label_table"].get<std::string>()) << "\n"
+        << "  value      voxels  name\n";
+    for (const Json& l : j["labels"])
+        out << "  " << std::setw(5) << l["value"].get<std::uint32_t>() << "  " << std::setw(10) << l["voxels"].get<std::uint64_t>()
+            << "  " << (l["name"].is_null() ? "" : l["name"].get<std::string>()) << "\n";
+}
+
 bool is_vdb(const InfoOptions& o) {
     return o.read.raw_dims.empty() && std::filesystem::path(o.inputs.front()).extension() == ".vdb";
 }
@@ -206,8 +253,20 @@ int run_info(const InfoOptions& o) {
     Progress progress("reading", o.common.quiet);
     const VolumeStats stats = compute_volume_stats(*reader, [&](double f) { progress(f); });
     const std::vector<std::string> files = data_files(reader->segments());
-    if (o.json) std::cout << detail::json_text(scan_json(reader->header(), files, stats)) << "\n";
-    else print_scan(reader->header(), files, stats, std::cout);
+    Json labels;
+    if (const auto counts = scan_labels(o, reader->header())) {
+        std::string table_path;
+        const LabelTable table = load_label_table(o.inputs.front(), o.label, table_path);
+        labels = labels_json(*counts, table, table_path);
+    }
+    if (o.json) {
+        Json j = scan_json(reader->header(), files, stats);
+        if (!labels.is_null()) j.update(labels);
+        std::cout << detail::json_text(j) << "\n";
+    } else {
+        print_scan(reader->header(), files, stats, std::cout);
+        if (!labels.is_null()) print_labels(labels, std::cout);
+    }
     return kSuccess;
 }
 
@@ -221,6 +280,7 @@ void add_info_command(CLI::App& command, CommandResult& result) {
     command.add_flag("--json", o.json, "Print one JSON object instead of text");
     command.add_flag("--shared", o.shared, "A .vdb: distinct nodes stored against nodes represented, per level (shared tree)");
     add_read_flags(command, o.read);
+    add_label_flags(command, o.label, "Read the scan as a label map and list its labels (found without it for integer scans with few values)");
     add_common_options(command, o.common);
     command.callback([options, &result] { result.status = run_info(*options); });
 }

@@ -1,6 +1,7 @@
 // `vdbmesh measure INPUT [--iso V] [--json]`: area, volume, centroid, inertia, principal
 // moments and axes, bounding box, genus and components of a mesh file, or of the surface of a
-// scan meshed in memory (include/vdbmesh/measure.h).
+// scan meshed in memory (include/vdbmesh/measure.h). With --labels: per label of a label map
+// (label_measure_command.h).
 
 #include <algorithm>
 #include <iomanip>
@@ -11,7 +12,9 @@
 #include "cli.h"
 #include "commands.h"
 #include "common_options.h"
+#include "label_measure_command.h"
 #include "load_mesh.h"
+#include "vdbmesh/error.h"
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/measure.h"
 
@@ -26,6 +29,7 @@ struct MeasureOptions {
     MeshInputOptions input;
     bool json = false;
     CommonOptions common;
+    LabelMeasureRequest labels;  ///< with --labels (inputs, json, read and common options copied in)
 };
 
 nlohmann::ordered_json component_json(const ComponentMeasure& c) {
@@ -81,7 +85,14 @@ void print_measure(const std::string& input, const MeshMeasure& m, std::ostream&
     }
 }
 
-void run_measure(const MeasureOptions& o) {
+void run_measure(MeasureOptions& o) {
+    if (o.labels.label.labels) {
+        LabelMeasureRequest& request = o.labels;
+        request.inputs = o.inputs, request.json = o.json, request.read = o.input.read, request.common = o.common;
+        if (request.json && request.csv) throw UsageError("--csv and --json: expected one of them");
+        return run_label_measure(request);
+    }
+    if (o.labels.csv) throw UsageError("--csv: only with --labels");
     const ThreadLimit limit(o.common);
     const MeshMeasure measure = measure_mesh(load_mesh(o.inputs, o.input, "measure"));
     if (o.json) {
@@ -100,6 +111,8 @@ void add_measure_command(CLI::App& command, CommandResult& result) {
         ->required();
     add_mesh_input_options(command, options->input);
     command.add_flag("--json", options->json, "One JSON object instead of a table");
+    add_label_flags(command, options->labels.label, "A label map: measure each label's mesh (all, or a list like 3,5,10-12)");
+    command.add_flag("--csv", options->labels.csv, "--labels: CSV instead of a table");
     add_common_options(command, options->common);
     command.callback([options, &result] {
         run_measure(*options);

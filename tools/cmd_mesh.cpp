@@ -1,7 +1,8 @@
 // `vdbmesh mesh`: a .vdb grid or a scan (converted on the fly) to a triangle mesh file. It
 // reports its figures on stderr, or with --json as one JSON object on stdout. With --verify the
 // whole mesh is checked as `vdbmesh check` does (the meshers never run that check themselves);
-// a defective mesh is reported, not written, and the exit status is 3.
+// a defective mesh is reported, not written, and the exit status is 3. With --labels the input
+// is a label map meshed per label (label_mesh_command.h).
 
 #include <algorithm>
 #include <cctype>
@@ -17,6 +18,7 @@
 
 #include "commands.h"
 #include "common_options.h"
+#include "label_mesh_command.h"
 #include "load_grid.h"
 #include "mesh_processing.h"
 #include "report_json.h"
@@ -50,6 +52,7 @@ struct MeshCommandOptions {
     ReadFlags read;
     ProcessingOptions processing;
     CommonOptions common;
+    LabelMeshRequest labels;  ///< used with --labels (its inputs, output, read and common options are copied in)
 };
 
 std::string lowercase(std::string text) {
@@ -95,6 +98,12 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
 
 /// Exit status 0, or 3 when --verify found a defect (the mesh is then not written).
 int run_mesh(MeshCommandOptions& options) {
+    if (options.labels.label.labels) {
+        LabelMeshRequest& request = options.labels;
+        request.inputs = options.inputs, request.output = options.output, request.ascii = options.ascii;
+        request.json = options.json, request.read = options.read, request.common = options.common;
+        return run_label_mesh(request);
+    }
     const std::string extension = lowercase_extension(options.output);
     if (extension != ".stl" && extension != ".ply" && extension != ".obj") {
         throw UsageError("-o: expected a .stl, .ply or .obj file, got \"" + options.output + "\"");
@@ -142,7 +151,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     auto options = std::make_shared<MeshCommandOptions>();
     command.add_option("INPUT", options->inputs, "A .vdb grid or a scan (extra files: the parts of a split raw scan)")
         ->required();
-    command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj")->required();
+    command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj (with --labels: DIR/, .ply or .glb/.gltf)")->required();
     command.add_option("--iso", options->iso, "Isovalue (default for a .vdb: the one stored by convert)");
     command.add_option("--method", options->method,
                        "Mesher: dc (intersection-free Dual Contouring, the default), dmc (Dual Marching Cubes), mc, openvdb (volumeToMesh)")
@@ -167,6 +176,13 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     add_read_flags(command, options->read);
     add_processing_options(command, options->processing);
     add_common_options(command, options->common);
+    add_label_flags(command, options->labels.label, "Mesh a label map: all, or a list like 3,5,10-12; one closed mesh per label, walls shared");
+    command.add_option("--format", options->labels.format, "--labels into a folder: the files' format")
+        ->check(CLI::IsMember({"stl", "ply", "obj"}))
+        ->capture_default_str();
+    command.add_option("--smooth-iterations", options->labels.smooth_iterations, "--labels: constrained smoothing passes (0: voxel faces)")
+        ->check(CLI::Range(0, 1000))
+        ->capture_default_str();
     command.callback([options, &result] {
         result.status = run_mesh(*options);
     });

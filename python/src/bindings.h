@@ -11,5 +11,9 @@ void register_errors(pybind11::module_& module);
 void bind_mesh_functions(pybind11::module_& module);
 /// read_volume, mesh_array, mesh_file, array_to_vdb: volumes and grids (volume_functions.cpp).
 void bind_volume_functions(pybind11::module_& module);
+/// marching_cubes_extras: scikit-image's mask, normals and values (marching_cubes_extras.cpp).
+void bind_marching_cubes_extras(pybind11::module_& module);
+/// mesh_labels_file, mesh_labels_array: label maps to one mesh per label (label_functions.cpp).
+void bind_label_functions(pybind11::module_& module);
 
 }  // namespace vdbmesh::python

@@ -7,4 +7,6 @@ PYBIND11_MODULE(_vdbmesh, module) {
     vdbmesh::python::register_errors(module);
     vdbmesh::python::bind_mesh_functions(module);
     vdbmesh::python::bind_volume_functions(module);
+    vdbmesh::python::bind_marching_cubes_extras(module);
+    vdbmesh::python::bind_label_functions(module);
 }

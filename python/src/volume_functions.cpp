@@ -1,5 +1,6 @@
 // read_volume, mesh_array, mesh_file, array_to_vdb: scans and arrays through sparse grids.
-// Arrays are streamed into the grid by ArraySliceReader, without a dense copy.
+// Arrays are streamed into the grid by ArraySliceReader, without a dense copy. The long calls
+// check for Ctrl-C as they go (interrupt.h).
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -7,12 +8,18 @@
 
 #include <cctype>
 #include <filesystem>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
+#include <tuple>
 
 #include "array_slice_reader.h"
 #include "axis_order.h"
 #include "bindings.h"
+#include "inside_side.h"
+#include "interrupt.h"
+#include "negated_reader.h"
 #include "mesh_arrays.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
@@ -67,22 +74,25 @@ MeshMethod parse_method(const std::string& name) {
 Inside parse_inside(const std::string& name) {
     if (name == "above") return Inside::above;
     if (name == "below") return Inside::below;
-    throw UsageError("inside: expected \"above\" or \"below\", got \"" + name + "\"");
+    throw UsageError("inside: expected \"auto\", \"above\" or \"below\", got \"" + name + "\"");
 }
 
-MeshOptions mesh_options(double iso, const std::string& method, double error, double adaptivity, const std::string& inside) {
+/// The options of a mesh call, checking for Ctrl-C as the mesher goes; iso and inside are set later.
+MeshOptions mesh_options(const std::string& method, double error, double adaptivity, bool open_boundary) {
     MeshOptions options;
     options.method = parse_method(method);
-    options.iso = iso;
     options.error = error;
     options.adaptivity = adaptivity;
-    options.inside = parse_inside(inside);
+    options.open_boundary = open_boundary;
+    options.progress = signal_checking_progress();
     return options;
 }
 
+/// Converting at @a iso, checking for Ctrl-C as the conversion goes.
 ConvertOptions convert_options(double iso) {
     ConvertOptions options;
     options.iso = iso;
+    options.progress = signal_checking_progress();
     return options;
 }
 
@@ -91,17 +101,84 @@ openvdb::FloatGrid::Ptr array_grid(const StridedVolume& volume, double iso, cons
     return convert_to_grid(source, convert_options(iso));
 }
 
+/// A fresh reader of an array or a scan file, for each conversion.
+using ReaderFactory = std::function<std::unique_ptr<SliceReader>()>;
+
+/// The grid to mesh a source at @a level with the object on @a side; sets options.iso and
+/// options.inside and says whether it negated the samples. An object below the level is
+/// meshed as the negated samples' object above -level (negated_reader.h), closed at the
+/// scan's box by every method.
+std::pair<openvdb::FloatGrid::Ptr, bool> side_grid(const ReaderFactory& reader, double level, Inside side,
+                                                   MeshOptions& options) {
+    options.inside = Inside::above;
+    if (side == Inside::above) {
+        options.iso = level;
+        return {convert_to_grid(*reader(), convert_options(level)), false};
+    }
+    NegatedReader negated(reader());
+    options.iso = -level;
+    return {convert_to_grid(negated, convert_options(-level)), true};
+}
+
 bool is_vdb_file(const std::filesystem::path& path) {
     std::string extension = path.extension().string();
     for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return extension == ".vdb";
 }
 
-/// A .vdb file's first float grid as stored, or a scan converted at @a iso.
-openvdb::FloatGrid::Ptr file_grid(const std::filesystem::path& path, double iso) {
-    if (is_vdb_file(path)) return read_vdb(path);
-    const auto reader = open_volume(path);
-    return convert_to_grid(*reader, convert_options(iso));
+/// The isovalue of a .vdb grid when none is given: the one convert stored, else 0 for a level set.
+double stored_level(const openvdb::FloatGrid& grid, const std::filesystem::path& path) {
+    if (const auto iso = stored_isovalue(grid)) return *iso;
+    if (grid.getGridClass() == openvdb::GRID_LEVEL_SET) return 0.0;
+    throw UsageError("level: required for " + path.string() + " (its grid records no isovalue)");
+}
+
+/// Throws UsageError when @a level lies outside the sample range a converted grid records
+/// (there the surface would be the scan's box or nothing, as scikit-image refuses); @a negated:
+/// the grid holds the negated samples.
+void check_level_in_range(const openvdb::FloatGrid& grid, double level, bool negated, const std::filesystem::path& path) {
+    const auto min = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMin);
+    const auto max = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMax);
+    if (!min || !max) return;
+    const double lo = negated ? -max->value() : min->value(), hi = negated ? -min->value() : max->value();
+    if (level >= lo && level <= hi) return;
+    throw UsageError("level: expected a value within the data range [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "] of " + path.string() + ", got " + std::to_string(level));
+}
+
+/// A scan file converted at @a level (checked against its data range) with the object on the
+/// side @a inside names ("auto": decided on the grid as converted, converted again, negated,
+/// for below); sets options.iso and options.inside.
+openvdb::FloatGrid::Ptr scan_grid(const std::filesystem::path& path, double level, const std::string& inside,
+                                  MeshOptions& options) {
+    const auto reader = [&] { return open_volume(path); };
+    openvdb::FloatGrid::Ptr grid;
+    bool negated = false;
+    if (inside != "auto") {
+        std::tie(grid, negated) = side_grid(reader, level, parse_inside(inside), options);
+    } else {
+        grid = convert_to_grid(*reader(), convert_options(level));
+        options.iso = level;
+        options.inside = Inside::above;
+        if (inside_away_from_border(*grid, level) == Inside::below)
+            std::tie(grid, negated) = side_grid(reader, level, Inside::below, options);
+    }
+    check_level_in_range(*grid, level, negated, path);
+    return grid;
+}
+
+/// A .vdb file's first float grid as stored, or a scan converted at @a level (required there);
+/// sets options.iso and options.inside.
+openvdb::FloatGrid::Ptr file_grid(const std::filesystem::path& path, std::optional<double> level,
+                                  const std::string& inside, MeshOptions& options) {
+    if (!is_vdb_file(path)) {
+        if (!level) throw UsageError("level: required for a scan file (" + path.string() + "); `vdbmesh info` suggests one");
+        return scan_grid(path, *level, inside, options);
+    }
+    openvdb::FloatGrid::Ptr grid = read_vdb(path);
+    options.iso = level ? *level : stored_level(*grid, path);
+    options.inside = inside == "auto" ? inside_away_from_border(*grid, options.iso) : parse_inside(inside);
+    return grid;
 }
 
 /// The 4 x 4 matrix of @a affine.
@@ -133,25 +210,27 @@ py::tuple read_volume(const std::filesystem::path& path) {
                           affine_matrix(swap_i_and_k(header.index_to_world)));
 }
 
-py::tuple mesh_array(const py::array& array, double iso, const std::string& method, double error, double adaptivity,
-                     const std::string& inside, const Affine& array_to_world) {
-    const MeshOptions options = mesh_options(iso, method, error, adaptivity, inside);
+py::tuple mesh_array(const py::array& array, double level, const std::string& method, double error, double adaptivity,
+                     const std::string& inside, bool open_boundary, const Affine& array_to_world) {
+    MeshOptions options = mesh_options(method, error, adaptivity, open_boundary);
     const StridedVolume volume = strided_volume(array);
     Mesh mesh;
     {
         py::gil_scoped_release released;
-        mesh = mesh_grid(*array_grid(volume, iso, array_to_world), options).mesh;
+        const auto reader = [&] { return std::make_unique<ArraySliceReader>(volume, array_to_world, kArrayName); };
+        const Inside side = inside == "auto" ? inside_away_from_border(volume, level) : parse_inside(inside);
+        mesh = mesh_grid(*side_grid(reader, level, side, options).first, options).mesh;
     }
     return to_arrays(std::move(mesh));
 }
 
-py::tuple mesh_file(const std::filesystem::path& path, double iso, const std::string& method, double error,
-                    double adaptivity, const std::string& inside) {
-    const MeshOptions options = mesh_options(iso, method, error, adaptivity, inside);
+py::tuple mesh_file(const std::filesystem::path& path, std::optional<double> level, const std::string& method,
+                    double error, double adaptivity, const std::string& inside, bool open_boundary) {
+    MeshOptions options = mesh_options(method, error, adaptivity, open_boundary);
     Mesh mesh;
     {
         py::gil_scoped_release released;
-        mesh = mesh_grid(*file_grid(path, iso), options).mesh;
+        mesh = mesh_grid(*file_grid(path, level, inside, options), options).mesh;
     }
     return to_arrays(std::move(mesh));
 }
@@ -166,10 +245,10 @@ void array_to_vdb(const py::array& array, double iso, const std::filesystem::pat
 
 void bind_volume_functions(py::module_& module) {
     module.def("read_volume", &read_volume, py::arg("path"));
-    module.def("mesh_array", &mesh_array, py::arg("array"), py::arg("iso"), py::arg("method"), py::arg("error"),
-               py::arg("adaptivity"), py::arg("inside"), py::arg("array_to_world"));
-    module.def("mesh_file", &mesh_file, py::arg("path"), py::arg("iso"), py::arg("method"), py::arg("error"),
-               py::arg("adaptivity"), py::arg("inside"));
+    module.def("mesh_array", &mesh_array, py::arg("array"), py::arg("level"), py::arg("method"), py::arg("error"),
+               py::arg("adaptivity"), py::arg("inside"), py::arg("open_boundary"), py::arg("array_to_world"));
+    module.def("mesh_file", &mesh_file, py::arg("path"), py::arg("level"), py::arg("method"), py::arg("error"),
+               py::arg("adaptivity"), py::arg("inside"), py::arg("open_boundary"));
     module.def("array_to_vdb", &array_to_vdb, py::arg("array"), py::arg("iso"), py::arg("path"),
                py::arg("array_to_world"));
 }

@@ -12,12 +12,6 @@ def volume():
     return ball((12, 12, 12), 1).astype(np.float32)
 
 
-def test_a_nan_sample_is_a_format_error_naming_its_array_index(volume):
-    volume[3, 4, 5] = np.nan
-    with pytest.raises(vdbmesh.FormatError, match=r"array: sample \[3, 4, 5\]: expected a finite number, got NaN"):
-        vdbmesh.mesh(volume, 0.5)
-
-
 @pytest.mark.parametrize("dtype, value", [(np.float32, np.inf), (np.float64, -np.inf), (np.float64, 1e300)])
 def test_an_infinite_sample_or_one_beyond_the_float_range_is_a_format_error(volume, dtype, value):
     volume = volume.astype(dtype)
@@ -36,9 +30,9 @@ def test_format_errors_are_value_errors_and_vdbmesh_errors():
     "options, message",
     [
         ({"method": "marching"}, 'method: expected "dc", "dmc", "mc" or "openvdb", got "marching"'),
-        ({"inside": "outside"}, 'inside: expected "above" or "below", got "outside"'),
+        ({"inside": "outside"}, 'inside: expected "auto", "above" or "below", got \'outside\''),
         ({"error": -1}, "error: expected a finite number >= 0"),
-        ({"adaptivity": 2}, r"adaptivity: expected a number in \[0, 1\]"),
+        ({"adaptivity": 2, "method": "openvdb"}, r"adaptivity: expected a number in \[0, 1\]"),
         ({"spacing": (1, 0, 1)}, "spacing: expected three positive numbers"),
         ({"spacing": (1, 1, 1), "affine": np.eye(4)}, "spacing, affine: give one of them"),
         ({"affine": np.ones((4, 4))}, "affine: expected a last row of 0, 0, 0, 1"),
@@ -57,9 +51,9 @@ def test_a_singular_affine_is_refused(volume):
 def test_an_unsupported_array_is_refused():
     with pytest.raises(ValueError, match="expected a 3D array, got 2D"):
         vdbmesh.mesh(np.zeros((4, 4), dtype=np.float32), 0.5)
-    with pytest.raises(ValueError, match="expected a 3D array of uint8, .* got int64"):
-        vdbmesh.mesh(np.zeros((4, 4, 4), dtype=np.int64), 0.5)
-    with pytest.raises(vdbmesh.FormatError, match="array: dims: expected 1 to"):
+    with pytest.raises(ValueError, match="expected a 3D array of uint8, .* got complex64"):
+        vdbmesh.mesh(np.zeros((4, 4, 4), dtype=np.complex64), 0.5)
+    with pytest.raises(ValueError, match=r"volume: expected at least one sample along each axis, got shape \(0, 4, 4\)"):
         vdbmesh.mesh(np.zeros((0, 4, 4), dtype=np.float32), 0.5)
 
 

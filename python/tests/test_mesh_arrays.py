@@ -141,16 +141,18 @@ def test_inside_below_on_the_negated_volume_gives_the_same_mesh():
 
 def test_the_surface_is_closed_where_the_object_meets_the_border():
     volume = np.ones((10, 12, 14), dtype=np.uint8)  # all object: the box's faces are the surface
-    vertices, faces = vdbmesh.mesh(volume, 0.5)
+    volume[5, 6, 7] = 0  # and a cavity, so that the level lies within the data range
+    vertices, faces = vdbmesh.mesh(volume, 0.5, inside="above")  # "auto" would mesh the cavity
     assert vdbmesh.check(vertices, faces)["clean"]
     # Outside the array is outside the object, crossed at the middle of each edge leaving the
     # array: the surface is the box of the voxels' faces, -0.5 to n - 0.5 along each axis,
     # with its 12 edges cut at 45 degrees through those midpoints (0.125 voxel^3 per voxel of
-    # edge length) and 1/12 voxel^3 given back at each of the 8 corners, where cuts overlap.
+    # edge length) and 1/12 voxel^3 given back at each of the 8 corners, where cuts overlap;
+    # less the cavity, the octahedron |x| + |y| + |z| < 0.5 round the zero (1/6 voxel^3).
     np.testing.assert_array_equal(vertices.min(axis=0), [-0.5] * 3)
     np.testing.assert_array_equal(vertices.max(axis=0), np.array(volume.shape) - 0.5)
     edge_length = 4 * sum(volume.shape)
-    expected = np.prod(volume.shape) - 0.125 * edge_length + 8 / 12
+    expected = np.prod(volume.shape) - 0.125 * edge_length + 8 / 12 - 1 / 6
     assert vdbmesh.check(vertices, faces)["volume"] == pytest.approx(expected, rel=1e-9)
 
 

@@ -25,7 +25,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
+#include <string>
 #include <memory>
 #include <vector>
 
@@ -504,6 +506,18 @@ openvdb::math::Transform::Ptr make_transform(const VolumeHeader& header) {
     try {
         return openvdb::math::Transform::createLinearTransform(m);
     } catch (const openvdb::Exception& e) {
+        // OpenVDB refuses a determinant below 3e-15 in absolute terms (math::AffineMap), so
+        // a tiny voxel (1e-5 in each direction) fails as well as a singular matrix: tell them
+        // apart by the determinant relative to the voxel's sides.
+        const openvdb::Mat3d linear = m.getMat3();
+        const double det = linear.det();
+        const double sides = linear.row(0).length() * linear.row(1).length() * linear.row(2).length();
+        if (std::abs(det) > 1e-9 * sides) {
+            char volume[32];
+            std::snprintf(volume, sizeof volume, "%g", std::abs(det));
+            throw FormatError(header.path.string(), "spacing", "voxels of at least 3e-15 cubic units (OpenVDB's limit)",
+                              std::string("a voxel of ") + volume + " (give the spacing in a smaller unit)");
+        }
         throw FormatError(header.path.string(), "orientation", "an invertible index-to-world affine",
                           std::string("a singular one (") + e.what() + ")");
     }

@@ -12,9 +12,18 @@
 // - Boundary: volumeToMesh knows nothing of the scan box: the grid's values are meshed as they
 //   are, so on a converted grid (background outside, below the isovalue) the surface is closed
 //   by the background beyond the box with inside=above (at the crossing the background value
-//   gives, not half a voxel out). open_boundary is refused by mesh_grid().
+//   gives, not half a voxel out). With inside=below that background would be inside: the
+//   object would be everything but the scanned one, meshed inward. So then a copy is meshed
+//   whose values beyond the box are the background mirrored across the isovalue (outside, as
+//   far from the isovalue). Where such an object meets the box the surface stays open: the
+//   converter made no band there (to it, beyond the box is the object's outside only with
+//   inside=above). The Python module meshes the negated samples instead; the command line
+//   has that gap still. open_boundary is refused by mesh_grid().
 
 #include "mesh/openvdb_mesher.h"
+
+#include "mesh/edge_crossing.h"
+#include "vdbmesh/grid.h"
 
 #include <openvdb/tools/VolumeToMesh.h>
 
@@ -41,6 +50,25 @@ float volume_to_mesh_isovalue(double iso, Inside inside) {
     return s;
 }
 
+/// A copy of @a grid whose values beyond its scanned box are outside the object, or null when
+/// they already are (or the grid records no box).
+openvdb::FloatGrid::Ptr outside_beyond_box(const openvdb::FloatGrid& grid, const MeshOptions& options) {
+    const auto box = stored_scan_box(grid);
+    const bool above = options.inside == Inside::above;
+    const double background = grid.background();
+    if (!box || !is_inside_value(background, options.iso, above)) return nullptr;
+    const float outside = float(2 * options.iso - background);
+    auto copy = grid.deepCopy();
+    // Inside the box no value equals the background (convert_to_grid keeps it below every sample).
+    copy->tree().root().setBackground(outside, /*updateChildNodes=*/true);
+    for (auto leaf = copy->tree().beginLeaf(); leaf; ++leaf) {
+        if (box->isInside(leaf->getNodeBoundingBox())) continue;
+        for (openvdb::Index n = 0; n < leaf->SIZE; ++n)
+            if (!box->isInside(leaf->offsetToGlobalCoord(n))) leaf->setValueOnly(n, outside);
+    }
+    return copy;
+}
+
 double squared_distance(const openvdb::Vec3s& a, const openvdb::Vec3s& b) { return double((a - b).lengthSqr()); }
 
 }  // namespace
@@ -49,8 +77,9 @@ Mesh openvdb_volume_to_mesh(const openvdb::FloatGrid& grid, const MeshOptions& o
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> triangles;
     std::vector<openvdb::Vec4I> quads;
-    openvdb::tools::volumeToMesh(grid, points, triangles, quads, volume_to_mesh_isovalue(options.iso, options.inside),
-                                 options.adaptivity);
+    const openvdb::FloatGrid::Ptr closed = outside_beyond_box(grid, options);
+    openvdb::tools::volumeToMesh(closed ? *closed : grid, points, triangles, quads,
+                                 volume_to_mesh_isovalue(options.iso, options.inside), options.adaptivity);
     if (options.progress) options.progress(0.8);
 
     const bool outward_from_below = grid.getGridClass() != openvdb::GRID_LEVEL_SET;

@@ -12,6 +12,7 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polygon_mesh_processing/shape_predicates.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/box_intersection_d.h>
 #include <CGAL/boost/graph/helpers.h>
 
 #include <sstream>
@@ -63,6 +64,77 @@ CgalVerdict judge_with_cgal(const Mesh& mesh) {
         verdict.outward = PMP::does_bound_a_volume(surface) && verdict.volume > 0;
     }
     return verdict;
+}
+
+}  // namespace vdbmesh::test
+
+
+namespace vdbmesh::test {
+namespace {
+
+bool triangles_cross(const Mesh& soup, std::size_t i, std::size_t j) {
+    const auto& a = soup.triangles[i];
+    const auto& b = soup.triangles[j];
+    const auto point = [&](std::uint32_t v) {
+        return Kernel::Point_3(soup.vertices[v][0], soup.vertices[v][1], soup.vertices[v][2]);
+    };
+    int shared = 0, a_shared[3] = {-1, -1, -1};
+    for (int p = 0; p < 3; ++p)
+        for (int q = 0; q < 3; ++q)
+            if (a[p] == b[q]) a_shared[p] = q, ++shared;
+    const Kernel::Triangle_3 ta(point(a[0]), point(a[1]), point(a[2])), tb(point(b[0]), point(b[1]), point(b[2]));
+    if (shared == 0) return CGAL::do_intersect(ta, tb);
+    if (shared == 3) return true;
+    if (shared == 1) {
+        const int p = int(std::find_if(a_shared, a_shared + 3, [](int q) { return q >= 0; }) - a_shared), q = a_shared[p];
+        const Kernel::Segment_3 opposite_a(point(a[(p + 1) % 3]), point(a[(p + 2) % 3]));
+        const Kernel::Segment_3 opposite_b(point(b[(q + 1) % 3]), point(b[(q + 2) % 3]));
+        return CGAL::do_intersect(opposite_a, tb) || CGAL::do_intersect(opposite_b, ta);
+    }
+    // A shared edge: they overlap when coplanar with the two far corners on the same side.
+    const int p = int(std::find(a_shared, a_shared + 3, -1) - a_shared);
+    std::uint32_t far_b = 0;
+    for (int q = 0; q < 3; ++q)
+        if (b[q] != a[(p + 1) % 3] && b[q] != a[(p + 2) % 3]) far_b = b[q];
+    const Kernel::Point_3 e0 = point(a[(p + 1) % 3]), e1 = point(a[(p + 2) % 3]), fa = point(a[p]), fb = point(far_b);
+    return CGAL::orientation(e0, e1, fa, fb) == CGAL::COPLANAR && CGAL::coplanar_orientation(e0, e1, fa, fb) == CGAL::POSITIVE;
+}
+
+/// Candidate pairs (overlapping boxes) of the non-degenerate triangles; counts the degenerate ones.
+std::vector<std::pair<std::size_t, std::size_t>> box_pairs(const Mesh& soup, std::size_t& degenerate) {
+    using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::size_t>;
+    std::vector<Box> boxes;
+    for (std::size_t t = 0; t < soup.triangles.size(); ++t) {
+        const auto& tri = soup.triangles[t];
+        const auto point = [&](int k) {
+            return Kernel::Point_3(soup.vertices[tri[k]][0], soup.vertices[tri[k]][1], soup.vertices[tri[k]][2]);
+        };
+        if (CGAL::collinear(point(0), point(1), point(2))) {
+            ++degenerate;
+            continue;
+        }
+        boxes.emplace_back(point(0).bbox() + point(1).bbox() + point(2).bbox(), t);
+    }
+    std::vector<std::pair<std::size_t, std::size_t>> candidates;
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(),
+                                  [&](const Box& x, const Box& y) { candidates.emplace_back(std::min(x.info(), y.info()), std::max(x.info(), y.info())); });
+    return candidates;
+}
+
+}  // namespace
+
+CgalCrossings cgal_crossings(const Mesh& soup) {
+    CgalCrossings result;
+    for (const auto& [i, j] : box_pairs(soup, result.degenerate)) result.pairs += triangles_cross(soup, i, j);
+    return result;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> cgal_crossing_pairs(const Mesh& soup) {
+    std::size_t degenerate = 0;
+    std::vector<std::pair<std::size_t, std::size_t>> crossing;
+    for (const auto& [i, j] : box_pairs(soup, degenerate))
+        if (triangles_cross(soup, i, j)) crossing.push_back({i, j});
+    return crossing;
 }
 
 }  // namespace vdbmesh::test

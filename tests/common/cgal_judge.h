@@ -6,6 +6,8 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "vdbmesh/mesh.h"
 
@@ -24,5 +26,22 @@ struct CgalVerdict {
 
 /// What CGAL finds in @a mesh (an empty mesh is judged clean). Nothing is repaired.
 CgalVerdict judge_with_cgal(const Mesh& mesh);
+
+}  // namespace vdbmesh::test
+
+namespace vdbmesh::test {
+
+/// Pairs of triangles of @a soup (any triangle set, e.g. all labels' walls, each once) that meet
+/// beyond the corners they share by index, decided with CGAL's exact predicates (box
+/// intersection, then Kernel::Do_intersect_3 and orientation tests): no shared corner, any
+/// common point; one, the opposite side of either crossing the other triangle; two, coplanar and
+/// on the same side of the edge; three, always. Degenerate triangles are counted apart.
+struct CgalCrossings {
+    std::size_t pairs = 0;
+    std::size_t degenerate = 0;
+};
+CgalCrossings cgal_crossings(const Mesh& soup);
+/// The crossing pairs themselves (triangle indices, i < j), in no particular order.
+std::vector<std::pair<std::size_t, std::size_t>> cgal_crossing_pairs(const Mesh& soup);
 
 }  // namespace vdbmesh::test

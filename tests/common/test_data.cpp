@@ -12,6 +12,11 @@ bool data_required() {
     return env && std::string(env) == "1";
 }
 
+bool full_run() {
+    const char* env = std::getenv("VDBMESH_FULL");
+    return env && std::string(env) == "1";
+}
+
 std::filesystem::path testdata(const std::string& relative) {
     return std::filesystem::path(VDBMESH_SOURCE_DIR) / "testdata" / relative;
 }

@@ -14,6 +14,9 @@ namespace vdbmesh::test {
 
 /// True when VDBMESH_REQUIRE_DATA=1: missing data is a failure, not a skip.
 bool data_required();
+/// True when VDBMESH_FULL=1: the long cases on whole scans run too (minutes each; the default
+/// suite keeps every guarantee on every staged scan and checks the figures on crops and phantoms).
+bool full_run();
 /// A file of the repository's testdata/ folder.
 std::filesystem::path testdata(const std::string& relative);
 
@@ -42,3 +45,7 @@ private:
             GTEST_SKIP() << "shared data missing: " << (relative);                                 \
         }                                                                                          \
     }
+
+/// Skips a long whole-scan case unless VDBMESH_FULL=1 (a skip, not a failure, under VDBMESH_REQUIRE_DATA=1 too).
+#define VDBMESH_FULL_ONLY()                                                                        \
+    if (!::vdbmesh::test::full_run()) GTEST_SKIP() << "a long whole-scan case: runs with VDBMESH_FULL=1"

@@ -5,12 +5,18 @@
 #include <openvdb/tools/LevelSetSphere.h>
 #include <tbb/global_control.h>
 
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh/marching_cubes.h"
 #include "mesh_checks.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/read.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/mesher.h"
@@ -110,6 +116,45 @@ TEST(MeshGridTest, OpenvdbMethodIsOutwardOnALevelSetWithInsideBelow) {
     // times, which moves a few vertices.
     const Mesh complement = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 0.0, Inside::above)).mesh;
     EXPECT_NEAR(signed_volume(complement), -signed_volume(mesh), 1e-4 * exact_volume);
+}
+
+/// A scan in memory: f(x, y, z) at each voxel of a box of @a dims, identity geometry.
+class FieldReader final : public SliceReader {
+public:
+    FieldReader(std::array<std::int64_t, 3> dims, std::function<float(double, double, double)> f) : f_(std::move(f)) {
+        header_.dims = dims;
+        header_.type = SampleType::f32;
+    }
+    const VolumeHeader& header() const override { return header_; }
+    void read_slices(std::int64_t slices, float* out) override {
+        for (std::int64_t z = next_; z < next_ + slices; ++z)
+            for (std::int64_t y = 0; y < header_.dims[1]; ++y)
+                for (std::int64_t x = 0; x < header_.dims[0]; ++x) *out++ = f_(double(x), double(y), double(z));
+        next_ += slices;
+    }
+    std::int64_t next_slice() const override { return next_; }
+
+private:
+    VolumeHeader header_;
+    std::function<float(double, double, double)> f_;
+    std::int64_t next_ = 0;
+};
+
+TEST(MeshGridTest, OpenvdbMethodWithInsideBelowMeshesTheObjectOfAConvertedScan) {
+    // A converted scan's background (beyond its box) lies below every sample: with the inside
+    // below, volumeToMesh alone would count it inside, the object being all but the ball.
+    const double radius = 8;
+    FieldReader reader({32, 32, 32}, [&](double x, double y, double z) {
+        return float(std::sqrt((x - 15.6) * (x - 15.6) + (y - 15.3) * (y - 15.3) + (z - 15.1) * (z - 15.1)) - radius);
+    });
+    ConvertOptions convert;
+    convert.iso = 0;
+    const auto grid = convert_to_grid(reader, convert);
+    const Mesh mesh = mesh_grid(*grid, mesh_options(MeshMethod::openvdb, 0.0, Inside::below)).mesh;
+    expect_closed(mesh);
+    const double exact_volume = 4.0 / 3.0 * kPi * radius * radius * radius;
+    // As for the density ball above: area x 0.1 voxels of volume.
+    EXPECT_NEAR(signed_volume(mesh), exact_volume, 0.1 * 4 * kPi * radius * radius);
 }
 
 TEST(MeshGridTest, OpenvdbMethodCountsTheIsovalueAsOutside) {

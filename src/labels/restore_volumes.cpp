@@ -1,0 +1,141 @@
+// Label volumes put back after smoothing (restore_volumes.h).
+
+#include "labels/restore_volumes.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace vdbmesh::labels_detail {
+namespace {
+
+constexpr int kNewtonSteps = 3;
+
+Point sub(const Point& a, const Point& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Point cross(const Point& a, const Point& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
+double dot(const Point& a, const Point& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+/// The vector area of a quad (normal from sides[0] to sides[1]), whatever its diagonal.
+Point quad_area(const std::vector<Point>& p, const SheetQuad& q) {
+    const Point c = cross(sub(p[q.vertex[2]], p[q.vertex[0]]), sub(p[q.vertex[3]], p[q.vertex[1]]));
+    return {0.5 * c[0], 0.5 * c[1], 0.5 * c[2]};
+}
+
+/// Volume enclosed, per label value, by its walls split as split_quads() splits them.
+std::map<std::uint16_t, double> label_volumes(const std::vector<Point>& p, const std::vector<SheetQuad>& quads) {
+    std::map<std::uint16_t, double> volume;
+    for (const SheetQuad& q : quads) {
+        const auto& v = q.vertex;
+        const bool diagonal02 = dot(sub(p[v[0]], p[v[2]]), sub(p[v[0]], p[v[2]])) <= dot(sub(p[v[1]], p[v[3]]), sub(p[v[1]], p[v[3]]));
+        const auto tet = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+            return dot(p[a], cross(p[b], p[c])) / 6;  // signed volume of (origin, a, b, c)
+        };
+        const double sum = diagonal02 ? tet(v[0], v[1], v[2]) + tet(v[0], v[2], v[3]) : tet(v[0], v[1], v[3]) + tet(v[1], v[2], v[3]);
+        volume[q.sides[0]] += sum;
+        volume[q.sides[1]] -= sum;
+    }
+    return volume;
+}
+
+/// Per vertex, the quads round it (compressed rows).
+struct VertexQuads {
+    std::vector<std::uint32_t> start, list;
+};
+
+VertexQuads vertex_quads(std::size_t vertex_count, const std::vector<SheetQuad>& quads) {
+    VertexQuads r;
+    r.start.assign(vertex_count + 1, 0);
+    for (const SheetQuad& q : quads)
+        for (std::uint32_t v : q.vertex) ++r.start[v + 1];
+    for (std::size_t v = 0; v < vertex_count; ++v) r.start[v + 1] += r.start[v];
+    r.list.resize(r.start.back());
+    std::vector<std::uint32_t> fill(r.start.begin(), r.start.end() - 1);
+    for (std::uint32_t i = 0; i < quads.size(); ++i)
+        for (std::uint32_t v : quads[i].vertex) r.list[fill[v]++] = i;
+    return r;
+}
+
+/// The gradients at vertex @a v of the volumes of the labels round it: a quarter of each
+/// quad's vector area, with the sign of the side the label is on.
+std::vector<std::pair<int, Point>> gradients(std::uint32_t v, const VertexQuads& round, const std::vector<SheetQuad>& quads,
+                                             const std::vector<Point>& p, const std::vector<int>& index) {
+    std::vector<std::pair<int, Point>> g;
+    const auto add = [&](int label, const Point& a, double sign) {
+        if (label < 0) return;
+        auto it = std::find_if(g.begin(), g.end(), [&](const auto& e) { return e.first == label; });
+        if (it == g.end()) g.push_back({label, {0, 0, 0}}), it = g.end() - 1;
+        for (int k = 0; k < 3; ++k) it->second[k] += sign * 0.25 * a[k];
+    };
+    for (std::uint32_t i = round.start[v]; i < round.start[v + 1]; ++i) {
+        const SheetQuad& q = quads[round.list[i]];
+        const Point a = quad_area(p, q);
+        add(index[q.sides[0]], a, 1);
+        add(index[q.sides[1]], a, -1);
+    }
+    return g;
+}
+
+/// Solves G x = b for the symmetric positive (semi)definite sparse G by conjugate gradients.
+std::vector<double> solve(const std::vector<std::map<int, double>>& G, const std::vector<double>& b) {
+    const std::size_t n = b.size();
+    std::vector<double> x(n, 0), r = b, d = b, Gd(n);
+    double rr = 0;
+    for (double e : r) rr += e * e;
+    const double stop = 1e-20 * std::max(rr, 1e-300);
+    for (std::size_t it = 0; it < 4 * n + 16 && rr > stop; ++it) {
+        for (std::size_t i = 0; i < n; ++i) {
+            Gd[i] = 0;
+            for (const auto& [j, value] : G[i]) Gd[i] += value * d[std::size_t(j)];
+        }
+        double dGd = 0;
+        for (std::size_t i = 0; i < n; ++i) dGd += d[i] * Gd[i];
+        if (!(dGd > 0)) break;
+        const double alpha = rr / dGd;
+        double next = 0;
+        for (std::size_t i = 0; i < n; ++i) x[i] += alpha * d[i], r[i] -= alpha * Gd[i], next += r[i] * r[i];
+        for (std::size_t i = 0; i < n; ++i) d[i] = r[i] + next / rr * d[i];
+        rr = next;
+    }
+    return x;
+}
+
+}  // namespace
+
+void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, const std::vector<SheetQuad>& quads,
+                     const std::vector<std::uint64_t>& voxels, double max_offset) {
+    std::vector<int> index(voxels.size(), -1);
+    std::vector<std::uint16_t> labels;
+    for (std::size_t value = 1; value < voxels.size(); ++value)
+        if (voxels[value]) index[value] = int(labels.size()), labels.push_back(std::uint16_t(value));
+    if (labels.empty()) return;
+    const VertexQuads round = vertex_quads(place.size(), quads);
+    for (int step = 0; step < kNewtonSteps; ++step) {
+        const std::map<std::uint16_t, double> volume = label_volumes(place, quads);
+        std::vector<double> deficit(labels.size());
+        for (std::size_t i = 0; i < labels.size(); ++i) {
+            const auto it = volume.find(labels[i]);
+            deficit[i] = double(voxels[labels[i]]) - (it != volume.end() ? it->second : 0.0);
+        }
+        // The Gram matrix of the labels' volume gradients (vertex by vertex, in order: deterministic).
+        std::vector<std::map<int, double>> G(labels.size());
+        for (std::uint32_t v = 0; v < place.size(); ++v) {
+            const auto g = gradients(v, round, quads, place, index);
+            for (const auto& [a, ga] : g)
+                for (const auto& [b, gb] : g) G[std::size_t(a)][b] += dot(ga, gb);
+        }
+        const std::vector<double> lambda = solve(G, deficit);
+        std::vector<Point> next(place.size());
+        tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
+            Point move{0, 0, 0};
+            for (const auto& [label, g] : gradients(std::uint32_t(v), round, quads, place, index))
+                for (int k = 0; k < 3; ++k) move[k] += lambda[std::size_t(label)] * g[k];
+            for (int k = 0; k < 3; ++k)
+                next[v][k] = std::clamp(place[v][k] + move[k], vertices.corner[v][k] - max_offset, vertices.corner[v][k] + max_offset);
+        });
+        place.swap(next);
+    }
+}
+
+}  // namespace vdbmesh::labels_detail
