@@ -1,7 +1,7 @@
 // `vdbmesh compare IN [--iso V] [--error LIST] [--adaptivity LIST] [--decimate LIST] [--json FILE] [--plot FILE.svg]`
 // `vdbmesh compare --phantom SHAPE [--size N] [--blur W] ...`
 // Converts once, then meshes the same grid in this process with DC (the default mesher) at each
-// --error, DMC at each --dmc-error, Marching Cubes, volumeToMesh at each --adaptivity, and DC at
+// --error (and at error 0, the dual mesh, when --adaptivity lists 0 and --error does not), DMC at each --dmc-error, Marching Cubes, volumeToMesh at each --adaptivity, and DC at
 // error 0 decimated to each --decimate fraction (as `vdbmesh mesh --decimate`), and measures each mesh (compare_meshers(),
 // include/vdbmesh/compare.h): time, `vdbmesh check`'s figures, two-sided distance to the true
 // isosurface in voxels and normal deviation. The true surface of a scan or .vdb is the
@@ -141,6 +141,7 @@ nlohmann::ordered_json mesh_json(const MeshComparison& m) {
     j["error"] = m.error ? nlohmann::ordered_json(*m.error) : nullptr;
     j["adaptivity"] = m.adaptivity ? nlohmann::ordered_json(*m.adaptivity) : nullptr;
     j["decimate"] = m.decimate ? nlohmann::ordered_json(*m.decimate) : nullptr;
+    j["meets_adaptivity"] = m.meets_adaptivity ? nlohmann::ordered_json(*m.meets_adaptivity) : nullptr;
     j["seconds"] = m.seconds;
     j["decimate_seconds"] = m.decimate ? nlohmann::ordered_json(m.decimate_seconds) : nullptr;
     j["phases"] = phases_json(m.mesher);

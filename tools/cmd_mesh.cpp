@@ -157,7 +157,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
                        "Mesher: dc (intersection-free Dual Contouring, the default), dmc (Dual Marching Cubes), mc, openvdb (volumeToMesh)")
         ->check(CLI::IsMember(kMethods, CLI::ignore_case))
         ->capture_default_str();
-    command.add_option("--error", options->mesh.error, "dc, dmc: tolerated error in voxels (0: no simplification, Marching Cubes)")
+    command.add_option("--error", options->mesh.error, "dc, dmc: tolerated error in voxels (0: no simplification; dc: the dual mesh, a vertex per cell; dmc: Marching Cubes)")
         ->check(kFiniteNonNegative)
         ->capture_default_str();
     command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")

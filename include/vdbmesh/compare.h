@@ -101,6 +101,9 @@ struct CompareOptions {
     /// decimate_mesh() (as `vdbmesh mesh --decimate`), one mesh each.
     std::vector<double> decimate_fractions;
     bool marching_cubes = true;                            ///< one MC mesh
+    /// Whether the meshes of ours meant to meet the volumeToMesh meshes are made too where
+    /// @a errors does not list them: the dual error-0 mesh for adaptivity 0 (first, as DC at error 0).
+    bool meeting_rows = true;
     AccuracyOptions accuracy;
     /// Called before each mesh with its index and the number of meshes.
     std::function<void(std::size_t index, std::size_t count)> progress;
@@ -112,6 +115,9 @@ struct MeshComparison {
     std::optional<double> error;       ///< DMC
     std::optional<double> adaptivity;  ///< volumeToMesh
     std::optional<double> decimate;    ///< the share of triangles kept by decimate_mesh()
+    /// The volumeToMesh adaptivity this mesh is meant to meet (CompareOptions::meeting_rows):
+    /// DC at error 0 meets adaptivity 0.
+    std::optional<double> meets_adaptivity;
     double seconds = 0;                ///< mesh_grid() wall time, the fastest of up to 3 runs under 0.2 s (with decimate: plus decimate_seconds)
     double decimate_seconds = 0;       ///< decimate_mesh() wall time
     MeshReport mesher;                 ///< what mesh_grid() reported (phases, fallbacks)
@@ -128,7 +134,7 @@ struct Comparison {
     std::size_t reference_triangles = 0;  ///< of the MC mesh the reference samples come from
 };
 
-/// Meshes @a grid with every setting (DC at each error, DMC at each of its errors, MC, volumeToMesh at each
+/// Meshes @a grid with every setting (DC at each error, with the meeting rows, DMC at each of its errors, MC, volumeToMesh at each
 /// adaptivity, DC at error 0 decimated to each fraction, in that order), one at a time in this
 /// process, timing mesh_grid() (and decimate_mesh()) alone, and measures each result (once per
 /// distinct mesh). Meshes are dropped once measured, but for the error-0 mesh that is decimated.

@@ -312,7 +312,13 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
         run.decimate = decimate;
         runs.push_back(run);
     };
+    const bool meets_zero = std::find(options.adaptivities.begin(), options.adaptivities.end(), 0.0) != options.adaptivities.end();
+    const bool lists_zero = std::find(options.errors.begin(), options.errors.end(), 0.0) != options.errors.end();
+    if (options.meeting_rows && meets_zero && !lists_zero) add_run(MeshMethod::dc, 0.0, std::nullopt);
     for (double error : options.errors) add_run(MeshMethod::dc, error, std::nullopt);
+    for (MeshComparison& run : runs) {
+        if (meets_zero && run.error == 0.0) run.meets_adaptivity = 0.0;  // the dual error-0 mesh
+    }
     for (double error : options.dmc_errors) add_run(MeshMethod::dmc, error, std::nullopt);
     if (options.marching_cubes) add_run(MeshMethod::mc, std::nullopt, std::nullopt);
     for (double adaptivity : options.adaptivities) add_run(MeshMethod::openvdb, std::nullopt, adaptivity);

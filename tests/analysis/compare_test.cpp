@@ -129,6 +129,33 @@ TEST_F(CompareTest, VolumeToMeshAtFullAdaptivityIsFartherFromTheTrilinearIsosurf
     EXPECT_GT(coarse.normals.mean_deg, mc.normals.mean_deg);
 }
 
+// Given adaptivity 0, the dual error-0 mesh meant to meet it is made even where --error does
+// not list it (issue 29, item 5), first among the DC rows, and named as meeting it.
+TEST_F(CompareTest, CompareMeshersAddsTheDualMeshMeetingAdaptivityZero) {
+    CompareOptions options;
+    options.iso = 0.5;
+    options.errors = {0.25};
+    options.adaptivities = {0, 1};
+    options.marching_cubes = false;
+    options.accuracy = {2000, exact_distance(*sphere_)};
+    const Comparison result = compare_meshers(*grid_, options);
+    ASSERT_EQ(result.meshes.size(), 4u);
+    EXPECT_EQ(result.meshes[0].method, MeshMethod::dc);
+    EXPECT_EQ(result.meshes[0].error, 0.0);
+    EXPECT_EQ(result.meshes[0].meets_adaptivity, 0.0);
+    EXPECT_EQ(result.meshes[1].error, 0.25);
+    EXPECT_FALSE(result.meshes[1].meets_adaptivity.has_value());
+    EXPECT_GT(result.meshes[0].analysis.triangles, result.meshes[1].analysis.triangles);
+    // Not asked for: none added.
+    options.meeting_rows = false;
+    options.adaptivities = {0};
+    EXPECT_EQ(compare_meshers(*grid_, options).meshes.size(), 2u);
+    // Without adaptivity 0 there is nothing to meet at error 0.
+    options.meeting_rows = true;
+    options.adaptivities = {1};
+    EXPECT_EQ(compare_meshers(*grid_, options).meshes.size(), 2u);
+}
+
 TEST_F(CompareTest, CompareMeshersRunsEverySettingInOrder) {
     CompareOptions options;
     options.iso = 0.5;

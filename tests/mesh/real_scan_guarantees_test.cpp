@@ -21,6 +21,7 @@
 #include "cgal_judge.h"
 #include "same_triangles.h"
 #include "shared_scan.h"
+#include "test_data.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/compare.h"
 #include "vdbmesh/geometry.h"
@@ -48,6 +49,8 @@ constexpr double kHausdorffBound = 1.0;
 /// surfaces are noise-bound) of the error-0 triangles; a DMC that returned Marching Cubes
 /// keeps 100% and fails.
 constexpr double kMaxTriangleShare = 0.98;
+/// Above this many Marching Cubes triangles, the DC error-0 mesh is judged with VDBMESH_FULL=1 only.
+constexpr std::size_t kQuickErrorZeroTriangles = 1000000;
 
 const std::array<Method, 3> kMethods = {{
     {"dmc --error 0", MeshMethod::dmc, 0.0},
@@ -131,6 +134,12 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
     const Mesh mc = mesh_scan(*grid, scan, MeshMethod::mc);
     const MeshAnalysis mc_report = analyze_mesh(mc);
     for (double error : {0.0, 0.25, 1.0}) {
+        // CGAL takes minutes on the error-0 meshes of the bunny CT and the Seg3D MR (3.1 and
+        // 2.7 million triangles): those two run with VDBMESH_FULL=1.
+        if (error == 0 && mc_report.triangles > kQuickErrorZeroTriangles && !test::full_run()) {
+            std::cout << "[ skipped  ] " << scan.name << " dc --error 0: a long case, runs with VDBMESH_FULL=1\n";
+            continue;
+        }
         const Mesh dc = mesh_scan(*grid, scan, MeshMethod::dc, error);
         const MeshAnalysis report = analyze_mesh(dc);
         std::cout << "[ figures  ] " << scan.name << " dc --error " << error << ": " << describe(report) << "\n";
