@@ -40,6 +40,11 @@ Mesh load_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& o
     convert.band = 1;
     const GridInput loaded = load_grid(inputs, options.iso, options.read, purpose, convert);
     MeshOptions mesh;
+    // Marching Cubes, as before the dual mesh became DC's error 0: --refine moves its vertices
+    // (on grid edges) onto the isosurface, and the measured figures (area, volume) are the ones
+    // documented and tested against scikit-image. The dual mesh measured the anisotropic
+    // ellipsoid of MeasureEllipsoidTest 2.0% short in area and 3.4% in volume (MC 1.2%, 2.1%).
+    mesh.method = MeshMethod::mc;
     mesh.iso = loaded.iso;
     mesh.inside = options.inside;
     Mesh result = mesh_grid(*loaded.grid, mesh).mesh;
