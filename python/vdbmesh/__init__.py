@@ -56,8 +56,8 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
     a level outside the range raises ValueError. A .vdb file defaults to the isovalue convert
     stored (0 for a level set); a scan file needs one.
     method: "dc" (intersection-free Dual Contouring, adaptive with ``error`` > 0, in voxels,
-    closed, manifold and free of self-intersections by construction; at 0 it equals Marching
-    Cubes), "dmc" (Dual Marching Cubes, made clean by a check-and-refine loop), "mc"
+    closed, manifold and free of self-intersections by construction; at 0 the dual mesh, a
+    vertex per cell on the trilinear isosurface, Marching Cubes in cells with two sheets), "dmc" (Dual Marching Cubes, made clean by a check-and-refine loop), "mc"
     (Marching Cubes) or "openvdb" (volumeToMesh, adaptive with ``adaptivity`` in [0, 1]).
     inside: "above" (values above the level are the object), "below", or "auto": the side
     that touches less of the volume's border (a level set's negative inside, a CT's dense
