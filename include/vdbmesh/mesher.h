@@ -32,7 +32,7 @@ enum class Inside {
 struct MeshOptions {
     MeshMethod method = MeshMethod::dc;  ///< the default: clean by construction at any error
     double iso = 0.0;           ///< isovalue, in the grid's value units
-    double error = 0.0;         ///< dc, dmc: error tolerance in voxels (0: no merging, equals MC)
+    double error = 0.0;         ///< dc, dmc: error tolerance in voxels (0: no merging; dc: the dual mesh, dmc: equals MC)
     double adaptivity = 0.0;    ///< openvdb: volumeToMesh adaptivity in [0, 1]
     Inside inside = Inside::above;
     bool open_boundary = false; ///< leave the surface open where it meets the scan's box
