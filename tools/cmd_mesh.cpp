@@ -106,8 +106,8 @@ std::optional<std::uint64_t> memory_limit(const MeshCommandOptions& options) {
     if (options.memory.empty()) return std::nullopt;
     const std::uint64_t bytes = parse_memory_size("--memory", options.memory);
     if (options.mesh.method != MeshMethod::dc || options.mesh.error <= 0) {
-        throw UsageError("--memory: only --method dc with --error above 0 meshes by bricks; dmc's checks, Marching Cubes and "
-                         "volumeToMesh mesh the whole grid at once");
+        throw UsageError("--memory: only --method dc with --error above 0 meshes by bricks; Marching Cubes and volumeToMesh "
+                         "mesh the whole grid at once");
     }
     const ProcessingOptions& p = options.processing;
     if (options.verify || options.normals || p.taubin > 0 || p.decimate || p.max_error) {
