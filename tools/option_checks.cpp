@@ -30,6 +30,14 @@ bool has_role(CLI::Option* option, const char* role) {
     }
 }
 
+/// The name an option is given by on the command line. CLI11's get_name() is empty for a hidden
+/// option (an empty group), which a message must still name (compare's retired --dmc-error).
+std::string option_name(const CLI::Option* option) {
+    if (!option->get_lnames().empty()) return "--" + option->get_lnames().front();
+    if (!option->get_snames().empty()) return "-" + option->get_snames().front();
+    return option->get_name();
+}
+
 /// The options of @a command and of its option groups (nameless subcommands).
 std::vector<CLI::Option*> all_options(CLI::App& command) {
     std::vector<CLI::Option*> options = command.get_options();
@@ -64,7 +72,7 @@ void refuse_non_finite(const std::vector<CLI::Option*>& options) {
         if (!option->nonpositional()) continue;  // file names
         for (const std::string& value : option->results()) {
             if (has_non_finite_item(value))
-                throw UsageError(option->get_name() + ": expected a finite number, got \"" + value + "\"");
+                throw UsageError(option_name(option) + ": expected a finite number, got \"" + value + "\"");
         }
     }
 }
@@ -105,9 +113,9 @@ void refuse_outputs_naming_inputs(const std::vector<CLI::Option*>& options) {
         others.insert(others.end(), outputs.begin(), outputs.begin() + std::ptrdiff_t(i));
         for (const NamedFile& other : others) {
             if (!same_file(out.path, other.path)) continue;
-            throw UsageError(out.option->get_name() + ": expected a file that is not " +
+            throw UsageError(option_name(out.option) + ": expected a file that is not " +
                              (other.input ? "an input" : "another output") + ", got \"" + out.path + "\", the same file as " +
-                             other.option->get_name() + " \"" + other.path + "\"; nothing was written");
+                             option_name(other.option) + " \"" + other.path + "\"; nothing was written");
         }
     }
 }
@@ -125,7 +133,7 @@ void check_command_line(CLI::App& command) {
 }
 
 void refuse_unless(const CLI::Option* option, bool applies, const std::string& when) {
-    if (option->count() > 0 && !applies) throw UsageError(option->get_name() + ": only " + when);
+    if (option->count() > 0 && !applies) throw UsageError(option_name(option) + ": only " + when);
 }
 
 }  // namespace vdbmesh::cli
