@@ -3,6 +3,9 @@
 
 #include "region_walk.h"
 
+#include <algorithm>
+#include <tuple>
+
 namespace vdbmesh::detail::region_walk {
 
 openvdb::CoordBBox to_bbox(const IndexBox& box) {
@@ -38,7 +41,33 @@ void walk_internal(const Node& node, TreeRegion& region) {
     }
 }
 
+/// The nodes of an active tile of @a dim voxels at @a origin, each all active.
+void add_tile_nodes(const openvdb::Coord& origin, openvdb::Index dim, std::vector<NodeWeight>& nodes) {
+    const auto step = static_cast<std::int32_t>(Lower::DIM);
+    const auto end = static_cast<std::int32_t>(dim);
+    for (std::int32_t z = 0; z < end; z += step)
+        for (std::int32_t y = 0; y < end; y += step)
+            for (std::int32_t x = 0; x < end; x += step)
+                nodes.push_back({{origin.x() + x, origin.y() + y, origin.z() + z}, std::uint64_t{Lower::NUM_VOXELS}});
+}
+
 }  // namespace
+
+std::vector<NodeWeight> node_weights(const Tree& tree) {
+    std::vector<NodeWeight> nodes;
+    for (auto tile = tree.root().cbeginValueOn(); tile; ++tile) add_tile_nodes(tile.getCoord(), Upper::DIM, nodes);
+    for (auto upper = tree.root().cbeginChildOn(); upper; ++upper) {
+        for (auto tile = upper->cbeginValueOn(); tile; ++tile) add_tile_nodes(tile.getCoord(), Lower::DIM, nodes);
+        for (auto lower = upper->cbeginChildOn(); lower; ++lower) {
+            const std::uint64_t active = lower->onVoxelCount();
+            if (active > 0) nodes.push_back({{lower->origin().x(), lower->origin().y(), lower->origin().z()}, active});
+        }
+    }
+    std::sort(nodes.begin(), nodes.end(), [](const NodeWeight& a, const NodeWeight& b) {
+        return std::tie(a.origin[2], a.origin[1], a.origin[0]) < std::tie(b.origin[2], b.origin[1], b.origin[0]);
+    });
+    return nodes;
+}
 
 void walk_region(const Tree& tree, TreeRegion& region) {
     const Root& root = tree.root();

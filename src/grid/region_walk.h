@@ -37,4 +37,8 @@ struct TreeRegion {
 /// Walks the nodes of @a tree that meet region.box.
 void walk_region(const Tree& tree, TreeRegion& region);
 
+/// GridRegionSource::nodes() of @a tree: every node holding an active voxel (from the masks
+/// alone: no leaf buffer is loaded) or lying in an active tile, z-major.
+std::vector<NodeWeight> node_weights(const Tree& tree);
+
 }  // namespace vdbmesh::detail::region_walk

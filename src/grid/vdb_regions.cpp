@@ -27,12 +27,11 @@ namespace vdbmesh {
 namespace {
 
 using detail::region_walk::Leaf;
-using detail::region_walk::Lower;
 using detail::region_walk::to_bbox;
 using detail::region_walk::Tree;
 using detail::region_walk::TreeRegion;
-using detail::region_walk::Upper;
 using detail::region_walk::walk_region;
+using detail::region_walk::node_weights;
 
 /// Leaves whose values one child loads: 64 MiB of floats.
 constexpr std::size_t kLeavesPerChild = (std::size_t{64} << 20) / (Leaf::SIZE * sizeof(float));
@@ -116,21 +115,8 @@ public:
 
     std::shared_ptr<const openvdb::FloatGrid> description() const override { return description_; }
 
-    std::vector<NodeWeight> nodes() const override {
-        std::vector<NodeWeight> nodes;
-        for (auto tile = topology_->tree().root().cbeginValueOn(); tile; ++tile) add_tile_nodes(tile.getCoord(), Upper::DIM, nodes);
-        for (auto upper = topology_->tree().root().cbeginChildOn(); upper; ++upper) {
-            for (auto tile = upper->cbeginValueOn(); tile; ++tile) add_tile_nodes(tile.getCoord(), Lower::DIM, nodes);
-            for (auto lower = upper->cbeginChildOn(); lower; ++lower) {
-                const std::uint64_t active = lower->onVoxelCount();  // the masks only: no leaf buffer is loaded
-                if (active > 0) nodes.push_back({{lower->origin().x(), lower->origin().y(), lower->origin().z()}, active});
-            }
-        }
-        std::sort(nodes.begin(), nodes.end(), [](const NodeWeight& a, const NodeWeight& b) {
-            return std::tie(a.origin[2], a.origin[1], a.origin[0]) < std::tie(b.origin[2], b.origin[1], b.origin[0]);
-        });
-        return nodes;
-    }
+    /// From the masks only: no leaf buffer is loaded.
+    std::vector<NodeWeight> nodes() const override { return node_weights(topology_->tree()); }
 
     std::shared_ptr<openvdb::FloatGrid> read(const IndexBox& box) const override {
         openvdb::FloatGrid::Ptr grid = topology_->copyWithNewTree();
@@ -148,16 +134,6 @@ public:
     }
 
 private:
-    /// The nodes of an active tile of @a dim voxels at @a origin, each all active.
-    static void add_tile_nodes(const openvdb::Coord& origin, openvdb::Index dim, std::vector<NodeWeight>& nodes) {
-        const auto step = static_cast<std::int32_t>(Lower::DIM);
-        const auto end = static_cast<std::int32_t>(dim);
-        for (std::int32_t z = 0; z < end; z += step)
-            for (std::int32_t y = 0; y < end; y += step)
-                for (std::int32_t x = 0; x < end; x += step)
-                    nodes.push_back({{origin.x() + x, origin.y() + y, origin.z() + z}, std::uint64_t{Lower::NUM_VOXELS}});
-    }
-
     std::filesystem::path path_;
     openvdb::FloatGrid::Ptr topology_;  // leaf buffers on disk; never loaded in this process
     std::shared_ptr<const openvdb::FloatGrid> description_;
