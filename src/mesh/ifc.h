@@ -30,11 +30,11 @@ Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& optio
 void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, bool mirrored,
                                   MeshStreamSink& sink, MeshReport& report);
 
-/// A brick (docs/dmc.md, "Bricks"): n x n nodes across, at column (column_x, column_y) in
-/// units of n nodes, and one node high, at node layer @a layer (z / kNodeVoxels); with the
-/// active voxels of its nodes, which ranks are balanced by.
+/// A brick (docs/dmc.md, "Bricks"): n x n nodes across from (min_x, min_y) (voxels), and one
+/// node high, at node layer @a layer (z / kNodeVoxels); with the active voxels of its nodes,
+/// which ranks are balanced by.
 struct IfcBrick {
-    int column_x = 0, column_y = 0, layer = 0;
+    int min_x = 0, min_y = 0, layer = 0;
     std::uint64_t active_voxels = 0;
 };
 

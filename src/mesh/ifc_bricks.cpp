@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <functional>
 #include <iterator>
+#include <limits>
 #include <array>
 #include <map>
 #include <string>
@@ -16,13 +17,11 @@
 #include "mesh/ifc_wavefront.h"
 #include "mesh/mesh_phases.h"
 #include "vdbmesh/error.h"
+#include "vdbmesh/ranks.h"
 
 namespace vdbmesh::detail {
 
 namespace {
-
-/// Floor division of a voxel coordinate by @a size.
-int floor_div(int voxel, int size) { return voxel >= 0 ? voxel / size : -((-voxel + size - 1) / size); }
 
 /// Bytes of the mesher's work per byte of grid it reads (the cells of the octree and coarse
 /// merges, the keyed triangles and vertices): a first guess, not yet calibrated (bench/README.md, "Bricks").
@@ -33,8 +32,7 @@ constexpr std::uint64_t kBaseBytes = std::uint64_t(24) << 20;
 
 /// The column of bricks @a brick belongs to, owned part.
 IfcColumn column_of(const IfcBrick& brick, int column_voxels) {
-    return {brick.column_x * column_voxels, brick.column_y * column_voxels, (brick.column_x + 1) * column_voxels - 1,
-            (brick.column_y + 1) * column_voxels - 1};
+    return {brick.min_x, brick.min_y, brick.min_x + column_voxels - 1, brick.min_y + column_voxels - 1};
 }
 
 /// What a column's wavefront holds when it contours @a brick: three node layers and a leaf row
@@ -46,29 +44,50 @@ IndexBox wavefront_box(const IfcBrick& brick, int column_voxels) {
             {column.max_x + 1 + kWiden, column.max_y + 1 + kWiden, (brick.layer + 2) * kNodeVoxels + 8}};
 }
 
+/// The bricks of @a planned that ranks.h's rule gives @a rank of @a ranks: a contiguous run.
+std::vector<IfcBrick> bricks_of_rank(std::vector<IfcBrick> planned, int rank, int ranks) {
+    std::vector<std::uint64_t> weights(planned.size());
+    for (std::size_t b = 0; b < planned.size(); ++b) weights[b] = planned[b].active_voxels;
+    const std::vector<int> rank_of = bricks_to_ranks(weights, ranks);
+    std::vector<IfcBrick> mine;
+    for (std::size_t b = 0; b < planned.size(); ++b) {
+        if (rank_of[b] == rank) mine.push_back(planned[b]);
+    }
+    return mine;
+}
+
 }  // namespace
 
 std::vector<IfcBrick> plan_ifc_bricks(const GridRegionSource& source, int nodes_per_brick) {
     const int column_voxels = nodes_per_brick * kNodeVoxels;
-    // Column (y, x), layer -> active voxels. The nodes meshed are those listed and the 7 below
-    // each: a block's cells read samples up to 8 beyond its origin, so a node whose upper
-    // neighbours hold surface may too.
-    std::map<std::tuple<int, int, int>, std::uint64_t> weights;
+    // The nodes meshed are those listed and the 7 below each: a block's cells read samples up
+    // to 8 beyond its origin, so a node whose upper neighbours hold surface may too.
+    std::vector<std::pair<openvdb::Coord, std::uint64_t>> meshed;  // origin, active voxels
+    int low_x = std::numeric_limits<int>::max(), low_y = low_x;
     for (const NodeWeight& node : source.nodes()) {
         for (int d = 0; d < 8; ++d) {
-            const int x = node.origin[0] - kNodeVoxels * (d & 1), y = node.origin[1] - kNodeVoxels * ((d >> 1) & 1);
-            const int z = node.origin[2] - kNodeVoxels * (d >> 2);
-            weights[{floor_div(y, column_voxels), floor_div(x, column_voxels), floor_div(z, kNodeVoxels)}] += d == 0 ? node.active_voxels : 0;
+            const openvdb::Coord origin(node.origin[0] - kNodeVoxels * (d & 1), node.origin[1] - kNodeVoxels * ((d >> 1) & 1),
+                                        node.origin[2] - kNodeVoxels * (d >> 2));
+            meshed.push_back({origin, d == 0 ? node.active_voxels : 0});
+            low_x = std::min(low_x, origin.x());
+            low_y = std::min(low_y, origin.y());
         }
     }
+    // Columns start at the lowest meshed node, so the narrowest column holding every node is
+    // one column. Keyed column (y, x), layer -> active voxels.
+    std::map<std::tuple<int, int, int>, std::uint64_t> weights;
+    for (const auto& [origin, active] : meshed) {
+        weights[{(origin.y() - low_y) / column_voxels, (origin.x() - low_x) / column_voxels, origin.z() / kNodeVoxels}] += active;
+    }
     std::vector<IfcBrick> bricks;
-    for (auto it = weights.begin(); it != weights.end(); ++it) {
-        const auto& [y, x, layer] = it->first;
+    for (const auto& [key, active] : weights) {
+        const auto& [y, x, layer] = key;
+        const IfcBrick brick{low_x + x * column_voxels, low_y + y * column_voxels, layer, active};
         // A column's layers run without gaps, so one wavefront climbs each column.
-        if (!bricks.empty() && bricks.back().column_x == x && bricks.back().column_y == y) {
-            for (int l = bricks.back().layer + 1; l < layer; ++l) bricks.push_back({x, y, l, 0});
+        if (!bricks.empty() && bricks.back().min_x == brick.min_x && bricks.back().min_y == brick.min_y) {
+            for (int l = bricks.back().layer + 1; l < layer; ++l) bricks.push_back({brick.min_x, brick.min_y, l, 0});
         }
-        bricks.push_back({x, y, layer, it->second});
+        bricks.push_back(brick);
     }
     return bricks;
 }
@@ -99,15 +118,17 @@ int plan_brick_size(const GridRegionSource& source, std::uint64_t memory_bytes) 
 void for_each_brick(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report,
                     const std::function<void(std::vector<IfcNodeOutput>&&)>& consume) {
     const int column_voxels = bricks.nodes_per_brick * kNodeVoxels;
-    const std::vector<IfcBrick> planned = plan_ifc_bricks(source, bricks.nodes_per_brick);
+    std::vector<IfcBrick> planned = plan_ifc_bricks(source, bricks.nodes_per_brick);
+    report.nodes_per_brick = bricks.nodes_per_brick;
+    report.bricks = planned.size();
+    if (bricks.ranks > 1) planned = bricks_of_rank(std::move(planned), bricks.rank, bricks.ranks);
     const SampleClassifier classifier(*source.description(), options);
     MeshOptions per_column = options;
     per_column.progress = nullptr;
     std::size_t done = 0;
     for (std::size_t first = 0; first < planned.size();) {
         std::size_t last = first;  // the bricks of one column, consecutive layers
-        while (last + 1 < planned.size() && planned[last + 1].column_x == planned[first].column_x &&
-               planned[last + 1].column_y == planned[first].column_y)
+        while (last + 1 < planned.size() && planned[last + 1].min_x == planned[first].min_x && planned[last + 1].min_y == planned[first].min_y)
             ++last;
         IfcColumnWavefront wavefront(source, classifier, per_column, column_of(planned[first], column_voxels), report);
         wavefront.run(planned[first].layer, planned[last].layer, [&](std::vector<IfcNodeOutput>&& made) {
@@ -140,6 +161,12 @@ void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOpti
         clock.lap(report, "spill");
     });
     PhaseClock clock;
+    if (bricks.ranks > 1) {
+        const std::vector<std::string> parts = bricks.gather(bricks.rank == 0 ? std::string() : spill.serialized());
+        for (std::size_t r = 1; r < parts.size(); ++r) spill.absorb(parts[r]);
+        clock.lap(report, "gather");
+        if (bricks.rank != 0) return;
+    }
     spill.emit(sink, mirrored);
     clock.lap(report, "write");
     if (options.progress) options.progress(1.0);
