@@ -108,7 +108,9 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
     j["fallbacks"] = report.fallbacks;
     // How --memory cut the grid (null when it was meshed whole).
     j["bricks"] = report.bricks == 0 ? nlohmann::ordered_json(nullptr)
-                                     : nlohmann::ordered_json{{"nodes_across", report.nodes_per_brick}, {"count", report.bricks}};
+                                     : nlohmann::ordered_json{{"nodes_across", report.nodes_per_brick},
+                                                              {"count", report.bricks},
+                                                              {"estimated_peak_bytes", report.estimated_peak_bytes}};
     j["verified"] = verified ? report_json(*verified) : nlohmann::ordered_json(nullptr);
     return j;
 }

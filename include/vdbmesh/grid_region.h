@@ -55,6 +55,11 @@ public:
 
     /// An upper estimate of the bytes read(box) holds while its grid lives (for --memory plans).
     virtual std::uint64_t estimated_bytes(const IndexBox& box) const = 0;
+
+    /// An upper estimate of the bytes of the grid read(box) returns alone, without what the
+    /// source holds while reading (a scan's band and converter windows): what a reader keeping
+    /// that grid after the read holds.
+    virtual std::uint64_t grid_bytes(const IndexBox& box) const { return estimated_bytes(box); }
 };
 
 /// A grid already in memory seen as regions (read() copies the part of the tree that meets

@@ -61,6 +61,7 @@ struct MeshReport {
     /// "Bricks"); 0 and 0 when the grid was meshed whole.
     int nodes_per_brick = 0;
     std::uint64_t bricks = 0;
+    std::uint64_t estimated_peak_bytes = 0;  ///< brick_peak_bytes() of that cut
     double total_seconds() const;        ///< the sum of the phases
 };
 

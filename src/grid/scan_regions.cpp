@@ -73,10 +73,15 @@ public:
 
     std::uint64_t estimated_bytes(const IndexBox& box) const override {
         // The band (kept), the box's part of it (at most the band), and the converter's windows.
+        return 2 * grid_bytes(box) + survey_.window_bytes;
+    }
+
+    /// The leaves of the rows the box meets, over the scan's whole x and y.
+    std::uint64_t grid_bytes(const IndexBox& box) const override {
         const auto [first, last] = rows_of(box);
         std::uint64_t leaves = 0;
         for (auto row = survey_.leaves.lower_bound(first); row != survey_.leaves.end() && row->first <= last; ++row) leaves += row->second;
-        return 2 * leaves * (sizeof(Leaf) + Leaf::SIZE * sizeof(float)) + survey_.window_bytes;
+        return leaves * (sizeof(Leaf) + Leaf::SIZE * sizeof(float));
     }
 
 private:

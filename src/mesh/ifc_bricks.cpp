@@ -35,13 +35,21 @@ IfcColumn column_of(const IfcBrick& brick, int column_voxels) {
     return {brick.min_x, brick.min_y, brick.min_x + column_voxels - 1, brick.min_y + column_voxels - 1};
 }
 
-/// What a column's wavefront holds when it contours @a brick: three node layers and a leaf row
-/// of the column's nodes and their ring (ifc_wavefront.h), read from @a source.
-IndexBox wavefront_box(const IfcBrick& brick, int column_voxels) {
+/// The boxes of what a column's wavefront holds when it contours @a brick: three node layers
+/// and a leaf row of the column's nodes and their ring (ifc_wavefront.h), and the layer it reads
+/// then.
+struct WavefrontBoxes {
+    IndexBox held, read;
+};
+WavefrontBoxes wavefront_boxes(const IfcBrick& brick, int column_voxels) {
     const IfcColumn column = column_of(brick, column_voxels);
     constexpr int kWiden = kNodeVoxels + 8;
-    return {{column.min_x - kWiden, column.min_y - kWiden, (brick.layer - 1) * kNodeVoxels},
-            {column.max_x + 1 + kWiden, column.max_y + 1 + kWiden, (brick.layer + 2) * kNodeVoxels + 8}};
+    const IndexBox held{{column.min_x - kWiden, column.min_y - kWiden, (brick.layer - 1) * kNodeVoxels},
+                        {column.max_x + 1 + kWiden, column.max_y + 1 + kWiden, (brick.layer + 2) * kNodeVoxels + 8}};
+    IndexBox read = held;
+    read.min[2] = (brick.layer + 2) * kNodeVoxels;
+    read.max[2] = (brick.layer + 3) * kNodeVoxels;
+    return {held, read};
 }
 
 /// The bricks of @a planned that ranks.h's rule gives @a rank of @a ranks: a contiguous run.
@@ -121,6 +129,7 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
     std::vector<IfcBrick> planned = plan_ifc_bricks(source, bricks.nodes_per_brick);
     report.nodes_per_brick = bricks.nodes_per_brick;
     report.bricks = planned.size();
+    report.estimated_peak_bytes = brick_peak_bytes(source, bricks.nodes_per_brick);
     if (bricks.ranks > 1) planned = bricks_of_rank(std::move(planned), bricks.rank, bricks.ranks);
     const SampleClassifier classifier(*source.description(), options);
     MeshOptions per_column = options;
@@ -180,8 +189,10 @@ std::uint64_t brick_peak_bytes(const GridRegionSource& source, int nodes_per_bri
     const int column_voxels = nodes_per_brick * kNodeVoxels;
     std::uint64_t peak = detail::kBaseBytes;
     for (const detail::IfcBrick& brick : detail::plan_ifc_bricks(source, nodes_per_brick)) {
-        const IndexBox box = detail::wavefront_box(brick, column_voxels);
-        peak = std::max(peak, detail::kBaseBytes + std::uint64_t(double(source.estimated_bytes(box)) * (1.0 + detail::kWorkPerGridByte)));
+        // The grid held, the mesher's cells on it, and the next layer being read.
+        const detail::WavefrontBoxes boxes = detail::wavefront_boxes(brick, column_voxels);
+        const double held = double(source.grid_bytes(boxes.held)) * (1.0 + detail::kWorkPerGridByte);
+        peak = std::max(peak, detail::kBaseBytes + std::uint64_t(held) + source.estimated_bytes(boxes.read));
     }
     return peak;
 }
