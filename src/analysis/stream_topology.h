@@ -1,0 +1,52 @@
+#pragma once
+// Private: the topology of a mesh that is never held, for the bounded check (issue 28). Each
+// triangle becomes records in two external sorts: its edges as (smaller vertex, larger vertex,
+// direction), which counted per edge give boundary, non-manifold and misoriented edges, and
+// with two union-finds over the vertices the components and the boundary loops; and its
+// corners as (vertex, next, previous), which grouped per vertex give the fans around it, as
+// topology.cpp counts them for a mesh in memory.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "analysis/external_sort.h"
+#include "vdbmesh/geometry.h"
+
+namespace vdbmesh::detail {
+
+/// Bytes per vertex while the topology is counted (two union-finds, two flags).
+constexpr double kTopologyBytesPerVertex = 8.25;
+
+class StreamTopology {
+public:
+    /// Each sort gathers runs of @a run_records records.
+    explicit StreamTopology(std::size_t run_records);
+    void add(const std::array<std::uint32_t, 3>& triangle);
+    /// The counts for a mesh of @a vertices vertices (every index below it).
+    Topology finish(std::size_t vertices);
+    /// Sorted runs written to temporary files so far.
+    std::size_t runs() const { return edges_.runs() + corners_.runs(); }
+
+    /// An edge use; a triangle on one vertex alone leaves (v, v, 0), which only marks v as used.
+    struct EdgeUse {
+        std::uint32_t a, b, forward;
+        bool operator<(const EdgeUse& o) const { return a != o.a ? a < o.a : (b != o.b ? b < o.b : forward < o.forward); }
+    };
+    /// A corner of a triangle without a repeated vertex: the vertex and its two neighbours.
+    struct CornerUse {
+        std::uint32_t vertex, next, previous;
+        bool operator<(const CornerUse& o) const {
+            return vertex != o.vertex ? vertex < o.vertex : (next != o.next ? next < o.next : previous < o.previous);
+        }
+    };
+
+private:
+    void count_edges(std::size_t vertices, Topology& topology);
+    void count_fans(Topology& topology);
+
+    ExternalSorter<EdgeUse> edges_;
+    ExternalSorter<CornerUse> corners_;
+};
+
+}  // namespace vdbmesh::detail
