@@ -5,6 +5,8 @@
 
 #include <zlib.h>
 
+#include <fstream>
+#include <functional>
 #include <string>
 
 #include "test_data.h"
@@ -66,8 +68,9 @@ TEST(MeshRecordsTest, FileLargerThanTheWindowReadsWhole) {
 
 TEST(MeshRecordsTest, BadFilesGiveReadMeshsErrors) {
     const test::ScratchDir dir;
-    write_mesh(test::cube(), dir / "cube.obj");
-    std::filesystem::resize_file(dir / "cube.obj", 200);  // a face line cut short, or faces gone
+    std::ofstream(dir / "bad_index.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n";
+    write_mesh(test::cube(), dir / "cut.ply");
+    std::filesystem::resize_file(dir / "cut.ply", std::filesystem::file_size(dir / "cut.ply") - 7);  // the last face cut short
     const auto message = [](const std::function<void()>& read) {
         try {
             read();
@@ -77,7 +80,7 @@ TEST(MeshRecordsTest, BadFilesGiveReadMeshsErrors) {
         return std::string("no error");
     };
     Recorder records;
-    for (const char* name : {"cube.obj", "missing.ply"}) {
+    for (const char* name : {"bad_index.obj", "cut.ply", "missing.ply"}) {
         EXPECT_NE(message([&] { (void)read_mesh(dir / name); }), "no error") << name;
         EXPECT_EQ(message([&] { read_mesh_records(dir / name, records); }), message([&] { (void)read_mesh(dir / name); })) << name;
     }
