@@ -104,7 +104,8 @@ int run_bounded_check(const CheckOptions& o) {
     if (!o.reference.empty()) throw UsageError("--memory: --ref needs both meshes whole in memory, which --memory does not hold");
     const std::uint64_t bytes = parse_memory_size("--memory", o.memory);
     const ThreadLimit limit(o.common);
-    const StreamCheck check = analyze_mesh_stream(o.mesh, {bytes, 0});
+    Progress progress("checking", o.common.quiet);
+    const StreamCheck check = analyze_mesh_stream(o.mesh, {bytes, 0, [&](double share) { progress(share); }});
     nlohmann::ordered_json j = report_json(check.analysis);
     for (const char* key : kNotCountedBounded) j[key] = nullptr;
     print_report(o, j);

@@ -75,6 +75,8 @@ struct StreamCheckOptions {
     /// Records per sorted run; 0: as many as the limit allows. Tests make it small to force
     /// several runs through the temporary files on small meshes.
     std::size_t run_records = 0;
+    /// Called now and then with the share of the work done (0 to 1), when set.
+    std::function<void(double)> progress;
 };
 
 /// What analyze_mesh_stream() finds.

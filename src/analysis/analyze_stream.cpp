@@ -2,8 +2,8 @@
 // (read_mesh_records()) sums what each triangle gives alone (class, angles, integrals, in the
 // blocks of mesh_integrals()) and hands its vertex numbers to StreamTopology, whose sorts count
 // the rest; STL corners are first numbered by StreamWeld. Memory: the process's own
-// (kBaselineBytes), what is held per vertex, and three sorts at most alive at once (STL: the
-// weld's merge feeding the two topology sorts), each given a third of what is left.
+// (kBaselineBytes), what is held per vertex, and the sorts alive at once, which share what is
+// left: two for PLY and OBJ (the topology's), three for STL (the weld's merge feeding them).
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -25,12 +25,13 @@ namespace vdbmesh {
 namespace {
 
 constexpr std::uint64_t kMiB = std::uint64_t(1) << 20;
-/// The process before any mesh: 41 MB for the program and its libraries (peak of `vdbmesh
-/// --help`, measured), up to 9 MiB of the mapped file's window (mapped_file.cpp), and slack.
-constexpr std::uint64_t kBaselineBytes = 56 * kMiB;
-/// The least a sort is given; three may be alive at once.
+/// The process besides the plan: 41 MB for the program and its libraries (peak of `vdbmesh
+/// --help`), up to 9 MiB of the mapped file's window (mapped_file.cpp), the heap's and the
+/// threads' own; set from the peak of a 33 M triangle PLY checked in 256M (bench/README.md).
+constexpr std::uint64_t kBaselineBytes = 64 * kMiB;
+/// The least a sort is given.
 constexpr std::uint64_t kMinSortBytes = kMiB;
-constexpr int kSorts = 3;
+constexpr int kIndexedSorts = 2, kStlSorts = 3;
 /// The positions of a PLY or OBJ file's vertices while it is read (after, the topology's 8.25).
 constexpr double kPositionBytesPerVertex = 12;
 
@@ -42,19 +43,19 @@ std::string per_vertex_text(double bytes) {
     return text.str();
 }
 
-/// The memory plan for one limit: what is left for each sort once @a per_vertex bytes for
-/// each of @a vertices vertices are held; a usage error naming the smallest limit that works
-/// when that is less than kMinSortBytes.
-std::uint64_t sort_bytes(const std::filesystem::path& path, std::uint64_t limit, double per_vertex, std::uint64_t vertices) {
+/// The memory plan for one limit: what is left for each of @a sorts sorts once @a per_vertex
+/// bytes for each of @a vertices vertices are held; a usage error naming the smallest limit
+/// that works when that is less than kMinSortBytes.
+std::uint64_t sort_bytes(const std::filesystem::path& path, std::uint64_t limit, int sorts, double per_vertex, std::uint64_t vertices) {
     const std::uint64_t held = kBaselineBytes + std::uint64_t(std::ceil(per_vertex * double(vertices)));
-    const std::uint64_t needed = held + kSorts * kMinSortBytes;
+    const std::uint64_t needed = held + sorts * kMinSortBytes;
     if (limit < needed) {
         throw UsageError("--memory: " + std::to_string(limit / kMiB) + "M is too small to check " + path.string() + " (" +
                          std::to_string(vertices) + " vertices at " + per_vertex_text(per_vertex) +
                          " bytes each, the sorts and the process); the smallest limit that works is " +
                          std::to_string((needed + kMiB - 1) / kMiB) + "M");
     }
-    return (limit - held) / kSorts;
+    return (limit - held) / std::uint64_t(sorts);
 }
 
 /// Records of @a record_bytes in one run of a sort given @a bytes (or the tests' run size).
@@ -110,12 +111,13 @@ public:
 
     /// A PLY or OBJ file of @a vertices vertices: the plan, before any record.
     void plan_indexed(std::uint64_t vertices) {
-        const std::uint64_t bytes = sort_bytes(path_, options_.memory_bytes, kPositionBytesPerVertex, vertices);
+        const std::uint64_t bytes = sort_bytes(path_, options_.memory_bytes, kIndexedSorts, kPositionBytesPerVertex, vertices);
         positions_.reserve(vertices);
         topology_.emplace(run_records(options_, bytes, sizeof(detail::StreamTopology::EdgeUse)));
     }
-    void announced(std::uint64_t vertices, std::uint64_t) override {
+    void announced(std::uint64_t vertices, std::uint64_t faces) override {
         if (!topology_ && !weld_ && vertices > 0) plan_indexed(vertices);
+        announced_faces_ = faces;
     }
     void vertex(const Position& position) override {
         if (positions_.size() == positions_.capacity()) {  // an OBJ file that grew since its vertices were counted
@@ -126,15 +128,17 @@ public:
     void triangle(const std::array<std::uint32_t, 3>& t) override {
         faces_.add(t, {positions_[t[0]], positions_[t[1]], positions_[t[2]]});
         topology_->add(t);
+        report_reading();
     }
     void facet(const std::array<Position, 3>& corners) override {
         if (!weld_) {
-            const std::uint64_t bytes = sort_bytes(path_, options_.memory_bytes, 0, 0);
+            const std::uint64_t bytes = sort_bytes(path_, options_.memory_bytes, kStlSorts, 0, 0);
             weld_.emplace(run_records(options_, bytes, sizeof(std::array<std::uint32_t, 5>)));
         }
         const auto same = [&](int i, int j) { return std::memcmp(corners[i].data(), corners[j].data(), sizeof(Position)) == 0; };
         faces_.add({0, same(1, 0) ? 0u : 1u, same(2, 0) ? 0u : (same(2, 1) ? 1u : 2u)}, corners);
         weld_->add(corners);
+        report_reading();
     }
 
     StreamCheck finish() {
@@ -144,25 +148,42 @@ public:
         std::vector<Position>().swap(positions_);
         if (weld_) {
             vertices = weld_->number_vertices();
-            const std::uint64_t bytes = sort_bytes(path_, options_.memory_bytes, detail::kTopologyBytesPerVertex, vertices);
+            show_progress(kReadShare + kWeldShare / 2);
+            const std::uint64_t bytes = sort_bytes(path_, options_.memory_bytes, kStlSorts, detail::kTopologyBytesPerVertex, vertices);
             topology_.emplace(run_records(options_, bytes, sizeof(detail::StreamTopology::EdgeUse)));
             weld_->triangles([&](const std::array<std::uint32_t, 3>& t) { topology_->add(t); });
             result.sorted_runs += weld_->runs();
+            show_progress(kReadShare + kWeldShare);
         }
         faces_.report(report);
         report.vertices = vertices;
         result.sorted_runs += topology_->runs();
-        detail::add_topology(topology_->finish(vertices), report);
+        const double counted = weld_ ? kReadShare + kWeldShare : kReadShare;
+        detail::add_topology(topology_->finish(vertices, [&](double share) { show_progress(counted + (1 - counted) * share); }), report);
         return result;
     }
 
 private:
+    // Shares of the work for the progress: reading (with the runs sorted on the way), the STL
+    // weld's merges, the topology's merges.
+    static constexpr double kReadShare = 0.6, kWeldShare = 0.15;
+
+    void show_progress(double share) const {
+        if (options_.progress) options_.progress(share);
+    }
+    /// The share of the faces read, when the header announced them (PLY, binary STL).
+    void report_reading() const {
+        const std::uint64_t read = faces_.triangles();
+        if (announced_faces_ > 0 && read % 65536 == 0) show_progress(kReadShare * std::min(1.0, double(read) / double(announced_faces_)));
+    }
+
     const std::filesystem::path& path_;
     const StreamCheckOptions& options_;
     std::vector<Position> positions_;
     FaceSums faces_;
     std::optional<detail::StreamTopology> topology_;
     std::optional<detail::StreamWeld> weld_;
+    std::uint64_t announced_faces_ = 0;
 };
 
 /// Counts an OBJ file's vertices (its statements are read, nothing is kept).

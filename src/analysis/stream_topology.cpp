@@ -21,7 +21,7 @@ void StreamTopology::add(const std::array<std::uint32_t, 3>& t) {
     }
 }
 
-void StreamTopology::count_edges(std::size_t vertices, Topology& topology) {
+void StreamTopology::count_edges(std::size_t vertices, Topology& topology, const std::function<void()>& step) {
     UnionFind components(vertices), boundary(vertices);
     std::vector<bool> used(vertices, false), on_boundary(vertices, false);
     EdgeUse edge{0, 0, 0};
@@ -39,6 +39,7 @@ void StreamTopology::count_edges(std::size_t vertices, Topology& topology) {
         components.unite(edge.a, edge.b);
     };
     edges_.merge([&](const EdgeUse& use) {
+        step();
         used[use.a] = used[use.b] = true;
         if (use.a == use.b) return;
         if (uses > 0 && use.a == edge.a && use.b == edge.b) {
@@ -56,7 +57,7 @@ void StreamTopology::count_edges(std::size_t vertices, Topology& topology) {
     }
 }
 
-void StreamTopology::count_fans(Topology& topology) {
+void StreamTopology::count_fans(Topology& topology, const std::function<void()>& step) {
     std::vector<CornerUse> around;  // the corners of one vertex
     std::vector<std::uint32_t> link;
     UnionFind sets;
@@ -74,16 +75,22 @@ void StreamTopology::count_fans(Topology& topology) {
         around.clear();
     };
     corners_.merge([&](const CornerUse& corner) {
+        step();
         if (!around.empty() && around.front().vertex != corner.vertex) close_vertex();
         around.push_back(corner);
     });
     close_vertex();
 }
 
-Topology StreamTopology::finish(std::size_t vertices) {
+Topology StreamTopology::finish(std::size_t vertices, const std::function<void(double)>& progress) {
+    const double records = double(edges_.size() + corners_.size());
+    std::uint64_t merged = 0;
+    const std::function<void()> step = [&] {
+        if (++merged % (std::uint64_t(1) << 20) == 0 && progress) progress(double(merged) / records);
+    };
     Topology topology;
-    count_edges(vertices, topology);
-    count_fans(topology);
+    count_edges(vertices, topology, step);
+    count_fans(topology, step);
     return topology;
 }
 

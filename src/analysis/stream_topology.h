@@ -9,6 +9,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 
 #include "analysis/external_sort.h"
 #include "vdbmesh/geometry.h"
@@ -23,8 +24,9 @@ public:
     /// Each sort gathers runs of @a run_records records.
     explicit StreamTopology(std::size_t run_records);
     void add(const std::array<std::uint32_t, 3>& triangle);
-    /// The counts for a mesh of @a vertices vertices (every index below it).
-    Topology finish(std::size_t vertices);
+    /// The counts for a mesh of @a vertices vertices (every index below it); @a progress (if
+    /// set) hears the share of the records merged.
+    Topology finish(std::size_t vertices, const std::function<void(double)>& progress);
     /// Sorted runs written to temporary files so far.
     std::size_t runs() const { return edges_.runs() + corners_.runs(); }
 
@@ -42,8 +44,8 @@ public:
     };
 
 private:
-    void count_edges(std::size_t vertices, Topology& topology);
-    void count_fans(Topology& topology);
+    void count_edges(std::size_t vertices, Topology& topology, const std::function<void()>& step);
+    void count_fans(Topology& topology, const std::function<void()>& step);
 
     ExternalSorter<EdgeUse> edges_;
     ExternalSorter<CornerUse> corners_;

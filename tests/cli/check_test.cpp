@@ -85,7 +85,7 @@ TEST(CheckTest, BoundedCheckReportsTheSameJsonButTheTwoFiguresItCannotCount) {
     for (const char* name : {"open.ply", "open.stl", "open.obj"}) {
         write_mesh(mesh, dir / name);
         const auto [whole_status, whole_text] = run_check({(dir / name).string(), "--json"});
-        const auto [bounded_status, bounded_text] = run_check({(dir / name).string(), "--json", "--memory", "64M"});
+        const auto [bounded_status, bounded_text] = run_check({(dir / name).string(), "--json", "--memory", "128M"});
         EXPECT_EQ(whole_status, kCheckFailed) << name;
         EXPECT_EQ(bounded_status, kCheckFailed) << name;
         nlohmann::json whole = nlohmann::json::parse(whole_text), bounded = nlohmann::json::parse(bounded_text);
@@ -101,7 +101,7 @@ TEST(CheckTest, BoundedCheckReportsTheSameJsonButTheTwoFiguresItCannotCount) {
 TEST(CheckTest, BoundedCheckOfACleanMeshExitsZeroAndSaysWhatItDidNotCheck) {
     const test::ScratchDir dir;
     write_mesh(unit_cube(), dir / "cube.ply");
-    const auto [status, text] = run_check({(dir / "cube.ply").string(), "--memory", "64M"});
+    const auto [status, text] = run_check({(dir / "cube.ply").string(), "--memory", "128M"});
     EXPECT_EQ(status, kSuccess);
     EXPECT_NE(text.find("not checked in bounded mode"), std::string::npos) << text;
     EXPECT_NE(text.find("closed                  true"), std::string::npos) << text;
@@ -115,7 +115,7 @@ TEST(CheckTest, BoundedCheckRefusesALimitTooSmallNamingTheSmallestThatWorks) {
     const std::string error = testing::internal::GetCapturedStderr();
     EXPECT_NE(error.find("the smallest limit that works is"), std::string::npos) << error;
     EXPECT_EQ(run({"check", (dir / "cube.ply").string(), "--memory", "64Q"}), kUsageError);
-    EXPECT_EQ(run({"check", (dir / "cube.ply").string(), "--memory", "64M", "--ref", (dir / "cube.ply").string()}), kUsageError);
+    EXPECT_EQ(run({"check", (dir / "cube.ply").string(), "--memory", "128M", "--ref", (dir / "cube.ply").string()}), kUsageError);
 }
 
 }  // namespace
