@@ -37,23 +37,20 @@ constexpr double kPositionBytesPerVertex = 12;
 
 using Position = std::array<float, 3>;
 
-std::string per_vertex_text(double bytes) {
-    std::ostringstream text;
-    text << bytes;
-    return text.str();
-}
-
 /// The memory plan for one limit: what is left for each of @a sorts sorts once @a per_vertex
 /// bytes for each of @a vertices vertices are held; a usage error naming the smallest limit
 /// that works when that is less than kMinSortBytes.
 std::uint64_t sort_bytes(const std::filesystem::path& path, std::uint64_t limit, int sorts, double per_vertex, std::uint64_t vertices) {
     const std::uint64_t held = kBaselineBytes + std::uint64_t(std::ceil(per_vertex * double(vertices)));
-    const std::uint64_t needed = held + sorts * kMinSortBytes;
+    const std::uint64_t needed = held + std::uint64_t(sorts) * kMinSortBytes;
     if (limit < needed) {
-        throw UsageError("--memory: " + std::to_string(limit / kMiB) + "M is too small to check " + path.string() + " (" +
-                         std::to_string(vertices) + " vertices at " + per_vertex_text(per_vertex) +
-                         " bytes each, the sorts and the process); the smallest limit that works is " +
-                         std::to_string((needed + kMiB - 1) / kMiB) + "M");
+        std::ostringstream text;
+        text << "--memory: " << limit / kMiB << "M is too small to check " << path.string() << ", which needs "
+             << kBaselineBytes / kMiB << " MiB for the program, ";
+        if (vertices > 0) text << per_vertex << " bytes for each of its " << vertices << " vertices, ";
+        text << "and at least " << kMinSortBytes / kMiB << " MiB for each of " << sorts
+             << " sorts; the smallest limit that works is " << (needed + kMiB - 1) / kMiB << "M";
+        throw UsageError(text.str());
     }
     return (limit - held) / std::uint64_t(sorts);
 }

@@ -48,7 +48,7 @@ void write_obj(const Mesh& mesh, std::ostream& out, bool normals);
 /// whose pages behind the reading are released (read_mesh_records()).
 class ByteView {
 public:
-    ByteView(const Bytes& bytes) : data_(bytes.data()), size_(bytes.size()) {}  // NOLINT: a buffer is a view
+    ByteView(const Bytes& bytes) : data_(bytes.data()), size_(bytes.size()) {}  // implicit: a whole buffer is one view
     ByteView(const unsigned char* data, std::size_t size, class MappedFile* mapping) : data_(data), size_(size), mapping_(mapping) {}
     const unsigned char* data() const { return data_; }
     std::size_t size() const { return size_; }

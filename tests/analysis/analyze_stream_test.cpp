@@ -6,6 +6,8 @@
 
 #include <tbb/global_control.h>
 
+#include <cstdlib>
+#include <optional>
 #include <regex>
 #include <string>
 
@@ -175,6 +177,42 @@ TEST(AnalyzeStreamTest, BadFileIsTheReadersFormatError) {
     std::filesystem::resize_file(dir / "cube.ply", std::filesystem::file_size(dir / "cube.ply") - 10);
     EXPECT_THROW(analyze_mesh_stream(dir / "cube.ply", {kPlenty, 0}), FormatError);
     EXPECT_THROW(analyze_mesh_stream(dir / "missing.stl", {kPlenty, 0}), FormatError);
+}
+
+/// Sets an environment variable for the test's life.
+class ScopedEnv {
+public:
+    ScopedEnv(const char* name, const std::string& value) : name_(name) {
+        if (const char* old = std::getenv(name)) old_ = old;
+        ::setenv(name, value.c_str(), 1);
+    }
+    ~ScopedEnv() {
+        if (old_) ::setenv(name_, old_->c_str(), 1);
+        else ::unsetenv(name_);
+    }
+
+private:
+    const char* name_;
+    std::optional<std::string> old_;
+};
+
+TEST(AnalyzeStreamTest, TemporaryFilesGoToTmpdirAndLeaveNothing) {
+    const test::ScratchDir dir, temp;
+    write_mesh(test::torus(40, 24), dir / "torus.stl");
+    {
+        const ScopedEnv tmpdir("TMPDIR", temp.path().string());
+        EXPECT_GT(analyze_mesh_stream(dir / "torus.stl", {kPlenty, kTinyRuns}).sorted_runs, 2u);
+    }
+    EXPECT_TRUE(std::filesystem::is_empty(temp.path()));
+    const ScopedEnv tmpdir("TMPDIR", (temp / "missing").string());
+    try {
+        analyze_mesh_stream(dir / "torus.stl", {kPlenty, kTinyRuns});
+        FAIL() << "no temporary file, yet no error";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find((temp / "missing").string()), std::string::npos) << e.what();
+    }
+    // Everything in one run needs no file.
+    EXPECT_EQ(analyze_mesh_stream(dir / "torus.stl", {kPlenty, 0}).sorted_runs, 0u);
 }
 
 }  // namespace
