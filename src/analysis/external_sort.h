@@ -5,7 +5,8 @@
 // through one buffer each and hands every record out in order (a k-way merge on a heap). When
 // all records fit in one run nothing is written. Records must be totally ordered by operator<
 // (records that compare equal are identical), so the order handed out is the same for any
-// thread count.
+// thread count. A sorted run may be shrunk before it is written (CombineRun: records that
+// one can stand for, such as the uses of one edge counted together).
 
 #include <tbb/parallel_sort.h>
 
@@ -40,7 +41,13 @@ private:
     std::uint64_t size_ = 0;
 };
 
-template <class Record>
+/// Writes a sorted run as it is.
+struct KeepRun {
+    template <class Record>
+    void operator()(std::vector<Record>&) const {}
+};
+
+template <class Record, class CombineRun = KeepRun>
 class ExternalSorter {
     static_assert(std::is_trivially_copyable_v<Record>, "records are written to a file as bytes");
 
@@ -88,6 +95,7 @@ private:
 
     void spill() {
         tbb::parallel_sort(buffer_.begin(), buffer_.end());
+        CombineRun()(buffer_);
         if (!file_) file_.emplace();
         runs_.push_back({file_->size() / sizeof(Record), buffer_.size()});
         file_->append(buffer_.data(), buffer_.size() * sizeof(Record));

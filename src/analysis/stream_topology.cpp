@@ -13,24 +13,40 @@ StreamTopology::StreamTopology(std::size_t run_records) : edges_(run_records), c
 
 void StreamTopology::add(const std::array<std::uint32_t, 3>& t) {
     const bool repeated = t[0] == t[1] || t[1] == t[2] || t[2] == t[0];
-    if (t[0] == t[1] && t[1] == t[2]) edges_.add({t[0], t[0], 0});
+    if (t[0] == t[1] && t[1] == t[2]) edges_.add({t[0], t[0], 0, 0});
     for (int k = 0; k < 3; ++k) {
         const std::uint32_t a = t[k], b = t[(k + 1) % 3];
-        if (a != b) edges_.add({std::min(a, b), std::max(a, b), a < b ? 1u : 0u});
+        if (a != b) edges_.add({std::min(a, b), std::max(a, b), std::uint16_t(a < b), std::uint16_t(a > b)});
         if (!repeated) corners_.add({a, b, t[(k + 2) % 3]});
     }
+}
+
+void StreamTopology::CombineEdgeUses::operator()(std::vector<EdgeUse>& run) const {
+    const auto saturated = [](std::uint32_t count) { return std::uint16_t(std::min<std::uint32_t>(count, kMostUses)); };
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < run.size(); ++i) {
+        if (kept > 0 && run[i].a == run[kept - 1].a && run[i].b == run[kept - 1].b) {
+            EdgeUse& last = run[kept - 1];
+            last.forward = saturated(std::uint32_t(last.forward) + run[i].forward);
+            last.backward = saturated(std::uint32_t(last.backward) + run[i].backward);
+        } else {
+            run[kept++] = run[i];
+        }
+    }
+    run.resize(kept);
 }
 
 void StreamTopology::count_edges(std::size_t vertices, Topology& topology, const std::function<void()>& step) {
     UnionFind components(vertices), boundary(vertices);
     std::vector<bool> used(vertices, false), on_boundary(vertices, false);
-    EdgeUse edge{0, 0, 0};
-    std::size_t uses = 0, forward = 0;
+    EdgeUse edge{0, 0, 0, 0};
+    std::size_t forward = 0, backward = 0;  // the uses of `edge` so far
     const auto close_edge = [&] {
+        const std::size_t uses = forward + backward;
         if (uses == 0) return;
         ++topology.edges;
         if (uses > 2) ++topology.nonmanifold_edges;
-        if (forward > 1 || uses - forward > 1) ++topology.misoriented_edges;
+        if (forward > 1 || backward > 1) ++topology.misoriented_edges;
         if (uses == 1) {
             ++topology.boundary_edges;
             boundary.unite(edge.a, edge.b);
@@ -42,12 +58,12 @@ void StreamTopology::count_edges(std::size_t vertices, Topology& topology, const
         step();
         used[use.a] = used[use.b] = true;
         if (use.a == use.b) return;
-        if (uses > 0 && use.a == edge.a && use.b == edge.b) {
-            ++uses, forward += use.forward;
+        if (use.a == edge.a && use.b == edge.b) {
+            forward += use.forward, backward += use.backward;
             return;
         }
         close_edge();
-        edge = use, uses = 1, forward = use.forward;
+        edge = use, forward = use.forward, backward = use.backward;
     });
     close_edge();
     for (std::uint32_t v = 0; v < vertices; ++v) {

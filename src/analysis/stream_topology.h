@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "analysis/external_sort.h"
 #include "vdbmesh/geometry.h"
@@ -30,10 +31,21 @@ public:
     /// Sorted runs written to temporary files so far.
     std::size_t runs() const { return edges_.runs() + corners_.runs(); }
 
-    /// An edge use; a triangle on one vertex alone leaves (v, v, 0), which only marks v as used.
+    /// Uses of the edge between vertices a < b: how many run a -> b and b -> a. Added one use
+    /// at a time, counted together in each sorted run (CombineEdgeUses) up to kMostUses, as
+    /// the verdicts need no more (1: boundary, 2, more: non-manifold). A triangle on one vertex
+    /// alone leaves (v, v, 0, 0), which only marks v as used.
     struct EdgeUse {
-        std::uint32_t a, b, forward;
-        bool operator<(const EdgeUse& o) const { return a != o.a ? a < o.a : (b != o.b ? b < o.b : forward < o.forward); }
+        std::uint32_t a, b;
+        std::uint16_t forward, backward;
+        bool operator<(const EdgeUse& o) const {
+            return a != o.a ? a < o.a : (b != o.b ? b < o.b : (forward != o.forward ? forward < o.forward : backward < o.backward));
+        }
+    };
+    static constexpr std::uint16_t kMostUses = 0xffff;
+    /// Each edge of a sorted run once, with its uses added.
+    struct CombineEdgeUses {
+        void operator()(std::vector<EdgeUse>& run) const;
     };
     /// A corner of a triangle without a repeated vertex: the vertex and its two neighbours.
     struct CornerUse {
@@ -47,7 +59,7 @@ private:
     void count_edges(std::size_t vertices, Topology& topology, const std::function<void()>& step);
     void count_fans(Topology& topology, const std::function<void()>& step);
 
-    ExternalSorter<EdgeUse> edges_;
+    ExternalSorter<EdgeUse, CombineEdgeUses> edges_;
     ExternalSorter<CornerUse> corners_;
 };
 
