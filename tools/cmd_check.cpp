@@ -1,5 +1,7 @@
-// `vdbmesh check MESH [--ref OTHER] [--samples N] [--json]`: validates a mesh without repairing
-// anything (include/vdbmesh/analysis.h) and, with --ref, measures its distance to another.
+// `vdbmesh check MESH [--ref OTHER] [--samples N] [--memory SIZE] [--json]`: validates a mesh
+// without repairing anything (include/vdbmesh/analysis.h) and, with --ref, measures its distance
+// to another. With --memory the mesh is read as a stream and checked within SIZE whatever its
+// size (analyze_mesh_stream(), issue 28): the same figures but the two it cannot count.
 // Exit status 0 when the mesh is clean, 3 when it is not, 1 when it cannot be read.
 
 #include <iomanip>
@@ -14,6 +16,7 @@
 #include "report_json.h"
 #include "work_limits.h"
 #include "vdbmesh/analysis.h"
+#include "vdbmesh/error.h"
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_io.h"
 
@@ -59,7 +62,7 @@ nlohmann::ordered_json phases_json(const MeshReport& report) {
 namespace {
 
 struct CheckOptions {
-    std::string mesh, reference;
+    std::string mesh, reference, memory;
     std::size_t samples = 100000;
     bool json = false;
     CommonOptions common;
@@ -76,12 +79,41 @@ void add_distance(nlohmann::ordered_json& j, const DistanceReport& d, std::size_
     j["max_from_ref"] = d.max_b_to_a;
 }
 
+/// The figures a bounded check cannot count: null in JSON, said so in the table.
+constexpr const char* kNotCountedBounded[] = {"self_intersecting_pairs", "negative_components"};
+constexpr const char* kNotChecked = "not checked in bounded mode";
+
 /// One "name  value" line per field, numbers as JSON writes them.
 void print_table(const nlohmann::ordered_json& j, std::ostream& out) {
-    for (const auto& [key, value] : j.items()) out << std::left << std::setw(24) << key << detail::json_text(value) << "\n";
+    for (const auto& [key, value] : j.items()) {
+        out << std::left << std::setw(24) << key << (value.is_null() ? kNotChecked : detail::json_text(value)) << "\n";
+    }
+}
+
+void print_report(const CheckOptions& o, const nlohmann::ordered_json& j) {
+    if (o.json) {
+        std::cout << detail::json_text(j) << "\n";
+    } else {
+        std::cout << o.mesh << "\n";
+        print_table(j, std::cout);
+    }
+}
+
+/// check --memory: the mesh as a stream; clean when every figure counted says so.
+int run_bounded_check(const CheckOptions& o) {
+    if (!o.reference.empty()) throw UsageError("--memory: --ref needs both meshes whole in memory, which --memory does not hold");
+    const std::uint64_t bytes = parse_memory_size("--memory", o.memory);
+    const ThreadLimit limit(o.common);
+    Progress progress("checking", o.common.quiet);
+    const StreamCheck check = analyze_mesh_stream(o.mesh, {bytes, 0, [&](double share) { progress(share); }});
+    nlohmann::ordered_json j = report_json(check.analysis);
+    for (const char* key : kNotCountedBounded) j[key] = nullptr;
+    print_report(o, j);
+    return check.analysis.is_clean() ? kSuccess : kCheckFailed;
 }
 
 int run_check(const CheckOptions& o) {
+    if (!o.memory.empty()) return run_bounded_check(o);
     refuse_beyond_work("--samples", 2.0 * double(o.samples), "distance queries", 1e-6);
     const ThreadLimit limit(o.common);
     const Mesh mesh = read_mesh(o.mesh);
@@ -91,12 +123,7 @@ int run_check(const CheckOptions& o) {
         const Mesh reference = read_mesh(o.reference);
         add_distance(j, mesh_distance(mesh, reference, o.samples), o.samples);
     }
-    if (o.json) {
-        std::cout << detail::json_text(j) << "\n";
-    } else {
-        std::cout << o.mesh << "\n";
-        print_table(j, std::cout);
-    }
+    print_report(o, j);
     return report.is_clean() ? kSuccess : kCheckFailed;
 }
 
@@ -111,10 +138,14 @@ void add_check_command(CLI::App& command, CommandResult& result) {
         ->check(kFinitePositive)
         ->capture_default_str()
         ->needs(reference);
+    command.add_option("--memory", o.memory,
+                       "Check within SIZE (K, M, G) whatever the mesh's size: read as a stream, edges sorted through temporary "
+                       "files in $TMPDIR; self-intersections are not checked");
     command.add_flag("--json", o.json, "One JSON object instead of a table");
     add_common_options(command, o.common);
     command.footer("Exit status: 0 clean (closed, manifold, oriented outward, no self-intersections or "
-                   "degenerate faces), 3 not clean, 1 unreadable.");
+                   "degenerate faces; with --memory, self-intersections not checked), 3 not clean, 1 unreadable, 2 usage "
+                   "(a --memory too small: the message names the smallest that works).");
     command.callback([options, &result] { result.status = run_check(*options); });
 }
 

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <utility>
 #include <vector>
@@ -67,6 +68,37 @@ struct MeshAnalysis {
 
 /// Measures and validates @a mesh (parallel with TBB; deterministic).
 MeshAnalysis analyze_mesh(const Mesh& mesh);
+
+/// What analyze_mesh_stream() may use.
+struct StreamCheckOptions {
+    std::uint64_t memory_bytes = 0;  ///< the limit on the process's peak (`check --memory`)
+    /// Records per sorted run; 0: as many as the limit allows. Tests make it small to force
+    /// several runs through the temporary files on small meshes.
+    std::size_t run_records = 0;
+    /// Called now and then with the share of the work done (0 to 1), when set.
+    std::function<void(double)> progress;
+};
+
+/// What analyze_mesh_stream() finds.
+struct StreamCheck {
+    /// As analyze_mesh() reports it, but for self_intersecting_pairs and negative_components,
+    /// which are not counted (0): the first needs every triangle at hand, the second each
+    /// triangle's component before the triangles are summed.
+    MeshAnalysis analysis;
+    std::size_t sorted_runs = 0;  ///< runs written to temporary files (0: every sort fitted in memory)
+};
+
+/// @brief analyze_mesh() of the mesh in @a path read as a stream, within about
+/// options.memory_bytes whatever the file's size (issue 28). The edges (and each vertex's
+/// corners) are sorted in runs that fit the limit, written to unlinked temporary files in
+/// $TMPDIR, and merged; STL corners are welded by exact position the same way. Held whole:
+/// 12 bytes a vertex while a PLY or OBJ file is read (the positions, for each triangle's
+/// area, volume and degeneracy), 8.25 bytes a vertex while the topology is counted (two
+/// union-finds); an OBJ file is read twice (first to count its vertices). The figures are those
+/// of analyze_mesh() on read_mesh(), bit for bit (integrals summed in the same blocks).
+/// @throw UsageError naming the smallest limit that works when the limit is too small,
+/// FormatError as read_mesh() for a bad file, Error when the temporary files cannot be written.
+StreamCheck analyze_mesh_stream(const std::filesystem::path& path, const StreamCheckOptions& options);
 
 /// Area, signed volume, centroid and inertia about the centroid (unit density) of the solid
 /// bounded by @a mesh, by the divergence theorem on its triangles (exact for a closed mesh).

@@ -63,6 +63,10 @@ enum class FaceClass : std::uint8_t {
 /// Throws Error when a triangle refers to a vertex that does not exist.
 void check_indices(const Mesh& mesh);
 
+/// The class of one triangle from its corners' vertices (@a ids: equal where two corners are
+/// the same vertex) and their positions.
+FaceClass classify_face(const std::array<std::uint32_t, 3>& ids, const Triangle3& corners);
+
 /// One class per triangle, decided with exact predicates (parallel, deterministic).
 std::vector<FaceClass> classify_faces(const Mesh& mesh);
 

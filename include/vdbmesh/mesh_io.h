@@ -67,6 +67,27 @@ private:
 /// only): no valid record is no mesh. UsageError for an unknown extension.
 Mesh read_mesh(const std::filesystem::path& path);
 
+/// @brief Receives a mesh file's records in file order, from read_mesh_records(): for meshes
+/// too large to hold (issue 28). PLY and OBJ give vertices and triangles (vertex numbers from 0,
+/// already checked against the vertices before them); STL gives each facet's corners, unwelded.
+class MeshRecordVisitor {
+public:
+    virtual ~MeshRecordVisitor() = default;
+    /// The counts a header announces, before the first record: PLY's vertices and faces (faces
+    /// may be polygons), a binary STL's facets (vertices 0: not known before welding).
+    virtual void announced(std::uint64_t vertices, std::uint64_t faces) { (void)vertices, (void)faces; }
+    virtual void vertex(const std::array<float, 3>& position) = 0;
+    /// A triangle; a polygon comes as the triangles of its fan.
+    virtual void triangle(const std::array<std::uint32_t, 3>& triangle) = 0;
+    virtual void facet(const std::array<std::array<float, 3>, 3>& corners) = 0;
+};
+
+/// @brief Reads @a path record by record with the parsing and the checks of read_mesh()
+/// (the same FormatError for the same file), holding only a window of the file: it is mapped
+/// and the pages read are released as the reading goes on. Compressed (gzip) files, which
+/// read_mesh() takes, are refused (FormatError): they cannot be mapped.
+void read_mesh_records(const std::filesystem::path& path, MeshRecordVisitor& visitor);
+
 /// The unit normal of each vertex: the area-weighted average of its triangles' normals (0 for
 /// a vertex no triangle uses), as PLY and OBJ files get them.
 std::vector<std::array<float, 3>> vertex_normals(const Mesh& mesh);

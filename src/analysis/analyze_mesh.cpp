@@ -7,42 +7,19 @@
 #include <limits>
 
 #include "analysis/block_reduce.h"
-#include "vdbmesh/geometry.h"
+#include "analysis/report_parts.h"
 #include "vdbmesh/geometry.h"
 #include "vdbmesh/analysis.h"
 
 namespace vdbmesh {
 namespace {
 
-constexpr double kSmallAngleDeg = 10.0;
-constexpr double kPi = 3.14159265358979323846;
-
-/// The three angles of triangle abc in degrees (via atan2, accurate for tiny angles).
-std::array<double, 3> triangle_angles(const std::array<float, 3>& a, const std::array<float, 3>& b,
-                                      const std::array<float, 3>& c) {
-    const std::array<const std::array<float, 3>*, 3> p{&a, &b, &c};
-    std::array<double, 3> angles{};
-    for (int k = 0; k < 3; ++k) {
-        const auto& o = *p[k];
-        const auto& u = *p[(k + 1) % 3];
-        const auto& w = *p[(k + 2) % 3];
-        const double e1[3] = {double(u[0]) - o[0], double(u[1]) - o[1], double(u[2]) - o[2]};
-        const double e2[3] = {double(w[0]) - o[0], double(w[1]) - o[1], double(w[2]) - o[2]};
-        const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
-                     cz = e1[0] * e2[1] - e1[1] * e2[0];
-        const double sine = std::sqrt(cx * cx + cy * cy + cz * cz);
-        const double cosine = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
-        angles[k] = std::atan2(sine, cosine) * 180.0 / kPi;
-    }
-    return angles;
-}
-
 /// The angles of the listed triangles; flagged: those under kSmallAngleDeg.
 detail::ValueStats angle_stats(const Mesh& mesh, const std::vector<std::uint32_t>& regular) {
     return detail::block_stats(regular.size(), 16384, [&](std::size_t i, detail::ValueStats& stats) {
         const auto& t = mesh.triangles[regular[i]];
-        for (const double angle : triangle_angles(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]])) {
-            stats.add(angle, angle < kSmallAngleDeg);
+        for (const double angle : detail::triangle_angles(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]])) {
+            stats.add(angle, angle < detail::kSmallAngleDeg);
         }
     });
 }
@@ -74,18 +51,28 @@ std::size_t count_negative_components(const Mesh& mesh, const detail::Topology& 
 
 }  // namespace
 
-bool MeshAnalysis::is_clean() const {
-    return triangles > 0 && closed && nonmanifold_edges == 0 && nonmanifold_vertices == 0 &&
-           misoriented_edges == 0 && outward && self_intersecting_pairs == 0 && degenerate_faces == 0;
+namespace detail {
+
+std::array<double, 3> triangle_angles(const std::array<float, 3>& a, const std::array<float, 3>& b, const std::array<float, 3>& c) {
+    constexpr double kPi = 3.14159265358979323846;
+    const std::array<const std::array<float, 3>*, 3> p{&a, &b, &c};
+    std::array<double, 3> angles{};
+    for (int k = 0; k < 3; ++k) {
+        const auto& o = *p[k];
+        const auto& u = *p[(k + 1) % 3];
+        const auto& w = *p[(k + 2) % 3];
+        const double e1[3] = {double(u[0]) - o[0], double(u[1]) - o[1], double(u[2]) - o[2]};
+        const double e2[3] = {double(w[0]) - o[0], double(w[1]) - o[1], double(w[2]) - o[2]};
+        const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+                     cz = e1[0] * e2[1] - e1[1] * e2[0];
+        const double sine = std::sqrt(cx * cx + cy * cy + cz * cz);
+        const double cosine = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
+        angles[k] = std::atan2(sine, cosine) * 180.0 / kPi;
+    }
+    return angles;
 }
 
-MeshAnalysis analyze_mesh(const Mesh& mesh) {
-    detail::check_indices(mesh);
-    MeshAnalysis report;
-    report.triangles = mesh.triangles.size();
-    report.vertices = mesh.vertices.size();
-
-    const detail::Topology topology = detail::analyze_topology(mesh);
+void add_topology(const Topology& topology, MeshAnalysis& report) {
     report.unreferenced_vertices = report.vertices - topology.referenced_vertices;
     report.edges = topology.edges;
     report.boundary_edges = topology.boundary_edges;
@@ -101,28 +88,50 @@ MeshAnalysis analyze_mesh(const Mesh& mesh) {
                         (long long)topology.boundary_loops) / 2;
     }
     report.closed = report.triangles > 0 && topology.boundary_edges == 0;
+}
 
-    const std::vector<detail::FaceClass> classes = detail::classify_faces(mesh);
-    for (const detail::FaceClass c : classes) {
-        report.repeated_vertex_faces += c == detail::FaceClass::kRepeatedVertex;
-        report.zero_area_faces += c == detail::FaceClass::kZeroArea;
-    }
+void add_faces(const std::array<std::size_t, 3>& class_counts, const ValueStats& angles, MeshAnalysis& report) {
+    report.repeated_vertex_faces = class_counts[std::size_t(FaceClass::kRepeatedVertex)];
+    report.zero_area_faces = class_counts[std::size_t(FaceClass::kZeroArea)];
     report.degenerate_faces = report.repeated_vertex_faces + report.zero_area_faces;
-    report.self_intersecting_pairs = find_self_intersections(mesh).size();
+    if (angles.count > 0) {
+        report.min_angle_deg = angles.min;
+        report.small_angle_share = double(angles.flagged) / double(angles.count);
+    }
+}
 
-    const MeshIntegrals integrals = mesh_integrals(mesh);
+void add_integrals(const MeshIntegrals& integrals, MeshAnalysis& report) {
     report.area = integrals.area;
     report.volume = integrals.volume;
     report.centroid = integrals.centroid;
     report.inertia = integrals.inertia;
     report.outward = integrals.volume > 0;
-    report.negative_components = count_negative_components(mesh, topology);
+}
 
-    const detail::ValueStats angles = angle_stats(mesh, detail::regular_faces(classes));
-    if (angles.count > 0) {
-        report.min_angle_deg = angles.min;
-        report.small_angle_share = double(angles.flagged) / double(angles.count);
-    }
+}  // namespace detail
+
+bool MeshAnalysis::is_clean() const {
+    return triangles > 0 && closed && nonmanifold_edges == 0 && nonmanifold_vertices == 0 &&
+           misoriented_edges == 0 && outward && self_intersecting_pairs == 0 && degenerate_faces == 0;
+}
+
+MeshAnalysis analyze_mesh(const Mesh& mesh) {
+    detail::check_indices(mesh);
+    MeshAnalysis report;
+    report.triangles = mesh.triangles.size();
+    report.vertices = mesh.vertices.size();
+
+    const detail::Topology topology = detail::analyze_topology(mesh);
+    detail::add_topology(topology, report);
+
+    const std::vector<detail::FaceClass> classes = detail::classify_faces(mesh);
+    std::array<std::size_t, 3> class_counts{};
+    for (const detail::FaceClass c : classes) ++class_counts[std::size_t(c)];
+    detail::add_faces(class_counts, angle_stats(mesh, detail::regular_faces(classes)), report);
+    report.self_intersecting_pairs = find_self_intersections(mesh).size();
+
+    detail::add_integrals(mesh_integrals(mesh), report);
+    report.negative_components = count_negative_components(mesh, topology);
     return report;
 }
 

@@ -8,72 +8,40 @@
 #include <cmath>
 
 #include "analysis/block_reduce.h"
+#include "analysis/moments.h"
 #include "vdbmesh/geometry.h"
 #include "vdbmesh/analysis.h"
 
 namespace vdbmesh {
-namespace {
-
-using Vec = std::array<double, 3>;
-using Mat = std::array<Vec, 3>;
-
-struct Moments {
-    double area = 0, volume = 0;
-    Vec first{};        ///< int (x - r) dV
-    Mat second{};       ///< int (x - r)(x - r)^T dV
-    Vec surface_first{};  ///< int (x - r) dA, for the centroid of a surface without volume
-
-    void add(const Moments& o) {
-        area += o.area, volume += o.volume;
-        for (int i = 0; i < 3; ++i) {
-            first[i] += o.first[i], surface_first[i] += o.surface_first[i];
-            for (int j = 0; j < 3; ++j) second[i][j] += o.second[i][j];
-        }
-    }
-};
-
-Vec cross(const Vec& a, const Vec& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
-double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-void add_triangle(const Vec& a, const Vec& b, const Vec& c, Moments& m) {
-    const Vec ab{b[0] - a[0], b[1] - a[1], b[2] - a[2]}, ac{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const Vec n = cross(ab, ac);
-    const double area = 0.5 * std::sqrt(dot(n, n));
-    const double det = dot(a, cross(b, c));
-    const Vec s{a[0] + b[0] + c[0], a[1] + b[1] + c[1], a[2] + b[2] + c[2]};
-    m.area += area;
-    m.volume += det / 6;
-    for (int i = 0; i < 3; ++i) {
-        m.first[i] += det / 24 * s[i];
-        m.surface_first[i] += area / 3 * s[i];
-        for (int j = 0; j < 3; ++j) m.second[i][j] += det / 120 * (a[i] * a[j] + b[i] * b[j] + c[i] * c[j] + s[i] * s[j]);
-    }
-}
-
-}  // namespace
 
 MeshIntegrals mesh_integrals(const Mesh& mesh) {
     detail::check_indices(mesh);
     MeshIntegrals result;
     if (mesh.triangles.empty()) return result;
     const auto& origin = mesh.vertices[mesh.triangles[0][0]];
-    const Vec r{origin[0], origin[1], origin[2]};
+    const detail::Vec r{origin[0], origin[1], origin[2]};
     const auto corner = [&](std::uint32_t v) {
         const auto& p = mesh.vertices[v];
-        return Vec{p[0] - r[0], p[1] - r[1], p[2] - r[2]};
+        return detail::Vec{p[0] - r[0], p[1] - r[1], p[2] - r[2]};
     };
-    const Moments m = detail::block_reduce(
-        mesh.triangles.size(), 16384, Moments{},
+    const detail::Moments m = detail::block_reduce(
+        mesh.triangles.size(), detail::kMomentsBlock, detail::Moments{},
         [&](std::size_t begin, std::size_t end) {
-            Moments local;
+            detail::Moments local;
             for (std::size_t i = begin; i < end; ++i) {
                 const auto& t = mesh.triangles[i];
-                add_triangle(corner(t[0]), corner(t[1]), corner(t[2]), local);
+                detail::add_triangle(corner(t[0]), corner(t[1]), corner(t[2]), local);
             }
             return local;
         },
-        [](Moments& total, const Moments& block) { total.add(block); });
+        [](detail::Moments& total, const detail::Moments& block) { total.add(block); });
+    return detail::integrals_from(m, r);
+}
 
+namespace detail {
+
+MeshIntegrals integrals_from(const Moments& m, const Vec& r) {
+    MeshIntegrals result;
     result.area = m.area;
     result.volume = m.volume;
     Vec offset{};  // centroid - r
@@ -96,4 +64,5 @@ MeshIntegrals mesh_integrals(const Mesh& mesh) {
     return result;
 }
 
+}  // namespace detail
 }  // namespace vdbmesh

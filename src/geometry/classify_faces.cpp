@@ -23,19 +23,20 @@ void check_indices(const Mesh& mesh) {
     }
 }
 
+FaceClass classify_face(const std::array<std::uint32_t, 3>& ids, const Triangle3& corners) {
+    if (ids[0] == ids[1] || ids[1] == ids[2] || ids[2] == ids[0]) return FaceClass::kRepeatedVertex;
+    return collinear(corners[0], corners[1], corners[2]) ? FaceClass::kZeroArea : FaceClass::kRegular;
+}
+
 std::vector<FaceClass> classify_faces(const Mesh& mesh) {
     std::vector<FaceClass> classes(mesh.triangles.size());
     tbb::parallel_for(std::size_t{0}, mesh.triangles.size(), [&](std::size_t i) {
         const auto& t = mesh.triangles[i];
-        if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
-            classes[i] = FaceClass::kRepeatedVertex;
-            return;
-        }
         const auto point = [&](int corner) {
             const auto& v = mesh.vertices[t[corner]];
             return Point3{v[0], v[1], v[2]};
         };
-        classes[i] = collinear(point(0), point(1), point(2)) ? FaceClass::kZeroArea : FaceClass::kRegular;
+        classes[i] = classify_face(t, {point(0), point(1), point(2)});
     });
     return classes;
 }

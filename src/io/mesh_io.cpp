@@ -2,6 +2,7 @@
 // (read_stl.cpp, read_ply.cpp, read_obj.cpp, write_stl.cpp, write_ply.cpp, write_obj.cpp).
 #include "vdbmesh/mesh_io.h"
 
+#include "io/mapped_file.h"
 #include "io/mesh_io_detail.h"
 #include "vdbmesh/checked_output.h"
 #include "vdbmesh/error.h"
@@ -104,6 +105,39 @@ void MeshStreamWriter::commit() {
     s.file.commit();
 }
 
+namespace {
+
+void read_records(MeshFormat format, const std::filesystem::path& path, const detail::ByteView& bytes, MeshRecordVisitor& visitor) {
+    switch (format) {
+        case MeshFormat::kStl: detail::read_stl_records(path, bytes, visitor); break;
+        case MeshFormat::kPly: detail::read_ply_records(path, bytes, visitor); break;
+        case MeshFormat::kObj: detail::read_obj_records(path, bytes, visitor); break;
+    }
+}
+
+// An OBJ reader skips the statements it does not know, so random bytes or a text file read
+// as no mesh at all rather than as an error; an empty mesh is no valid input anywhere.
+FormatError no_triangle_error(const std::filesystem::path& path, MeshFormat format) {
+    const char* records = format == MeshFormat::kObj ? "'f' lines" : format == MeshFormat::kPly ? "faces" : "facets";
+    return FormatError(path.string(), "triangles", std::string("a mesh: at least one triangle (") + records + ")", "none");
+}
+
+/// Passes the records on, noting whether a triangle came.
+class TriangleWitness final : public MeshRecordVisitor {
+public:
+    explicit TriangleWitness(MeshRecordVisitor& next) : next_(next) {}
+    void announced(std::uint64_t vertices, std::uint64_t faces) override { next_.announced(vertices, faces); }
+    void vertex(const std::array<float, 3>& position) override { next_.vertex(position); }
+    void triangle(const std::array<std::uint32_t, 3>& t) override { any = true, next_.triangle(t); }
+    void facet(const detail::Corners& corners) override { any = true, next_.facet(corners); }
+    bool any = false;
+
+private:
+    MeshRecordVisitor& next_;
+};
+
+}  // namespace
+
 Mesh read_mesh(const std::filesystem::path& path) {
     const MeshFormat format = format_of(path);
     const detail::Bytes bytes = detail::read_prefix(path, detail::file_size_or_throw(path));
@@ -113,13 +147,21 @@ Mesh read_mesh(const std::filesystem::path& path) {
         case MeshFormat::kPly: mesh = detail::read_ply(path, bytes); break;
         case MeshFormat::kObj: mesh = detail::read_obj(path, bytes); break;
     }
-    // An OBJ reader skips the statements it does not know, so random bytes or a text file read
-    // as no mesh at all rather than as an error; an empty mesh is no valid input anywhere.
-    if (mesh.triangles.empty()) {
-        const char* records = format == MeshFormat::kObj ? "'f' lines" : format == MeshFormat::kPly ? "faces" : "facets";
-        throw FormatError(path.string(), "triangles", std::string("a mesh: at least one triangle (") + records + ")", "none");
-    }
+    if (mesh.triangles.empty()) throw no_triangle_error(path, format);
     return mesh;
+}
+
+void read_mesh_records(const std::filesystem::path& path, MeshRecordVisitor& visitor) {
+    const MeshFormat format = format_of(path);
+    detail::file_size_or_throw(path);  // the message read_mesh() gives for a missing file
+    detail::MappedFile file(path);
+    if (file.size() >= 2 && file.data()[0] == 0x1f && file.data()[1] == 0x8b) {
+        throw FormatError(path.string(), "encoding", "an uncompressed file (a gzip file cannot be read as a stream; gunzip it first)",
+                          "gzip");
+    }
+    TriangleWitness witness(visitor);
+    read_records(format, path, detail::ByteView(file.data(), file.size(), &file), witness);
+    if (!witness.any) throw no_triangle_error(path, format);
 }
 
 std::vector<std::array<float, 3>> vertex_normals(const Mesh& mesh) { return detail::vertex_normals(mesh); }

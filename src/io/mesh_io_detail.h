@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "vdbmesh/mesh.h"
+#include "vdbmesh/mesh_io.h"
 
 #if !defined(__BYTE_ORDER__) || __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
 #error "the mesh readers and writers assume a little-endian host"
@@ -42,6 +43,41 @@ void write_obj_face(OutputBuffer& out, const std::array<std::uint32_t, 3>& trian
 void write_stl(const Mesh& mesh, std::ostream& out, bool ascii);
 void write_ply(const Mesh& mesh, std::ostream& out, bool ascii, bool normals);
 void write_obj(const Mesh& mesh, std::ostream& out, bool normals);
+
+/// A file's bytes as the readers walk them: a whole buffer (read_mesh()) or a mapped file
+/// whose pages behind the reading are released (read_mesh_records()).
+class ByteView {
+public:
+    ByteView(const Bytes& bytes) : data_(bytes.data()), size_(bytes.size()) {}  // implicit: a whole buffer is one view
+    ByteView(const unsigned char* data, std::size_t size, class MappedFile* mapping) : data_(data), size_(size), mapping_(mapping) {}
+    const unsigned char* data() const { return data_; }
+    std::size_t size() const { return size_; }
+    unsigned char operator[](std::size_t i) const { return data_[i]; }
+    /// The reader will not read before @a offset again (called between records).
+    void done_before(std::size_t offset) const;
+
+private:
+    const unsigned char* data_;
+    std::size_t size_;
+    class MappedFile* mapping_ = nullptr;
+};
+
+// Each format as records (the one parser of each; read_mesh() builds its Mesh from them).
+void read_stl_records(const std::filesystem::path& file, const ByteView& bytes, MeshRecordVisitor& visitor);
+void read_ply_records(const std::filesystem::path& file, const ByteView& bytes, MeshRecordVisitor& visitor);
+void read_obj_records(const std::filesystem::path& file, const ByteView& bytes, MeshRecordVisitor& visitor);
+
+/// read_mesh()'s visitor for PLY and OBJ: the records into a Mesh (read_stl() welds its facets).
+struct MeshBuilder final : MeshRecordVisitor {
+    Mesh mesh;
+    void announced(std::uint64_t vertices, std::uint64_t faces) override {
+        mesh.vertices.reserve(vertices);
+        mesh.triangles.reserve(faces);
+    }
+    void vertex(const std::array<float, 3>& position) override { mesh.vertices.push_back(position); }
+    void triangle(const std::array<std::uint32_t, 3>& triangle) override { mesh.triangles.push_back(triangle); }
+    void facet(const Corners&) override {}
+};
 
 Mesh read_stl(const std::filesystem::path& file, const Bytes& bytes);
 Mesh read_ply(const std::filesystem::path& file, const Bytes& bytes);
@@ -93,7 +129,7 @@ private:
 /// Walks a text buffer token by token, counting lines for error messages.
 class TextCursor {
 public:
-    TextCursor(const Bytes& bytes, std::size_t offset = 0, std::size_t line = 1)
+    TextCursor(const ByteView& bytes, std::size_t offset = 0, std::size_t line = 1)
         : data_(reinterpret_cast<const char*>(bytes.data())), pos_(offset), size_(bytes.size()), line_(line) {}
     /// The next whitespace-separated token on any line; empty at the end of the buffer.
     std::string_view token();

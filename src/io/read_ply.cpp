@@ -91,7 +91,7 @@ Property parse_property(const std::filesystem::path& file, const std::vector<std
     return property;
 }
 
-Header parse_header(const std::filesystem::path& file, const Bytes& bytes) {
+Header parse_header(const std::filesystem::path& file, const ByteView& bytes) {
     TextCursor cursor(bytes);
     std::string_view text;
     if (!cursor.line(text) || trim(text) != "ply") fail(file, "magic", "'ply'", "'" + std::string(text.substr(0, 16)) + "'");
@@ -133,7 +133,7 @@ Header parse_header(const std::filesystem::path& file, const Bytes& bytes) {
 /// Reads values of an element body, binary or ASCII.
 class ValueReader {
 public:
-    ValueReader(const std::filesystem::path& file, const Bytes& bytes, const Header& header)
+    ValueReader(const std::filesystem::path& file, const ByteView& bytes, const Header& header)
         : file_(file), bytes_(bytes), encoding_(header.encoding), pos_(header.body_offset),
           text_(bytes, header.body_offset, header.body_line) {}
 
@@ -183,6 +183,8 @@ public:
     /// Fewest bytes one value can take.
     std::size_t min_bytes(PlyType type) const { return encoding_ == Encoding::kAscii ? 2 : size_of(type); }
     std::size_t remaining() const { return bytes_.size() - std::min(bytes_.size(), pos_); }
+    /// Between records: nothing before the current place is read again.
+    void record_done() { bytes_.done_before(encoding_ == Encoding::kAscii ? text_.offset() : pos_); }
 
 private:
     double binary(PlyType type, const char* field) {
@@ -218,7 +220,7 @@ private:
     }
 
     const std::filesystem::path& file_;
-    const Bytes& bytes_;
+    const ByteView& bytes_;
     Encoding encoding_;
     std::size_t pos_;
     TextCursor text_;
@@ -226,11 +228,15 @@ private:
 
 /// Checks that @a element's count fits in the bytes left (each value takes at least its
 /// minimum size) before anything is allocated for it.
-void check_count(const std::filesystem::path& file, const Element& element, const ValueReader& reader) {
+std::uint64_t most_elements(const Element& element, const ValueReader& reader) {
     std::size_t per_element = 0;
     for (const Property& p : element.properties) per_element += reader.min_bytes(p.is_list ? p.count_type : p.type);
     // + 1: the last ASCII value needs no separator after it.
-    const std::size_t most = per_element > 0 ? (reader.remaining() + 1) / per_element : element.count;
+    return per_element > 0 ? (reader.remaining() + 1) / per_element : element.count;
+}
+
+void check_count(const std::filesystem::path& file, const Element& element, const ValueReader& reader) {
+    const std::uint64_t most = most_elements(element, reader);
     if (element.count > most) {
         fail(file, "element " + element.name + " count", "at most " + std::to_string(most) + " (bytes left in the file)",
              std::to_string(element.count));
@@ -240,7 +246,7 @@ void check_count(const std::filesystem::path& file, const Element& element, cons
     }
 }
 
-void read_vertices(const std::filesystem::path& file, const Element& element, ValueReader& reader, Mesh& mesh) {
+void read_vertices(const std::filesystem::path& file, const Element& element, ValueReader& reader, MeshRecordVisitor& visitor) {
     int axis_of[3] = {-1, -1, -1};
     for (std::size_t p = 0; p < element.properties.size(); ++p) {
         const Property& property = element.properties[p];
@@ -251,8 +257,8 @@ void read_vertices(const std::filesystem::path& file, const Element& element, Va
     for (int k = 0; k < 3; ++k) {
         if (axis_of[k] < 0) fail(file, "element vertex", std::string("a scalar property ") + char('x' + k), "none");
     }
-    mesh.vertices.resize(element.count);
-    for (auto& vertex : mesh.vertices) {
+    for (std::uint64_t v = 0; v < element.count; ++v) {
+        std::array<float, 3> vertex{};
         for (std::size_t p = 0; p < element.properties.size(); ++p) {
             const Property& property = element.properties[p];
             const int axis = int(std::find(axis_of, axis_of + 3, int(p)) - axis_of);
@@ -263,16 +269,18 @@ void read_vertices(const std::filesystem::path& file, const Element& element, Va
             vertex[axis] = float(reader.real(property.type, "vertex coordinate"));
             if (!std::isfinite(vertex[axis])) fail(file, "vertex coordinate", "a finite float", "an overflow");
         }
+        visitor.vertex(vertex);
+        reader.record_done();
     }
 }
 
-void read_faces(const std::filesystem::path& file, const Element& element, ValueReader& reader, Mesh& mesh) {
+void read_faces(const std::filesystem::path& file, const Element& element, std::uint64_t vertices, ValueReader& reader,
+                MeshRecordVisitor& visitor) {
     const auto list = std::find_if(element.properties.begin(), element.properties.end(), [](const Property& p) {
         return p.is_list && (p.name == "vertex_indices" || p.name == "vertex_index");
     });
     if (list == element.properties.end()) fail(file, "element face", "a list property vertex_indices", "none");
     if (!is_integer(list->type)) fail(file, "face vertex_indices", "an integer index type", "a floating-point type");
-    mesh.triangles.reserve(element.count);
     std::vector<std::uint32_t> polygon;
     for (std::uint64_t f = 0; f < element.count; ++f) {
         for (const Property& property : element.properties) {
@@ -285,42 +293,60 @@ void read_faces(const std::filesystem::path& file, const Element& element, Value
             polygon.clear();
             for (std::int64_t k = 0; k < count; ++k) {
                 const std::int64_t index = reader.integer(property.type, "face vertex index");
-                if (index < 0 || std::uint64_t(index) >= mesh.vertices.size()) {
-                    fail(file, "face " + std::to_string(f) + " vertex index",
-                         "0 .. " + std::to_string(std::int64_t(mesh.vertices.size()) - 1), std::to_string(index));
+                if (index < 0 || std::uint64_t(index) >= vertices) {
+                    fail(file, "face " + std::to_string(f) + " vertex index", "0 .. " + std::to_string(std::int64_t(vertices) - 1),
+                         std::to_string(index));
                 }
                 polygon.push_back(std::uint32_t(index));
             }
-            for (std::size_t k = 1; k + 1 < polygon.size(); ++k) mesh.triangles.push_back({polygon[0], polygon[k], polygon[k + 1]});
+            for (std::size_t k = 1; k + 1 < polygon.size(); ++k) visitor.triangle({polygon[0], polygon[k], polygon[k + 1]});
         }
+        reader.record_done();
     }
+}
+
+/// The face count the header announces, at most what the bytes left can hold (a hint for
+/// the visitor's memory: the count itself is checked when the faces come).
+std::uint64_t announced_faces(const Header& header, const ValueReader& reader) {
+    for (const Element& element : header.elements) {
+        if (element.name == "face") return std::min(element.count, most_elements(element, reader));
+    }
+    return 0;
 }
 
 }  // namespace
 
-Mesh read_ply(const std::filesystem::path& file, const Bytes& bytes) {
+void read_ply_records(const std::filesystem::path& file, const ByteView& bytes, MeshRecordVisitor& visitor) {
     const Header header = parse_header(file, bytes);
     ValueReader reader(file, bytes, header);
-    Mesh mesh;
+    std::uint64_t vertices = 0;
     bool has_vertices = false;
     for (const Element& element : header.elements) {
         check_count(file, element, reader);
         if (element.name == "vertex") {
             if (has_vertices) fail(file, "element vertex", "one vertex element", "two");
-            read_vertices(file, element, reader, mesh);
+            visitor.announced(element.count, announced_faces(header, reader));
+            read_vertices(file, element, reader, visitor);
+            vertices = element.count;
             has_vertices = true;
         } else if (element.name == "face") {
             if (!has_vertices) fail(file, "element face", "after element vertex", "before it");
-            read_faces(file, element, reader, mesh);
+            read_faces(file, element, vertices, reader, visitor);
         } else if (!element.properties.empty()) {  // an element without properties takes no bytes, whatever its count
             for (std::uint64_t i = 0; i < element.count; ++i) {
                 for (const Property& property : element.properties) reader.skip(property);
+                reader.record_done();
             }
         }
     }
     if (!has_vertices) fail(file, "element vertex", "a vertex element", "none");
     reader.expect_end();
-    return mesh;
+}
+
+Mesh read_ply(const std::filesystem::path& file, const Bytes& bytes) {
+    MeshBuilder builder;
+    read_ply_records(file, bytes, builder);
+    return std::move(builder.mesh);
 }
 
 }  // namespace vdbmesh::detail

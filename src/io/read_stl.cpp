@@ -55,21 +55,31 @@ Mesh weld(const std::vector<Corner>& corners) {
     return mesh;
 }
 
-Mesh read_binary(const std::filesystem::path& file, const Bytes& bytes, std::uint32_t count) {
-    std::vector<Corner> corners(3 * std::size_t(count));
-    tbb::parallel_for(std::size_t{0}, std::size_t(count), [&](std::size_t f) {
-        const unsigned char* facet = bytes.data() + kHeaderBytes + f * kFacetBytes + 12;  // skip the normal
-        for (int c = 0; c < 3; ++c) std::memcpy(corners[3 * f + c].data(), facet + 12 * c, 12);
-    });
-    for (std::size_t i = 0; i < corners.size(); ++i) {
-        for (const float value : corners[i]) {
-            if (!std::isfinite(value)) {
-                throw FormatError(file.string(), "facet " + std::to_string(i / 3) + " vertex", "finite coordinates",
-                                  std::to_string(value));
+/// read_stl()'s visitor: the facets' corners, welded at the end.
+struct CornerCollector final : MeshRecordVisitor {
+    std::vector<Corner> corners;
+    void announced(std::uint64_t, std::uint64_t facets) override { corners.reserve(3 * facets); }
+    void vertex(const Corner&) override {}
+    void triangle(const std::array<std::uint32_t, 3>&) override {}
+    void facet(const Corners& facet) override { corners.insert(corners.end(), facet.begin(), facet.end()); }
+};
+
+void read_binary(const std::filesystem::path& file, const ByteView& bytes, std::uint32_t count, MeshRecordVisitor& visitor) {
+    visitor.announced(0, count);
+    for (std::size_t f = 0; f < count; ++f) {
+        const unsigned char* record = bytes.data() + kHeaderBytes + f * kFacetBytes + 12;  // skip the normal
+        Corners corners;
+        for (int c = 0; c < 3; ++c) std::memcpy(corners[c].data(), record + 12 * c, 12);
+        for (const Corner& corner : corners) {
+            for (const float value : corner) {
+                if (!std::isfinite(value)) {
+                    throw FormatError(file.string(), "facet " + std::to_string(f) + " vertex", "finite coordinates", std::to_string(value));
+                }
             }
         }
+        visitor.facet(corners);
+        bytes.done_before(kHeaderBytes + (f + 1) * kFacetBytes);
     }
-    return weld(corners);
 }
 
 void expect_keyword(const std::filesystem::path& file, TextCursor& cursor, std::string_view keyword) {
@@ -90,9 +100,9 @@ float read_number(const std::filesystem::path& file, TextCursor& cursor, const c
     return value;
 }
 
-Mesh read_ascii(const std::filesystem::path& file, const Bytes& bytes) {
+void read_ascii(const std::filesystem::path& file, const ByteView& bytes, MeshRecordVisitor& visitor) {
     TextCursor cursor(bytes);
-    std::vector<Corner> corners;
+    std::uint64_t facets = 0;
     std::string_view word = cursor.token();
     while (word == "solid") {
         std::string_view name;
@@ -102,14 +112,16 @@ Mesh read_ascii(const std::filesystem::path& file, const Bytes& bytes) {
             for (int k = 0; k < 3; ++k) read_number(file, cursor, "facet normal");
             expect_keyword(file, cursor, "outer");
             expect_keyword(file, cursor, "loop");
-            for (int c = 0; c < 3; ++c) {
+            Corners corners;
+            for (Corner& corner : corners) {
                 expect_keyword(file, cursor, "vertex");
-                Corner corner;
                 for (float& value : corner) value = read_number(file, cursor, "vertex");
-                corners.push_back(corner);
             }
             expect_keyword(file, cursor, "endloop");
             expect_keyword(file, cursor, "endfacet");
+            visitor.facet(corners);
+            ++facets;
+            bytes.done_before(cursor.offset());
         }
         if (word != "endsolid") {
             throw FormatError(file.string(), "line " + std::to_string(cursor.line_number()), "'facet' or 'endsolid'",
@@ -122,14 +134,13 @@ Mesh read_ascii(const std::filesystem::path& file, const Bytes& bytes) {
         throw FormatError(file.string(), "line " + std::to_string(cursor.line_number()), "'solid' or end of file",
                           "'" + std::string(word) + "'");
     }
-    if (corners.size() / 3 > std::numeric_limits<std::uint32_t>::max()) {
-        throw FormatError(file.string(), "facet count", "at most 2^32 - 1", std::to_string(corners.size() / 3));
+    if (facets > std::numeric_limits<std::uint32_t>::max()) {
+        throw FormatError(file.string(), "facet count", "at most 2^32 - 1", std::to_string(facets));
     }
-    return weld(corners);
 }
 
 /// "solid" after optional whitespace, and no control bytes in the first kilobyte.
-bool looks_like_ascii(const Bytes& bytes) {
+bool looks_like_ascii(const ByteView& bytes) {
     std::size_t i = 0;
     while (i < bytes.size() && (bytes[i] == ' ' || bytes[i] == '\t' || bytes[i] == '\r' || bytes[i] == '\n')) ++i;
     if (bytes.size() - i < 5 || std::memcmp(bytes.data() + i, "solid", 5) != 0) return false;
@@ -142,11 +153,11 @@ bool looks_like_ascii(const Bytes& bytes) {
 
 }  // namespace
 
-Mesh read_stl(const std::filesystem::path& file, const Bytes& bytes) {
+void read_stl_records(const std::filesystem::path& file, const ByteView& bytes, MeshRecordVisitor& visitor) {
     if (bytes.size() >= kHeaderBytes) {
         std::uint32_t count = 0;
         std::memcpy(&count, bytes.data() + 80, 4);
-        if (bytes.size() == kHeaderBytes + kFacetBytes * std::uint64_t(count)) return read_binary(file, bytes, count);
+        if (bytes.size() == kHeaderBytes + kFacetBytes * std::uint64_t(count)) return read_binary(file, bytes, count, visitor);
         if (!looks_like_ascii(bytes)) {
             throw FormatError(file.string(), "file size", "84 + 50 x " + std::to_string(count) + " facets = " +
                                   std::to_string(kHeaderBytes + kFacetBytes * std::uint64_t(count)) + " bytes",
@@ -156,7 +167,13 @@ Mesh read_stl(const std::filesystem::path& file, const Bytes& bytes) {
         throw FormatError(file.string(), "file size", "at least 84 bytes (binary STL) or 'solid' (ASCII STL)",
                           std::to_string(bytes.size()) + " bytes");
     }
-    return read_ascii(file, bytes);
+    read_ascii(file, bytes, visitor);
+}
+
+Mesh read_stl(const std::filesystem::path& file, const Bytes& bytes) {
+    CornerCollector collector;
+    read_stl_records(file, bytes, collector);
+    return weld(collector.corners);
 }
 
 }  // namespace vdbmesh::detail

@@ -38,7 +38,7 @@ void write_obj(const Mesh& mesh, std::ostream& stream, bool normals) {
     write_obj_header(out);
     for (const auto& v : mesh.vertices) write_obj_vertex(out, v);
     if (normals) {
-        for (const auto& n : vertex_normals(mesh)) write_obj_normal(out, n);
+        for (const auto& n : detail::vertex_normals(mesh)) write_obj_normal(out, n);
     }
     for (const auto& t : mesh.triangles) write_obj_face(out, t, normals);
 }

@@ -53,7 +53,7 @@ void write_ply_face(OutputBuffer& out, const std::array<std::uint32_t, 3>& trian
 void write_ply(const Mesh& mesh, std::ostream& stream, bool ascii, bool normals) {
     OutputBuffer out(stream);
     write_ply_header(out, mesh.vertices.size(), mesh.triangles.size(), ascii, normals);
-    const std::vector<std::array<float, 3>> vertex_normal = normals ? vertex_normals(mesh) : std::vector<std::array<float, 3>>{};
+    const std::vector<std::array<float, 3>> vertex_normal = normals ? detail::vertex_normals(mesh) : std::vector<std::array<float, 3>>{};
     for (std::size_t v = 0; v < mesh.vertices.size(); ++v) write_ply_vertex(out, mesh.vertices[v], normals ? &vertex_normal[v] : nullptr, ascii);
     for (const auto& t : mesh.triangles) write_ply_face(out, t, ascii);
 }

@@ -69,5 +69,54 @@ TEST(CheckTest, JsonHasEveryKey) {
     EXPECT_LT(j["hausdorff"].get<double>(), 1e-12);  // double rounding of the closest points
 }
 
+/// Runs `vdbmesh check` with @a args; returns its exit status and stdout.
+std::pair<int, std::string> run_check(std::vector<std::string> args) {
+    args.insert(args.begin(), "check");
+    testing::internal::CaptureStdout();
+    const int status = run(args);
+    return {status, testing::internal::GetCapturedStdout()};
+}
+
+TEST(CheckTest, BoundedCheckReportsTheSameJsonButTheTwoFiguresItCannotCount) {
+    const test::ScratchDir dir;
+    Mesh mesh = unit_cube();
+    mesh.triangles.pop_back();  // a hole
+    std::swap(mesh.triangles[0][1], mesh.triangles[0][2]);  // a flipped face
+    for (const char* name : {"open.ply", "open.stl", "open.obj"}) {
+        write_mesh(mesh, dir / name);
+        const auto [whole_status, whole_text] = run_check({(dir / name).string(), "--json"});
+        const auto [bounded_status, bounded_text] = run_check({(dir / name).string(), "--json", "--memory", "128M"});
+        EXPECT_EQ(whole_status, kCheckFailed) << name;
+        EXPECT_EQ(bounded_status, kCheckFailed) << name;
+        nlohmann::json whole = nlohmann::json::parse(whole_text), bounded = nlohmann::json::parse(bounded_text);
+        for (const char* key : {"self_intersecting_pairs", "negative_components"}) {
+            EXPECT_TRUE(bounded.at(key).is_null()) << name << " " << key;
+            whole.erase(key), bounded.erase(key);
+        }
+        EXPECT_EQ(bounded, whole) << name;
+        EXPECT_GT(bounded["misoriented_edges"].get<int>(), 0) << name;
+    }
+}
+
+TEST(CheckTest, BoundedCheckOfACleanMeshExitsZeroAndSaysWhatItDidNotCheck) {
+    const test::ScratchDir dir;
+    write_mesh(unit_cube(), dir / "cube.ply");
+    const auto [status, text] = run_check({(dir / "cube.ply").string(), "--memory", "128M"});
+    EXPECT_EQ(status, kSuccess);
+    EXPECT_NE(text.find("not checked in bounded mode"), std::string::npos) << text;
+    EXPECT_NE(text.find("closed                  true"), std::string::npos) << text;
+}
+
+TEST(CheckTest, BoundedCheckRefusesALimitTooSmallNamingTheSmallestThatWorks) {
+    const test::ScratchDir dir;
+    write_mesh(unit_cube(), dir / "cube.ply");
+    testing::internal::CaptureStderr();
+    EXPECT_EQ(run({"check", (dir / "cube.ply").string(), "--memory", "1M"}), kUsageError);
+    const std::string error = testing::internal::GetCapturedStderr();
+    EXPECT_NE(error.find("the smallest limit that works is"), std::string::npos) << error;
+    EXPECT_EQ(run({"check", (dir / "cube.ply").string(), "--memory", "64Q"}), kUsageError);
+    EXPECT_EQ(run({"check", (dir / "cube.ply").string(), "--memory", "128M", "--ref", (dir / "cube.ply").string()}), kUsageError);
+}
+
 }  // namespace
 }  // namespace vdbmesh::cli
