@@ -2,6 +2,8 @@
 
 #include "labels/label_components.h"
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <numeric>
 
@@ -34,7 +36,7 @@ LabelComponents::LabelComponents(const Mesh& mesh, const std::vector<std::array<
         for (int side = 0; side < 2; ++side)
             if (sides[t][side] != 0)
                 for (std::uint32_t v : mesh.triangles[t]) uses.push_back({std::uint64_t(v) << 16 | sides[t][side], 2 * t + side});
-    std::sort(uses.begin(), uses.end());
+    tbb::parallel_sort(uses.begin(), uses.end());  // the pairs are distinct: the same order for any thread count
     for (std::size_t i = 1; i < uses.size(); ++i)
         if (uses[i].first == uses[i - 1].first) parent[find(parent, uses[i].second)] = find(parent, uses[i - 1].second);
     std::vector<std::int32_t> number(parent.size(), -1);

@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <string>
 
 #include "vdbmesh/error.h"
@@ -113,7 +112,7 @@ void place_in_world(const SheetVertices& vertices, const std::vector<Point>& smo
     });
 }
 
-/// A grid cell for crossing_triangles(): about half a triangle's reach (its corners lie within
+/// A grid cell for the CrossingCheck: about half a triangle's reach (its corners lie within
 /// max_offset of corners one voxel apart), so a cell holds few triangles and a triangle
 /// reaches a few cells. The check is exact whatever the size; this only sets the work.
 double check_cell(const Affine& m, double max_offset) {
@@ -122,12 +121,13 @@ double check_cell(const Affine& m, double max_offset) {
     return (0.5 + max_offset) * longest;
 }
 
-/// The vertices (ascending) of the triangles of @a subset that cross another or degenerate, and
-/// of label pieces turned inside out (which no crossing would show).
-std::vector<std::uint32_t> offending_vertices(const Mesh& mesh, const std::vector<std::uint32_t>& subset, double cell,
+/// The vertices (ascending) of the triangles that cross another or degenerate (among the pairs
+/// @a check tests: with a triangle of @a moved after its first check), and of label pieces
+/// turned inside out (which no crossing would show).
+std::vector<std::uint32_t> offending_vertices(const Mesh& mesh, CrossingCheck& check, const std::vector<std::uint32_t>& moved,
                                               const LabelComponents& pieces, const std::vector<double>& base_volumes) {
     std::vector<std::uint8_t> bad = pieces.inverted(mesh, base_volumes);
-    const std::vector<std::uint8_t> crossing = crossing_triangles(mesh, subset, cell);
+    const std::vector<std::uint8_t> crossing = check.crossing_triangles(mesh, moved);
     for (std::size_t t = 0; t < crossing.size(); ++t)
         if (crossing[t])
             for (std::uint32_t v : mesh.triangles[t]) bad[v] = 1;
@@ -156,11 +156,11 @@ int hold_back(const SheetVertices& vertices, const std::vector<Point>& smoothed,
               const Affine& index_to_world, double cell, const LabelComponents& pieces, const std::vector<double>& base_volumes,
               LabelSurface& out) {
     // The first round checks every triangle; later ones those round the vertices just moved back.
-    std::vector<std::uint32_t> subset(out.mesh.triangles.size());
-    std::iota(subset.begin(), subset.end(), 0u);
+    CrossingCheck check(cell);
+    std::vector<std::uint32_t> subset;
     for (int round = 0;; ++round) {
         place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
-        const std::vector<std::uint32_t> bad = offending_vertices(out.mesh, subset, cell, pieces, base_volumes);
+        const std::vector<std::uint32_t> bad = offending_vertices(out.mesh, check, subset, pieces, base_volumes);
         if (bad.empty()) return round;
         bool moved = false;
         for (std::uint32_t v : bad) {
