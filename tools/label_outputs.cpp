@@ -31,9 +31,10 @@ std::vector<std::string> write_label_folder(const LabelSurface& surface, const L
     std::filesystem::create_directories(folder, error);
     if (error) throw Error(output + ": cannot make the folder (" + error.message() + ")");
     std::vector<std::string> written;
-    for (std::uint32_t label : surface.labels) {
-        const std::filesystem::path path = folder / label_file_name(label, table, format);
-        write_mesh(label_mesh(surface, label), path, MeshWriteOptions{ascii, false});
+    const std::vector<Mesh> meshes = label_meshes(surface);
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        const std::filesystem::path path = folder / label_file_name(surface.labels[i], table, format);
+        write_mesh(meshes[i], path, MeshWriteOptions{ascii, false});
         written.push_back(path.string());
     }
     return written;
@@ -80,8 +81,10 @@ void write_label_gltf(const LabelSurface& surface, const LabelTable& table, cons
     GltfDocument document;
     using Json = GltfDocument::Json;
     Json nodes = Json::array();
-    for (std::uint32_t label : surface.labels) {
-        const Mesh mesh = label_mesh(surface, label);
+    const std::vector<Mesh> meshes = label_meshes(surface);
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        const std::uint32_t label = surface.labels[i];
+        const Mesh& mesh = meshes[i];
         const auto row = table.find(label);
         const std::string name = row != table.end() ? row->second.name : "label " + std::to_string(label);
         std::array<double, 3> colour = palette_colour(label);

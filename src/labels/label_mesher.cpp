@@ -3,6 +3,7 @@
 // labels, split into two triangles; vertices smoothed within their box round the corner
 // (smooth_sheets.h), held back where a triangle would cross another.
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <chrono>
@@ -175,19 +176,51 @@ LabelSurface mesh_labels(const LabelVolume& volume, const LabelMeshOptions& opti
     return surface;
 }
 
-Mesh label_mesh(const LabelSurface& surface, std::uint32_t label) {
+namespace {
+
+/// The mesh of @a label from its triangles of @a surface (ascending); @a remap: per vertex of
+/// the surface kNone, and so again on return.
+Mesh mesh_of_label(const LabelSurface& surface, std::uint32_t label, const std::vector<std::uint32_t>& triangles,
+                   std::vector<std::uint32_t>& remap) {
     Mesh mesh;
-    std::vector<std::uint32_t> remap(surface.mesh.vertices.size(), kNone);
     const auto use = [&](std::uint32_t v) {
         if (remap[v] == kNone) remap[v] = std::uint32_t(mesh.vertices.size()), mesh.vertices.push_back(surface.mesh.vertices[v]);
         return remap[v];
     };
-    for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t) {
+    mesh.triangles.reserve(triangles.size());
+    for (std::uint32_t t : triangles) {
         const auto& tri = surface.mesh.triangles[t];
         if (surface.sides[t][0] == label) mesh.triangles.push_back({use(tri[0]), use(tri[1]), use(tri[2])});
-        else if (surface.sides[t][1] == label) mesh.triangles.push_back({use(tri[0]), use(tri[2]), use(tri[1])});
+        else mesh.triangles.push_back({use(tri[0]), use(tri[2]), use(tri[1])});
     }
+    for (std::uint32_t t : triangles)
+        for (std::uint32_t v : surface.mesh.triangles[t]) remap[v] = kNone;
     return mesh;
+}
+
+}  // namespace
+
+Mesh label_mesh(const LabelSurface& surface, std::uint32_t label) {
+    std::vector<std::uint32_t> triangles;
+    for (std::uint32_t t = 0; t < surface.mesh.triangles.size(); ++t)
+        if (surface.sides[t][0] == label || surface.sides[t][1] == label) triangles.push_back(t);
+    std::vector<std::uint32_t> remap(surface.mesh.vertices.size(), kNone);
+    return mesh_of_label(surface, label, triangles, remap);
+}
+
+std::vector<Mesh> label_meshes(const LabelSurface& surface) {
+    std::vector<std::int32_t> slot(std::size_t(kMaxLabel) + 1, -1);
+    for (std::size_t i = 0; i < surface.labels.size(); ++i) slot[surface.labels[i]] = std::int32_t(i);
+    std::vector<std::vector<std::uint32_t>> triangles(surface.labels.size());
+    for (std::uint32_t t = 0; t < surface.mesh.triangles.size(); ++t)
+        for (std::uint16_t label : surface.sides[t])
+            if (slot[label] >= 0) triangles[std::size_t(slot[label])].push_back(t);
+    std::vector<Mesh> meshes(surface.labels.size());
+    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> remaps(std::vector<std::uint32_t>(surface.mesh.vertices.size(), kNone));
+    tbb::parallel_for(std::size_t(0), meshes.size(), [&](std::size_t i) {
+        meshes[i] = mesh_of_label(surface, surface.labels[i], triangles[i], remaps.local());
+    });
+    return meshes;
 }
 
 }  // namespace vdbmesh

@@ -23,9 +23,9 @@ Point quad_area(const std::vector<Point>& p, const SheetQuad& q) {
     return {0.5 * c[0], 0.5 * c[1], 0.5 * c[2]};
 }
 
-/// Volume enclosed, per label value, by its walls split as split_quads() splits them.
-std::map<std::uint16_t, double> label_volumes(const std::vector<Point>& p, const std::vector<SheetQuad>& quads) {
-    std::map<std::uint16_t, double> volume;
+/// Volume enclosed, per label value (below @a values), by its walls split as split_quads() splits them.
+std::vector<double> label_volumes(const std::vector<Point>& p, const std::vector<SheetQuad>& quads, std::size_t values) {
+    std::vector<double> volume(values, 0.0);
     for (const SheetQuad& q : quads) {
         const auto& v = q.vertex;
         const bool diagonal02 = dot(sub(p[v[0]], p[v[2]]), sub(p[v[0]], p[v[2]])) <= dot(sub(p[v[1]], p[v[3]]), sub(p[v[1]], p[v[3]]));
@@ -57,22 +57,34 @@ VertexQuads vertex_quads(std::size_t vertex_count, const std::vector<SheetQuad>&
     return r;
 }
 
+/// The gradients of the volumes of the labels round one vertex (at most the 8 round its corner).
+class Gradients {
+public:
+    void add(int label, const Point& a, double sign) {
+        if (label < 0) return;
+        int i = 0;
+        while (i < count_ && entries_[std::size_t(i)].first != label) ++i;
+        if (i == count_) entries_[std::size_t(count_++)] = {label, {0, 0, 0}};
+        for (int k = 0; k < 3; ++k) entries_[std::size_t(i)].second[k] += sign * 0.25 * a[k];
+    }
+    const std::pair<int, Point>* begin() const { return entries_.data(); }
+    const std::pair<int, Point>* end() const { return entries_.data() + count_; }
+
+private:
+    std::array<std::pair<int, Point>, 8> entries_;
+    int count_ = 0;
+};
+
 /// The gradients at vertex @a v of the volumes of the labels round it: a quarter of each
 /// quad's vector area, with the sign of the side the label is on.
-std::vector<std::pair<int, Point>> gradients(std::uint32_t v, const VertexQuads& round, const std::vector<SheetQuad>& quads,
-                                             const std::vector<Point>& p, const std::vector<int>& index) {
-    std::vector<std::pair<int, Point>> g;
-    const auto add = [&](int label, const Point& a, double sign) {
-        if (label < 0) return;
-        auto it = std::find_if(g.begin(), g.end(), [&](const auto& e) { return e.first == label; });
-        if (it == g.end()) g.push_back({label, {0, 0, 0}}), it = g.end() - 1;
-        for (int k = 0; k < 3; ++k) it->second[k] += sign * 0.25 * a[k];
-    };
+Gradients gradients(std::uint32_t v, const VertexQuads& round, const std::vector<SheetQuad>& quads, const std::vector<Point>& p,
+                    const std::vector<int>& index) {
+    Gradients g;
     for (std::uint32_t i = round.start[v]; i < round.start[v + 1]; ++i) {
         const SheetQuad& q = quads[round.list[i]];
         const Point a = quad_area(p, q);
-        add(index[q.sides[0]], a, 1);
-        add(index[q.sides[1]], a, -1);
+        g.add(index[q.sides[0]], a, 1);
+        g.add(index[q.sides[1]], a, -1);
     }
     return g;
 }
@@ -113,12 +125,9 @@ void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, c
     if (labels.empty()) return;
     const VertexQuads round = vertex_quads(place.size(), quads);
     for (int step = 0; step < kNewtonSteps; ++step) {
-        const std::map<std::uint16_t, double> volume = label_volumes(place, quads);
+        const std::vector<double> volume = label_volumes(place, quads, voxels.size());
         std::vector<double> deficit(labels.size());
-        for (std::size_t i = 0; i < labels.size(); ++i) {
-            const auto it = volume.find(labels[i]);
-            deficit[i] = double(voxels[labels[i]]) - (it != volume.end() ? it->second : 0.0);
-        }
+        for (std::size_t i = 0; i < labels.size(); ++i) deficit[i] = double(voxels[labels[i]]) - volume[labels[i]];
         // The Gram matrix of the labels' volume gradients (vertex by vertex, in order: deterministic).
         std::vector<std::map<int, double>> G(labels.size());
         for (std::uint32_t v = 0; v < place.size(); ++v) {
