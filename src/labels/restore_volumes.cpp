@@ -6,7 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <numeric>
 
 namespace vdbmesh::labels_detail {
 namespace {
@@ -89,8 +89,36 @@ Gradients gradients(std::uint32_t v, const VertexQuads& round, const std::vector
     return g;
 }
 
+/// One row of the Gram matrix: (column, value), by column.
+using GramRow = std::vector<std::pair<int, double>>;
+
+/// Per vertex (not frozen) the gradients of the volumes of the labels round it (compressed
+/// rows; the labels round a vertex do not change, their gradients do).
+struct VertexGradients {
+    std::vector<std::uint32_t> start;
+    std::vector<std::pair<int, Point>> list;
+};
+
+/// The Gram matrix of the labels' volume gradients, summed vertex by vertex in order
+/// (deterministic), each row by column.
+std::vector<GramRow> gram_matrix(const VertexGradients& g, std::size_t labels) {
+    std::vector<GramRow> G(labels);
+    for (std::size_t v = 0; v + 1 < g.start.size(); ++v)
+        for (std::uint32_t i = g.start[v]; i < g.start[v + 1]; ++i) {
+            GramRow& row = G[std::size_t(g.list[i].first)];
+            for (std::uint32_t j = g.start[v]; j < g.start[v + 1]; ++j) {
+                const int column = g.list[j].first;
+                auto it = std::find_if(row.begin(), row.end(), [&](const auto& e) { return e.first == column; });
+                if (it == row.end()) row.push_back({column, 0.0}), it = row.end() - 1;
+                it->second += dot(g.list[i].second, g.list[j].second);
+            }
+        }
+    for (GramRow& row : G) std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    return G;
+}
+
 /// Solves G x = b for the symmetric positive (semi)definite sparse G by conjugate gradients.
-std::vector<double> solve(const std::vector<std::map<int, double>>& G, const std::vector<double>& b) {
+std::vector<double> solve(const std::vector<GramRow>& G, const std::vector<double>& b) {
     const std::size_t n = b.size();
     std::vector<double> x(n, 0), r = b, d = b, Gd(n);
     double rr = 0;
@@ -124,19 +152,26 @@ void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, c
         if (voxels[value]) index[value] = int(labels.size()), labels.push_back(std::uint16_t(value));
     if (labels.empty()) return;
     const VertexQuads round = vertex_quads(place.size(), quads);
+    VertexGradients g;
+    g.start.assign(place.size() + 1, 0);
+    tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
+        if (!is_frozen(v)) {
+            const Gradients here = gradients(std::uint32_t(v), round, quads, place, index);
+            g.start[v + 1] = std::uint32_t(here.end() - here.begin());
+        }
+    });
+    std::partial_sum(g.start.begin(), g.start.end(), g.start.begin());
+    g.list.resize(g.start.back());
     for (int step = 0; step < kNewtonSteps; ++step) {
         const std::vector<double> volume = label_volumes(place, quads, voxels.size());
         std::vector<double> deficit(labels.size());
         for (std::size_t i = 0; i < labels.size(); ++i) deficit[i] = double(voxels[labels[i]]) - volume[labels[i]];
-        // The Gram matrix of the labels' volume gradients (vertex by vertex, in order: deterministic).
-        std::vector<std::map<int, double>> G(labels.size());
-        for (std::uint32_t v = 0; v < place.size(); ++v) {
-            if (is_frozen(v)) continue;
-            const auto g = gradients(v, round, quads, place, index);
-            for (const auto& [a, ga] : g)
-                for (const auto& [b, gb] : g) G[std::size_t(a)][b] += dot(ga, gb);
-        }
-        const std::vector<double> lambda = solve(G, deficit);
+        tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
+            if (g.start[v + 1] == g.start[v]) return;
+            const Gradients here = gradients(std::uint32_t(v), round, quads, place, index);
+            std::copy(here.begin(), here.end(), g.list.begin() + g.start[v]);
+        });
+        const std::vector<double> lambda = solve(gram_matrix(g, labels.size()), deficit);
         std::vector<Point> next(place.size());
         tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
             Point move{0, 0, 0};
@@ -144,8 +179,8 @@ void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, c
                 next[v] = place[v];
                 return;
             }
-            for (const auto& [label, g] : gradients(std::uint32_t(v), round, quads, place, index))
-                for (int k = 0; k < 3; ++k) move[k] += lambda[std::size_t(label)] * g[k];
+            for (std::uint32_t i = g.start[v]; i < g.start[v + 1]; ++i)
+                for (int k = 0; k < 3; ++k) move[k] += lambda[std::size_t(g.list[i].first)] * g.list[i].second[k];
             for (int k = 0; k < 3; ++k)
                 next[v][k] = std::clamp(place[v][k] + move[k], vertices.corner[v][k] - max_offset, vertices.corner[v][k] + max_offset);
         });
