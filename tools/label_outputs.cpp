@@ -2,6 +2,8 @@
 
 #include "label_outputs.h"
 
+#include <tbb/parallel_for.h>
+
 #include <cstring>
 #include <filesystem>
 
@@ -30,13 +32,11 @@ std::vector<std::string> write_label_folder(const LabelSurface& surface, const L
     std::error_code error;
     std::filesystem::create_directories(folder, error);
     if (error) throw Error(output + ": cannot make the folder (" + error.message() + ")");
-    std::vector<std::string> written;
     const std::vector<Mesh> meshes = label_meshes(surface);
-    for (std::size_t i = 0; i < meshes.size(); ++i) {
-        const std::filesystem::path path = folder / label_file_name(surface.labels[i], table, format);
-        write_mesh(meshes[i], path, MeshWriteOptions{ascii, false});
-        written.push_back(path.string());
-    }
+    std::vector<std::string> written(meshes.size());
+    for (std::size_t i = 0; i < meshes.size(); ++i) written[i] = (folder / label_file_name(surface.labels[i], table, format)).string();
+    // Each file is written and synced to disk on its own (atomic_file.h): in parallel, the waits overlap.
+    tbb::parallel_for(std::size_t(0), meshes.size(), [&](std::size_t i) { write_mesh(meshes[i], written[i], MeshWriteOptions{ascii, false}); });
     return written;
 }
 

@@ -27,6 +27,12 @@ struct LabelGrid {
     }
     CornerLabels corner_labels(std::int64_t a, std::int64_t b, std::int64_t c) const {
         CornerLabels l;
+        if (a > 0 && b > 0 && c > 0 && a < dims[0] && b < dims[1] && c < dims[2]) {  // inside: no bounds to check
+            const std::size_t row = std::size_t(dims[0]), slice = row * std::size_t(dims[1]);
+            const std::uint16_t* p = labels.data() + std::size_t(((c - 1) * dims[1] + b - 1) * dims[0] + a - 1);
+            l = {p[0], p[1], p[row], p[row + 1], p[slice], p[slice + 1], p[slice + row], p[slice + row + 1]};
+            return l;
+        }
         for (int o = 0; o < 8; ++o) l[o] = at(a - 1 + (o & 1), b - 1 + (o >> 1 & 1), c - 1 + (o >> 2 & 1));
         return l;
     }
