@@ -106,8 +106,13 @@ void CrossingCheck::build_grid(const Mesh& mesh) {
 /// triangles are gathered (and prepared for the separating-plane proofs, which settle most
 /// pairs before the exact predicates) once: its pairs read them many times.
 void CrossingCheck::test_all(const Mesh& mesh, Found& found) const {
+    struct Entry {
+        detail::Box box;
+        CellCoordinates lo;
+        std::uint32_t triangle;
+    };
     struct Gathered {
-        std::vector<std::uint32_t> triangles;
+        std::vector<Entry> entries;
         std::vector<detail::PreparedTriangle> prepared;
     };
     tbb::enumerable_thread_specific<Gathered> gathered;
@@ -117,18 +122,21 @@ void CrossingCheck::test_all(const Mesh& mesh, Found& found) const {
             if (start_[c + 1] - start_[c] < 2) continue;
             const CellCoordinates here{std::int32_t(c % std::size_t(dims_[0])), std::int32_t(c / std::size_t(dims_[0]) % std::size_t(dims_[1])),
                                        std::int32_t(c / std::size_t(dims_[0]) / std::size_t(dims_[1]))};
-            g.triangles.clear();
+            g.entries.clear();
             g.prepared.clear();
-            for (std::uint32_t i = start_[c]; i < start_[c + 1]; ++i)
-                if (!degenerate_[list_[i]]) g.triangles.push_back(list_[i]), g.prepared.emplace_back(corners(mesh, list_[i]));
-            for (std::size_t i = 0; i < g.triangles.size(); ++i) {
-                const std::uint32_t t = g.triangles[i];
-                for (std::size_t j = i + 1; j < g.triangles.size(); ++j) {
-                    const std::uint32_t u = g.triangles[j];
-                    if (!detail::boxes_overlap(boxes_[t], boxes_[u]) || std::max(lo_[t][0], lo_[u][0]) != here[0] ||
-                        std::max(lo_[t][1], lo_[u][1]) != here[1] || std::max(lo_[t][2], lo_[u][2]) != here[2])
+            for (std::uint32_t i = start_[c]; i < start_[c + 1]; ++i) {
+                const std::uint32_t t = list_[i];
+                if (!degenerate_[t]) g.entries.push_back({boxes_[t], lo_[t], t}), g.prepared.emplace_back(corners(mesh, t));
+            }
+            for (std::size_t i = 0; i < g.entries.size(); ++i) {
+                const Entry& t = g.entries[i];
+                for (std::size_t j = i + 1; j < g.entries.size(); ++j) {
+                    const Entry& u = g.entries[j];
+                    if (!detail::boxes_overlap(t.box, u.box) || std::max(t.lo[0], u.lo[0]) != here[0] || std::max(t.lo[1], u.lo[1]) != here[1] ||
+                        std::max(t.lo[2], u.lo[2]) != here[2])
                         continue;
-                    if (detail::triangles_intersect(mesh.triangles[t], g.prepared[i], mesh.triangles[u], g.prepared[j])) found.add(t, u);
+                    if (detail::triangles_intersect(mesh.triangles[t.triangle], g.prepared[i], mesh.triangles[u.triangle], g.prepared[j]))
+                        found.add(t.triangle, u.triangle);
                 }
             }
         }
