@@ -2,6 +2,8 @@
 
 #include "labels/label_components.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <numeric>
 
@@ -63,8 +65,11 @@ LabelComponents::LabelComponents(const Mesh& mesh, const std::vector<std::array<
 std::vector<double> LabelComponents::volumes(const Mesh& mesh) const {
     std::vector<double> volume(pieces_, 0.0);
     const std::array<float, 3> origin = mesh.vertices.empty() ? std::array<float, 3>{0, 0, 0} : mesh.vertices.front();
+    // Each triangle's share in parallel, summed per piece in triangle order (the same sums for any thread count).
+    std::vector<double> share(mesh.triangles.size());
+    tbb::parallel_for(std::size_t(0), share.size(), [&](std::size_t t) { share[t] = tet_volume(mesh, mesh.triangles[t], origin); });
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-        const double v = tet_volume(mesh, mesh.triangles[t], origin);
+        const double v = share[t];
         if (piece_[t][0] >= 0) volume[std::size_t(piece_[t][0])] += v;
         if (piece_[t][1] >= 0) volume[std::size_t(piece_[t][1])] -= v;
     }

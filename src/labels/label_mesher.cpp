@@ -102,6 +102,14 @@ void number_vertices(const LabelGrid& grid, std::vector<std::uint32_t>& first, S
     });
 }
 
+/// Whether voxel (x, y, z) is inside the map with its next voxel along each axis, all four the same.
+bool same_as_next(const LabelGrid& grid, std::int64_t x, std::int64_t y, std::int64_t z) {
+    if (x < 0 || y < 0 || z < 0 || x + 1 >= grid.dims[0] || y + 1 >= grid.dims[1] || z + 1 >= grid.dims[2]) return false;
+    const std::size_t row = std::size_t(grid.dims[0]), slice = row * std::size_t(grid.dims[1]);
+    const std::uint16_t* p = grid.labels.data() + std::size_t((z * grid.dims[1] + y) * grid.dims[0] + x);
+    return p[0] == p[1] && p[0] == p[row] && p[0] == p[slice];
+}
+
 /// One quad per wall, in a fixed order (z, y, x of its low voxel, then the axis); the corners
 /// turn counter-clockwise seen from the high voxel, so the normal points from low to high.
 void collect_quads(const LabelGrid& grid, const std::vector<std::uint32_t>& first,
@@ -112,6 +120,7 @@ void collect_quads(const LabelGrid& grid, const std::vector<std::uint32_t>& firs
         std::vector<SheetQuad>& out = per_layer[std::size_t(z + 1)];
         for (std::int64_t y = -1; y < grid.dims[1]; ++y)
             for (std::int64_t x = -1; x < grid.dims[0]; ++x) {
+                if (same_as_next(grid, x, y, z)) continue;  // most voxels: no wall
                 const std::array<std::int64_t, 3> p{x, y, z};
                 const std::uint16_t low = grid.at(x, y, z);
                 for (int axis = 0; axis < 3; ++axis) {

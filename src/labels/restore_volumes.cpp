@@ -25,16 +25,20 @@ Point quad_area(const std::vector<Point>& p, const SheetQuad& q) {
 
 /// Volume enclosed, per label value (below @a values), by its walls split as split_quads() splits them.
 std::vector<double> label_volumes(const std::vector<Point>& p, const std::vector<SheetQuad>& quads, std::size_t values) {
-    std::vector<double> volume(values, 0.0);
-    for (const SheetQuad& q : quads) {
-        const auto& v = q.vertex;
+    // Each quad's share in parallel, summed per label in quad order (the same sums for any thread count).
+    std::vector<double> share(quads.size());
+    tbb::parallel_for(std::size_t(0), quads.size(), [&](std::size_t i) {
+        const auto& v = quads[i].vertex;
         const bool diagonal02 = dot(sub(p[v[0]], p[v[2]]), sub(p[v[0]], p[v[2]])) <= dot(sub(p[v[1]], p[v[3]]), sub(p[v[1]], p[v[3]]));
         const auto tet = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
             return dot(p[a], cross(p[b], p[c])) / 6;  // signed volume of (origin, a, b, c)
         };
-        const double sum = diagonal02 ? tet(v[0], v[1], v[2]) + tet(v[0], v[2], v[3]) : tet(v[0], v[1], v[3]) + tet(v[1], v[2], v[3]);
-        volume[q.sides[0]] += sum;
-        volume[q.sides[1]] -= sum;
+        share[i] = diagonal02 ? tet(v[0], v[1], v[2]) + tet(v[0], v[2], v[3]) : tet(v[0], v[1], v[3]) + tet(v[1], v[2], v[3]);
+    });
+    std::vector<double> volume(values, 0.0);
+    for (std::size_t i = 0; i < quads.size(); ++i) {
+        volume[quads[i].sides[0]] += share[i];
+        volume[quads[i].sides[1]] -= share[i];
     }
     return volume;
 }
