@@ -166,10 +166,16 @@ void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, c
     });
     std::partial_sum(g.start.begin(), g.start.end(), g.start.begin());
     g.list.resize(g.start.back());
+    // A label with no free vertex keeps its volume (its deficit would leave the system inconsistent).
+    std::vector<std::uint8_t> movable(labels.size(), 0);
+    tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
+        if (g.start[v + 1] == g.start[v]) return;
+        for (const auto& [label, gradient] : gradients(std::uint32_t(v), round, quads, place, index)) movable[std::size_t(label)] = 1;
+    });
     for (int step = 0; step < kNewtonSteps; ++step) {
         const std::vector<double> volume = label_volumes(place, quads, voxels.size());
         std::vector<double> deficit(labels.size());
-        for (std::size_t i = 0; i < labels.size(); ++i) deficit[i] = double(voxels[labels[i]]) - volume[labels[i]];
+        for (std::size_t i = 0; i < labels.size(); ++i) deficit[i] = movable[i] ? double(voxels[labels[i]]) - volume[labels[i]] : 0.0;
         tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
             if (g.start[v + 1] == g.start[v]) return;
             const Gradients here = gradients(std::uint32_t(v), round, quads, place, index);
