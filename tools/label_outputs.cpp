@@ -58,10 +58,13 @@ void write_label_ply(const LabelSurface& surface, const std::string& path) {
     out.commit();
 }
 
-namespace {
-
-/// A colour for a label the table gives none: well apart for neighbouring values (golden-angle hues).
-std::array<double, 3> palette_colour(std::uint32_t value) {
+std::array<double, 3> label_colour(std::uint32_t value, const LabelTable& table) {
+    const auto row = table.find(value);
+    if (row != table.end() && row->second.color) {
+        const auto& c = *row->second.color;
+        return {c[0] / 255.0, c[1] / 255.0, c[2] / 255.0};
+    }
+    // Golden-angle hues: well apart for neighbouring values.
     const double hue = std::fmod(value * 137.508, 360.0) / 60.0;
     const double x = 1 - std::abs(std::fmod(hue, 2.0) - 1);
     const double s = 0.65, v = 0.9, c = s * v, m = v - c;
@@ -75,8 +78,6 @@ std::array<double, 3> palette_colour(std::uint32_t value) {
     return {rgb[0] + m, rgb[1] + m, rgb[2] + m};
 }
 
-}  // namespace
-
 void write_label_gltf(const LabelSurface& surface, const LabelTable& table, const std::string& path) {
     GltfDocument document;
     using Json = GltfDocument::Json;
@@ -87,10 +88,7 @@ void write_label_gltf(const LabelSurface& surface, const LabelTable& table, cons
         const Mesh& mesh = meshes[i];
         const auto row = table.find(label);
         const std::string name = row != table.end() ? row->second.name : "label " + std::to_string(label);
-        std::array<double, 3> colour = palette_colour(label);
-        if (row != table.end() && row->second.color)
-            for (int k = 0; k < 3; ++k) colour[k] = (*row->second.color)[k] / 255.0;
-        const std::size_t material = document.add_material(name, colour);
+        const std::size_t material = document.add_material(name, label_colour(label, table));
         const std::size_t index = document.add_mesh(mesh, name, material);
         nodes.push_back(document.add_node({{"mesh", index}, {"name", name}, {"extras", {{"label", label}}}}));
     }
