@@ -80,13 +80,14 @@ private:
 };
 
 /// The gradients at vertex @a v of the volumes of the labels round it: a quarter of each
-/// quad's vector area, with the sign of the side the label is on.
-Gradients gradients(std::uint32_t v, const VertexQuads& round, const std::vector<SheetQuad>& quads, const std::vector<Point>& p,
+/// quad's vector area (@a areas, per quad; empty: all zero, for the labels alone), with the
+/// sign of the side the label is on.
+Gradients gradients(std::uint32_t v, const VertexQuads& round, const std::vector<SheetQuad>& quads, const std::vector<Point>& areas,
                     const std::vector<int>& index) {
     Gradients g;
     for (std::uint32_t i = round.start[v]; i < round.start[v + 1]; ++i) {
         const SheetQuad& q = quads[round.list[i]];
-        const Point a = quad_area(p, q);
+        const Point a = areas.empty() ? Point{0, 0, 0} : areas[round.list[i]];
         g.add(index[q.sides[0]], a, 1);
         g.add(index[q.sides[1]], a, -1);
     }
@@ -160,7 +161,7 @@ void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, c
     g.start.assign(place.size() + 1, 0);
     tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
         if (!is_frozen(v)) {
-            const Gradients here = gradients(std::uint32_t(v), round, quads, place, index);
+            const Gradients here = gradients(std::uint32_t(v), round, quads, {}, index);
             g.start[v + 1] = std::uint32_t(here.end() - here.begin());
         }
     });
@@ -170,15 +171,17 @@ void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, c
     std::vector<std::uint8_t> movable(labels.size(), 0);
     tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
         if (g.start[v + 1] == g.start[v]) return;
-        for (const auto& [label, gradient] : gradients(std::uint32_t(v), round, quads, place, index)) movable[std::size_t(label)] = 1;
+        for (const auto& [label, gradient] : gradients(std::uint32_t(v), round, quads, {}, index)) movable[std::size_t(label)] = 1;
     });
     for (int step = 0; step < kNewtonSteps; ++step) {
         const std::vector<double> volume = label_volumes(place, quads, voxels.size());
         std::vector<double> deficit(labels.size());
         for (std::size_t i = 0; i < labels.size(); ++i) deficit[i] = movable[i] ? double(voxels[labels[i]]) - volume[labels[i]] : 0.0;
+        std::vector<Point> areas(quads.size());
+        tbb::parallel_for(std::size_t(0), quads.size(), [&](std::size_t q) { areas[q] = quad_area(place, quads[q]); });
         tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
             if (g.start[v + 1] == g.start[v]) return;
-            const Gradients here = gradients(std::uint32_t(v), round, quads, place, index);
+            const Gradients here = gradients(std::uint32_t(v), round, quads, areas, index);
             std::copy(here.begin(), here.end(), g.list.begin() + g.start[v]);
         });
         const std::vector<double> lambda = solve(gram_matrix(g, labels.size()), deficit);

@@ -174,12 +174,11 @@ std::vector<std::uint32_t> moved_vertices(const Mesh& mesh, const std::vector<st
 /// Holds vertices back toward their unsmoothed place (halving @a share, at last to 0) until no
 /// triangle crosses another, degenerates or turns a piece inside out; places out.mesh.
 /// Returns the rounds taken.
-/// @a moved: the triangles moved since @a check's last call (none before its first, which
+/// @a subset: the triangles moved since @a check's last call (none before its first, which
 /// tests every triangle); later rounds test those round the vertices just moved back.
 int hold_back(const SheetVertices& vertices, const std::vector<Point>& smoothed, std::vector<double>& share,
-              const Affine& index_to_world, CrossingCheck& check, std::vector<std::uint32_t> moved, const LabelComponents& pieces,
+              const Affine& index_to_world, CrossingCheck& check, std::vector<std::uint32_t> subset, const LabelComponents& pieces,
               const std::vector<double>& base_volumes, LabelSurface& out) {
-    std::vector<std::uint32_t>& subset = moved;
     for (int round = 0;; ++round) {
         place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
         const std::vector<std::uint32_t> bad = offending_vertices(out.mesh, check, subset, pieces, base_volumes);
