@@ -80,8 +80,8 @@ void number_vertices(const LabelGrid& grid, std::vector<std::uint32_t>& first, S
             next += std::uint32_t(s.count);
             face_sheets[f] = s.sheet;
             const Point corner{found.a - 0.5, found.b - 0.5, c - 0.5};
-            std::vector<Point> toward(std::size_t(s.count), Point{0, 0, 0});
-            std::vector<int> walls(std::size_t(s.count), 0);
+            std::array<Point, 12> toward{};  // per sheet (at most one per face)
+            std::array<int, 12> walls{};
             for (int face = 0; face < 12; ++face) {
                 if (s.sheet[face] < 0) continue;
                 const int axis = face >> 2, u = (axis + 1) % 3, v = (axis + 2) % 3;
