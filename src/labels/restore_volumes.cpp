@@ -173,11 +173,11 @@ void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, c
         if (g.start[v + 1] == g.start[v]) return;
         for (const auto& [label, gradient] : gradients(std::uint32_t(v), round, quads, {}, index)) movable[std::size_t(label)] = 1;
     });
+    std::vector<Point> areas(quads.size()), next(place.size());  // per step, kept between steps
     for (int step = 0; step < kNewtonSteps; ++step) {
         const std::vector<double> volume = label_volumes(place, quads, voxels.size());
         std::vector<double> deficit(labels.size());
         for (std::size_t i = 0; i < labels.size(); ++i) deficit[i] = movable[i] ? double(voxels[labels[i]]) - volume[labels[i]] : 0.0;
-        std::vector<Point> areas(quads.size());
         tbb::parallel_for(std::size_t(0), quads.size(), [&](std::size_t q) { areas[q] = quad_area(place, quads[q]); });
         tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
             if (g.start[v + 1] == g.start[v]) return;
@@ -185,7 +185,6 @@ void restore_volumes(std::vector<Point>& place, const SheetVertices& vertices, c
             std::copy(here.begin(), here.end(), g.list.begin() + g.start[v]);
         });
         const std::vector<double> lambda = solve(gram_matrix(g, labels.size()), deficit);
-        std::vector<Point> next(place.size());
         tbb::parallel_for(std::size_t(0), place.size(), [&](std::size_t v) {
             Point move{0, 0, 0};
             if (is_frozen(v)) {
