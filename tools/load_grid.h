@@ -11,6 +11,7 @@
 #include "common_options.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/grid_region.h"
 #include "vdbmesh/read.h"
 
 namespace vdbmesh::cli {
@@ -39,6 +40,18 @@ struct GridInput {
 /// .vdb's band was built for (band_isovalues()); UsageError for a mesh file (is_mesh_file()).
 GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double> iso, const ReadFlags& read,
                     const std::string& purpose, ConvertOptions convert, const std::string& iso_option = "--iso");
+
+/// A grid read by region (grid_region.h) and the isovalue it is to be meshed at.
+struct GridRegionsInput {
+    std::unique_ptr<GridRegionSource> source;
+    double iso = 0;
+    bool level_set = false;
+};
+
+/// load_grid()'s input by region, never whole: a .vdb's topology (open_vdb_regions()), or a scan
+/// surveyed and read in z-bands (open_scan_regions()). The same checks and errors as load_grid().
+GridRegionsInput open_grid_regions(const std::vector<std::string>& inputs, std::optional<double> iso, const ReadFlags& read,
+                                   const std::string& purpose, ConvertOptions convert, const std::string& iso_option = "--iso");
 
 /// The error for a grid of @a input with no surface at @a isovalues (low, high; equal for one
 /// isovalue) outside the values or in a constant volume: it names the stored value range when
