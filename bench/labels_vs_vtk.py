@@ -6,14 +6,17 @@ smoothing; no decimation), timed in the same run on the staged atlases, both jud
 vdbmesh_labels_bench (CGAL: each label's mesh; crossings between labels; volumes).
 
 Needs python3-vtk9 (Debian 12: `apt-get install python3-vtk9`, run with /usr/bin/python3) and a
-build with vdbmesh and vdbmesh_labels_bench. Usage:
-    /usr/bin/python3 bench/labels_vs_vtk.py [--build build] [--threads 2]
+build with vdbmesh and vdbmesh_labels_bench. Each is run --repeat times in turns (the machine's load, when shared, falls on both); the
+median wall and CPU seconds are reported, and each run's ratio of our time to VTK's. Usage:
+    /usr/bin/python3 bench/labels_vs_vtk.py [--build build] [--threads 2] [--repeat 5]
 """
 
 import argparse
 import json
 import os
 import pathlib
+import resource
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -36,9 +39,15 @@ def data_dir(repo):
     return repo.parent / "shared" / "data"
 
 
+def cpu_seconds(who):
+    """User and system seconds so far of this process (who=RUSAGE_SELF) or its waited-for children."""
+    usage = resource.getrusage(who)
+    return usage.ru_utime + usage.ru_stime
+
+
 def vtk_pipeline(path, out_dir):
-    """Slicer's closed-surface conversion per label; returns (seconds without writing, labels)."""
-    start = time.perf_counter()
+    """Slicer's closed-surface conversion per label; returns (seconds, CPU seconds, labels), without writing."""
+    start, cpu_start = time.perf_counter(), cpu_seconds(resource.RUSAGE_SELF)
     reader = vtk.vtkNIFTIImageReader()
     reader.SetFileName(str(path))
     reader.Update()
@@ -71,20 +80,21 @@ def vtk_pipeline(path, out_dir):
         smoother.NormalizeCoordinatesOn()
         smoother.Update()
         meshes[label] = smoother.GetOutput()
-    seconds = time.perf_counter() - start
+    seconds, cpu = time.perf_counter() - start, cpu_seconds(resource.RUSAGE_SELF) - cpu_start
     for label, mesh in meshes.items():
         writer = vtk.vtkSTLWriter()
         writer.SetFileName(str(out_dir / f"{label}.stl"))
         writer.SetInputData(mesh)
         writer.SetFileTypeToBinary()
         writer.Write()
-    return seconds, len(labels)
+    return seconds, cpu, len(labels)
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--build", default="build")
     parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--repeat", type=int, default=5, help="runs of each, in turns; the medians are reported")
     args = parser.parse_args()
     repo = pathlib.Path(__file__).resolve().parent.parent
     build = (repo / args.build).resolve()
@@ -97,23 +107,35 @@ def main():
         if not atlas.exists():
             print(f"skipped (missing): {atlas}", file=sys.stderr)
             continue
+        ours, theirs = [], []  # per run: (seconds, CPU seconds, seconds without writing)
         with tempfile.TemporaryDirectory() as tmp:
             ours_dir, vtk_dir = pathlib.Path(tmp) / "ours", pathlib.Path(tmp) / "vtk"
             vtk_dir.mkdir()
-            start = time.perf_counter()
-            report = json.loads(subprocess.run([str(build / "vdbmesh"), "mesh", str(atlas), "--labels", "all", "-o", str(ours_dir) + "/",
-                                                "--json", "-q", "--threads", str(args.threads)], check=True, capture_output=True, text=True).stdout)
-            ours_seconds = time.perf_counter() - start
-            vtk_seconds, vtk_labels = vtk_pipeline(atlas, vtk_dir)
+            # Taken in turns, so that a change of the machine's load falls on both.
+            for _ in range(args.repeat):
+                start, cpu_start = time.perf_counter(), cpu_seconds(resource.RUSAGE_CHILDREN)
+                report = json.loads(subprocess.run([str(build / "vdbmesh"), "mesh", str(atlas), "--labels", "all", "-o", str(ours_dir) + "/",
+                                                    "--json", "-q", "--threads", str(args.threads)], check=True, capture_output=True, text=True).stdout)
+                seconds = time.perf_counter() - start
+                # Like VTK's time, also without writing the files (ours syncs each to disk before its rename).
+                writing = sum(p["seconds"] for p in report["phases"] if p["name"] == "write")
+                ours.append((seconds, cpu_seconds(resource.RUSAGE_CHILDREN) - cpu_start, seconds - writing))
+                seconds, cpu, _ = vtk_pipeline(atlas, vtk_dir)
+                theirs.append((seconds, cpu, seconds))
             judged = [json.loads(line) for line in subprocess.run([str(build / "bench" / "vdbmesh_labels_bench"), str(atlas), str(ours_dir), str(vtk_dir)],
                                                                     check=True, capture_output=True, text=True).stdout.splitlines()]
-        for who, seconds, j in (("vdbmesh", ours_seconds, judged[0]), ("vtk", vtk_seconds, judged[1])):
-            row = {"atlas": name, "mesher": who, "seconds": round(seconds, 3), **{k: v for k, v in j.items() if k != "folder"}}
+        for who, runs, j in (("vdbmesh", ours, judged[0]), ("vtk", theirs, judged[1])):
+            median = lambda i: round(statistics.median(run[i] for run in runs), 3)  # noqa: E731
+            row = {"atlas": name, "mesher": who, "seconds": median(0), "cpu_seconds": median(1), "runs": [round(run[0], 3) for run in runs],
+                   **{k: v for k, v in j.items() if k != "folder"}}
             if who == "vdbmesh":
+                row["seconds_without_writing"] = median(2)
                 row["relabelled_voxels"] = report["relabelled_voxels"]
                 row["vertices_held_back"] = report["vertices_held_back"]
             rows.append(row)
             print(json.dumps(row), flush=True)
+        ratios = [o[0] / t[0] for o, t in zip(ours, theirs)]
+        print(json.dumps({"atlas": name, "time_over_vtk_per_run": [round(r, 2) for r in ratios], "median": round(statistics.median(ratios), 2)}), flush=True)
     return 0
 
 

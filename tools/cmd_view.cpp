@@ -1,5 +1,5 @@
 // `vdbmesh view`: serves a page on 127.0.0.1 that shows a scan (re-meshed live as the
-// isovalue moves) or a mesh file, until Ctrl-C.
+// isovalue moves), a mesh file or a label map's labels (--labels), until Ctrl-C.
 
 #include <chrono>
 #include <csignal>
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "label_view.h"
 #include "common_options.h"
 #include "load_grid.h"
 #include "report_json.h"
@@ -31,6 +32,7 @@ struct ViewCommandOptions {
     std::optional<double> iso;
     ViewServerOptions server;
     bool no_open = false;
+    LabelFlags label;  ///< --labels: the input is a label map, shown label by label
     ReadFlags read;
     CommonOptions common;
 };
@@ -43,6 +45,11 @@ extern "C" void request_stop(int) { g_stop_requested = 1; }
 /// Reads the input before anything is served, so that a bad file is reported at once.
 ViewSource load_source(const ViewCommandOptions& options) {
     const std::string& input = options.inputs.front();
+    if (options.label.labels) {
+        if (options.iso) throw UsageError("--iso: not with --labels (a label map is meshed label by label)");
+        return label_view_source(options.inputs, options.read, options.label);
+    }
+    if (!options.label.names.empty()) throw UsageError("--label-names: only with --labels");
     ViewSource source;
     source.name = std::filesystem::path(input).filename().string();
     if (is_mesh_file(input)) {
@@ -90,6 +97,8 @@ void run_view(ViewCommandOptions& options) {
     if (!options.common.quiet) std::cerr << "vdbmesh view: reading " << options.inputs.front() << "\n";
     ViewSource source = load_source(options);
     options.server.mesh_figures = check_figures;
+    if (!source.labels.empty())
+        options.server.mesh_figures = [labels = source.labels](const Mesh& mesh) { return label_figures(mesh, labels); };
     ViewServer server(std::move(source), options.server);
     std::cout << "vdbmesh view: serving " << options.inputs.front() << " at " << server.address()
               << " (Ctrl-C to stop)" << std::endl;
@@ -115,6 +124,7 @@ void add_view_command(CLI::App& command, CommandResult& result) {
                        "Full meshes with more triangles are shown coarse until asked for")
         ->capture_default_str();
     command.add_flag("--no-open", options->no_open, "Do not open a browser");
+    add_label_flags(command, options->label, "Show a label map: all, or a list like 3,5,10-12; each label meshed (as mesh --labels), coloured and switchable");
     add_read_flags(command, options->read);
     add_common_options(command, options->common);
     command.callback([options, &result] {

@@ -26,8 +26,13 @@ LabelOutputKind output_kind(const std::string& output) {
                      output + "\"");
 }
 
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+/// @a phases: the mesher's, between reading the map and writing the outputs.
 nlohmann::ordered_json figures_json(const LabelMeshRequest& request, const LabelSurface& surface,
-                                    const std::vector<std::string>& files, double seconds) {
+                                    const std::vector<std::pair<std::string, double>>& phases, const std::vector<std::string>& files,
+                                    double seconds) {
     nlohmann::ordered_json j;
     j["output"] = request.output;
     j["method"] = "labels";
@@ -40,7 +45,7 @@ nlohmann::ordered_json figures_json(const LabelMeshRequest& request, const Label
     j["smooth_iterations"] = request.smooth_iterations;
     j["seconds"] = seconds;
     j["phases"] = nlohmann::ordered_json::array();
-    for (const auto& [name, s] : surface.phases) j["phases"].push_back({{"name", name}, {"seconds", s}});
+    for (const auto& [name, s] : phases) j["phases"].push_back({{"name", name}, {"seconds", s}});
     j["files"] = files;
     return j;
 }
@@ -53,18 +58,22 @@ int run_label_mesh(const LabelMeshRequest& request) {
     options.labels = parse_label_list(request.label.labels->empty() ? "all" : *request.label.labels);
     options.smoothing_iterations = request.smooth_iterations;
     const ThreadLimit limit(request.common);
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     Progress progress("meshing labels", request.common.quiet);
     const LabelInput input = load_label_input(request.inputs, request.read, request.label);
+    std::vector<std::pair<std::string, double>> phases{{"read", seconds_since(start)}};
     const LabelSurface surface = mesh_labels(input.volume, options, [&](double f) { progress(f); });
+    phases.insert(phases.end(), surface.phases.begin(), surface.phases.end());
+    const auto writing = Clock::now();
     if (surface.labels.empty() || surface.mesh.triangles.empty())
         throw Error(request.inputs.front() + ": none of the labels asked for is in the map; " + request.output + " not written");
     std::vector<std::string> files;
     if (kind == LabelOutputKind::folder) files = write_label_folder(surface, input.table, request.output, request.format, request.ascii);
     else if (kind == LabelOutputKind::ply) write_label_ply(surface, request.output), files = {request.output};
     else write_label_gltf(surface, input.table, request.output), files = {request.output};
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (request.json) std::cout << detail::json_text(figures_json(request, surface, files, seconds)) << "\n";
+    phases.emplace_back("write", seconds_since(writing));
+    const double seconds = seconds_since(start);
+    if (request.json) std::cout << detail::json_text(figures_json(request, surface, phases, files, seconds)) << "\n";
     else if (!request.common.quiet)
         std::cerr << "vdbmesh mesh: " << surface.labels.size() << " labels, " << surface.mesh.triangles.size() << " triangles (each wall once), "
                   << surface.relabelled_voxels << " voxels relabelled, " << seconds << " s -> " << request.output << "\n";

@@ -2,6 +2,8 @@
 
 #include "label_outputs.h"
 
+#include <tbb/parallel_for.h>
+
 #include <cstring>
 #include <filesystem>
 
@@ -30,12 +32,11 @@ std::vector<std::string> write_label_folder(const LabelSurface& surface, const L
     std::error_code error;
     std::filesystem::create_directories(folder, error);
     if (error) throw Error(output + ": cannot make the folder (" + error.message() + ")");
-    std::vector<std::string> written;
-    for (std::uint32_t label : surface.labels) {
-        const std::filesystem::path path = folder / label_file_name(label, table, format);
-        write_mesh(label_mesh(surface, label), path, MeshWriteOptions{ascii, false});
-        written.push_back(path.string());
-    }
+    const std::vector<Mesh> meshes = label_meshes(surface);
+    std::vector<std::string> written(meshes.size());
+    for (std::size_t i = 0; i < meshes.size(); ++i) written[i] = (folder / label_file_name(surface.labels[i], table, format)).string();
+    // Each file is written and synced to disk on its own (atomic_file.h): in parallel, the waits overlap.
+    tbb::parallel_for(std::size_t(0), meshes.size(), [&](std::size_t i) { write_mesh(meshes[i], written[i], MeshWriteOptions{ascii, false}); });
     return written;
 }
 
@@ -57,10 +58,13 @@ void write_label_ply(const LabelSurface& surface, const std::string& path) {
     out.commit();
 }
 
-namespace {
-
-/// A colour for a label the table gives none: well apart for neighbouring values (golden-angle hues).
-std::array<double, 3> palette_colour(std::uint32_t value) {
+std::array<double, 3> label_colour(std::uint32_t value, const LabelTable& table) {
+    const auto row = table.find(value);
+    if (row != table.end() && row->second.color) {
+        const auto& c = *row->second.color;
+        return {c[0] / 255.0, c[1] / 255.0, c[2] / 255.0};
+    }
+    // Golden-angle hues: well apart for neighbouring values.
     const double hue = std::fmod(value * 137.508, 360.0) / 60.0;
     const double x = 1 - std::abs(std::fmod(hue, 2.0) - 1);
     const double s = 0.65, v = 0.9, c = s * v, m = v - c;
@@ -74,20 +78,17 @@ std::array<double, 3> palette_colour(std::uint32_t value) {
     return {rgb[0] + m, rgb[1] + m, rgb[2] + m};
 }
 
-}  // namespace
-
 void write_label_gltf(const LabelSurface& surface, const LabelTable& table, const std::string& path) {
     GltfDocument document;
     using Json = GltfDocument::Json;
     Json nodes = Json::array();
-    for (std::uint32_t label : surface.labels) {
-        const Mesh mesh = label_mesh(surface, label);
+    const std::vector<Mesh> meshes = label_meshes(surface);
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        const std::uint32_t label = surface.labels[i];
+        const Mesh& mesh = meshes[i];
         const auto row = table.find(label);
         const std::string name = row != table.end() ? row->second.name : "label " + std::to_string(label);
-        std::array<double, 3> colour = palette_colour(label);
-        if (row != table.end() && row->second.color)
-            for (int k = 0; k < 3; ++k) colour[k] = (*row->second.color)[k] / 255.0;
-        const std::size_t material = document.add_material(name, colour);
+        const std::size_t material = document.add_material(name, label_colour(label, table));
         const std::size_t index = document.add_mesh(mesh, name, material);
         nodes.push_back(document.add_node({{"mesh", index}, {"name", name}, {"extras", {{"label", label}}}}));
     }

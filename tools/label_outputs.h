@@ -2,12 +2,16 @@
 // The outputs of `vdbmesh mesh --labels` (issue 31): a folder with one file per label, one PLY
 // with each face's label pair, or one glTF with a named mesh per label.
 
+#include <array>
 #include <string>
 #include <vector>
 
 #include "vdbmesh/labels.h"
 
 namespace vdbmesh::cli {
+
+/// A label's colour (RGB in [0, 1]): the table's, else one of a fixed palette.
+std::array<double, 3> label_colour(std::uint32_t value, const LabelTable& table);
 
 /// True when @a output names a folder: it ends with a slash or is an existing folder.
 bool is_folder_output(const std::string& output);

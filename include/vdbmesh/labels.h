@@ -106,6 +106,9 @@ LabelSurface mesh_labels(const LabelVolume& volume, const LabelMeshOptions& opti
 /// The closed mesh of one label: its walls, oriented out of it, with only the vertices it uses.
 Mesh label_mesh(const LabelSurface& surface, std::uint32_t label);
 
+/// label_mesh() of every label of @a surface, in its order, in one pass over the surface.
+std::vector<Mesh> label_meshes(const LabelSurface& surface);
+
 /// Volume, area and centroid of one label's mesh.
 struct LabelMeasure {
     std::uint32_t value = 0;

@@ -3,6 +3,7 @@
 /// @brief `vdbmesh view`: what the page shows (a scan meshed on request, or a mesh file) and
 /// the local HTTP server that serves the page, meshes as binary buffers and their figures.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -48,11 +49,22 @@ ViewScan prepare_scan(const std::function<std::unique_ptr<VolumeReader>()>& open
 /// only part of the surface.
 ViewScan prepare_grid(std::shared_ptr<openvdb::FloatGrid> grid);
 
-/// What the page shows: a scan or a mesh.
+/// One label of a label map shown label by label: its closed mesh is a run of the
+/// source's mesh (its triangles and its vertices one after another).
+struct ViewLabel {
+    std::uint32_t value = 0;
+    std::string name;                  ///< from the label table, else "label <value>"
+    std::array<double, 3> colour{};    ///< RGB in [0, 1]: the table's, else a fixed palette's
+    std::size_t first_triangle = 0, triangles = 0;
+    std::size_t first_vertex = 0, vertices = 0;
+};
+
+/// What the page shows: a scan, a mesh, or a label map's meshes.
 struct ViewSource {
     std::string name;                  ///< the input's file name, shown as the title
     std::shared_ptr<const ViewScan> scan;  ///< set for scans and .vdb grids
-    std::shared_ptr<const Mesh> mesh;      ///< set for mesh files
+    std::shared_ptr<const Mesh> mesh;      ///< set for mesh files and label maps
+    std::vector<ViewLabel> labels;     ///< set for label maps: the runs of @a mesh, ascending values
     double initial_iso = 0;            ///< scans: the isovalue shown first
 };
 
@@ -73,7 +85,8 @@ struct ViewServerOptions {
 
 /// The HTTP server of `vdbmesh view`, bound on construction.
 /// GET /                 the page; /app.js its script
-/// GET /api/info         JSON: the input, its histogram and suggested isovalue, the budget
+/// GET /api/info         JSON: the input, its histogram and suggested isovalue, the budget;
+///                       for a label map its labels (value, name, colour, their runs of the mesh)
 /// GET /api/mesh         binary: positions (float32 x 3V), normals (float32 x 3V), indices
 ///                       (uint32 x 3T); headers X-Vertices, X-Triangles, X-Seconds.
 ///                       Parameters: level=coarse|full, method=dc|mc|openvdb, iso, error, adaptivity

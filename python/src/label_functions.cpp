@@ -28,14 +28,12 @@ LabelMeshOptions label_options(const std::vector<std::uint32_t>& labels, int smo
 /// {label: (vertices, faces)} in ascending label order.
 py::dict label_dict(LabelSurface&& surface) {
     py::dict result;
-    for (std::uint32_t label : surface.labels) {
-        Mesh mesh;
-        {
-            py::gil_scoped_release released;
-            mesh = label_mesh(surface, label);
-        }
-        result[py::int_(label)] = to_arrays(std::move(mesh));
+    std::vector<Mesh> meshes;
+    {
+        py::gil_scoped_release released;
+        meshes = label_meshes(surface);
     }
+    for (std::size_t i = 0; i < meshes.size(); ++i) result[py::int_(surface.labels[i])] = to_arrays(std::move(meshes[i]));
     return result;
 }
 

@@ -2,6 +2,8 @@
 
 #include "labels/label_components.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <numeric>
 
@@ -28,15 +30,27 @@ LabelComponents::LabelComponents(const Mesh& mesh, const std::vector<std::array<
     // Half-triangle h = 2 t + side; half-triangles of one label that share a vertex are one piece.
     std::vector<std::uint32_t> parent(2 * mesh.triangles.size());
     std::iota(parent.begin(), parent.end(), 0u);
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> uses;  // (vertex << 16 | label, half-triangle)
-    uses.reserve(6 * mesh.triangles.size());
+    std::vector<std::uint32_t> start(mesh.vertices.size() + 1, 0), round;  // per vertex its triangles (compressed rows)
+    for (const auto& tri : mesh.triangles)
+        for (std::uint32_t v : tri) ++start[v + 1];
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    round.resize(start.back());
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
-        for (int side = 0; side < 2; ++side)
-            if (sides[t][side] != 0)
-                for (std::uint32_t v : mesh.triangles[t]) uses.push_back({std::uint64_t(v) << 16 | sides[t][side], 2 * t + side});
-    std::sort(uses.begin(), uses.end());
-    for (std::size_t i = 1; i < uses.size(); ++i)
-        if (uses[i].first == uses[i - 1].first) parent[find(parent, uses[i].second)] = find(parent, uses[i - 1].second);
+        for (std::uint32_t v : mesh.triangles[t]) round[fill[v]++] = t;
+    for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+        for (std::uint32_t i = start[v]; i < start[v + 1]; ++i)
+            for (int side = 0; side < 2; ++side) {
+                const std::uint16_t label = sides[round[i]][side];
+                if (label == 0) continue;
+                // Joined to the first half-triangle of the same label round the vertex.
+                for (std::uint32_t j = start[v]; j <= i; ++j) {
+                    const int other = sides[round[j]][0] == label ? 0 : sides[round[j]][1] == label ? 1 : -1;
+                    if (other < 0) continue;
+                    parent[find(parent, 2 * round[i] + std::uint32_t(side))] = find(parent, 2 * round[j] + std::uint32_t(other));
+                    break;
+                }
+            }
     std::vector<std::int32_t> number(parent.size(), -1);
     piece_.assign(mesh.triangles.size(), {-1, -1});
     for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
@@ -51,8 +65,11 @@ LabelComponents::LabelComponents(const Mesh& mesh, const std::vector<std::array<
 std::vector<double> LabelComponents::volumes(const Mesh& mesh) const {
     std::vector<double> volume(pieces_, 0.0);
     const std::array<float, 3> origin = mesh.vertices.empty() ? std::array<float, 3>{0, 0, 0} : mesh.vertices.front();
+    // Each triangle's share in parallel, summed per piece in triangle order (the same sums for any thread count).
+    std::vector<double> share(mesh.triangles.size());
+    tbb::parallel_for(std::size_t(0), share.size(), [&](std::size_t t) { share[t] = tet_volume(mesh, mesh.triangles[t], origin); });
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-        const double v = tet_volume(mesh, mesh.triangles[t], origin);
+        const double v = share[t];
         if (piece_[t][0] >= 0) volume[std::size_t(piece_[t][0])] += v;
         if (piece_[t][1] >= 0) volume[std::size_t(piece_[t][1])] -= v;
     }

@@ -27,6 +27,12 @@ struct LabelGrid {
     }
     CornerLabels corner_labels(std::int64_t a, std::int64_t b, std::int64_t c) const {
         CornerLabels l;
+        if (a > 0 && b > 0 && c > 0 && a < dims[0] && b < dims[1] && c < dims[2]) {  // inside: no bounds to check
+            const std::size_t row = std::size_t(dims[0]), slice = row * std::size_t(dims[1]);
+            const std::uint16_t* p = labels.data() + std::size_t(((c - 1) * dims[1] + b - 1) * dims[0] + a - 1);
+            l = {p[0], p[1], p[row], p[row + 1], p[slice], p[slice + 1], p[slice + row], p[slice + row + 1]};
+            return l;
+        }
         for (int o = 0; o < 8; ++o) l[o] = at(a - 1 + (o & 1), b - 1 + (o >> 1 & 1), c - 1 + (o >> 2 & 1));
         return l;
     }
@@ -44,10 +50,11 @@ struct LabelGrid {
                 }
         return n;
     }
-    int distinct_labels(std::int64_t a, std::int64_t b, std::int64_t c) const {
-        CornerLabels l = corner_labels(a, b, c);
-        std::sort(l.begin(), l.end());
-        return int(std::unique(l.begin(), l.end()) - l.begin());
+    /// Whether at most two labels meet at the corner (most corners: no sort).
+    bool at_most_two_labels(std::int64_t a, std::int64_t b, std::int64_t c) const {
+        const CornerLabels l = corner_labels(a, b, c);
+        const auto other = std::find_if(l.begin(), l.end(), [&](std::uint16_t v) { return v != l[0]; });
+        return std::all_of(other, l.end(), [&](std::uint16_t v) { return v == l[0] || v == *other; });
     }
     bool uniform(std::int64_t a, std::int64_t b, std::int64_t c) const {
         const CornerLabels l = corner_labels(a, b, c);
@@ -62,7 +69,7 @@ struct LabelGrid {
         // With two labels the rules of corner_sheets.h leave no conflict here (a label's two pairs
         // at an edge share a sheet only where it wraps round, and wrapping round at both ends is
         // bridged); an edge shared with a corner of more labels is checked from that end.
-        if (distinct_labels(a, b, c) <= 2) return 0;
+        if (at_most_two_labels(a, b, c)) return 0;
         const CornerNeighbourhood n = neighbourhood(a, b, c);
         return corner_conflict(
             n, corner_sheets(n), [&](std::uint16_t label) { return meshed[label] != 0; },

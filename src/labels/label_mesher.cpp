@@ -3,6 +3,7 @@
 // labels, split into two triangles; vertices smoothed within their box round the corner
 // (smooth_sheets.h), held back where a triangle would cross another.
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <chrono>
@@ -79,8 +80,8 @@ void number_vertices(const LabelGrid& grid, std::vector<std::uint32_t>& first, S
             next += std::uint32_t(s.count);
             face_sheets[f] = s.sheet;
             const Point corner{found.a - 0.5, found.b - 0.5, c - 0.5};
-            std::vector<Point> toward(std::size_t(s.count), Point{0, 0, 0});
-            std::vector<int> walls(std::size_t(s.count), 0);
+            std::array<Point, 12> toward{};  // per sheet (at most one per face)
+            std::array<int, 12> walls{};
             for (int face = 0; face < 12; ++face) {
                 if (s.sheet[face] < 0) continue;
                 const int axis = face >> 2, u = (axis + 1) % 3, v = (axis + 2) % 3;
@@ -101,6 +102,14 @@ void number_vertices(const LabelGrid& grid, std::vector<std::uint32_t>& first, S
     });
 }
 
+/// Whether voxel (x, y, z) is inside the map with its next voxel along each axis, all four the same.
+bool same_as_next(const LabelGrid& grid, std::int64_t x, std::int64_t y, std::int64_t z) {
+    if (x < 0 || y < 0 || z < 0 || x + 1 >= grid.dims[0] || y + 1 >= grid.dims[1] || z + 1 >= grid.dims[2]) return false;
+    const std::size_t row = std::size_t(grid.dims[0]), slice = row * std::size_t(grid.dims[1]);
+    const std::uint16_t* p = grid.labels.data() + std::size_t((z * grid.dims[1] + y) * grid.dims[0] + x);
+    return p[0] == p[1] && p[0] == p[row] && p[0] == p[slice];
+}
+
 /// One quad per wall, in a fixed order (z, y, x of its low voxel, then the axis); the corners
 /// turn counter-clockwise seen from the high voxel, so the normal points from low to high.
 void collect_quads(const LabelGrid& grid, const std::vector<std::uint32_t>& first,
@@ -111,6 +120,7 @@ void collect_quads(const LabelGrid& grid, const std::vector<std::uint32_t>& firs
         std::vector<SheetQuad>& out = per_layer[std::size_t(z + 1)];
         for (std::int64_t y = -1; y < grid.dims[1]; ++y)
             for (std::int64_t x = -1; x < grid.dims[0]; ++x) {
+                if (same_as_next(grid, x, y, z)) continue;  // most voxels: no wall
                 const std::array<std::int64_t, 3> p{x, y, z};
                 const std::uint16_t low = grid.at(x, y, z);
                 for (int axis = 0; axis < 3; ++axis) {
@@ -175,19 +185,51 @@ LabelSurface mesh_labels(const LabelVolume& volume, const LabelMeshOptions& opti
     return surface;
 }
 
-Mesh label_mesh(const LabelSurface& surface, std::uint32_t label) {
+namespace {
+
+/// The mesh of @a label from its triangles of @a surface (ascending); @a remap: per vertex of
+/// the surface kNone, and so again on return.
+Mesh mesh_of_label(const LabelSurface& surface, std::uint32_t label, const std::vector<std::uint32_t>& triangles,
+                   std::vector<std::uint32_t>& remap) {
     Mesh mesh;
-    std::vector<std::uint32_t> remap(surface.mesh.vertices.size(), kNone);
     const auto use = [&](std::uint32_t v) {
         if (remap[v] == kNone) remap[v] = std::uint32_t(mesh.vertices.size()), mesh.vertices.push_back(surface.mesh.vertices[v]);
         return remap[v];
     };
-    for (std::size_t t = 0; t < surface.mesh.triangles.size(); ++t) {
+    mesh.triangles.reserve(triangles.size());
+    for (std::uint32_t t : triangles) {
         const auto& tri = surface.mesh.triangles[t];
         if (surface.sides[t][0] == label) mesh.triangles.push_back({use(tri[0]), use(tri[1]), use(tri[2])});
-        else if (surface.sides[t][1] == label) mesh.triangles.push_back({use(tri[0]), use(tri[2]), use(tri[1])});
+        else mesh.triangles.push_back({use(tri[0]), use(tri[2]), use(tri[1])});
     }
+    for (std::uint32_t t : triangles)
+        for (std::uint32_t v : surface.mesh.triangles[t]) remap[v] = kNone;
     return mesh;
+}
+
+}  // namespace
+
+Mesh label_mesh(const LabelSurface& surface, std::uint32_t label) {
+    std::vector<std::uint32_t> triangles;
+    for (std::uint32_t t = 0; t < surface.mesh.triangles.size(); ++t)
+        if (surface.sides[t][0] == label || surface.sides[t][1] == label) triangles.push_back(t);
+    std::vector<std::uint32_t> remap(surface.mesh.vertices.size(), kNone);
+    return mesh_of_label(surface, label, triangles, remap);
+}
+
+std::vector<Mesh> label_meshes(const LabelSurface& surface) {
+    std::vector<std::int32_t> slot(std::size_t(kMaxLabel) + 1, -1);
+    for (std::size_t i = 0; i < surface.labels.size(); ++i) slot[surface.labels[i]] = std::int32_t(i);
+    std::vector<std::vector<std::uint32_t>> triangles(surface.labels.size());
+    for (std::uint32_t t = 0; t < surface.mesh.triangles.size(); ++t)
+        for (std::uint16_t label : surface.sides[t])
+            if (slot[label] >= 0) triangles[std::size_t(slot[label])].push_back(t);
+    std::vector<Mesh> meshes(surface.labels.size());
+    tbb::enumerable_thread_specific<std::vector<std::uint32_t>> remaps(std::vector<std::uint32_t>(surface.mesh.vertices.size(), kNone));
+    tbb::parallel_for(std::size_t(0), meshes.size(), [&](std::size_t i) {
+        meshes[i] = mesh_of_label(surface, surface.labels[i], triangles[i], remaps.local());
+    });
+    return meshes;
 }
 
 }  // namespace vdbmesh

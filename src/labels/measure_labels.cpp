@@ -42,8 +42,10 @@ std::vector<LabelMeasure> measure_labels(const LabelSurface& surface, const Labe
     for (const LabelCount& count : count_labels(volume)) voxels[count.value] = count.voxels;
     const double one_voxel = voxel_volume(volume.header.index_to_world);
     std::vector<LabelMeasure> result;
-    for (std::uint32_t label : surface.labels) {
-        LabelMeasure m = measure_mesh_of(label_mesh(surface, label));
+    const std::vector<Mesh> meshes = label_meshes(surface);
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        const std::uint32_t label = surface.labels[i];
+        LabelMeasure m = measure_mesh_of(meshes[i]);
         m.value = label;
         m.voxels = voxels[label];
         m.voxel_volume = double(m.voxels) * one_voxel;

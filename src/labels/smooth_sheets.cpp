@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <string>
 
 #include "vdbmesh/error.h"
@@ -24,6 +23,8 @@ namespace {
 /// A move is halved this many times before the vertex goes back to its unsmoothed place.
 constexpr int kHalvings = 5;
 constexpr int kMaxRounds = kHalvings + 3;
+/// The volume the held-back vertices lose is made up by the free ones this many steps from them.
+constexpr int kMakeUpRings = 6;
 
 /// Neighbours along the quads' sides, per vertex (compressed rows, each sorted).
 struct Neighbours {
@@ -113,7 +114,7 @@ void place_in_world(const SheetVertices& vertices, const std::vector<Point>& smo
     });
 }
 
-/// A grid cell for crossing_triangles(): about half a triangle's reach (its corners lie within
+/// A grid cell for the CrossingCheck: about half a triangle's reach (its corners lie within
 /// max_offset of corners one voxel apart), so a cell holds few triangles and a triangle
 /// reaches a few cells. The check is exact whatever the size; this only sets the work.
 double check_cell(const Affine& m, double max_offset) {
@@ -122,12 +123,13 @@ double check_cell(const Affine& m, double max_offset) {
     return (0.5 + max_offset) * longest;
 }
 
-/// The vertices (ascending) of the triangles of @a subset that cross another or degenerate, and
-/// of label pieces turned inside out (which no crossing would show).
-std::vector<std::uint32_t> offending_vertices(const Mesh& mesh, const std::vector<std::uint32_t>& subset, double cell,
+/// The vertices (ascending) of the triangles that cross another or degenerate (among the pairs
+/// @a check tests: with a triangle of @a moved after its first check), and of label pieces
+/// turned inside out (which no crossing would show).
+std::vector<std::uint32_t> offending_vertices(const Mesh& mesh, CrossingCheck& check, const std::vector<std::uint32_t>& moved,
                                               const LabelComponents& pieces, const std::vector<double>& base_volumes) {
     std::vector<std::uint8_t> bad = pieces.inverted(mesh, base_volumes);
-    const std::vector<std::uint8_t> crossing = crossing_triangles(mesh, subset, cell);
+    const std::vector<std::uint8_t> crossing = check.crossing_triangles(mesh, moved);
     for (std::size_t t = 0; t < crossing.size(); ++t)
         if (crossing[t])
             for (std::uint32_t v : mesh.triangles[t]) bad[v] = 1;
@@ -149,18 +151,37 @@ std::vector<std::uint32_t> triangles_at(const Mesh& mesh, const std::vector<std:
     return list;
 }
 
+/// The vertices at most @a rings steps along the walls from one of @a from.
+std::vector<std::uint8_t> near(const Neighbours& n, std::vector<std::uint8_t> from, int rings) {
+    for (int ring = 0; ring < rings; ++ring) {
+        std::vector<std::uint8_t> next = from;
+        tbb::parallel_for(std::size_t(0), from.size(), [&](std::size_t v) {
+            for (std::uint32_t i = n.start[v]; i < n.start[v + 1] && !next[v]; ++i) next[v] = from[n.list[i]];
+        });
+        from.swap(next);
+    }
+    return from;
+}
+
+/// The vertices (ascending) whose place in @a mesh differs from @a before (bit for bit).
+std::vector<std::uint32_t> moved_vertices(const Mesh& mesh, const std::vector<std::array<float, 3>>& before) {
+    std::vector<std::uint32_t> list;
+    for (std::uint32_t v = 0; v < before.size(); ++v)
+        if (mesh.vertices[v] != before[v]) list.push_back(v);
+    return list;
+}
+
 /// Holds vertices back toward their unsmoothed place (halving @a share, at last to 0) until no
 /// triangle crosses another, degenerates or turns a piece inside out; places out.mesh.
 /// Returns the rounds taken.
+/// @a subset: the triangles moved since @a check's last call (none before its first, which
+/// tests every triangle); later rounds test those round the vertices just moved back.
 int hold_back(const SheetVertices& vertices, const std::vector<Point>& smoothed, std::vector<double>& share,
-              const Affine& index_to_world, double cell, const LabelComponents& pieces, const std::vector<double>& base_volumes,
-              LabelSurface& out) {
-    // The first round checks every triangle; later ones those round the vertices just moved back.
-    std::vector<std::uint32_t> subset(out.mesh.triangles.size());
-    std::iota(subset.begin(), subset.end(), 0u);
+              const Affine& index_to_world, CrossingCheck& check, std::vector<std::uint32_t> subset, const LabelComponents& pieces,
+              const std::vector<double>& base_volumes, LabelSurface& out) {
     for (int round = 0;; ++round) {
         place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
-        const std::vector<std::uint32_t> bad = offending_vertices(out.mesh, subset, cell, pieces, base_volumes);
+        const std::vector<std::uint32_t> bad = offending_vertices(out.mesh, check, subset, pieces, base_volumes);
         if (bad.empty()) return round;
         bool moved = false;
         for (std::uint32_t v : bad) {
@@ -184,7 +205,8 @@ void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& 
         out.phases.emplace_back(name, std::chrono::duration<double>(Clock::now() - start).count());
     };
     Clock::time_point start = Clock::now();
-    std::vector<Point> smoothed = smoothed_places(vertices, quad_neighbours(vertices.base.size(), quads), options);
+    const Neighbours neighbours = quad_neighbours(vertices.base.size(), quads);
+    std::vector<Point> smoothed = smoothed_places(vertices, neighbours, options);
     phase("smooth", start);
     start = Clock::now();
     restore_volumes(smoothed, vertices, quads, voxels, options.max_offset, {});
@@ -196,22 +218,28 @@ void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& 
     place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
     const LabelComponents pieces(out.mesh, out.sides);
     const std::vector<double> base_volumes = pieces.volumes(out.mesh);
-    const double cell = check_cell(index_to_world, options.max_offset);
     share.assign(smoothed.size(), 1.0);
-    out.hold_back_rounds = hold_back(vertices, smoothed, share, index_to_world, cell, pieces, base_volumes, out);
+    CrossingCheck check(check_cell(index_to_world, options.max_offset));
+    out.hold_back_rounds = hold_back(vertices, smoothed, share, index_to_world, check, {}, pieces, base_volumes, out);
     phase("hold back", start);
     if (progress) progress(0.8);
-    // Vertices held back lose some of the volume put back; the free ones make it up, and the
-    // check runs again on the result.
+    // Vertices held back lose some of the volume put back; the free vertices near them (the
+    // loss is local) make it up, the others stay, and the check goes on from where it stopped,
+    // testing the triangles that moved.
     std::vector<std::uint8_t> held(share.size(), 0);
     for (std::size_t v = 0; v < share.size(); ++v) held[v] = share[v] < 1;
     if (std::find(held.begin(), held.end(), 1) != held.end()) {
         start = Clock::now();
         for (std::size_t v = 0; v < share.size(); ++v)
             for (int k = 0; k < 3; ++k) smoothed[v][k] = vertices.base[v][k] + share[v] * (smoothed[v][k] - vertices.base[v][k]);
-        restore_volumes(smoothed, vertices, quads, voxels, options.max_offset, held);
+        std::vector<std::uint8_t> fixed = near(neighbours, held, kMakeUpRings);
+        for (std::size_t v = 0; v < fixed.size(); ++v) fixed[v] = held[v] || !fixed[v];
+        restore_volumes(smoothed, vertices, quads, voxels, options.max_offset, fixed);
+        const std::vector<std::array<float, 3>> before = out.mesh.vertices;
         share.assign(smoothed.size(), 1.0);
-        out.hold_back_rounds += hold_back(vertices, smoothed, share, index_to_world, cell, pieces, base_volumes, out);
+        place_in_world(vertices, smoothed, share, index_to_world, out.mesh);
+        const std::vector<std::uint32_t> moved = triangles_at(out.mesh, moved_vertices(out.mesh, before));
+        out.hold_back_rounds += hold_back(vertices, smoothed, share, index_to_world, check, moved, pieces, base_volumes, out);
         phase("volumes again", start);
     }
     out.vertices_held_back = std::size_t(std::count_if(held.begin(), held.end(), [](std::uint8_t h) { return h; }) +

@@ -30,8 +30,10 @@ struct SheetQuad {
 /// quad along its shorter diagonal, maps to world by @a index_to_world (winding reversed for a
 /// mirroring map, so normals still point from sides[0] to sides[1]), then holds back vertices
 /// toward their unsmoothed place, halving their move, where a triangle crosses another or
-/// degenerates (find_self_intersections(): exact predicates). Fills out.mesh, out.sides and
-/// out.vertices_held_back. Throws Error if the unsmoothed surface itself is not clean.
+/// degenerates (crossing_check.h: exact predicates); the free vertices near the held ones
+/// then make up the volume those lost, and the check goes on over the triangles that moved.
+/// Fills out.mesh, out.sides and out.vertices_held_back. Throws Error if the unsmoothed
+/// surface itself is not clean.
 void smooth_sheets(const SheetVertices& vertices, const std::vector<SheetQuad>& quads, const std::vector<std::uint64_t>& voxels,
                    const LabelMeshOptions& options,
                    const Affine& index_to_world, LabelSurface& out, const std::function<void(double)>& progress);

@@ -21,9 +21,15 @@ nlohmann::json scan_json(const ViewScan& scan, double initial_iso) {
 nlohmann::json info_json(const ViewSource& source, std::size_t triangle_budget) {
     nlohmann::json j;
     j["name"] = source.name;
-    j["kind"] = source.scan ? "scan" : "mesh";
+    j["kind"] = source.scan ? "scan" : source.labels.empty() ? "mesh" : "labels";
     j["triangle_budget"] = triangle_budget;
     if (source.scan) j["scan"] = scan_json(*source.scan, source.initial_iso);
+    if (!source.labels.empty()) {
+        j["labels"] = nlohmann::json::array();
+        for (const ViewLabel& label : source.labels)
+            j["labels"].push_back({{"value", label.value}, {"name", label.name}, {"colour", label.colour},
+                                   {"first_triangle", label.first_triangle}, {"triangles", label.triangles}});
+    }
     return j;
 }
 

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
+#include "label_view.h"
 #include "test_data.h"
 #include "vdbmesh/mesh_io.h"
 
@@ -90,6 +91,37 @@ TEST(LabelCommandsTest, BadOutputsAndLabelListsAreUsageErrors) {
     EXPECT_EQ(run({"measure", aal.string(), "--csv", "-q"}), 2);
     EXPECT_FALSE(std::filesystem::exists(dir / "one.stl"));
     EXPECT_FALSE(std::filesystem::exists(dir / "x.ply"));
+}
+
+TEST(LabelCommandsTest, ViewShowsEachLabelAsARunOfOneMesh) {
+    VDBMESH_SHARED_DATA(aal, "nifti_mricron_label_atlases/aal.nii.gz");
+    LabelFlags flags;
+    flags.labels = "37,38";
+    const ViewSource source = label_view_source({aal.string()}, ReadFlags{}, flags);
+    ASSERT_EQ(source.labels.size(), 2u);
+    EXPECT_EQ(source.labels[0].name, "Hippocampus_L");
+    EXPECT_EQ(source.labels[1].value, 38u);
+    // The runs follow one another and cover the mesh.
+    EXPECT_EQ(source.labels[0].first_triangle, 0u);
+    EXPECT_EQ(source.labels[1].first_triangle, source.labels[0].triangles);
+    EXPECT_EQ(source.labels[1].first_vertex, source.labels[0].vertices);
+    EXPECT_EQ(source.mesh->triangles.size(), source.labels[0].triangles + source.labels[1].triangles);
+    EXPECT_EQ(source.mesh->vertices.size(), source.labels[0].vertices + source.labels[1].vertices);
+    for (const ViewLabel& label : source.labels)
+        for (double c : label.colour) EXPECT_TRUE(c >= 0 && c <= 1);  // AAL's table has no colours: the palette's
+    // Each label's mesh is checked alone, so the two hippocampi do not count as one mesh.
+    const nlohmann::json figures = nlohmann::json::parse(label_figures(*source.mesh, source.labels));
+    EXPECT_EQ(figures["labels"], 2);
+    EXPECT_TRUE(figures["closed"].get<bool>());
+    EXPECT_EQ(figures["self_intersecting_pairs"], 0);
+    EXPECT_EQ(figures["nonmanifold_edges"], 0);
+    EXPECT_GT(figures["volume"].get<double>(), 0);
+}
+
+TEST(LabelCommandsTest, ViewRefusesAnIsovalueOrNamesWithoutLabels) {
+    VDBMESH_SHARED_DATA(aal, "nifti_mricron_label_atlases/aal.nii.gz");
+    EXPECT_EQ(run({"view", aal.string(), "--labels", "all", "--iso", "3", "--no-open", "-q"}), 2);
+    EXPECT_EQ(run({"view", aal.string(), "--label-names", (aal.parent_path() / "aal.nii.txt").string(), "--no-open", "-q"}), 2);
 }
 
 }  // namespace

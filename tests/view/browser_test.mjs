@@ -4,12 +4,13 @@
 // pixels: the model is drawn and centred, the isovalue slider re-meshes (the triangle count
 // the page reports and the picture change), wireframe differs from solid, a clip plane
 // removes the expected half and caps the cut, splats cover the view and refine on a zoom
-// (the page's reported level), and Ctrl-C stops the server cleanly.
+// (the page's reported level), and Ctrl-C stops the server cleanly. Then (without --scan)
+// `vdbmesh view --labels` on a small label map: the labels listed, coloured, switchable.
 // Prints the time from releasing the slider to the coarse and the full mesh on screen.
 // Exit 0 passed, 1 failed, 77 skipped (no Chromium; a failure under VDBMESH_REQUIRE_BROWSER=1).
 //
 // node browser_test.mjs --vdbmesh BIN --web WEB_DIR --out SCREENSHOT_DIR
-//                       [--scan FILE --iso-to V] [-- more `vdbmesh view` arguments]
+//                       [--scan FILE --iso-to V] [--labels-map FILE] [-- more `vdbmesh view` arguments]
 import { execFileSync, spawn } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
@@ -254,6 +255,84 @@ async function checkSplats(driver, checks, solid, timeout) {
   checks.expect(changedShare(solid, mesh) < 0.02, 'turning splats off shows the mesh again');
 }
 
+/// A small label map (NIfTI-1, u8, 32^3): two touching spheres (labels 1 and 2, sharing a wall)
+/// and a bar (label 3), with a FreeSurfer-style table beside it naming and colouring 1 and 2
+/// (3 gets the palette's colour and "label 3").
+function writeLabelMap(folder) {
+  const n = 32;
+  const header = Buffer.alloc(352);
+  header.writeInt32LE(348, 0);
+  [3, n, n, n, 1, 1, 1, 1].forEach((d, i) => header.writeInt16LE(d, 40 + 2 * i));
+  header.writeInt16LE(2, 70);  // DT_UINT8
+  header.writeInt16LE(8, 72);
+  [1, 1, 1, 1].forEach((d, i) => header.writeFloatLE(d, 76 + 4 * i));
+  header.writeFloatLE(352, 108);
+  header.writeUInt8(2, 123);  // millimetres
+  header.write('n+1\0', 344, 'latin1');
+  const voxels = Buffer.alloc(n * n * n);
+  for (let z = 0; z < n; ++z)
+    for (let y = 0; y < n; ++y)
+      for (let x = 0; x < n; ++x) {
+        const inSphere = (cx) => (x - cx) ** 2 + (y - 16) ** 2 + (z - 16) ** 2 <= 49;
+        voxels[(z * n + y) * n + x] = inSphere(21) ? 2 : inSphere(11) ? 1 : y >= 4 && y < 8 && z >= 8 && z < 24 && x >= 6 && x < 26 ? 3 : 0;
+      }
+  const map = path.join(folder, 'labels.nii');
+  fs.writeFileSync(map, Buffer.concat([header, voxels]));
+  fs.writeFileSync(path.join(folder, 'labels_LUT.txt'), '0 Unknown 0 0 0 0\n1 Left 230 30 30 0\n2 Right 30 200 30 0\n');
+  return map;
+}
+
+const isRed = (r, g, b) => r > g + 60 && r > b + 60;
+const isGreen = (r, g, b) => g > r + 50 && g > b + 50;
+
+/// `vdbmesh view MAP --labels all`: the list names the labels, they are drawn in the table's
+/// colours, and switching one off takes its triangles out of the count drawn and its colour
+/// out of the picture; all brings it back. With --labels-map FILE (e.g. an atlas, for its
+/// screenshots) the checks that know writeLabelMap()'s names and colours are left out.
+async function checkLabels(browser, options, scratch, decode, checks, timeout) {
+  const ours = !options.labelsMap;
+  const viewer = await startViewer(options.vdbmesh, [options.labelsMap ?? writeLabelMap(scratch), '--labels', 'all']);
+  try {
+    const page = await browser.newPage({ viewport: { width: 1000, height: 700 } });
+    page.on('pageerror', (error) => checks.expect(false, `no error in the labels page: ${error.message}`));
+    page.setDefaultTimeout(timeout);
+    const driver = new PageDriver(page, options.out, decode);
+    await page.goto(viewer.address);
+    const before = await driver.waitForFullMesh(0, timeout);
+    const names = await page.locator('#labels label').allTextContents();
+    const listed = ours ? 3 : before.labels;
+    checks.expect(before.labels === listed && names.length === listed && listed > 0,
+      `the page lists the map's ${listed} labels (${names.slice(0, 3).join(', ')}${listed > 3 ? ', …' : ''})`);
+    if (ours) checks.expect(names[0].includes('Left') && names[1].includes('Right') && names[2].includes('label 3'), 'named by the table (else "label N")');
+    checks.expect(before.drawnTriangles === before.triangles, `all drawn at first (${before.drawnTriangles} of ${before.triangles} triangles)`);
+    await page.screenshot({ path: path.join(options.out, 'labels-page.png') });
+    const all = await driver.shot('labels');
+    const red = shareWhere(all, isRed), green = shareWhere(all, isGreen);
+    if (ours) checks.expect(red > 0.01 && green > 0.01, `labels 1 and 2 in the table's red and green (${(100 * red).toFixed(1)}%, ${(100 * green).toFixed(1)}% of the view)`);
+    await page.locator('#labels input').first().uncheck();
+    const without = await driver.state();
+    const shown = Number((await page.locator('#drawn-triangles').textContent()).replace(/,/g, ''));
+    checks.expect(without.drawnTriangles < before.drawnTriangles && shown === without.drawnTriangles,
+      `switching the first label off draws fewer triangles: ${before.drawnTriangles} -> ${without.drawnTriangles} (the page shows ${shown})`);
+    const off = await driver.shot('labels-1-off');
+    if (ours) {
+      checks.expect(shareWhere(off, isRed) < 0.1 * red && changedShare(all, off) > 0.01,
+        `and takes its red out of the picture (${(100 * shareWhere(off, isRed)).toFixed(2)}% red left, ${(100 * changedShare(all, off)).toFixed(1)}% of pixels changed)`);
+    }
+    await driver.click('#labels-none');
+    const none = await driver.state();
+    const empty = foreground(await driver.shot('labels-none'), BACKGROUND).share;
+    checks.expect(none.drawnTriangles === 0 && empty < 0.002, `"none" draws nothing (${none.drawnTriangles} triangles, ${(100 * empty).toFixed(2)}% of the view)`);
+    await driver.click('#labels-all');
+    const again = await driver.state();
+    checks.expect(again.drawnTriangles === before.drawnTriangles && changedShare(all, await driver.shot('labels-all-again')) < 0.005,
+      'the "all" button brings it back');
+    await page.close();
+  } finally {
+    checks.expect((await stopViewer(viewer.child)) === 0, 'the labels viewer stops cleanly on SIGINT (exit 0)');
+  }
+}
+
 async function main() {
   const options = parseArguments(process.argv.slice(2));
   const chromiumPath = findChromium();
@@ -288,6 +367,7 @@ async function main() {
     await checkWireframe(driver, checks, remeshed);
     await checkClip(driver, checks);
     await checkSplats(driver, checks, await driver.shot('solid-before-splats'), timeout);
+    if (!options.scan || options.labelsMap) await checkLabels(browser, options, scratch, driver.decode, checks, timeout);
   } finally {
     await browser?.close();
     if (viewer) checks.expect((await stopViewer(viewer.child)) === 0, 'vdbmesh view stops cleanly on SIGINT (exit 0)');

@@ -1,4 +1,5 @@
-// The page of `vdbmesh view`: wires the panel to the 3D view and the server.
+// The page of `vdbmesh view`: wires the panel to the 3D view and the server (and, for a label
+// map, the list of its labels).
 // window.vdbmeshView reports what is on screen, for the browser test.
 import { Scene3D } from './scene.js';
 import { Model } from './model.js';
@@ -8,11 +9,12 @@ import { HistogramView } from './histogram.js';
 import { addHistory, showCounts, showFigures } from './figures.js';
 import { Remesher } from './remesher.js';
 import { SplatLayer } from './splats.js';
+import { LabelList } from './labels.js';
 
 const $ = (id) => document.getElementById(id);
 const radio = (name) => document.querySelector(`input[name=${name}]:checked`).value;
 const state = (window.vdbmeshView = {
-  level: '', triangles: 0, meshes: 0, busy: false, timings: [], error: '', figures: null, overBudget: 0,
+  level: '', triangles: 0, meshes: 0, busy: false, timings: [], error: '', figures: null, overBudget: 0, labels: 0, drawnTriangles: 0,
   splatMode: false, cameraMovedAt: 0, splats: 0, splatLevel: null, splatCutLevel: null, splatComplete: false, splatViews: 0, splatBusy: false,
 });
 
@@ -29,6 +31,7 @@ const splatLayer = new SplatLayer(scene3d, {
 });
 let info;
 let histogram;
+let labelList;
 let fitted = false;
 
 function status(text) {
@@ -77,7 +80,9 @@ function setSplatMode(on) {
 }
 
 function showMesh(mesh, level, params) {
-  model.setGeometry(mesh.geometry);
+  model.setGeometry(mesh.geometry, info.labels);
+  labelList?.visible.forEach((visible, index) => model.setLabelVisible(index, visible));
+  state.drawnTriangles = labelList ? labelList.drawn() : mesh.triangles;
   applyClip();
   if (!fitted) {
     scene3d.fitTo(mesh.geometry.boundingBox);
@@ -185,6 +190,11 @@ async function start() {
   setUpPanel();
   if (info.scan) setUpScan(info.scan);
   if (info.scan) $('splat-controls').classList.remove('hidden');
+  if (info.labels) {
+    labelList = new LabelList($('labels-box'), info.labels, (index, visible) => model.setLabelVisible(index, visible),
+      (drawn) => (state.drawnTriangles = drawn));
+    state.labels = info.labels.length;
+  }
   await remesh();
 }
 

@@ -1,5 +1,5 @@
 // The mesh on screen: solid, wireframe or both, flat or smooth shading, and cut by the clip
-// planes with their caps (clipping.js).
+// planes with their caps (clipping.js); a label map's labels each in its colour, switchable.
 import * as THREE from 'three';
 import { ClipCaps } from './clipping.js';
 
@@ -23,15 +23,47 @@ export class Model {
   }
 
   /// Shows @a geometry (a BufferGeometry with position, normal and index) instead of the last.
-  setGeometry(geometry) {
+  /// @a labels (a label map's, from /api/info): each a run of the triangles, drawn in its
+  /// colour and switchable (setLabelVisible).
+  setGeometry(geometry, labels) {
     this.geometry?.dispose();
     this.geometry = geometry;
     this.group.remove(...this.group.children.filter((child) => child.isModelPart));
-    this.solid = this.part(new THREE.Mesh(geometry, this.solidMaterial), 2);
+    let solid = this.solidMaterial;
+    let wire = this.wireMaterial;
+    this.labelMaterials = [];
+    if (labels) {
+      geometry.clearGroups();
+      labels.forEach((label, i) => geometry.addGroup(3 * label.first_triangle, 3 * label.triangles, i));
+      this.labelMaterials = labels.map((label) => {
+        const material = { solid: this.solidMaterial.clone(), wire: this.wireMaterial.clone() };
+        material.solid.color.setRGB(...label.colour, THREE.SRGBColorSpace);
+        return material;
+      });
+      solid = this.labelMaterials.map((material) => material.solid);
+      wire = this.labelMaterials.map((material) => material.wire);
+    }
+    this.solid = this.part(new THREE.Mesh(geometry, solid), 2);
     this.solid.castShadow = this.solid.receiveShadow = true;
-    this.wire = this.part(new THREE.Mesh(geometry, this.wireMaterial), 3);
+    this.wire = this.part(new THREE.Mesh(geometry, wire), 3);
     this.caps.setGeometry(geometry);
     this.applyStyle();
+  }
+
+  /// Draws label @a index (of those given to setGeometry) or not.
+  setLabelVisible(index, visible) {
+    this.labelMaterials[index].solid.visible = visible;
+    this.labelMaterials[index].wire.visible = visible;
+    this.scene3d.requestRender();
+  }
+
+  /// The materials in use: the shared ones, or each label's.
+  solidMaterials() {
+    return this.labelMaterials.length ? this.labelMaterials.map((material) => material.solid) : [this.solidMaterial];
+  }
+
+  wireMaterials() {
+    return this.labelMaterials.length ? this.labelMaterials.map((material) => material.wire) : [this.wireMaterial];
   }
 
   part(mesh, renderOrder) {
@@ -48,16 +80,17 @@ export class Model {
   }
 
   setFlatShading(flat) {
-    this.solidMaterial.flatShading = flat;
-    this.solidMaterial.needsUpdate = true;
+    for (const material of [this.solidMaterial, ...this.solidMaterials()]) {
+      material.flatShading = flat;
+      material.needsUpdate = true;
+    }
     this.scene3d.requestRender();
   }
 
   /// Cuts the model by @a planes (THREE.Plane, keeping their positive side), capped.
   setClipPlanes(planes, bounds) {
     this.planes = planes;
-    this.solidMaterial.clippingPlanes = planes;
-    this.wireMaterial.clippingPlanes = planes;
+    for (const material of [this.solidMaterial, this.wireMaterial, ...this.solidMaterials(), ...this.wireMaterials()]) material.clippingPlanes = planes;
     this.caps.setPlanes(planes, bounds, this.style !== 'wireframe');
     this.scene3d.requestRender();
   }
@@ -66,7 +99,7 @@ export class Model {
     if (!this.solid) return;
     this.solid.visible = this.style !== 'wireframe';
     this.wire.visible = this.style !== 'solid';
-    this.wireMaterial.color.set(this.style === 'both' ? WIRE_ON_SOLID : WIRE_ALONE);
+    for (const material of [this.wireMaterial, ...this.wireMaterials()]) material.color.set(this.style === 'both' ? WIRE_ON_SOLID : WIRE_ALONE);
     this.caps.setVisible(this.style !== 'wireframe');
     this.scene3d.requestRender();
   }
