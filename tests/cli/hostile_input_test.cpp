@@ -182,6 +182,21 @@ TEST_F(HostileInput, AGzipRawTooSmallForItsDimsSaysWhatThePlainRawSays) {
     EXPECT_TRUE(mentions(gzip, "(truncated")) << gzip.message;
 }
 
+// Within the 1032-fold bound the truncation shows only while streaming; it is said as the plain
+// .raw's size check says it (file, the bytes expected, the bytes found), not in the stream's words.
+TEST_F(HostileInput, AGzipRawTruncatedWithinTheBoundSaysWhatThePlainRawSays) {
+    write_file(*dir_ / "short.raw", std::string(1000, '\0'));
+    ASSERT_EQ(run_cli({"phantom", "sphere", "--size", "10", "-o", path("short.raw.gz")}).status, 0);  // 1000 samples
+    const std::string dims = "20,20,20";
+    const Outcome plain = run_cli({"info", path("short.raw"), "--raw-dims", dims});
+    const Outcome gzip = run_cli({"info", path("short.raw.gz"), "--raw-dims", dims});
+    const std::string sentence = ": sample data: expected 8000 bytes of samples (20 x 20 x 20 u8), got only 1000 bytes (truncated)";
+    EXPECT_EQ(plain.status, kRuntimeError) << plain.message;
+    EXPECT_EQ(gzip.status, kRuntimeError) << gzip.message;
+    EXPECT_TRUE(mentions(plain, path("short.raw") + sentence)) << plain.message;
+    EXPECT_TRUE(mentions(gzip, path("short.raw.gz") + sentence)) << gzip.message;
+}
+
 // ---- 4. options that slip through ----
 
 TEST_F(HostileInput, NanAndInfinityAreRefusedNamingTheOption) {
