@@ -130,6 +130,31 @@ TEST_F(HostileInput, AnOutputNamingAnInputIsAUsageErrorAndTheInputIsKept) {
     EXPECT_TRUE(mentions(both, "another output")) << both.message;
 }
 
+// The scans a .conf lists are read as inputs: an output naming one (through a nested .conf or a
+// link too), or the .conf itself, is refused before any work.
+TEST_F(HostileInput, AnOutputNamingAScanAConfListsIsAUsageError) {
+    const std::string ply = "ply\nformat ascii 1.0\nelement vertex 400\nproperty float x\nproperty float y\nproperty float z\nproperty "
+                            "float nx\nproperty float ny\nproperty float nz\nend_header\n" + sphere_points(true);
+    write_file(*dir_ / "first.ply", ply);
+    write_file(*dir_ / "second.ply", ply);
+    std::filesystem::create_directory(*dir_ / "nested");
+    write_file(*dir_ / "nested" / "inner.conf", "bmesh ../second.ply 0 0 0 0 0 0 1\n");
+    write_file(*dir_ / "set.conf", "camera 0 0 0 0 0 0 1\nbmesh first.ply 0 0 0 0 0 0 1\nbmesh nested/inner.conf 0 0 0 0 0 0 1\n");
+    std::filesystem::create_symlink(path("first.ply"), path("first-link.ply"));
+    const std::string set_before = read_file(path("set.conf")), first_before = read_file(path("first.ply")),
+                      second_before = read_file(path("second.ply"));
+    for (const std::string& output : {path("first.ply"), path("second.ply"), path("first-link.ply"), path("set.conf"),
+                                      path("nested/inner.conf")}) {
+        const Outcome o = run_cli({"reconstruct", path("set.conf"), "-o", output});
+        EXPECT_EQ(o.status, kUsageError) << output << ": " << o.message;
+        EXPECT_TRUE(mentions(o, "--output: expected a file that is not an input")) << o.message;
+    }
+    EXPECT_EQ(read_file(path("set.conf")), set_before);
+    EXPECT_EQ(read_file(path("first.ply")), first_before);
+    EXPECT_EQ(read_file(path("second.ply")), second_before);
+    EXPECT_EQ(run_cli({"reconstruct", path("set.conf"), "-o", path("from-set.ply")}).status, 0);  // still read as a whole
+}
+
 TEST_F(HostileInput, ProcessMayReplaceItsInputButNotTheStopLayer) {
     std::filesystem::copy_file(path("level.vdb"), path("replaced.vdb"));
     std::filesystem::copy_file(path("level.vdb"), path("stop.vdb"));
