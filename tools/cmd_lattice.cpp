@@ -189,10 +189,12 @@ void add_lattice_command(CLI::App& command, CommandResult& result) {
     auto* clip = input_files(command.add_option("--clip", o->clip,
                        "Intersect with this solid: a mesh file, or a .vdb or scan (meshed at --clip-iso; further files: "
                        "the parts of a split raw scan, read with the --raw-* flags)"));
-    command.add_option("--clip-iso", o->clip_input.iso, "Isovalue of a --clip .vdb or scan (default: the stored one)")->needs(clip);
-    command.add_option("--clip-inside", o->clip_inside, "Which side of --clip-iso is the solid: above (default) or below (a level set)")
-        ->check(CLI::IsMember({"above", "below"}))
-        ->needs(clip);
+    o->clip_input.grid_only = {
+        command.add_option("--clip-iso", o->clip_input.iso, "Isovalue of a --clip .vdb or scan (default: the stored one)")->needs(clip),
+        command.add_option("--clip-inside", o->clip_inside, "Which side of --clip-iso is the solid: above (default) or below (a level set)")
+            ->check(CLI::IsMember({"above", "below"}))
+            ->needs(clip),
+    };
     output_file(command.add_option("-o,--output", o->output, "Output: .vdb (level set), .stl/.ply/.obj (mesh), .gltf/.glb (instanced mesh)"));
     command.add_flag("--measure", o->measure, "Print volume, area, components, voxels, unique_leaves, leaves; write nothing");
     command.add_flag("--json", o->json, "Print the figures as one JSON object on stdout");
