@@ -65,15 +65,16 @@ std::string lowercase(std::string text) {
     return text;
 }
 
-/// The grid to mesh, with options.mesh.iso set: a .vdb as stored, a scan converted (band 1).
+/// The grid to mesh, with options.mesh.iso and inside set: a .vdb as stored, a scan converted
+/// (band 1) closed at its box on either side (load_grid()).
 openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& progress) {
     ConvertOptions convert;
     convert.band = conversion_band(options.processing);
     convert.progress = [&](double fraction) { progress(0.5 * fraction); };
-    const GridInput loaded = load_grid(options.inputs, options.iso, options.read, "mesh", convert);
+    const std::optional<Inside> side = options.inside ? std::optional<Inside>(kSides.at(lowercase(*options.inside))) : std::nullopt;
+    const GridInput loaded = load_grid(options.inputs, options.iso, options.read, "mesh", convert, "--iso", side);
     options.mesh.iso = loaded.iso;
-    options.mesh.inside = options.inside ? kSides.at(lowercase(*options.inside))
-                                         : (loaded.level_set ? Inside::below : Inside::above);
+    options.mesh.inside = loaded.inside;
     return loaded.grid;
 }
 
@@ -86,7 +87,7 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
     nlohmann::ordered_json j;
     j["output"] = options.output;
     j["method"] = lowercase(options.method);
-    j["iso"] = options.mesh.iso;
+    j["iso"] = options.iso.value_or(options.mesh.iso);  // as asked: mesh.iso is its negative for a scan's object below
     j["error"] = dc ? nlohmann::ordered_json(options.mesh.error) : nlohmann::ordered_json(nullptr);
     j["adaptivity"] = openvdb ? nlohmann::ordered_json(options.mesh.adaptivity) : nlohmann::ordered_json(nullptr);
     j["processing"] = processing_json(options.processing, processing);

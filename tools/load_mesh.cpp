@@ -38,10 +38,10 @@ Mesh load_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& o
     }
     ConvertOptions convert;
     convert.band = 1;
-    const GridInput loaded = load_grid(inputs, options.iso, options.read, purpose, convert, options.iso_option);
+    const GridInput loaded = load_grid(inputs, options.iso, options.read, purpose, convert, options.iso_option, options.inside);
     MeshOptions mesh;
     mesh.iso = loaded.iso;
-    mesh.inside = options.inside;
+    mesh.inside = loaded.inside;
     Mesh result = mesh_grid(*loaded.grid, mesh).mesh;
     if (result.triangles.empty()) throw no_surface_error(inputs.front(), *loaded.grid, {loaded.iso, loaded.iso}, "");
     if (options.refine) refine_to_isosurface(result, *loaded.grid, loaded.iso);

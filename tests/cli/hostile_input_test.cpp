@@ -12,8 +12,10 @@
 #include <utility>
 #include <vector>
 
+#include "cgal_judge.h"
 #include "cli.h"
 #include "test_data.h"
+#include "vdbmesh/mesh_io.h"
 
 namespace vdbmesh::cli {
 namespace {
@@ -336,6 +338,25 @@ TEST_F(HostileInput, BinaryBytesInAMessageAreEscaped) {
     EXPECT_EQ(o.status, kRuntimeError) << o.message;
     EXPECT_TRUE(mentions(o, "\\x01\\x02\\x1b[31m\\xff")) << o.message;
     for (const char c : o.message) EXPECT_TRUE(static_cast<unsigned char>(c) >= 0x20 || c == '\n') << int(c);
+}
+
+// ---- 7 (the command line's share): an object below the isovalue touching the scan's border ----
+
+// The object below 0.5 in the sphere phantom is the box around the ball: it touches the border
+// on every side. volumeToMesh had left it open there (main: only the ball's surface, inward);
+// the scan is now converted negated (side_grid.h, as the Python module does) and meshed closed.
+TEST_F(HostileInput, OpenvdbWithInsideBelowMeshesAnObjectTouchingTheBorderClosed) {
+    ASSERT_EQ(run_cli({"mesh", path("scan.nii"), "--iso", "0.5", "--inside", "below", "--method", "openvdb", "-o", path("below-openvdb.stl")})
+                  .status,
+              0);
+    ASSERT_EQ(run_cli({"mesh", path("scan.nii"), "--iso", "0.5", "--inside", "below", "-o", path("below-dc.stl")}).status, 0);
+    const test::CgalVerdict openvdb = test::judge_with_cgal(read_mesh(path("below-openvdb.stl")));
+    const test::CgalVerdict dc = test::judge_with_cgal(read_mesh(path("below-dc.stl")));
+    EXPECT_TRUE(openvdb.clean()) << openvdb.describe();
+    EXPECT_TRUE(dc.clean()) << dc.describe();
+    // The same object (the box less the ball): the two meshers place vertices within a tenth of
+    // a voxel of each other on a surface of about 1800 voxel faces, well under 5% of its volume.
+    EXPECT_NEAR(openvdb.volume, dc.volume, 0.05 * dc.volume);
 }
 
 }  // namespace
