@@ -63,6 +63,7 @@ struct CheckOptions {
     std::size_t samples = 100000;
     bool json = false;
     CommonOptions common;
+    WorkLimit work_limit;
 };
 
 void add_distance(nlohmann::ordered_json& j, const DistanceReport& d, std::size_t samples) {
@@ -82,7 +83,7 @@ void print_table(const nlohmann::ordered_json& j, std::ostream& out) {
 }
 
 int run_check(const CheckOptions& o) {
-    refuse_beyond_work("--samples", 2.0 * double(o.samples), "distance queries", 1e-6);
+    refuse_beyond_work(o.work_limit, "--samples", 2.0 * double(o.samples), "distance queries", 1e-6);
     const ThreadLimit limit(o.common);
     const Mesh mesh = read_mesh(o.mesh);
     const MeshAnalysis report = analyze_mesh(mesh);
@@ -113,6 +114,7 @@ void add_check_command(CLI::App& command, CommandResult& result) {
         ->needs(reference);
     command.add_flag("--json", o.json, "One JSON object instead of a table");
     add_common_options(command, o.common);
+    add_work_limit_option(command, o.work_limit);
     command.footer("Exit status: 0 clean (closed, manifold, oriented outward, no self-intersections or "
                    "degenerate faces), 3 not clean, 1 unreadable.");
     command.callback([options, &result] { result.status = run_check(*options); });

@@ -54,6 +54,7 @@ struct CompareCommandOptions {
     std::string json, plot;
     ReadFlags read;
     CommonOptions common;
+    WorkLimit work_limit;
 };
 
 /// The grid to compare on, and what the report says about where it came from.
@@ -256,7 +257,7 @@ int run_compare(const CompareCommandOptions& o) {
     const std::size_t mesh_count = options.errors.size() + options.adaptivities.size() +
                                options.decimate_fractions.size() + 1;  // and Marching Cubes
     refuse_beyond_memory("--samples", "the surface samples (24 bytes each)", 24.0 * double(o.samples));
-    refuse_beyond_work("--samples", 2.0 * double(o.samples) * double(mesh_count),
+    refuse_beyond_work(o.work_limit, "--samples", 2.0 * double(o.samples) * double(mesh_count),
                        "distance queries (samples both ways on " + std::to_string(mesh_count) + " meshes)", 1e-6);
     const LoadedGrid loaded = load_input(o);
     options.iso = loaded.iso;
@@ -317,6 +318,7 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
     output_file(command.add_option("--plot", o.plot, "Write triangles against Hausdorff distance as an SVG chart to FILE"));
     add_read_flags(command, o.read);
     add_common_options(command, o.common);
+    add_work_limit_option(command, o.work_limit);
     command.callback([options, &result] { result.status = run_compare(*options); });
 }
 

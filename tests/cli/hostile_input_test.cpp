@@ -173,15 +173,18 @@ TEST_F(HostileInput, ProcessMayReplaceItsInputButNotTheStopLayer) {
 
 TEST_F(HostileInput, WorkAndMemoryBeyondTheLimitsAreRefusedBeforeStarting) {
     const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
-        {{"process", path("level.vdb"), "--deposit", "1000", "-o", path("o.vdb")}, "--deposit: expected at most 1 hour of work"},
+        {{"process", path("level.vdb"), "--deposit", "1000", "-o", path("o.vdb")}, "--deposit: expected at most 2 min of work"},
         {{"lattice", "gyroid", "--period", "2", "--thickness", "0.5", "--box", "2", "--voxel", "0.25", "--band", "100000", "--measure"},
-         "--band: expected at most 1 hour of work"},
+         "--band: expected at most 2 min of work"},
+        // A band wider than the box fills the widened box: about 16e6 leaves, 2.2 min on one core measured from --band 300.
+        {{"lattice", "gyroid", "--period", "2", "--thickness", "0.5", "--box", "2", "--voxel", "0.25", "--band", "1000", "--measure"},
+         "--band: expected at most 2 min of work"},
         {{"lattice", "gyroid", "--period", "2", "--thickness", "0.5", "--box", "20", "--voxel", "1e-3", "--measure"},
-         "--voxel: expected at most 1 hour of work"},
+         "--voxel: expected at most 2 min of work"},
         {{"reconstruct", path("p.xyz"), "--voxel", "1e-3", "-o", path("o.stl")}, "--voxel: expected at most 16 GiB of memory"},
         {{"mesh", path("scan.vdb"), "-o", path("o.stl"), "--threads", "99999999"}, "--threads"},
         {{"compare", path("scan.vdb"), "--samples", "4000000000"}, "--samples: expected at most 16 GiB of memory"},
-        {{"check", path("io.stl"), "--ref", path("io.stl"), "--samples", "4000000000"}, "--samples: expected at most 1 hour of work"},
+        {{"check", path("io.stl"), "--ref", path("io.stl"), "--samples", "4000000000"}, "--samples: expected at most 2 min of work"},
         {{"compare", "--phantom", "sphere", "--size", "100000"}, "--size: expected at most 16 GiB of memory"},
     };
     for (const auto& [args, text] : cases) {
@@ -193,6 +196,19 @@ TEST_F(HostileInput, WorkAndMemoryBeyondTheLimitsAreRefusedBeforeStarting) {
         EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(20)) << args[0];  // refused, not started
     }
     EXPECT_FALSE(std::filesystem::exists(*dir_ / "o.vdb"));
+}
+
+// --work-limit sets the limit of one run: a lattice estimated at about 0.1 s is refused under a
+// limit of 6 ms (the message names the limit's option) and built under the default.
+TEST_F(HostileInput, WorkLimitSetsTheLimitOfOneRun) {
+    const std::vector<std::string> lattice = {"lattice", "gyroid", "--period", "2", "--thickness", "0.5", "--box", "2", "--voxel", "0.25",
+                                              "--band", "100", "--measure"};
+    std::vector<std::string> limited = lattice;
+    limited.insert(limited.end(), {"--work-limit", "1e-4"});
+    const Outcome refused = run_cli(limited);
+    EXPECT_EQ(refused.status, kUsageError) << refused.message;
+    EXPECT_TRUE(mentions(refused, "--band: expected at most 6 ms of work on one core (--work-limit), got an estimate of")) << refused.message;
+    EXPECT_EQ(run_cli(lattice).status, 0);
 }
 
 TEST_F(HostileInput, AGzipRawTooSmallForItsDimsSaysWhatThePlainRawSays) {
