@@ -27,6 +27,7 @@
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/grid_region.h"
+#include "vdbmesh/ranks.h"
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/mesher.h"
@@ -65,14 +66,30 @@ std::string lowercase(std::string text) {
     return text;
 }
 
+/// How the input is converted when it is a scan.
+ConvertOptions mesh_conversion(const MeshCommandOptions& options, Progress& progress) {
+    ConvertOptions convert;
+    convert.band = conversion_band(options.processing);
+    convert.progress = [&progress](double fraction) { progress(0.5 * fraction); };
+    return convert;
+}
+
+/// The side --inside names, if given.
+std::optional<Inside> given_side(const MeshCommandOptions& options) {
+    return options.inside ? std::optional<Inside>(kSides.at(lowercase(*options.inside))) : std::nullopt;
+}
+
+/// Sets the isovalue and the inside the input was found to take.
+void take_input_side(MeshCommandOptions& options, double iso, bool level_set) {
+    options.mesh.iso = iso;
+    options.mesh.inside = given_side(options).value_or(level_set ? Inside::below : Inside::above);
+}
+
 /// The grid to mesh, with options.mesh.iso and inside set: a .vdb as stored, a scan converted
 /// (band 1) closed at its box on either side (load_grid()).
 openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& progress) {
-    ConvertOptions convert;
-    convert.band = conversion_band(options.processing);
-    convert.progress = [&](double fraction) { progress(0.5 * fraction); };
-    const std::optional<Inside> side = options.inside ? std::optional<Inside>(kSides.at(lowercase(*options.inside))) : std::nullopt;
-    const GridInput loaded = load_grid(options.inputs, options.iso, options.read, "mesh", convert, "--iso", side);
+    const GridInput loaded =
+        load_grid(options.inputs, options.iso, options.read, "mesh", mesh_conversion(options, progress), "--iso", given_side(options));
     options.mesh.iso = loaded.iso;
     options.mesh.inside = loaded.inside;
     return loaded.grid;
@@ -97,25 +114,29 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
     // What the mesher did: its phases in the order run, fallbacks.
     j["phases"] = phases_json(report);
     j["fallbacks"] = report.fallbacks;
+    // How --memory cut the grid (null when it was meshed whole).
+    j["bricks"] = report.bricks == 0 ? nlohmann::ordered_json(nullptr)
+                                     : nlohmann::ordered_json{{"nodes_across", report.nodes_per_brick}, {"count", report.bricks}};
     j["verified"] = verified ? report_json(*verified) : nlohmann::ordered_json(nullptr);
     return j;
 }
 
-/// --memory in bytes, if given; refused (a usage error) with a method that meshes only whole
-/// grids.
+/// --memory in bytes, if given (0 when not, under mpirun), when the mesh is made brick by brick;
+/// refused (a usage error) with a method that meshes only whole grids, or with the processing
+/// that needs the whole mesh.
 std::optional<std::uint64_t> memory_limit(const MeshCommandOptions& options) {
-    if (options.memory.empty()) return std::nullopt;
-    const std::uint64_t bytes = parse_memory_size("--memory", options.memory);
+    if (options.memory.empty() && rank_count() == 1) return std::nullopt;
+    const std::string why = options.memory.empty() ? "mpirun" : "--memory";
     if (options.mesh.method != MeshMethod::dc || options.mesh.error <= 0) {
-        throw UsageError("--memory: only --method dc with --error above 0 meshes by bricks; Marching Cubes and volumeToMesh "
-                         "mesh the whole grid at once");
+        throw UsageError(why + ": only --method dc with --error above 0 meshes by bricks; Marching Cubes and volumeToMesh mesh the whole "
+                         "grid at once" + (why == "mpirun" ? std::string(", in one process (run them without mpirun)") : ""));
     }
     const ProcessingOptions& p = options.processing;
     if (options.verify || options.normals || p.taubin > 0 || p.decimate || p.max_error) {
-        throw UsageError("--memory: the mesh is written as a stream, never held whole, so --verify, --normals, --taubin, --decimate and "
+        throw UsageError(why + ": the mesh is written as a stream, never held whole, so --verify, --normals, --taubin, --decimate and "
                          "--max-error (which need the whole mesh) are not available with it");
     }
-    return bytes;
+    return options.memory.empty() ? 0 : parse_memory_size("--memory", options.memory);
 }
 
 /// Sends the bricked mesh into the output file as it comes.
@@ -135,7 +156,10 @@ public:
     void triangle(const std::array<std::uint32_t, 3>& t, const std::array<std::array<float, 3>, 3>& corners) override {
         writer_->add_triangle(t, corners);
     }
-    void commit() { writer_->commit(); }
+    /// Writes the file: on the rank that received the mesh (rank 0), nothing elsewhere.
+    void commit() {
+        if (writer_) writer_->commit();
+    }
     std::uint64_t vertices = 0, triangles = 0;
 
 private:
@@ -144,15 +168,27 @@ private:
     std::optional<MeshStreamWriter> writer_;
 };
 
-/// With --memory: brick by brick into the file (exit status 0).
-int run_bricked(const MeshCommandOptions& options, const openvdb::FloatGrid::Ptr& grid, std::uint64_t memory,
-                const ProcessingReport& processing, std::chrono::steady_clock::time_point start) {
-    FileSink sink(options, *grid);
-    const MeshReport report = mesh_bricks_to_stream(*grid_regions_in_memory(grid), options.mesh, BrickOptions{0, memory}, sink);
+/// With --memory: the input read by region (never whole), brick by brick into the file (exit
+/// status 0).
+int run_bricked(MeshCommandOptions& options, std::uint64_t memory, Progress& progress, std::chrono::steady_clock::time_point start) {
+    const std::string steps = grid_steps_text(options.processing);
+    if (!steps.empty()) throw UsageError("--memory: " + steps + " work on the whole grid, which --memory never holds; leave them out");
+    const GridRegionsInput opened = open_grid_regions(options.inputs, options.iso, options.read, "mesh", mesh_conversion(options, progress));
+    take_input_side(options, opened.iso, opened.level_set);
+    options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
+    const std::shared_ptr<const openvdb::FloatGrid> description = opened.source->description();
+    FileSink sink(options, *description);
+    BrickOptions bricks{0, memory};
+    bricks.rank = this_rank();
+    bricks.ranks = rank_count();
+    bricks.gather = gather_to_rank0;
+    const MeshReport report = mesh_bricks_to_stream(*opened.source, options.mesh, bricks, sink);
     sink.commit();
+    if (bricks.rank != 0) return 0;  // rank 0 wrote the file and reports
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.json) {
-        std::cout << detail::json_text(figures_json(options, processing, report, sink.triangles, sink.vertices, std::nullopt, seconds)) << "\n";
+        std::cout << detail::json_text(figures_json(options, ProcessingReport{}, report, sink.triangles, sink.vertices, std::nullopt, seconds))
+                  << "\n";
     } else if (!options.common.quiet) {
         std::cerr << "vdbmesh mesh: " << sink.triangles << " triangles, " << sink.vertices << " vertices, " << seconds << " s -> "
                   << options.output << "\n";
@@ -181,12 +217,12 @@ int run_mesh(MeshCommandOptions& options) {
     const std::optional<std::uint64_t> memory = memory_limit(options);
     const ThreadLimit limit(options.common);
     const auto start = std::chrono::steady_clock::now();
-    Progress progress("meshing", options.common.quiet);
+    Progress progress("meshing", options.common.quiet || this_rank() != 0);
+    if (memory) return run_bricked(options, *memory, progress, start);
     openvdb::FloatGrid::Ptr grid = load_mesh_grid(options, progress);
     ProcessingReport processing;
     process_grid(grid, options.mesh, options.processing, processing);
     options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
-    if (memory) return run_bricked(options, grid, *memory, processing, start);
     MeshResult result = mesh_grid(*grid, options.mesh);
     result.mesh = process_mesh(std::move(result.mesh), options.processing, processing);
     const Mesh& mesh = result.mesh;

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "vdbmesh/error.h"
+#include "vdbmesh/scan_regions.h"
 #include "vdbmesh/side_grid.h"
 
 namespace vdbmesh::cli {
@@ -61,24 +62,41 @@ openvdb::FloatGrid::Ptr convert_timed(VolumeReader& reader, const ConvertOptions
     return grid;
 }
 
-GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double> iso, const ReadFlags& read,
-                    const std::string& purpose, ConvertOptions convert, const std::string& iso_option,
-                    std::optional<Inside> inside) {
+namespace {
+
+/// The isovalue a .vdb is meshed at: @a iso, else the one @a grid stores (0 for a level set).
+double vdb_isovalue(const std::string& input, const openvdb::FloatGrid& grid, std::optional<double> iso, const std::string& iso_option) {
+    const bool level_set = grid.getGridClass() == openvdb::GRID_LEVEL_SET;
+    const std::optional<double> stored = level_set ? std::optional<double>(0.0) : stored_isovalue(grid);
+    const std::optional<double> chosen = iso ? iso : stored;
+    if (!chosen) throw UsageError(iso_option + ": required, " + input + " stores no isovalue");
+    require_iso_in_band(input, grid, *chosen, iso_option);
+    return *chosen;
+}
+
+/// Refuses what no grid input takes: a mesh file, further inputs after a .vdb, scan flags on a .vdb.
+void check_grid_inputs(const std::vector<std::string>& inputs, const ReadFlags& read, const std::string& purpose) {
     const std::string& input = inputs.front();
     if (is_mesh_file(input))
         throw UsageError("expected a .vdb grid or a scan to " + purpose + ", got the mesh " + input + " (a surface already)");
+    if (lowercase_extension(input) != ".vdb") return;
+    if (inputs.size() > 1) throw UsageError("a .vdb input takes no further input files");
+    read.refuse_for("the grid " + input);
+}
+
+}  // namespace
+
+GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double> iso, const ReadFlags& read,
+                    const std::string& purpose, ConvertOptions convert, const std::string& iso_option,
+                    std::optional<Inside> inside) {
+    check_grid_inputs(inputs, read, purpose);
+    const std::string& input = inputs.front();
     GridInput loaded;
     if (lowercase_extension(input) == ".vdb") {
-        if (inputs.size() > 1) throw UsageError("a .vdb input takes no further input files");
-        read.refuse_for("the grid " + input);
         loaded.grid = read_vdb(input);
         loaded.level_set = loaded.grid->getGridClass() == openvdb::GRID_LEVEL_SET;
-        const std::optional<double> stored = loaded.level_set ? std::optional<double>(0.0) : stored_isovalue(*loaded.grid);
-        const std::optional<double> chosen = iso ? iso : stored;
-        if (!chosen) throw UsageError(iso_option + ": required, " + input + " stores no isovalue");
-        loaded.iso = *chosen;
+        loaded.iso = vdb_isovalue(input, *loaded.grid, iso, iso_option);
         loaded.inside = inside.value_or(loaded.level_set ? Inside::below : Inside::above);
-        require_iso_in_band(input, *loaded.grid, loaded.iso, iso_option);
         return loaded;
     }
     if (!iso) throw UsageError(iso_option + ": required to " + purpose + " a scan");
@@ -87,6 +105,25 @@ GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double
     loaded.grid = convert_timed(*reader, convert, loaded.convert_seconds, inside.value_or(Inside::above));
     loaded.iso = holds_negated_samples(*loaded.grid) ? -*iso : *iso;
     return loaded;
+}
+
+GridRegionsInput open_grid_regions(const std::vector<std::string>& inputs, std::optional<double> iso, const ReadFlags& read,
+                                   const std::string& purpose, ConvertOptions convert, const std::string& iso_option) {
+    check_grid_inputs(inputs, read, purpose);
+    const std::string& input = inputs.front();
+    GridRegionsInput opened;
+    if (lowercase_extension(input) == ".vdb") {
+        opened.source = open_vdb_regions(input);
+        const std::shared_ptr<const openvdb::FloatGrid> description = opened.source->description();
+        opened.level_set = description->getGridClass() == openvdb::GRID_LEVEL_SET;
+        opened.iso = vdb_isovalue(input, *description, iso, iso_option);
+        return opened;
+    }
+    if (!iso) throw UsageError(iso_option + ": required to " + purpose + " a scan");
+    opened.iso = *iso;
+    convert.iso = *iso;
+    opened.source = open_scan_regions([inputs, read] { return std::unique_ptr<SliceReader>(open_scan(inputs, read)); }, convert);
+    return opened;
 }
 
 Error no_surface_error(const std::string& input, const openvdb::FloatGrid& grid, std::pair<double, double> isovalues,

@@ -11,6 +11,7 @@
 #include "common_options.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/read.h"
 
@@ -45,10 +46,23 @@ GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double
                     const std::string& purpose, ConvertOptions convert, const std::string& iso_option = "--iso",
                     std::optional<Inside> inside = std::nullopt);
 
+/// A grid read by region (grid_region.h) and the isovalue it is to be meshed at.
+struct GridRegionsInput {
+    std::unique_ptr<GridRegionSource> source;
+    double iso = 0;
+    bool level_set = false;
+};
+
+/// load_grid()'s input by region, never whole: a .vdb's topology (open_vdb_regions()), or a scan
+/// surveyed and read in z-bands (open_scan_regions()). The same checks and errors as load_grid().
+GridRegionsInput open_grid_regions(const std::vector<std::string>& inputs, std::optional<double> iso, const ReadFlags& read,
+                                   const std::string& purpose, ConvertOptions convert, const std::string& iso_option = "--iso");
+
 /// The error for a grid of @a input with no surface at @a isovalues (low, high; equal for one
 /// isovalue) outside the values or in a constant volume: it names the stored value range when
-/// known (both in the scan's terms for a grid of negated samples), and says @a output was not written (when not empty). When @a grid_steps (grid_steps_text()) removed a
-/// surface that the stored values have at the isovalue, it blames them, not the isovalue.
+/// known (both in the scan's terms for a grid of negated samples), and says @a output was not
+/// written (when not empty). When @a grid_steps (grid_steps_text()) removed a surface that the
+/// stored values have at the isovalue, it blames them, not the isovalue.
 Error no_surface_error(const std::string& input, const openvdb::FloatGrid& grid, std::pair<double, double> isovalues,
                        const std::string& output, const std::string& grid_steps = "");
 

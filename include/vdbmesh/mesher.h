@@ -57,6 +57,10 @@ struct MeshReport {
     bool open_boundary = false;
     std::vector<MeshPhase> phases;       ///< in the order run
     std::vector<std::string> fallbacks;  ///< anything the mesher fell back to, in words; empty when none
+    /// How mesh_bricks() cut the grid: nodes across a brick and how many bricks (docs/dmc.md,
+    /// "Bricks"); 0 and 0 when the grid was meshed whole.
+    int nodes_per_brick = 0;
+    std::uint64_t bricks = 0;
     double total_seconds() const;        ///< the sum of the phases
 };
 
@@ -78,11 +82,20 @@ MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options)
 
 /// How mesh_bricks() cuts the grid (docs/dmc.md, "Bricks").
 struct BrickOptions {
-    /// Edge of a brick in nodes (kNodeVoxels each): a brick is read with a halo of one node
-    /// on every side. 0: one brick holding the whole grid, unless memory_bytes is set.
+    /// Nodes (kNodeVoxels each) across a brick, in x and y; a brick is one node high. The
+    /// bricks of a column are meshed bottom to top with a ring of one node round the column.
+    /// 0: one column holding the whole grid, unless memory_bytes is set.
     int nodes_per_brick = 0;
     /// With nodes_per_brick 0: the largest brick whose estimated peak (brick_peak_bytes()) fits.
     std::uint64_t memory_bytes = 0;
+    /// A run over several processes (ranks.h), for mesh_bricks_to_stream(): this one, @a rank
+    /// of @a ranks, meshes the bricks bricks_to_ranks() gives it; rank 0 gathers every rank's
+    /// part with @a gather (a collective call: every rank's bytes, in rank order, on rank 0, as
+    /// ranks.h's gather_to_rank0()) and alone sends the mesh to its sink, the same vertices and
+    /// triangles in the same order as one process. One rank: nothing is gathered.
+    int rank = 0;
+    int ranks = 1;
+    std::function<std::vector<std::string>(const std::string&)> gather;
 };
 
 /// Where mesh_bricks_to_stream() sends the mesh, in mesh_bricks()'s order: the counts, every
@@ -99,13 +112,15 @@ public:
 /// (an unlinked temporary file) as soon as it is meshed, and after the last brick the spill is
 /// read back node by node into @a sink (docs/dmc.md, "Bricks"). The same vertices and triangles
 /// in the same order as mesh_bricks(); MeshMethod::dc at options.error > 0 only. Returns the
-/// report (its mesh went to the sink).
+/// report (its mesh went to the sink). Over several ranks (BrickOptions::ranks), only rank 0's
+/// sink receives anything.
 /// @throw UsageError as mesh_bricks(); Error when the spill cannot be written.
 MeshReport mesh_bricks_to_stream(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks,
                                  MeshStreamSink& sink);
 
-/// The estimated peak of meshing one brick of @a nodes_per_brick^3 nodes of @a source (the
-/// largest over its bricks): the region read with its halo and the mesher's work on it.
+/// The estimated peak of meshing @a source in columns of bricks @a nodes_per_brick nodes across
+/// (the largest over its bricks): three node layers of a column and its ring of nodes read
+/// (docs/dmc.md, "Bricks"), and the mesher's work on them.
 std::uint64_t brick_peak_bytes(const GridRegionSource& source, int nodes_per_brick);
 
 /// The mesh mesh_grid() makes of the grid @a source holds, read brick by brick: the same

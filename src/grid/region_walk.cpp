@@ -77,4 +77,20 @@ void walk_region(const Tree& tree, TreeRegion& region) {
 }
 
 
+void absorb_tree(Tree& into, const Tree& from) {
+    TreeRegion region{openvdb::CoordBBox::inf(), &into, {}, 0, 0};
+    walk_region(from, region);
+    for (const Leaf* leaf : region.leaves) into.addLeaf(new Leaf(*leaf));
+}
+
+void drop_nodes_below(Tree& tree, std::int32_t z) {
+    std::vector<openvdb::Coord> below;
+    for (auto upper = tree.root().cbeginChildOn(); upper; ++upper) {
+        for (auto lower = upper->cbeginChildOn(); lower; ++lower) {
+            if (lower->origin().z() + static_cast<std::int32_t>(Lower::DIM) <= z) below.push_back(lower->origin());
+        }
+    }
+    for (const openvdb::Coord& origin : below) tree.addTile(Upper::LEVEL, origin, tree.background(), false);
+}
+
 }  // namespace vdbmesh::detail::region_walk

@@ -33,11 +33,6 @@ namespace {
 /// 1.5% of the whole, on the walnut, whose cells (10 MB) do not matter: so only above
 /// kTrimAboveBytes of cells.
 constexpr std::size_t kTrimAboveBytes = std::size_t(32) << 20;
-void release_free_memory() {
-#ifdef __GLIBC__
-    malloc_trim(0);
-#endif
-}
 
 /// Calls @a visit(samples, block) for every block holding surface among those
 /// @a may_hold_surface(block, accessor) accepts, in parallel.
@@ -56,11 +51,12 @@ void for_each_surface_block(const openvdb::FloatGrid& grid, const SampleClassifi
     });
 }
 
-/// Whether block @a n (IfcCellGrid::neighbours(); -1: none) is one cell of 8 voxels or more.
+/// Whether block @a n (IfcCellGrid::neighbours(); -1: none) is one cell of 8 voxels or more,
+/// as the coarse merge left it (a block split since was one).
 bool one_large_cell(const IfcCellGrid& cells, std::ptrdiff_t n) {
     if (n < 0 || !cells.blocks[std::size_t(n)]) return false;
     const IfcBlockCells& block = *cells.blocks[std::size_t(n)];
-    return block.cells.size() == 1 && block.cells[0].level >= kIfcMaxLevel;
+    return block.was_split || (block.cells.size() == 1 && block.cells[0].level >= kIfcMaxLevel);
 }
 
 /// Whether block @a b, one 8-voxel cell of its own, has a face its surface only clips
@@ -78,37 +74,40 @@ bool clipped_next_to_smaller_cells(const IfcCellGrid& cells, std::size_t b) {
     return false;
 }
 
-/// Splits the blocks that are still one 8-voxel cell of their own after the merge across
-/// blocks, whose surface only clips one of their faces, where the block across that face is not
-/// one cell as large: their cells become the ones the octree kept for that
-/// (IfcBlockCells::Parts). The triangles over the clipped face would join the cell's vertex,
-/// about 4 voxels away, to a chord or to segments under a voxel or two long. Next to a cell as
-/// large, or inside a coarse cell, a block stays whole: splitting there too cost the sphere of
-/// DcTest 32% more triangles. Decided from the cells after the coarse merge, then applied, so in
-/// any order. Engine at --error 0.5 / 1, angles under 10 degrees: 0.64% / 0.63% -> 0.49% / 0.45%,
-/// triangles +0.2% / +1.9% (docs/dmc.md, "Session 12").
-void split_clipped_blocks(IfcCellGrid& cells) {
-    std::vector<char> split(cells.blocks.size(), 0);
+}  // namespace
+
+void release_free_memory() {
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
+}
+
+void split_clipped_blocks(IfcCellGrid& cells, const IfcOriginFilter& decide) {
+    std::vector<char> chosen(cells.blocks.size(), 0), split(cells.blocks.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.blocks.size()), [&](const auto& range) {
-        for (std::size_t b = range.begin(); b != range.end(); ++b) split[b] = cells.blocks[b] && clipped_next_to_smaller_cells(cells, b);
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+            const IfcBlockCells* block = cells.blocks[b].get();
+            if (!block || block->split_decided || (decide && !decide(cells.origins[b]))) continue;
+            chosen[b] = 1;
+            split[b] = clipped_next_to_smaller_cells(cells, b);
+        }
     });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.blocks.size()), [&](const auto& range) {
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            IfcBlockCells* block = cells.blocks[b].get();
-            if (!block || !block->parts) continue;
+            if (!chosen[b]) continue;
+            IfcBlockCells& block = *cells.blocks[b];
             if (split[b]) {
-                static_cast<IfcLeaves&>(*block) = std::move(static_cast<IfcLeaves&>(*block->parts));
-                block->root_leaf = false;
+                static_cast<IfcLeaves&>(block) = std::move(static_cast<IfcLeaves&>(*block.parts));
+                block.root_leaf = false;
+                block.was_split = true;
             }
-            block->parts.reset();
+            block.parts.reset();
+            block.split_decided = true;
         }
     });
 }
 
-/// The blocks' outputs grouped by node, nodes in z-major order, blocks in origin order inside
-/// each; the coarse cells each block lists (every block a coarse cell covers lists it, all in
-/// its node) taken out, once each per node in key order. Each block's output is moved, not copied.
-std::vector<IfcNodeOutput> group_by_node(const std::vector<openvdb::Coord>& origins, std::vector<IfcBlockOutput>& outputs) {
+std::vector<IfcNodeOutput> group_ifc_outputs_by_node(const std::vector<openvdb::Coord>& origins, std::vector<IfcBlockOutput>& outputs) {
     constexpr int kNodeMask = ~(kNodeVoxels - 1);
     std::vector<IfcNodeOutput> nodes;
     std::vector<std::vector<std::size_t>> members;
@@ -148,25 +147,13 @@ std::vector<IfcNodeOutput> group_by_node(const std::vector<openvdb::Coord>& orig
     return nodes;
 }
 
-/// Whether block origin @a o lies in @a box widened by @a by voxels on every side.
-bool within(const openvdb::Coord& o, const openvdb::CoordBBox& box, int by) {
-    return o.x() >= box.min().x() - by && o.y() >= box.min().y() - by && o.z() >= box.min().z() - by && o.x() <= box.max().x() + by &&
-           o.y() <= box.max().y() + by && o.z() <= box.max().z() + by;
-}
-
-}  // namespace
-
-std::vector<IfcNodeOutput> contour_ifc_nodes(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
-                                             const openvdb::CoordBBox* owned, MeshReport& report) {
+IfcCellGrid build_ifc_cell_grid(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
+                                const IfcOriginFilter& keep, MeshReport& report) {
     PhaseClock clock;
     IfcCellGrid cells;
     cells.origins = surface_blocks(grid, classifier);
-    if (owned) {
-        // The blocks within one node of the owned ones: the halo every decision about an owned
-        // triangle reads (docs/dmc.md, "Bricks").
-        auto beyond = [&](const openvdb::Coord& o) { return !within(o, *owned, kNodeVoxels); };
-        cells.origins.erase(std::remove_if(cells.origins.begin(), cells.origins.end(), beyond), cells.origins.end());
-    }
+    if (keep) cells.origins.erase(std::remove_if(cells.origins.begin(), cells.origins.end(), [&](const openvdb::Coord& o) { return !keep(o); }),
+                                  cells.origins.end());
     cells.blocks.resize(cells.origins.size());
     auto may_hold_surface = [&](std::size_t b, auto& accessor) { return block_may_hold_surface(accessor, classifier, cells.origins[b]); };
     for_each_surface_block(grid, classifier, cells.origins, may_hold_surface, [&](const IfcSamples& samples, std::size_t b) {
@@ -175,22 +162,36 @@ std::vector<IfcNodeOutput> contour_ifc_nodes(const openvdb::FloatGrid& grid, con
     clock.lap(report, "octree");
     merge_ifc_coarse_cells(grid, classifier, options.error, cells);
     clock.lap(report, "coarse");
-    split_clipped_blocks(cells);
-    clock.lap(report, "split");
-    if (options.progress) options.progress(0.4);
+    return cells;
+}
+
+std::vector<IfcBlockOutput> contour_ifc_cells(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
+                                              const IfcCellGrid& cells, const IfcOriginFilter& own, MeshReport& report) {
+    PhaseClock clock;
     std::vector<IfcBlockOutput> outputs(cells.origins.size());
     // Only the blocks the octree sampled hold surface of their own; their samples are not
     // loaded again (build_ifc_cells() kept what the contour reads).
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.origins.size()), [&](const auto& range) {
         auto accessor = grid.getConstAccessor();
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            if (!cells.blocks[b] || !cells.blocks[b]->sampled || (owned && !within(cells.origins[b], *owned, 0))) continue;
+            if (!cells.blocks[b] || !cells.blocks[b]->sampled || (own && !own(cells.origins[b]))) continue;
             contour_ifc_block(classifier, accessor, cells, b, options.error, grid.transform(), outputs[b]);
             outputs[b].vertices.shrink_to_fit();  // growth leaves up to half unused: it adds up over blocks
             outputs[b].triangles.shrink_to_fit();
         }
     });
     clock.lap(report, "contour");
+    return outputs;
+}
+
+std::vector<IfcNodeOutput> contour_ifc_nodes(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
+                                             MeshReport& report) {
+    IfcCellGrid cells = build_ifc_cell_grid(grid, classifier, options, {}, report);
+    PhaseClock clock;
+    split_clipped_blocks(cells, {});
+    clock.lap(report, "split");
+    if (options.progress) options.progress(0.4);
+    std::vector<IfcBlockOutput> outputs = contour_ifc_cells(grid, classifier, options, cells, {}, report);
     if (options.progress) options.progress(0.8);
     // Not needed by the weld; the blocks' cells (one allocation each) are freed in parallel.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.blocks.size()), [&](const auto& range) {
@@ -200,7 +201,7 @@ std::vector<IfcNodeOutput> contour_ifc_nodes(const openvdb::FloatGrid& grid, con
     cells.blocks.clear();
     cells.blocks.shrink_to_fit();
     if (trim) release_free_memory();
-    std::vector<IfcNodeOutput> nodes = group_by_node(cells.origins, outputs);
+    std::vector<IfcNodeOutput> nodes = group_ifc_outputs_by_node(cells.origins, outputs);
     clock.lap(report, "weld");
     return nodes;
 }
@@ -210,7 +211,7 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
     // mesh is Marching Cubes, as documented.
     if (options.error <= 0) return marching_cubes(grid, options);
     const SampleClassifier classifier(grid, options);
-    std::vector<IfcNodeOutput> nodes = contour_ifc_nodes(grid, classifier, options, nullptr, report);
+    std::vector<IfcNodeOutput> nodes = contour_ifc_nodes(grid, classifier, options, report);
     PhaseClock clock;
     Mesh mesh = weld_ifc_nodes(std::move(nodes));
     clock.lap(report, "weld");

@@ -4,8 +4,10 @@
 
 #include <openvdb/openvdb.h>
 
+#include <functional>
 #include <vector>
 
+#include "mesh/ifc_block.h"
 #include "mesh/ifc_polygons.h"
 #include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesh.h"
@@ -28,7 +30,19 @@ Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& optio
 void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, bool mirrored,
                                   MeshStreamSink& sink, MeshReport& report);
 
-/// The largest brick edge (nodes) whose brick_peak_bytes() fits in @a memory_bytes.
+/// A brick (docs/dmc.md, "Bricks"): n x n nodes across from (min_x, min_y) (voxels), and one
+/// node high, at node layer @a layer (z / kNodeVoxels); with the active voxels of its nodes,
+/// which ranks are balanced by.
+struct IfcBrick {
+    int min_x = 0, min_y = 0, layer = 0;
+    std::uint64_t active_voxels = 0;
+};
+
+/// The bricks of @a nodes_per_brick nodes across holding a node that may hold surface, in
+/// visiting order: columns in (y, x) order, each column's layers bottom to top without gaps.
+std::vector<IfcBrick> plan_ifc_bricks(const GridRegionSource& source, int nodes_per_brick);
+
+/// The widest column of bricks (nodes across) whose brick_peak_bytes() fits in @a memory_bytes.
 /// @throw UsageError naming the smallest limit that works when even one node does not fit.
 int plan_brick_size(const GridRegionSource& source, std::uint64_t memory_bytes);
 
@@ -45,11 +59,45 @@ inline bool ifc_node_before(const openvdb::Coord& a, const openvdb::Coord& b) {
     return a.z() != b.z() ? a.z() < b.z() : a.y() != b.y() ? a.y() < b.y() : a.x() < b.x();
 }
 
-/// The contour of the blocks of @a grid (options.error > 0), per node in z-major order. With
-/// @a owned (a box of whole nodes, inclusive): the octree and coarse merge of the blocks of the
-/// nodes within one node of it, the contour of those inside it only; else of every block.
+/// Gives the pages of freed small allocations back to the system (glibc's malloc_trim).
+void release_free_memory();
+
+/// Which block origins a stage of the contouring takes (every block when empty).
+using IfcOriginFilter = std::function<bool(const openvdb::Coord&)>;
+
+/// The cells of the blocks of @a grid that may hold surface and whose origins @a keep accepts:
+/// each block's octree, then each node's coarse merge (ifc_coarse.cpp; @a keep must take every
+/// block of a node or none). Adds the phases "octree" and "coarse" to @a report.
+IfcCellGrid build_ifc_cell_grid(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
+                                const IfcOriginFilter& keep, MeshReport& report);
+
+/// Splits the blocks that are still one 8-voxel cell of their own after the merge across
+/// blocks, whose surface only clips one of their faces, where the block across that face is not
+/// one cell as large: their cells become the ones the octree kept for that
+/// (IfcBlockCells::Parts). The triangles over the clipped face would join the cell's vertex,
+/// about 4 voxels away, to a chord or to segments under a voxel or two long. Next to a cell as
+/// large, or inside a coarse cell, a block stays whole: splitting there too cost the sphere of
+/// DcTest 32% more triangles. Engine at --error 0.5 / 1, angles under 10 degrees: 0.64% / 0.63%
+/// -> 0.49% / 0.45%, triangles +0.2% / +1.9% (docs/dmc.md, "Session 12").
+/// Decides the blocks not yet decided whose origins @a decide accepts (each reads its 26
+/// neighbours as the coarse merge left them, IfcBlockCells::was_split), so blocks may be decided
+/// in any order and in any number of calls with the same result.
+void split_clipped_blocks(IfcCellGrid& cells, const IfcOriginFilter& decide);
+
+/// The triangles and keyed vertices of the blocks of @a cells whose origins @a own accepts, in
+/// the order of cells.origins (empty for the others). Adds the phase "contour" to @a report.
+std::vector<IfcBlockOutput> contour_ifc_cells(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
+                                              const IfcCellGrid& cells, const IfcOriginFilter& own, MeshReport& report);
+
+/// The blocks' outputs (in the order of @a origins) grouped by node, nodes in z-major order,
+/// blocks in origin order inside each; the coarse cells each block lists (every block a coarse
+/// cell covers lists it, all in its node) taken out, once each per node in key order. Each
+/// block's output is moved, not copied; blocks with no output are skipped.
+std::vector<IfcNodeOutput> group_ifc_outputs_by_node(const std::vector<openvdb::Coord>& origins, std::vector<IfcBlockOutput>& outputs);
+
+/// The contour of every block of @a grid (options.error > 0), per node in z-major order.
 std::vector<IfcNodeOutput> contour_ifc_nodes(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
-                                             const openvdb::CoordBBox* owned, MeshReport& report);
+                                             MeshReport& report);
 
 /// One vertex per key, numbered node after node in the order of @a nodes (z-major), the
 /// triangles in the same order; vertices no triangle uses are dropped (ifc_weld.cpp).

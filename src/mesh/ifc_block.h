@@ -118,6 +118,11 @@ struct IfcBlockCells : IfcLeaves {
     bool sampled = false;
     std::array<std::uint16_t, kIfcSampleDim * kIfcSampleDim> inside_rows{};
     std::vector<double> crossings;
+    /// Whether split_clipped_blocks() (ifc.cpp) has decided this block, and whether it split
+    /// it: a split block was one 8-voxel cell, which is what its neighbours' decisions read, so
+    /// blocks may be decided in any order (the bricked driver decides them layer by layer).
+    bool split_decided = false;
+    bool was_split = false;
 
     static constexpr std::uint8_t kNoCell = 0xff;
     /// All unit cells, no surface: a block never built.

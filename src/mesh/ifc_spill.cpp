@@ -6,6 +6,7 @@
 #include "mesh/ifc_spill.h"
 
 #include <algorithm>
+#include <cstring>
 #include <map>
 #include <memory>
 #include <string>
@@ -155,6 +156,33 @@ void IfcSpill::append(IfcNodeOutput&& node) {
     record.triangle_count = triangles.size();
     write(triangles);
     nodes_.push_back(record);
+}
+
+std::string IfcSpill::serialized() const {
+    const std::uint64_t count = nodes_.size();
+    std::string bytes(sizeof(count) + count * sizeof(NodeRecord) + size_, '\0');
+    std::memcpy(bytes.data(), &count, sizeof(count));
+    std::memcpy(bytes.data() + sizeof(count), nodes_.data(), count * sizeof(NodeRecord));
+    const std::vector<char> body = read<char>(0, size_);
+    std::memcpy(bytes.data() + sizeof(count) + count * sizeof(NodeRecord), body.data(), body.size());
+    return bytes;
+}
+
+void IfcSpill::absorb(const std::string& bytes) {
+    std::uint64_t count = 0;
+    if (bytes.size() < sizeof(count)) throw Error("bricks: a rank sent a truncated part");
+    std::memcpy(&count, bytes.data(), sizeof(count));
+    const std::size_t records = sizeof(count) + count * sizeof(NodeRecord);
+    if (bytes.size() < records) throw Error("bricks: a rank sent a truncated part");
+    std::vector<NodeRecord> nodes(count);
+    std::memcpy(nodes.data(), bytes.data() + sizeof(count), count * sizeof(NodeRecord));
+    const std::uint64_t base = size_;
+    write(std::vector<char>(bytes.begin() + std::ptrdiff_t(records), bytes.end()));
+    for (NodeRecord& node : nodes) {
+        node.vertex_offset += base;
+        node.triangle_offset += base;
+        nodes_.push_back(node);
+    }
 }
 
 void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {

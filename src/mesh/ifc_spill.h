@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "mesh/ifc.h"
@@ -24,6 +25,11 @@ public:
     /// The mesh weld_ifc_nodes() makes of every node appended, into @a sink; with @a mirrored
     /// every triangle wound the other way (mesh_grid()'s rule for a mirroring transform).
     void emit(MeshStreamSink& sink, bool mirrored);
+    /// Every node appended, as bytes another process's spill takes with absorb() (a run over
+    /// several ranks sends them to rank 0).
+    std::string serialized() const;
+    /// Takes the nodes of another spill's serialized() bytes, as if appended here.
+    void absorb(const std::string& bytes);
 
     struct NodeRecord {
         openvdb::Coord origin;

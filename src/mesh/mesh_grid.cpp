@@ -79,6 +79,11 @@ void check_brick_options(const MeshOptions& options, const BrickOptions& bricks)
     if (bricks.nodes_per_brick < 0 || bricks.nodes_per_brick > 4096) {
         throw UsageError("bricks: expected 0 to 4096 nodes per brick edge, got " + std::to_string(bricks.nodes_per_brick));
     }
+    if (bricks.ranks < 1 || bricks.rank < 0 || bricks.rank >= bricks.ranks) {
+        throw UsageError("bricks: expected rank 0 to " + std::to_string(bricks.ranks - 1) + " of at least 1 rank, got rank " +
+                         std::to_string(bricks.rank) + " of " + std::to_string(bricks.ranks));
+    }
+    if (bricks.ranks > 1 && !bricks.gather) throw UsageError("bricks: a run over several ranks needs their gather");
 }
 
 /// @a bricks with a brick size: the one given, else the largest that fits bricks.memory_bytes
@@ -123,6 +128,7 @@ MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options)
 
 MeshResult mesh_bricks(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks) {
     check_brick_options(options, bricks);
+    if (bricks.ranks > 1) throw UsageError("bricks: a run over several ranks writes its mesh to a stream (mesh_bricks_to_stream())");
     if (bricks.nodes_per_brick == 0 && bricks.memory_bytes == 0) return mesh_grid(*source.read(whole_region(source)), options);
     const BrickOptions planned = planned_bricks(source, options, bricks);
     MeshResult result;
