@@ -270,6 +270,11 @@ TEST_F(HostileInput, OptionsThatDoNotApplyAreRefusedNamingTheOption) {
         {{"measure", path("io.stl"), "--raw-dims", "4,4,4"}, "--raw-dims"},
         {{"measure", path("io.stl"), "--iso", "3"}, "--iso"},
         {{"measure", path("io.stl"), "--inside", "below"}, "--inside"},
+        // A label map is meshed per label: what shapes one surface does not apply.
+        {{"mesh", path("scan.nii"), "--labels", "all", "-o", path("labels/"), "--inside", "below"}, "--inside"},
+        {{"mesh", path("scan.nii"), "--labels", "all", "-o", path("labels/"), "--method", "openvdb"}, "--method"},
+        {{"mesh", path("scan.nii"), "--labels", "all", "-o", path("labels/"), "--verify"}, "--verify"},
+        {{"mesh", path("scan.nii"), "--labels", "all", "-o", path("labels/"), "--slab", "2:10"}, "--slab"},
         {{"section", path("io.stl"), "--plane", "z=8", "--inside", "above"}, "--inside"},
         {{"lattice", "gyroid", "--period", "2", "--thickness", "0.5", "--voxel", "0.5", "--clip", path("io.stl"), "--clip-inside",
           "below", "--measure"},
