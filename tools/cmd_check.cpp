@@ -66,6 +66,7 @@ struct CheckOptions {
     std::size_t samples = 100000;
     bool json = false;
     CommonOptions common;
+    WorkLimit work_limit;
 };
 
 void add_distance(nlohmann::ordered_json& j, const DistanceReport& d, std::size_t samples) {
@@ -114,7 +115,7 @@ int run_bounded_check(const CheckOptions& o) {
 
 int run_check(const CheckOptions& o) {
     if (!o.memory.empty()) return run_bounded_check(o);
-    refuse_beyond_work("--samples", 2.0 * double(o.samples), "distance queries", 1e-6);
+    refuse_beyond_work(o.work_limit, "--samples", 2.0 * double(o.samples), "distance queries", 1e-6);
     const ThreadLimit limit(o.common);
     const Mesh mesh = read_mesh(o.mesh);
     const MeshAnalysis report = analyze_mesh(mesh);
@@ -143,6 +144,7 @@ void add_check_command(CLI::App& command, CommandResult& result) {
                        "files in $TMPDIR; self-intersections are not checked");
     command.add_flag("--json", o.json, "One JSON object instead of a table");
     add_common_options(command, o.common);
+    add_work_limit_option(command, o.work_limit);
     command.footer("Exit status: 0 clean (closed, manifold, oriented outward, no self-intersections or "
                    "degenerate faces; with --memory, self-intersections not checked), 3 not clean, 1 unreadable, 2 usage "
                    "(a --memory too small: the message names the smallest that works).");

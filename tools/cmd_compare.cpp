@@ -54,6 +54,7 @@ struct CompareCommandOptions {
     std::string json, plot;
     ReadFlags read;
     CommonOptions common;
+    WorkLimit work_limit;
 };
 
 /// The grid to compare on, and what the report says about where it came from.
@@ -97,6 +98,7 @@ LoadedGrid load_phantom(const CompareCommandOptions& o) {
     refuse_beyond_memory("--size", "the phantom's float samples, written to a temporary file", 4.0 * std::pow(double(o.size), 3));
     loaded.phantom = spec;
     loaded.iso = o.iso.value_or(0.5);
+    loaded.inside = o.inside;
     const TempFolder folder;
     VolumeHeader header;
     header.dims = spec.dims;
@@ -117,14 +119,14 @@ LoadedGrid load_input(const CompareCommandOptions& o) {
     if (o.inputs.empty()) throw UsageError("compare: needs an input file or --phantom SHAPE");
     Progress progress("converting", o.common.quiet);
     LoadedGrid loaded;
-    static_cast<GridInput&>(loaded) = load_grid(o.inputs, o.iso, o.read, "compare on", convert_with_progress(progress));
+    static_cast<GridInput&>(loaded) = load_grid(o.inputs, o.iso, o.read, "compare on", convert_with_progress(progress), "--iso", o.inside);
     return loaded;
 }
 
 nlohmann::ordered_json grid_json(const CompareCommandOptions& o, const LoadedGrid& loaded, std::size_t reference) {
     nlohmann::ordered_json j;
     j["input"] = loaded.phantom ? "phantom:" + o.phantom : o.inputs.front();
-    j["isovalue"] = loaded.iso;
+    j["isovalue"] = o.iso.value_or(loaded.iso);  // as asked: loaded.iso is its negative for a scan's object below
     j["inside"] = o.inside == Inside::above ? "above" : "below";
     j["truth"] = loaded.phantom ? "exact phantom surface" : "trilinear isosurface";
     if (loaded.phantom) {
@@ -251,15 +253,15 @@ int run_compare(const CompareCommandOptions& o) {
             throw UsageError("--decimate: expected shares of triangles to keep in (0, 1], got " + got.str());
         }
     }
-    options.inside = o.inside;
     options.accuracy.samples = o.samples;
     const std::size_t mesh_count = options.errors.size() + options.adaptivities.size() +
                                options.decimate_fractions.size() + 1;  // and Marching Cubes
     refuse_beyond_memory("--samples", "the surface samples (24 bytes each)", 24.0 * double(o.samples));
-    refuse_beyond_work("--samples", 2.0 * double(o.samples) * double(mesh_count),
+    refuse_beyond_work(o.work_limit, "--samples", 2.0 * double(o.samples) * double(mesh_count),
                        "distance queries (samples both ways on " + std::to_string(mesh_count) + " meshes)", 1e-6);
     const LoadedGrid loaded = load_input(o);
     options.iso = loaded.iso;
+    options.inside = loaded.inside;
     if (loaded.phantom) {
         const PhantomSpec spec = *loaded.phantom;
         options.accuracy.exact_signed_distance = [spec](double x, double y, double z) {
@@ -317,6 +319,7 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
     output_file(command.add_option("--plot", o.plot, "Write triangles against Hausdorff distance as an SVG chart to FILE"));
     add_read_flags(command, o.read);
     add_common_options(command, o.common);
+    add_work_limit_option(command, o.work_limit);
     command.callback([options, &result] { result.status = run_compare(*options); });
 }
 

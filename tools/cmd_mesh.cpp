@@ -66,7 +66,6 @@ std::string lowercase(std::string text) {
     return text;
 }
 
-/// The grid to mesh, with options.mesh.iso set: a .vdb as stored, a scan converted (band 1).
 /// How the input is converted when it is a scan.
 ConvertOptions mesh_conversion(const MeshCommandOptions& options, Progress& progress) {
     ConvertOptions convert;
@@ -75,15 +74,24 @@ ConvertOptions mesh_conversion(const MeshCommandOptions& options, Progress& prog
     return convert;
 }
 
+/// The side --inside names, if given.
+std::optional<Inside> given_side(const MeshCommandOptions& options) {
+    return options.inside ? std::optional<Inside>(kSides.at(lowercase(*options.inside))) : std::nullopt;
+}
+
 /// Sets the isovalue and the inside the input was found to take.
 void take_input_side(MeshCommandOptions& options, double iso, bool level_set) {
     options.mesh.iso = iso;
-    options.mesh.inside = options.inside ? kSides.at(lowercase(*options.inside)) : (level_set ? Inside::below : Inside::above);
+    options.mesh.inside = given_side(options).value_or(level_set ? Inside::below : Inside::above);
 }
 
+/// The grid to mesh, with options.mesh.iso and inside set: a .vdb as stored, a scan converted
+/// (band 1) closed at its box on either side (load_grid()).
 openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& progress) {
-    const GridInput loaded = load_grid(options.inputs, options.iso, options.read, "mesh", mesh_conversion(options, progress));
-    take_input_side(options, loaded.iso, loaded.level_set);
+    const GridInput loaded =
+        load_grid(options.inputs, options.iso, options.read, "mesh", mesh_conversion(options, progress), "--iso", given_side(options));
+    options.mesh.iso = loaded.iso;
+    options.mesh.inside = loaded.inside;
     return loaded.grid;
 }
 
@@ -96,7 +104,7 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
     nlohmann::ordered_json j;
     j["output"] = options.output;
     j["method"] = lowercase(options.method);
-    j["iso"] = options.mesh.iso;
+    j["iso"] = options.iso.value_or(options.mesh.iso);  // as asked: mesh.iso is its negative for a scan's object below
     j["error"] = dc ? nlohmann::ordered_json(options.mesh.error) : nlohmann::ordered_json(nullptr);
     j["adaptivity"] = openvdb ? nlohmann::ordered_json(options.mesh.adaptivity) : nlohmann::ordered_json(nullptr);
     j["processing"] = processing_json(options.processing, processing);
@@ -255,7 +263,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
         ->required();
     output_file(command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj (with --labels: DIR/, .ply or .glb/.gltf)"))->required();
     auto* iso = command.add_option("--iso", options->iso, "Isovalue (default for a .vdb: the one stored by convert)");
-    command.add_option("--method", options->method,
+    auto* method = command.add_option("--method", options->method,
                        "Mesher: dc (intersection-free Dual Contouring, the default), mc, openvdb (volumeToMesh); dmc was retired: it runs dc")
         ->check(CLI::IsMember(kMethods, CLI::ignore_case))
         ->capture_default_str();
@@ -265,20 +273,22 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     auto* adaptivity = command.add_option("--adaptivity", options->mesh.adaptivity, "openvdb: volumeToMesh adaptivity in [0, 1]")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
-    command.add_option("--inside", options->inside,
+    auto* inside = command.add_option("--inside", options->inside,
                        "Which side of the isovalue is the object: above|below (default: above; below for a level set)")
         ->check(CLI::IsMember(kSides, CLI::ignore_case));
-    command.add_flag("--open-boundary", options->mesh.open_boundary,
+    auto* open_boundary = command.add_flag("--open-boundary", options->mesh.open_boundary,
                      "Leave the surface open where it meets the edge of the scan");
     command.add_flag("--ascii", options->ascii, "ASCII STL or PLY instead of binary");
-    command.add_flag("--normals", options->normals, "Per-vertex normals (PLY, OBJ)");
+    auto* normals = command.add_flag("--normals", options->normals, "Per-vertex normals (PLY, OBJ)");
     command.add_flag("--json", options->json, "Print the figures as one JSON object on stdout");
-    command.add_flag("--verify", options->verify,
+    auto* verify = command.add_flag("--verify", options->verify,
                      "Check the whole mesh as `vdbmesh check` does; a defect: nothing written, exit status 3");
-    command.add_option("--memory", options->memory,
+    auto* memory = command.add_option("--memory", options->memory,
                        "Mesh brick by brick within about SIZE bytes (K, M, G suffixes; dc at --error > 0): the same mesh");
     add_read_flags(command, options->read);
-    add_processing_options(command, options->processing);
+    // What shapes one surface means nothing to a label map, meshed per label: refused with --labels.
+    std::vector<const CLI::Option*> one_surface = add_processing_options(command, options->processing);
+    one_surface.insert(one_surface.end(), {iso, method, error, adaptivity, inside, open_boundary, normals, verify, memory});
     add_common_options(command, options->common);
     add_label_flags(command, options->labels.label, "Mesh a label map: all, or a list like 3,5,10-12; one closed mesh per label, walls shared");
     const CLI::Option* format = command.add_option("--format", options->labels.format, "--labels into a folder: the files' format")
@@ -287,12 +297,13 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     const CLI::Option* smooth_iterations = command.add_option("--smooth-iterations", options->labels.smooth_iterations, "--labels: constrained smoothing passes (0: voxel faces)")
         ->check(CLI::Range(0, 1000))
         ->capture_default_str();
-    command.callback([options, &result, iso, error, adaptivity, format, smooth_iterations] {
+    command.callback([options, &result, one_surface, error, adaptivity, format, smooth_iterations] {
         const std::string method = lowercase(options->method);
         const bool labels = bool(options->labels.label.labels);
         refuse_unless(format, labels, "with --labels, got none");
         refuse_unless(smooth_iterations, labels, "with --labels, got none");
-        refuse_unless(iso, !labels, "without --labels (a label map is meshed per label), got --labels");
+        for (const CLI::Option* option : one_surface)
+            refuse_unless(option, !labels, "without --labels (a label map is meshed per label), got --labels");
         refuse_unless(error, method == "dc" || method == "dmc", "with --method dc or dmc, got --method " + method);
         refuse_unless(adaptivity, method == "openvdb", "with --method openvdb, got --method " + method);
         result.status = run_mesh(*options);

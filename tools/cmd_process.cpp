@@ -32,6 +32,7 @@ struct ProcessCommandOptions {
     std::vector<std::string> etches;
     bool json = false;
     CommonOptions common;
+    WorkLimit work_limit;
 };
 
 struct Etch {
@@ -75,7 +76,7 @@ openvdb::FloatGrid::Ptr read_level_set(const std::string& path) {
 /// on a 2-wide lattice, 5400 visits in 4.7 s) or leaves exceed the limits. A deposit of D grows
 /// the box by 2 D and the surface's leaves with its square, in passes of at most 7 voxels
 /// (shared_deposit); an etch passes at most 8 voxels at a time (shared_etch).
-void refuse_unbounded_steps(const openvdb::FloatGrid& input, const std::vector<std::string>& order,
+void refuse_unbounded_steps(const WorkLimit& limit, const openvdb::FloatGrid& input, const std::vector<std::string>& order,
                             const std::vector<double>& deposits, const std::vector<Etch>& etches) {
     const double voxel = input.voxelSize()[0];
     const openvdb::CoordBBox box = input.evalActiveVoxelBoundingBox();
@@ -91,7 +92,7 @@ void refuse_unbounded_steps(const openvdb::FloatGrid& input, const std::vector<s
         extent = grown;
         visits += passes * leaves;
         const std::string option = deposit ? "--deposit" : "--etch";
-        refuse_beyond_work(option, visits, "leaf visits in passes over the grown surface", 1e-3);
+        refuse_beyond_work(limit, option, visits, "leaf visits in passes over the grown surface", 1e-3);
         refuse_beyond_memory(option, "the grown level set's leaves, twice", 2.0 * sizeof(SharedLeaf) * leaves);
     }
 }
@@ -117,7 +118,7 @@ int run_process(const ProcessCommandOptions& o, const std::vector<std::string>& 
                              std::to_string(stop->voxelSize()[0]));
         }
     }
-    refuse_unbounded_steps(*input, order, o.deposits, etches);
+    refuse_unbounded_steps(o.work_limit, *input, order, o.deposits, etches);
     SharedTree tree = build_shared_tree(*input);
     nlohmann::ordered_json steps = nlohmann::ordered_json::array();
     std::size_t next_deposit = 0, next_etch = 0;
@@ -163,6 +164,7 @@ void add_process_command(CLI::App& command, CommandResult& result) {
     input_files(command.add_option("--stop-layer", o->stop_layer, "A .vdb level set that etching never removes nor passes"));
     command.add_flag("--json", o->json, "Print the figures as one JSON object on stdout");
     add_common_options(command, o->common);
+    add_work_limit_option(command, o->work_limit);
     command.callback([o, &result, &command, deposit, etch] {
         std::vector<std::string> order;
         for (const CLI::Option* opt : command.parse_order()) {

@@ -11,6 +11,7 @@
 
 #include "vdbmesh/error.h"
 #include "vdbmesh/scan_regions.h"
+#include "vdbmesh/side_grid.h"
 
 namespace vdbmesh::cli {
 
@@ -54,9 +55,9 @@ std::unique_ptr<VolumeReader> open_scan(const std::vector<std::string>& inputs, 
 }
 
 openvdb::FloatGrid::Ptr convert_timed(VolumeReader& reader, const ConvertOptions& convert,
-                                      std::optional<double>& seconds) {
+                                      std::optional<double>& seconds, Inside inside) {
     const auto start = std::chrono::steady_clock::now();
-    openvdb::FloatGrid::Ptr grid = convert_to_grid(reader, convert);
+    openvdb::FloatGrid::Ptr grid = convert_for_side(reader, convert, inside).grid;
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return grid;
 }
@@ -86,7 +87,8 @@ void check_grid_inputs(const std::vector<std::string>& inputs, const ReadFlags& 
 }  // namespace
 
 GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double> iso, const ReadFlags& read,
-                    const std::string& purpose, ConvertOptions convert, const std::string& iso_option) {
+                    const std::string& purpose, ConvertOptions convert, const std::string& iso_option,
+                    std::optional<Inside> inside) {
     check_grid_inputs(inputs, read, purpose);
     const std::string& input = inputs.front();
     GridInput loaded;
@@ -94,13 +96,14 @@ GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double
         loaded.grid = read_vdb(input);
         loaded.level_set = loaded.grid->getGridClass() == openvdb::GRID_LEVEL_SET;
         loaded.iso = vdb_isovalue(input, *loaded.grid, iso, iso_option);
+        loaded.inside = inside.value_or(loaded.level_set ? Inside::below : Inside::above);
         return loaded;
     }
     if (!iso) throw UsageError(iso_option + ": required to " + purpose + " a scan");
-    loaded.iso = *iso;
     convert.iso = *iso;
     auto reader = open_scan(inputs, read);
-    loaded.grid = convert_timed(*reader, convert, loaded.convert_seconds);
+    loaded.grid = convert_timed(*reader, convert, loaded.convert_seconds, inside.value_or(Inside::above));
+    loaded.iso = holds_negated_samples(*loaded.grid) ? -*iso : *iso;
     return loaded;
 }
 
@@ -125,12 +128,18 @@ GridRegionsInput open_grid_regions(const std::vector<std::string>& inputs, std::
 
 Error no_surface_error(const std::string& input, const openvdb::FloatGrid& grid, std::pair<double, double> isovalues,
                        const std::string& output, const std::string& grid_steps) {
+    std::optional<std::pair<double, double>> range;
     const auto low = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMin);
     const auto high = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMax);
+    if (low && high) range = std::make_pair(low->value(), high->value());
+    if (holds_negated_samples(grid)) {  // said in the scan's terms
+        if (range) range = std::make_pair(-range->second, -range->first);
+        isovalues = {-isovalues.second, -isovalues.first};
+    }
     const std::string values =
-        low && high ? " (its values range from " + number_text(low->value()) + " to " + number_text(high->value()) + ")" : "";
+        range ? " (its values range from " + number_text(range->first) + " to " + number_text(range->second) + ")" : "";
     const std::string not_written = output.empty() ? "" : "; " + output + " not written";
-    const bool values_cross = low && high && low->value() < isovalues.first && high->value() > isovalues.second;
+    const bool values_cross = range && range->first < isovalues.first && range->second > isovalues.second;
     if (!grid_steps.empty() && values_cross)
         return Error(input + ": no surface left after " + grid_steps + " (the values cross iso " +
                      isovalues_text(isovalues.first, isovalues.second) + values + ", so these steps removed it)" + not_written);

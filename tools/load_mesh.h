@@ -19,6 +19,9 @@ struct MeshInputOptions {
     Inside inside = Inside::above;
     bool refine = false;  ///< vertices onto the triquadratic isosurface (refine_to_isosurface)
     ReadFlags read;
+    /// The options that mean something only for a scan or .vdb input (--iso, --inside, --refine,
+    /// or lattice's --clip-iso and --clip-inside): given with a mesh file, they are refused.
+    std::vector<const CLI::Option*> grid_only;
 };
 
 /// --iso, --inside, --refine and the raw-scan flags.

@@ -50,7 +50,7 @@ Slab parse_slab(const std::string& text) {
 
 }  // namespace
 
-void add_processing_options(CLI::App& command, ProcessingOptions& options) {
+std::vector<const CLI::Option*> add_processing_options(CLI::App& command, ProcessingOptions& options) {
     auto* grid = command.add_option_group("Grid processing (before meshing)");
     grid->add_option("--slab", options.slab, "Only slices [AXIS=]FIRST:LAST (z by default), closed at the cut");
     grid->add_option("--smooth", options.smooth, "Smooth the samples first: filter radius in voxels, rounded to whole voxels (OpenVDB filter)")
@@ -68,6 +68,10 @@ void add_processing_options(CLI::App& command, ProcessingOptions& options) {
         ->check(kFinitePositive & CLI::Range(0.0, 1.0));
     mesh->add_option("--max-error", options.max_error, "Decimate while the quadric error stays under this (world units)")
         ->check(kFiniteNonNegative);
+    std::vector<const CLI::Option*> added;
+    for (const CLI::App* group : {grid, mesh})
+        for (const CLI::Option* option : group->get_options()) added.push_back(option);
+    return added;
 }
 
 namespace {

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "vdbmesh/grid.h"
 #include "vdbmesh/grid_filter.h"
@@ -28,7 +29,8 @@ struct ProcessingOptions {
     std::optional<double> max_error;  ///< world units
 };
 
-void add_processing_options(CLI::App& command, ProcessingOptions& options);
+/// Adds the grid and mesh processing options; returns them (all mean something for one surface only).
+std::vector<const CLI::Option*> add_processing_options(CLI::App& command, ProcessingOptions& options);
 
 /// The band to convert a scan with so that the filters read true samples (at least 1).
 int conversion_band(const ProcessingOptions& options);

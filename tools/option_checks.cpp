@@ -6,7 +6,9 @@
 #include <filesystem>
 #include <vector>
 
+#include "load_grid.h"
 #include "vdbmesh/error.h"
+#include "vdbmesh/points.h"
 
 namespace vdbmesh::cli {
 
@@ -80,8 +82,20 @@ void refuse_non_finite(const std::vector<CLI::Option*>& options) {
 struct NamedFile {
     const CLI::Option* option;
     std::string path;
-    bool input;  ///< else an output
+    bool input;             ///< else an output
+    std::string listed_by;  ///< the input file that names this one (a .conf's scan), or empty
 };
+
+/// The files an input names besides itself, read with it: a .conf range-scan set's scans. A
+/// file that cannot be listed is left to its reader to report.
+std::vector<std::filesystem::path> files_named_by(const std::string& input) {
+    if (lowercase_extension(input) != ".conf") return {};
+    try {
+        return conf_scan_files(input);
+    } catch (const Error&) {
+        return {};
+    }
+}
 
 /// True when @a a and @a b name the same file: the same device and inode when both exist
 /// (through any link), else the same path once made absolute and normal.
@@ -101,9 +115,10 @@ void refuse_outputs_naming_inputs(const std::vector<CLI::Option*>& options) {
         if (!output && !replaceable && !has_role(option, kInputRole)) continue;
         for (const std::string& path : option->results()) {
             if (output) {
-                outputs.push_back({option, path, false});
+                outputs.push_back({option, path, false, ""});
             } else if (!replaceable) {
-                inputs.push_back({option, path, true});
+                inputs.push_back({option, path, true, ""});
+                for (const std::filesystem::path& named : files_named_by(path)) inputs.push_back({option, named.string(), true, path});
             }
         }
     }
@@ -113,9 +128,10 @@ void refuse_outputs_naming_inputs(const std::vector<CLI::Option*>& options) {
         others.insert(others.end(), outputs.begin(), outputs.begin() + std::ptrdiff_t(i));
         for (const NamedFile& other : others) {
             if (!same_file(out.path, other.path)) continue;
+            const std::string listed = other.listed_by.empty() ? "" : " (listed in \"" + other.listed_by + "\")";
             throw UsageError(option_name(out.option) + ": expected a file that is not " +
                              (other.input ? "an input" : "another output") + ", got \"" + out.path + "\", the same file as " +
-                             option_name(other.option) + " \"" + other.path + "\"; nothing was written");
+                             option_name(other.option) + " \"" + other.path + "\"" + listed + "; nothing was written");
         }
     }
 }

@@ -4,8 +4,9 @@
 //  - no option's value is NaN or infinite (nor too large for a double), whole or as one item of
 //    a list: a number option that means "a finite number" everywhere;
 //  - no output file names an input, nor another output: the same file by device and inode,
-//    through symbolic and hard links. An input marked replaceable may be named by the output
-//    (`process x.vdb -o x.vdb`), as the atomic writer replaces it only once the run succeeded.
+//    through symbolic and hard links; the scans a .conf range-scan set lists are inputs too. An
+//    input marked replaceable may be named by the output (`process x.vdb -o x.vdb`), as the
+//    atomic writer replaces it only once the run succeeded.
 // Failures are UsageErrors (exit 2) naming the option.
 
 #include <CLI/CLI.hpp>

@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "common_options.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::cli {
@@ -18,16 +19,25 @@ std::string number_text(double value) {
 std::string duration_text(double seconds) {
     if (seconds < 1e-3) return number_text(seconds * 1e6) + " us";
     if (seconds < 1) return number_text(seconds * 1e3) + " ms";
-    if (seconds < 3600) return number_text(seconds) + " s";
+    if (seconds < 60) return number_text(seconds) + " s";
+    if (seconds < 3600) return number_text(seconds / 60) + " min";
     return number_text(seconds / 3600) + (seconds == 3600 ? " hour" : " hours");
 }
 
 }  // namespace
 
-void refuse_beyond_work(const std::string& option, double count, const std::string& units, double seconds_each) {
-    const double seconds = count * seconds_each;
-    if (seconds <= kWorkLimitSeconds) return;  // NaN too: the option checks refuse non-finite values first
-    throw UsageError(option + ": expected at most " + duration_text(kWorkLimitSeconds) + " of work on one core, got an estimate of " +
+void add_work_limit_option(CLI::App& command, WorkLimit& limit) {
+    command.add_option("--work-limit", limit.minutes,
+                       "Refuse a run whose work, estimated from the options before starting, exceeds this many minutes of one core")
+        ->check(kFinitePositive)
+        ->capture_default_str();
+}
+
+void refuse_beyond_work(const WorkLimit& limit, const std::string& option, double count, const std::string& units,
+                        double seconds_each) {
+    const double seconds = count * seconds_each, limit_seconds = 60 * limit.minutes;
+    if (seconds <= limit_seconds) return;  // NaN too: the option checks refuse non-finite values first
+    throw UsageError(option + ": expected at most " + duration_text(limit_seconds) + " of work on one core (--work-limit), got an estimate of " +
                      duration_text(seconds) + " (" + number_text(count) + " " + units + " at about " + duration_text(seconds_each) +
                      " each)");
 }

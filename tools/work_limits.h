@@ -1,12 +1,13 @@
 #pragma once
 // Estimates, from the options alone (and an input's size), of the memory and work a run would
-// take, checked before it starts (issue 32): a number that cannot finish is refused as a usage
-// error naming the option, the estimate and the limit, rather than running for hours or ending
-// in a bare std::bad_alloc. An estimate is a count (leaves, queries) times what one costs,
-// measured with --threads 1 on the bench machine and rounded up; it bounds the order of
-// magnitude, it is no prediction. The limits are fixed, so that a command is accepted or
-// refused alike everywhere.
+// take, checked before it starts (issue 32): a number that cannot finish soon is refused as a
+// usage error naming the option, the estimate and the limit, rather than running for many
+// minutes or ending in a bare std::bad_alloc. An estimate is a count (leaves, queries) times
+// what one costs, measured with --threads 1 on the bench machine and rounded up; it bounds the
+// order of magnitude, it is no prediction. One rule for every command that estimates its work:
+// 2 minutes of one core unless the run's --work-limit says more, 16 GiB of memory.
 
+#include <CLI/CLI.hpp>
 #include <string>
 
 namespace vdbmesh::cli {
@@ -15,15 +16,29 @@ namespace vdbmesh::cli {
 /// run; until then every command uses this default.
 inline constexpr double kMemoryLimitBytes = 16.0 * 1024 * 1024 * 1024;
 
-/// The work a run may plan for: an hour of one core (less on several).
-inline constexpr double kWorkLimitSeconds = 3600;
+/// The work a run may plan for unless --work-limit says more: 2 minutes of one core (1 on two).
+/// A command that would take longer on an ordinary laptop is more likely a mistyped number
+/// (`lattice --band 1000`, about 2.4 minutes) than a wish; the flagship lattice of the README
+/// (6000^3 voxels, periodic) is estimated at 45 s.
+inline constexpr double kDefaultWorkLimitSeconds = 120;
 
 /// The most --threads: far beyond any machine's cores, short of what TBB cannot create.
 inline constexpr int kMaxThreads = 1024;
 
-/// Throws UsageError "OPTION: expected at most 1 hour of work, got an estimate of N hours
-/// (COUNT UNITS at about S each)" when @a count units of @a seconds_each exceed kWorkLimitSeconds.
-void refuse_beyond_work(const std::string& option, double count, const std::string& units, double seconds_each);
+/// The work limit of one run.
+struct WorkLimit {
+    double minutes = kDefaultWorkLimitSeconds / 60;
+};
+
+/// --work-limit MINUTES, for the commands that estimate their work (and only those: elsewhere it
+/// would be an option that does nothing).
+void add_work_limit_option(CLI::App& command, WorkLimit& limit);
+
+/// Throws UsageError "OPTION: expected at most 2 min of work on one core (--work-limit), got an
+/// estimate of N min (COUNT UNITS at about S each)" when @a count units of @a seconds_each
+/// exceed @a limit.
+void refuse_beyond_work(const WorkLimit& limit, const std::string& option, double count, const std::string& units,
+                        double seconds_each);
 
 /// Throws UsageError naming @a option, the estimate and kMemoryLimitBytes in GiB when @a bytes
 /// (of @a what) exceed it.

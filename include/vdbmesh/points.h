@@ -43,6 +43,11 @@ struct PointCloud {
 /// @throw FormatError naming the file, the line or field, what was expected and what was found.
 PointCloud read_points(const std::filesystem::path& path);
 
+/// The files the .conf range-scan set @a conf names, in order, through nested .conf files (each
+/// listed, then its own), without reading a scan: what read_points() reads besides @a conf.
+/// @throw FormatError as read_points() for a malformed line, a cycle or too deep a nesting.
+std::vector<std::filesystem::path> conf_scan_files(const std::filesystem::path& conf);
+
 /// Writes x y z [nx ny nz] lines (for tests and tools).
 void write_points_xyz(const PointCloud& cloud, const std::filesystem::path& path);
 

@@ -19,11 +19,11 @@
 #include "bindings.h"
 #include "inside_side.h"
 #include "interrupt.h"
-#include "negated_reader.h"
 #include "mesh_arrays.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/mesher.h"
+#include "vdbmesh/side_grid.h"
 
 namespace py = pybind11;
 
@@ -103,20 +103,15 @@ openvdb::FloatGrid::Ptr array_grid(const StridedVolume& volume, double iso, cons
 /// A fresh reader of an array or a scan file, for each conversion.
 using ReaderFactory = std::function<std::unique_ptr<SliceReader>()>;
 
-/// The grid to mesh a source at @a level with the object on @a side; sets options.iso and
-/// options.inside and says whether it negated the samples. An object below the level is
-/// meshed as the negated samples' object above -level (negated_reader.h), closed at the
-/// scan's box by every method.
+/// The grid to mesh a source at @a level with the object on @a side (convert_for_side(): an
+/// object below is the negated samples' object above -level, closed at the scan's box by every
+/// method); sets options.iso and options.inside and says whether it negated the samples.
 std::pair<openvdb::FloatGrid::Ptr, bool> side_grid(const ReaderFactory& reader, double level, Inside side,
                                                    MeshOptions& options) {
-    options.inside = Inside::above;
-    if (side == Inside::above) {
-        options.iso = level;
-        return {convert_to_grid(*reader(), convert_options(level)), false};
-    }
-    NegatedReader negated(reader());
-    options.iso = -level;
-    return {convert_to_grid(negated, convert_options(-level)), true};
+    const SideGrid converted = convert_for_side(*reader(), convert_options(level), side);
+    options.iso = converted.iso;
+    options.inside = converted.inside;
+    return {converted.grid, converted.negated};
 }
 
 bool is_vdb_file(const std::filesystem::path& path) {

@@ -19,27 +19,9 @@
 #include <type_traits>
 #include <vector>
 
+#include "base/temp_file.h"
+
 namespace vdbmesh::detail {
-
-/// A temporary file in $TMPDIR (or /tmp), unlinked as soon as it is made: it leaves nothing
-/// behind, however the process ends.
-class TempFile {
-public:
-    /// @throw Error when no temporary file can be made.
-    TempFile();
-    ~TempFile();
-    TempFile(const TempFile&) = delete;
-    TempFile& operator=(const TempFile&) = delete;
-    /// Appends @a bytes. @throw Error when the disk is full.
-    void append(const void* data, std::size_t bytes);
-    /// Reads @a bytes at @a offset. @throw Error on a failed read.
-    void read(std::uint64_t offset, void* data, std::size_t bytes) const;
-    std::uint64_t size() const { return size_; }
-
-private:
-    int fd_ = -1;
-    std::uint64_t size_ = 0;
-};
 
 /// Writes a sorted run as it is.
 struct KeepRun {
@@ -96,7 +78,7 @@ private:
     void spill() {
         tbb::parallel_sort(buffer_.begin(), buffer_.end());
         CombineRun()(buffer_);
-        if (!file_) file_.emplace();
+        if (!file_) file_.emplace("for sorting");
         runs_.push_back({file_->size() / sizeof(Record), buffer_.size()});
         file_->append(buffer_.data(), buffer_.size() * sizeof(Record));
         buffer_.clear();

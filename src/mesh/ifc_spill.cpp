@@ -113,31 +113,6 @@ private:
     const Table* last_ = nullptr;
 };
 
-IfcSpill::IfcSpill() : file_(std::tmpfile()) {
-    if (!file_) throw Error("bricks: cannot create the temporary spill file");
-}
-
-IfcSpill::~IfcSpill() { std::fclose(file_); }
-
-template <typename T>
-void IfcSpill::write(const std::vector<T>& records) {
-    if (records.empty()) return;
-    if (std::fseek(file_, 0, SEEK_END) != 0 || std::fwrite(records.data(), sizeof(T), records.size(), file_) != records.size()) {
-        throw Error("bricks: cannot write the temporary spill file (disk full?)");
-    }
-    size_ += records.size() * sizeof(T);
-}
-
-template <typename T>
-std::vector<T> IfcSpill::read(std::uint64_t offset, std::uint64_t count) const {
-    std::vector<T> records(count);
-    if (count == 0) return records;
-    if (::fseeko(file_, off_t(offset), SEEK_SET) != 0 || std::fread(records.data(), sizeof(T), count, file_) != count) {
-        throw Error("bricks: cannot read back the temporary spill file");
-    }
-    return records;
-}
-
 void IfcSpill::append(IfcNodeOutput&& node) {
     NodeRecord record;
     record.origin = node.origin;
@@ -149,10 +124,10 @@ void IfcSpill::append(IfcNodeOutput&& node) {
     }
     for (const IfcVertex& v : node.coarse) vertices.push_back({v.key, v.position});
     node = IfcNodeOutput();
-    record.vertex_offset = size_;
+    record.vertex_offset = file_.size();
     record.vertex_count = vertices.size();
     write(vertices);
-    record.triangle_offset = size_;
+    record.triangle_offset = file_.size();
     record.triangle_count = triangles.size();
     write(triangles);
     nodes_.push_back(record);
@@ -160,10 +135,10 @@ void IfcSpill::append(IfcNodeOutput&& node) {
 
 std::string IfcSpill::serialized() const {
     const std::uint64_t count = nodes_.size();
-    std::string bytes(sizeof(count) + count * sizeof(NodeRecord) + size_, '\0');
+    std::string bytes(sizeof(count) + count * sizeof(NodeRecord) + file_.size(), '\0');
     std::memcpy(bytes.data(), &count, sizeof(count));
     std::memcpy(bytes.data() + sizeof(count), nodes_.data(), count * sizeof(NodeRecord));
-    const std::vector<char> body = read<char>(0, size_);
+    const std::vector<char> body = read<char>(0, file_.size());
     std::memcpy(bytes.data() + sizeof(count) + count * sizeof(NodeRecord), body.data(), body.size());
     return bytes;
 }
@@ -176,7 +151,7 @@ void IfcSpill::absorb(const std::string& bytes) {
     if (bytes.size() < records) throw Error("bricks: a rank sent a truncated part");
     std::vector<NodeRecord> nodes(count);
     std::memcpy(nodes.data(), bytes.data() + sizeof(count), count * sizeof(NodeRecord));
-    const std::uint64_t base = size_;
+    const std::uint64_t base = file_.size();
     write(std::vector<char>(bytes.begin() + std::ptrdiff_t(records), bytes.end()));
     for (NodeRecord& node : nodes) {
         node.vertex_offset += base;

@@ -3,21 +3,17 @@
 // and triangles appended to an unlinked temporary file as soon as its brick is meshed, then
 // read back node by node in z-major order, keys resolved to vertex numbers, into a sink.
 
-#include <cstdio>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "base/temp_file.h"
 #include "mesh/ifc.h"
 
 namespace vdbmesh::detail {
 
 class IfcSpill {
 public:
-    IfcSpill();
-    ~IfcSpill();
-    IfcSpill(const IfcSpill&) = delete;
-    IfcSpill& operator=(const IfcSpill&) = delete;
 
     /// Writes @a node's vertices (its blocks' lists, then its coarse cells) and triangles, and
     /// frees them. Each node comes once, in any order.
@@ -44,13 +40,18 @@ private:
         std::array<float, 3> position;
     };
     template <typename T>
-    void write(const std::vector<T>& records);
+    void write(const std::vector<T>& records) {
+        if (!records.empty()) file_.append(records.data(), records.size() * sizeof(T));
+    }
     template <typename T>
-    std::vector<T> read(std::uint64_t offset, std::uint64_t count) const;
+    std::vector<T> read(std::uint64_t offset, std::uint64_t count) const {
+        std::vector<T> records(count);
+        if (count > 0) file_.read(offset, records.data(), count * sizeof(T));
+        return records;
+    }
     class Tables;
 
-    std::FILE* file_ = nullptr;
-    std::uint64_t size_ = 0;
+    TempFile file_{"for the bricks' spill"};
     std::vector<NodeRecord> nodes_;
 };
 

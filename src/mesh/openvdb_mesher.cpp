@@ -17,8 +17,9 @@
 //   whose values beyond the box are the background mirrored across the isovalue (outside, as
 //   far from the isovalue). Where such an object meets the box the surface stays open: the
 //   converter made no band there (to it, beyond the box is the object's outside only with
-//   inside=above). The Python module meshes the negated samples instead; the command line
-//   has that gap still. open_boundary is refused by mesh_grid().
+//   inside=above). A scan is therefore converted negated for an object below (side_grid.h),
+//   by the command line and the Python module alike; this copy serves a grid converted for
+//   the other side (a .vdb written by `convert`). open_boundary is refused by mesh_grid().
 
 #include "mesh/openvdb_mesher.h"
 

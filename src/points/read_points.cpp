@@ -316,6 +316,16 @@ struct ConfChain {
         for (const std::string& name : names) t += name + " -> ";
         return t + last;
     }
+    void enter(const std::filesystem::path& path) {
+        struct stat info {};
+        if (::stat(path.c_str(), &info) != 0) throw FormatError(path.string(), "cannot open the file");
+        ids.emplace_back(info.st_dev, info.st_ino);
+        names.push_back(path.string());
+    }
+    void leave() {
+        ids.pop_back();
+        names.pop_back();
+    }
 };
 
 PointCloud read_points_in(const std::filesystem::path& path, ConfChain& chain);
@@ -334,13 +344,17 @@ void refuse_conf_cycle(const std::filesystem::path& path, const std::string& whe
                           "a deeper chain " + chain.text(scan_path.string()));
 }
 
-PointCloud read_conf(const std::filesystem::path& path, ConfChain& chain) {
-    struct stat info {};
-    if (::stat(path.c_str(), &info) != 0) throw FormatError(path.string(), "cannot open the file");
-    chain.ids.emplace_back(info.st_dev, info.st_ino);
-    chain.names.push_back(path.string());
+/// One `bmesh FILE tx ty tz qx qy qz qw` line of a .conf.
+struct ConfEntry {
+    std::string where;           ///< "line N"
+    std::filesystem::path scan;  ///< a relative FILE taken from the .conf's folder
+    double pose[7];              ///< tx ty tz qx qy qz qw, the quaternion not zero
+};
+
+/// The `bmesh` lines of the .conf @a path (`camera` lines and comments skipped).
+std::vector<ConfEntry> parse_conf(const std::filesystem::path& path) {
     const std::string text = read_all(path);
-    PointCloud cloud;
+    std::vector<ConfEntry> entries;
     std::istringstream in(text);
     std::string line;
     std::size_t line_no = 0;
@@ -348,28 +362,39 @@ PointCloud read_conf(const std::filesystem::path& path, ConfChain& chain) {
         ++line_no;
         const std::vector<std::string> w = split_words(trim(line));
         if (w.empty() || w[0][0] == '#' || w[0] == "camera") continue;
-        const std::string where = "line " + std::to_string(line_no);
-        if (w[0] != "bmesh") throw FormatError(path.string(), where, "bmesh FILE tx ty tz qx qy qz qw (or camera ...)", "\"" + w[0] + "\"");
-        if (w.size() != 9) throw FormatError(path.string(), where, "9 fields (bmesh FILE tx ty tz qx qy qz qw)", std::to_string(w.size()));
-        double v[7];
+        ConfEntry entry;
+        entry.where = "line " + std::to_string(line_no);
+        if (w[0] != "bmesh") throw FormatError(path.string(), entry.where, "bmesh FILE tx ty tz qx qy qz qw (or camera ...)", "\"" + w[0] + "\"");
+        if (w.size() != 9) throw FormatError(path.string(), entry.where, "9 fields (bmesh FILE tx ty tz qx qy qz qw)", std::to_string(w.size()));
         const char* fields[7] = {"tx", "ty", "tz", "qx", "qy", "qz", "qw"};
-        for (int i = 0; i < 7; ++i) v[i] = parse_double(path, where + " " + fields[i], w[2 + i]);
-        double qx = v[3], qy = v[4], qz = v[5], qw = v[6];
+        for (int i = 0; i < 7; ++i) entry.pose[i] = parse_double(path, entry.where + " " + fields[i], w[2 + i]);
+        const double* q = entry.pose + 3;
+        if (!(std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]) > 1e-9))
+            throw FormatError(path.string(), entry.where + " quaternion", "a non-zero quaternion", "0 0 0 0");
+        entry.scan = w[1];
+        if (entry.scan.is_relative()) entry.scan = path.parent_path() / entry.scan;
+        entries.push_back(std::move(entry));
+    }
+    return entries;
+}
+
+PointCloud read_conf(const std::filesystem::path& path, ConfChain& chain) {
+    chain.enter(path);
+    PointCloud cloud;
+    for (const ConfEntry& entry : parse_conf(path)) {
+        double qx = entry.pose[3], qy = entry.pose[4], qz = entry.pose[5], qw = entry.pose[6];
         const double len = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
-        if (!(len > 1e-9)) throw FormatError(path.string(), where + " quaternion", "a non-zero quaternion", "0 0 0 0");
         // The inverse (conjugate) rotation: checked against bun_zipper.ply.
         qx = -qx / len, qy = -qy / len, qz = -qz / len, qw /= len;
         const double R[3][3] = {{1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qz * qw), 2 * (qx * qz + qy * qw)},
                                 {2 * (qx * qy + qz * qw), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qx * qw)},
                                 {2 * (qx * qz - qy * qw), 2 * (qy * qz + qx * qw), 1 - 2 * (qx * qx + qy * qy)}};
-        std::filesystem::path scan_path = w[1];
-        if (scan_path.is_relative()) scan_path = path.parent_path() / scan_path;
-        refuse_conf_cycle(path, where, scan_path, chain);
+        refuse_conf_cycle(path, entry.where, entry.scan, chain);
         PointCloud scan;
         try {
-            scan = read_points_in(scan_path, chain);
+            scan = read_points_in(entry.scan, chain);
         } catch (const FormatError& e) {
-            throw FormatError(path.string(), where + ": " + e.what());
+            throw FormatError(path.string(), entry.where + ": " + e.what());
         }
         const auto index = std::uint32_t(cloud.scan_view.size());
         cloud.scan_view.push_back({R[0][2], R[1][2], R[2][2]});
@@ -378,7 +403,7 @@ PointCloud read_conf(const std::filesystem::path& path, ConfChain& chain) {
         for (std::size_t i = 0; i < scan.points.size(); ++i) {
             const Vec3d& p = scan.points[i];
             Vec3d q;
-            for (int r = 0; r < 3; ++r) q[r] = R[r][0] * p[0] + R[r][1] * p[1] + R[r][2] * p[2] + v[r];
+            for (int r = 0; r < 3; ++r) q[r] = R[r][0] * p[0] + R[r][1] * p[1] + R[r][2] * p[2] + entry.pose[r];
             cloud.points.push_back(q);
             cloud.scan.push_back(index);
             if (normals) {
@@ -390,9 +415,20 @@ PointCloud read_conf(const std::filesystem::path& path, ConfChain& chain) {
         }
     }
     if (cloud.points.empty()) throw FormatError(path.string(), "bmesh lines", "at least one scan with points", "none");
-    chain.ids.pop_back();
-    chain.names.pop_back();
+    chain.leave();
     return cloud;
+}
+
+/// Appends the files the .conf @a path names to @a files, a nested .conf's after it.
+void list_conf(const std::filesystem::path& path, ConfChain& chain, std::vector<std::filesystem::path>& files) {
+    chain.enter(path);
+    for (const ConfEntry& entry : parse_conf(path)) {
+        refuse_conf_cycle(path, entry.where, entry.scan, chain);
+        files.push_back(entry.scan);
+        if (to_lower(entry.scan.extension().string()) == ".conf" && std::filesystem::exists(entry.scan))
+            list_conf(entry.scan, chain, files);
+    }
+    chain.leave();
 }
 
 PointCloud read_points_in(const std::filesystem::path& path, ConfChain& chain) {
@@ -409,6 +445,13 @@ PointCloud read_points_in(const std::filesystem::path& path, ConfChain& chain) {
 PointCloud read_points(const std::filesystem::path& path) {
     ConfChain chain;
     return read_points_in(path, chain);
+}
+
+std::vector<std::filesystem::path> conf_scan_files(const std::filesystem::path& conf) {
+    ConfChain chain;
+    std::vector<std::filesystem::path> files;
+    list_conf(conf, chain, files);
+    return files;
 }
 
 void write_points_xyz(const PointCloud& cloud, const std::filesystem::path& path) {

@@ -13,4 +13,8 @@ VolumeSource read_nrrd(const std::filesystem::path& path);              // nrrd.
 VolumeSource read_raw(const std::filesystem::path& path, const ReadOptions& options);  // raw.cpp
 VolumeSource read_dicom_series(const std::filesystem::path& folder);    // dicom.cpp
 
+/// What the sample data of @a header must hold, as every truncation message says it: "8000 bytes
+/// of samples (20 x 20 x 20 u8)", with " in N files" when @a files > 1 (volume_reader.cpp).
+std::string describe_sample_bytes(const VolumeHeader& header, std::size_t files);
+
 }  // namespace vdbmesh::detail

@@ -14,12 +14,6 @@ namespace vdbmesh::detail {
 
 namespace {
 
-std::string describe_expected(const VolumeHeader& h, std::uint64_t sample_bytes, std::size_t files) {
-    return std::to_string(sample_bytes) + " bytes of samples (" + std::to_string(h.dims[0]) + " x " +
-           std::to_string(h.dims[1]) + " x " + std::to_string(h.dims[2]) + " " + to_string(h.type) + ")" +
-           (files > 1 ? " in " + std::to_string(files) + " files" : "");
-}
-
 /// Deflate expands its input at most 1032-fold (a 258-byte match in 2 bits at best, RFC 1951),
 /// so a gzip file of n bytes holds at most 1032 n bytes.
 constexpr std::uint64_t kMaxDeflateRatio = 1032;
@@ -43,7 +37,7 @@ void check_plain_sizes(const VolumeSource& source, std::uint64_t header_bytes) {
         const std::uint64_t sample_bytes =
             static_cast<std::uint64_t>(source.header.voxel_count()) * sample_size(source.header.type);
         if (most < header_bytes || most - header_bytes < sample_bytes)
-            throw FormatError(file, "sample data", describe_expected(source.header, sample_bytes, source.segments.size()),
+            throw FormatError(file, "sample data", describe_sample_bytes(source.header, source.segments.size()),
                               "at most " + std::to_string(most - std::min(most, header_bytes)) +
                                   " bytes (truncated: gzip holds at most " + std::to_string(kMaxDeflateRatio) + " times its size)");
         return;
@@ -55,7 +49,7 @@ void check_plain_sizes(const VolumeSource& source, std::uint64_t header_bytes) {
     const std::uint64_t sample_bytes =
         static_cast<std::uint64_t>(source.header.voxel_count()) * sample_size(source.header.type);
     const std::uint64_t found = total - header_bytes;
-    const std::string expected = describe_expected(source.header, sample_bytes, source.segments.size());
+    const std::string expected = describe_sample_bytes(source.header, source.segments.size());
     if (found < sample_bytes)
         throw FormatError(file, "sample data", expected, "only " + std::to_string(found) + " bytes (truncated)");
     if (found > sample_bytes)

@@ -22,11 +22,18 @@
 #include <cstring>
 #include <limits>
 
+#include "formats.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/parse_util.h"
 #include "vdbmesh/read.h"
 
 namespace vdbmesh {
+
+std::string detail::describe_sample_bytes(const VolumeHeader& h, std::size_t files) {
+    const std::uint64_t bytes = static_cast<std::uint64_t>(h.voxel_count()) * sample_size(h.type);
+    return std::to_string(bytes) + " bytes of samples (" + std::to_string(h.dims[0]) + " x " + std::to_string(h.dims[1]) + " x " +
+           std::to_string(h.dims[2]) + " " + to_string(h.type) + ")" + (files > 1 ? " in " + std::to_string(files) + " files" : "");
+}
 
 namespace {
 
@@ -184,8 +191,11 @@ std::uint64_t count_rest(SegmentInput& input, std::uint64_t limit = ~std::uint64
 /// The samples of all segments as one byte stream of known total length.
 class VolumeReader::ByteStream {
 public:
-    ByteStream(std::vector<DataSegment> segments, std::uint64_t total_bytes)
-        : segments_(std::move(segments)), total_bytes_(total_bytes) {}
+    explicit ByteStream(const VolumeSource& source)
+        : segments_(source.segments),
+          total_bytes_(static_cast<std::uint64_t>(source.header.voxel_count()) * sample_size(source.header.type)),
+          header_path_(source.header.path),
+          expected_(detail::describe_sample_bytes(source.header, source.segments.size())) {}
 
     /// Fills @a out with exactly @a size bytes, or throws FormatError (truncated data).
     void read(unsigned char* out, std::size_t size) {
@@ -248,11 +258,11 @@ private:
                           "only " + std::to_string(read_in_segment_) + " bytes (truncated)");
     }
 
+    /// The streams together ended early: said as the plain raw's size check says it (raw.cpp),
+    /// naming the one data file, or the header's file for several.
     [[noreturn]] void throw_truncated_total() const {
-        const std::string file = segments_.empty() ? std::string("(no data file)") : segments_.back().path.string();
-        throw FormatError(file, "sample data", std::to_string(total_bytes_) + " bytes in all",
-                          "only " + std::to_string(read_total_) + " bytes in " + std::to_string(segments_.size()) +
-                              " file(s) (truncated)");
+        const std::string file = segments_.size() == 1 ? segments_.front().path.string() : header_path_.string();
+        throw FormatError(file, "sample data", expected_, "only " + std::to_string(read_total_) + " bytes (truncated)");
     }
 
     [[noreturn]] void throw_trailing(const DataSegment& segment, std::uint64_t extra) const {
@@ -265,6 +275,8 @@ private:
 
     std::vector<DataSegment> segments_;
     std::uint64_t total_bytes_;
+    std::filesystem::path header_path_;
+    std::string expected_;  ///< describe_sample_bytes()
     std::size_t index_ = 0;  ///< segments opened so far; the open one is index_ - 1
     std::unique_ptr<SegmentInput> input_;
     std::uint64_t read_in_segment_ = 0;
@@ -322,8 +334,7 @@ void check_finite(const VolumeHeader& h, const float* values, std::size_t count,
 
 VolumeReader::VolumeReader(VolumeSource source)
     : source_(std::move(source)),
-      stream_(std::make_unique<ByteStream>(
-          source_.segments, static_cast<std::uint64_t>(source_.header.voxel_count()) * sample_size(source_.header.type))) {}
+      stream_(std::make_unique<ByteStream>(source_)) {}
 
 VolumeReader::~VolumeReader() = default;
 

@@ -142,7 +142,7 @@ TEST(RawTest, SplitGzipPartsTooShortOrTooLongFailWhileStreaming) {
     options.raw_more_files = {dir / "b.gz"};
     EXPECT_NO_THROW(open_volume_source(dir / "a.gz", options));  // sizes unknown until decompressed
     std::string message = read_error(dir / "a.gz", options);
-    EXPECT_MESSAGE_HAS(message, "b.gz: sample data: expected 27 bytes in all, got only 26 bytes in 2 file(s) (truncated)");
+    EXPECT_MESSAGE_HAS(message, "a.gz: sample data: expected 27 bytes of samples (3 x 3 x 3 u8) in 2 files, got only 26 bytes (truncated)");
     options.raw_more_files = {dir / "c.gz"};
     message = read_error(dir / "a.gz", options);
     EXPECT_MESSAGE_HAS(message, "c.gz: trailing data");

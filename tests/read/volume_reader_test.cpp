@@ -168,7 +168,7 @@ TEST(VolumeReaderTest, ShortToEndStreamIsTruncated) {
     test::write_bytes(dir / "a", Bytes(kEight.begin(), kEight.begin() + 7));
     const std::string message = read_error(u8_cube({segment(dir / "a")}));
     EXPECT_NE(message.find("truncated"), std::string::npos) << message;
-    EXPECT_NE(message.find("8 bytes in all"), std::string::npos) << message;
+    EXPECT_NE(message.find("expected 8 bytes of samples (2 x 2 x 2 u8)"), std::string::npos) << message;
     EXPECT_NE(message.find("only 7"), std::string::npos) << message;
 }
 

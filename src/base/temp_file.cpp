@@ -1,6 +1,6 @@
-// TempFile: mkstemp(3) in $TMPDIR or /tmp, unlinked at once; written and read with
+// TempFile (temp_file.h): mkstemp(3) in $TMPDIR or /tmp, unlinked at once; written and read with
 // write(2) and pread(2), every short count retried and every failure named.
-#include "analysis/external_sort.h"
+#include "base/temp_file.h"
 
 #include <unistd.h>
 
@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include "vdbmesh/error.h"
 
@@ -21,10 +22,10 @@ std::string temp_folder() {
 
 }  // namespace
 
-TempFile::TempFile() {
-    std::string name = temp_folder() + "/vdbmesh-sort-XXXXXX";
+TempFile::TempFile(std::string purpose) : purpose_(std::move(purpose)) {
+    std::string name = temp_folder() + "/vdbmesh-XXXXXX";
     fd_ = ::mkstemp(name.data());
-    if (fd_ < 0) throw Error(name + ": cannot make a temporary file for sorting: " + std::strerror(errno));
+    if (fd_ < 0) throw Error(name + ": cannot make a temporary file " + purpose_ + ": " + std::strerror(errno));
     ::unlink(name.c_str());
 }
 
@@ -38,7 +39,7 @@ void TempFile::append(const void* data, std::size_t bytes) {
         const ssize_t done = ::pwrite(fd_, from, bytes, off_t(size_));
         if (done < 0 && errno == EINTR) continue;
         if (done <= 0) {
-            throw Error(temp_folder() + ": cannot write the temporary file for sorting (" + std::strerror(errno) +
+            throw Error(temp_folder() + ": cannot write the temporary file " + purpose_ + " (" + std::strerror(errno) +
                         "; TMPDIR chooses where it goes)");
         }
         from += done, bytes -= std::size_t(done), size_ += std::uint64_t(done);
@@ -50,7 +51,7 @@ void TempFile::read(std::uint64_t offset, void* data, std::size_t bytes) const {
     while (bytes > 0) {
         const ssize_t done = ::pread(fd_, to, bytes, off_t(offset));
         if (done < 0 && errno == EINTR) continue;
-        if (done <= 0) throw Error(temp_folder() + ": cannot read back the temporary file for sorting: " + std::strerror(errno));
+        if (done <= 0) throw Error(temp_folder() + ": cannot read back the temporary file " + purpose_ + ": " + std::strerror(errno));
         to += done, bytes -= std::size_t(done), offset += std::uint64_t(done);
     }
 }
