@@ -77,10 +77,12 @@ void walk_region(const Tree& tree, TreeRegion& region) {
 }
 
 
-void absorb_tree(Tree& into, const Tree& from) {
-    TreeRegion region{openvdb::CoordBBox::inf(), &into, {}, 0, 0};
-    walk_region(from, region);
-    for (const Leaf* leaf : region.leaves) into.addLeaf(new Leaf(*leaf));
+void absorb_tree(Tree& into, Tree& from) {
+    TreeRegion tiles{openvdb::CoordBBox::inf(), &into, {}, 0, 0};
+    walk_region(from, tiles);
+    std::vector<Leaf*> leaves;
+    from.stealNodes(leaves);  // moved, not copied: one copy of the samples at a time
+    for (Leaf* leaf : leaves) into.addLeaf(leaf);
 }
 
 void drop_nodes_below(Tree& tree, std::int32_t z) {

@@ -97,25 +97,27 @@ std::vector<IfcNodeOutput> IfcColumnWavefront::contour(int layer) {
     return group_ifc_outputs_by_node(cells_.origins, outputs);
 }
 
-void IfcColumnWavefront::drop_below(int z) {
-    drop_cells_below(cells_, z);
-    region_walk::drop_nodes_below(window_->tree(), z);
+void IfcColumnWavefront::drop_below(int cells_z, int samples_z) {
+    drop_cells_below(cells_, cells_z);
+    region_walk::drop_nodes_below(window_->tree(), samples_z);
     release_free_memory();
 }
 
 void IfcColumnWavefront::run(int first, int last, const std::function<void(std::vector<IfcNodeOutput>&&)>& consume) {
     // Building layer s reads samples from one below its bottom to one above its top; the
-    // contour of layer s - 1 reads the cells of layers s - 2 .. s and their samples (a coarse
-    // cell next to a block may span a whole node). So the samples come in as: the top leaf row
-    // under the first layer built, then per layer its first leaf row (before the layer under it
-    // is built) and the rest (after the layer two below is dropped).
+    // contour of layer s - 1 reads the cells of its blocks and of the blocks next to them (the
+    // top block row of layer s - 2, the bottom one of layer s), and the samples of layers
+    // s - 2 .. s (a coarse cell next to a block may span a whole node). So the samples come in
+    // as: the top leaf row under the first layer built, then per layer its first leaf row
+    // (before the layer under it is built) and the rest (after the layer two below is dropped);
+    // a contoured layer keeps only its top block row of cells.
     const int start = first - 1;  // built, not contoured: the halo under the column's bricks
     read(layer_z(start) - kLeafVoxels, layer_z(start + 1));
     for (int s = start; s <= last + 1; ++s) {
         read(layer_z(s + 1), layer_z(s + 1) + kLeafVoxels);
         build(s);
         if (s - 1 >= first) consume(contour(s - 1));
-        drop_below(layer_z(s - 1));
+        drop_below(layer_z(s) - kLeafVoxels, layer_z(s - 1));
         if (s <= last) read(layer_z(s + 1) + kLeafVoxels, layer_z(s + 2));
     }
 }

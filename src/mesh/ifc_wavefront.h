@@ -18,7 +18,7 @@ struct IfcColumn {
 
 /// Contours the column's node layers from bottom to top. Held at any time: the samples of
 /// the column's nodes and of one ring of nodes round it (a leaf more) in at most three node
-/// layers and a leaf row, and those nodes' cells. The ring's nodes are built (octree, coarse
+/// layers and a leaf row, and the cells of two node layers and a block row. The ring's nodes are built (octree, coarse
 /// merge, split) but not contoured; no node is built twice in one column.
 class IfcColumnWavefront {
 public:
@@ -34,7 +34,7 @@ private:
     void read(int z_begin, int z_end);
     void build(int layer);
     std::vector<IfcNodeOutput> contour(int layer);
-    void drop_below(int z);
+    void drop_below(int cells_z, int samples_z);
 
     const GridRegionSource& source_;
     const SampleClassifier& classifier_;
