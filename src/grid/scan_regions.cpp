@@ -72,19 +72,37 @@ public:
     }
 
     std::uint64_t estimated_bytes(const IndexBox& box) const override {
-        // The band (kept), the box's part of it (at most the band), and the converter's windows.
-        return 2 * grid_bytes(box) + survey_.window_bytes;
+        // The band (kept, the rows across the scan's whole x and y), the box's part of it, and
+        // the converter's windows.
+        return band_bytes(box) + grid_bytes(box) + survey_.window_bytes;
     }
 
-    /// The leaves of the rows the box meets, over the scan's whole x and y.
+    /// The band's leaves, times the share of the active voxels of the node layers the box
+    /// meets that lie in nodes meeting the box (the survey counts leaves per row, active voxels
+    /// per node); at least one node's worth of the band when the box holds active voxels.
     std::uint64_t grid_bytes(const IndexBox& box) const override {
+        std::uint64_t inside = 0, across = 0;
+        for (const NodeWeight& node : survey_.nodes) {
+            if (node.origin[2] + kNodeVoxels <= box.min[2] || node.origin[2] >= box.max[2]) continue;
+            across += node.active_voxels;
+            const bool meets = node.origin[0] < box.max[0] && node.origin[0] + kNodeVoxels > box.min[0] && node.origin[1] < box.max[1] &&
+                               node.origin[1] + kNodeVoxels > box.min[1];
+            if (meets) inside += node.active_voxels;
+        }
+        if (across == 0) return 0;
+        return std::uint64_t(double(band_bytes(box)) * double(inside) / double(across));
+    }
+
+private:
+    /// The leaves of the rows the box meets, across the scan's whole x and y: the band a read
+    /// of it makes.
+    std::uint64_t band_bytes(const IndexBox& box) const {
         const auto [first, last] = rows_of(box);
         std::uint64_t leaves = 0;
         for (auto row = survey_.leaves.lower_bound(first); row != survey_.leaves.end() && row->first <= last; ++row) leaves += row->second;
         return leaves * (sizeof(Leaf) + Leaf::SIZE * sizeof(float));
     }
 
-private:
     /// The rows of the whole conversion that meet @a box in z: [first, last], empty when first > last.
     std::pair<int, int> rows_of(const IndexBox& box) const {
         const int first = std::max(first_row_, detail::floor_div(box.min[2], kLeafDim) * kLeafDim);

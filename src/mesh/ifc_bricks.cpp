@@ -23,9 +23,11 @@ namespace vdbmesh::detail {
 
 namespace {
 
-/// Bytes of the mesher's work per byte of grid it reads (the cells of the octree and coarse
-/// merges, the keyed triangles and vertices): a first guess, not yet calibrated (bench/README.md, "Bricks").
-constexpr double kWorkPerGridByte = 2.0;
+/// Bytes of the mesher's cells per byte of grid held (the wavefront holds the cells of two node
+/// layers and the samples of three): measured about 0.6 on the bunny tiled 3 x 3 x 3 (from the
+/// raw scan in one column: peak 1.37 GB where the grid held and the band and windows read
+/// account for 1.09 GB; bench/README.md, "Scale"), taken as 1 for an upper estimate.
+constexpr double kWorkPerGridByte = 1.0;
 /// What the process holds before it reads a grid (the program, its libraries, the thread
 /// pool): a first guess, not yet calibrated (bench/README.md, "Bricks").
 constexpr std::uint64_t kBaseBytes = std::uint64_t(24) << 20;
