@@ -1,10 +1,12 @@
-// ranks.h with MPI (VDBMESH_MPI=ON): MPI_COMM_WORLD while a RanksSession lives under a launcher.
+// ranks.h with MPI (VDBMESH_MPI=ON): MPI_COMM_WORLD while a RanksSession lives under a launcher;
+// without one, a single process or a rank of a simulated run (simulated_ranks.h).
 
 #include <mpi.h>
 
 #include <algorithm>
 #include <cstdint>
 
+#include "ranks/simulated_ranks.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/ranks.h"
 
@@ -40,18 +42,29 @@ RanksSession::~RanksSession() {
 
 int this_rank() {
     int rank = 0;
-    if (mpi_live) check(MPI_Comm_rank(MPI_COMM_WORLD, &rank), "MPI_Comm_rank");
+    if (mpi_live) {
+        check(MPI_Comm_rank(MPI_COMM_WORLD, &rank), "MPI_Comm_rank");
+    } else if (const auto simulated = detail::simulated_rank()) {
+        rank = simulated->rank;
+    }
     return rank;
 }
 
 int rank_count() {
     int size = 1;
-    if (mpi_live) check(MPI_Comm_size(MPI_COMM_WORLD, &size), "MPI_Comm_size");
+    if (mpi_live) {
+        check(MPI_Comm_size(MPI_COMM_WORLD, &size), "MPI_Comm_size");
+    } else if (const auto simulated = detail::simulated_rank()) {
+        size = simulated->ranks;
+    }
     return size;
 }
 
 std::vector<std::string> gather_to_rank0(const std::string& bytes) {
-    if (!mpi_live) return {bytes};
+    if (!mpi_live) {
+        const auto simulated = detail::simulated_rank();
+        return simulated ? detail::simulated_gather(*simulated, bytes) : std::vector<std::string>{bytes};
+    }
     const int rank = this_rank(), ranks = rank_count();
     std::uint64_t mine = bytes.size();
     std::vector<std::uint64_t> sizes(rank == 0 ? static_cast<std::size_t>(ranks) : 0);

@@ -1,13 +1,27 @@
-// ranks.h without MPI (VDBMESH_MPI=OFF): always one process, rank 0 of 1.
+// ranks.h without MPI (VDBMESH_MPI=OFF): one process, rank 0 of 1, or a rank of a simulated
+// run (simulated_ranks.h).
 
+#include "ranks/simulated_ranks.h"
 #include "vdbmesh/ranks.h"
 
 namespace vdbmesh {
 
 RanksSession::RanksSession() = default;
 RanksSession::~RanksSession() = default;
-int this_rank() { return 0; }
-int rank_count() { return 1; }
-std::vector<std::string> gather_to_rank0(const std::string& bytes) { return {bytes}; }
+
+int this_rank() {
+    const auto simulated = detail::simulated_rank();
+    return simulated ? simulated->rank : 0;
+}
+
+int rank_count() {
+    const auto simulated = detail::simulated_rank();
+    return simulated ? simulated->ranks : 1;
+}
+
+std::vector<std::string> gather_to_rank0(const std::string& bytes) {
+    const auto simulated = detail::simulated_rank();
+    return simulated ? detail::simulated_gather(*simulated, bytes) : std::vector<std::string>{bytes};
+}
 
 }  // namespace vdbmesh
