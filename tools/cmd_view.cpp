@@ -19,6 +19,7 @@
 #include "report_json.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/grid_region.h"
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/view.h"
@@ -62,9 +63,11 @@ ViewSource load_source(const ViewCommandOptions& options) {
     std::optional<double> stored_iso;
     if (lowercase_extension(input) == ".vdb") {
         options.read.refuse_for("the grid " + input);
-        auto grid = read_vdb(input);
-        stored_iso = stored_isovalue(*grid);
-        source.scan = std::make_shared<const ViewScan>(prepare_grid(std::move(grid)));
+        // Read by region: the server holds the coarse grid, the splat trees and the meshes
+        // asked for, never the whole grid.
+        std::shared_ptr<const GridRegionSource> regions = open_vdb_regions(input);
+        stored_iso = stored_isovalue(*regions->description());
+        source.scan = std::make_shared<const ViewScan>(prepare_grid_regions(std::move(regions)));
     } else {
         source.scan = std::make_shared<const ViewScan>(prepare_scan([&] { return open_scan(options.inputs, options.read); }));
     }

@@ -18,6 +18,8 @@
 
 namespace vdbmesh {
 
+class GridRegionSource;
+
 /// Counts of samples in equal bins over [min, max].
 struct ValueHistogram {
     double min = 0, max = 0;
@@ -27,7 +29,10 @@ struct ValueHistogram {
 /// A scan prepared for live re-meshing: grids that hold the surface at every isovalue of
 /// [histogram.min, histogram.max].
 struct ViewScan {
-    std::shared_ptr<openvdb::FloatGrid> grid;    ///< full resolution
+    /// Full resolution, in memory; null when the grid is read by region only (prepare_grid_regions()).
+    std::shared_ptr<openvdb::FloatGrid> grid;
+    /// Full resolution by region (always set): the splat tree and the meshes of regions read it.
+    std::shared_ptr<const GridRegionSource> regions;
     std::shared_ptr<openvdb::FloatGrid> coarse;  ///< averaged over coarse_factor^3 blocks: the quick first mesh
     int coarse_factor = 1;
     ValueHistogram histogram;        ///< of the scan's samples
@@ -48,6 +53,11 @@ ViewScan prepare_scan(const std::function<std::unique_ptr<VolumeReader>()>& open
 /// active box when it has none). Isovalues away from the one it was converted at may find
 /// only part of the surface.
 ViewScan prepare_grid(std::shared_ptr<openvdb::FloatGrid> grid);
+
+/// prepare_grid() of a grid that is never held whole (a huge .vdb): its statistics, histogram
+/// and coarse grid read in slabs about one node thick, one at a time. Without a stored scan box
+/// the box is that of the source's nodes.
+ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions);
 
 /// One label of a label map shown label by label: its closed mesh is a run of the
 /// source's mesh (its triangles and its vertices one after another).
@@ -89,7 +99,10 @@ struct ViewServerOptions {
 ///                       for a label map its labels (value, name, colour, their runs of the mesh)
 /// GET /api/mesh         binary: positions (float32 x 3V), normals (float32 x 3V), indices
 ///                       (uint32 x 3T); headers X-Vertices, X-Triangles, X-Seconds.
-///                       Parameters: level=coarse|full, method=dc|mc|openvdb, iso, error, adaptivity
+///                       Parameters: level=coarse|full|region, method=dc|mc|openvdb, iso, error,
+///                       adaptivity; box=x0,y0,z0,x1,y1,z1 (index space, max exclusive) with
+///                       level=region: the full mesh's triangles with a corner in the box, made
+///                       from the nodes round it alone (the page's close-up)
 /// GET /api/figures      JSON: the analysis of the mesh of the same parameters (as `check`)
 /// GET /api/download     the mesh of the same parameters as format=stl|ply|obj
 /// GET /api/splats       binary: the splats a camera needs (centre, normal as float32 x 3,

@@ -34,9 +34,11 @@ float block_mean(const Accessor& full, const openvdb::CoordBBox& box, int factor
     return float(sum / count);
 }
 
-void fill_dense(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box, int factor, DenseGrid& dense) {
+/// The coarse layers [first_layer, end_layer) of @a dense from @a grid.
+void fill_dense(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box, int factor, DenseGrid& dense,
+                int first_layer, int end_layer) {
     const openvdb::Coord dims = dense.bbox().dim();
-    tbb::parallel_for(tbb::blocked_range<int>(0, dims.z()), [&](const tbb::blocked_range<int>& slices) {
+    tbb::parallel_for(tbb::blocked_range<int>(first_layer, end_layer), [&](const tbb::blocked_range<int>& slices) {
         const auto full = grid.getConstAccessor();
         for (int z = slices.begin(); z < slices.end(); ++z) {
             for (int y = 0; y < dims.y(); ++y) {
@@ -72,10 +74,12 @@ int coarse_factor(const openvdb::CoordBBox& box, std::int64_t max_samples) {
     return factor;
 }
 
-openvdb::FloatGrid::Ptr coarse_grid(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box, int factor) {
-    const openvdb::Coord dims = coarse_dims(box, factor);
-    DenseGrid dense(openvdb::CoordBBox(openvdb::Coord(0), dims - openvdb::Coord(1)));
-    fill_dense(grid, box, factor, dense);
+namespace {
+
+/// The coarse grid of @a dense, placed and named after @a grid (its description suffices).
+openvdb::FloatGrid::Ptr coarse_from_dense(const DenseGrid& dense, const openvdb::FloatGrid& grid,
+                                          const openvdb::CoordBBox& box, int factor) {
+    const openvdb::Coord dims = dense.bbox().dim();
     auto coarse = openvdb::FloatGrid::create(grid.background());
     openvdb::tools::copyFromDense(dense, coarse->tree(), 0.0f);
     coarse->setTransform(coarse_transform(grid, box, factor));
@@ -83,6 +87,33 @@ openvdb::FloatGrid::Ptr coarse_grid(const openvdb::FloatGrid& grid, const openvd
     coarse->insertMeta(kMetaScanMin, openvdb::Vec3IMetadata(openvdb::Vec3i(0, 0, 0)));
     coarse->insertMeta(kMetaScanMax, openvdb::Vec3IMetadata(openvdb::Vec3i(dims.x() - 1, dims.y() - 1, dims.z() - 1)));
     return coarse;
+}
+
+}  // namespace
+
+openvdb::FloatGrid::Ptr coarse_grid(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box, int factor) {
+    DenseGrid dense(openvdb::CoordBBox(openvdb::Coord(0), coarse_dims(box, factor) - openvdb::Coord(1)));
+    fill_dense(grid, box, factor, dense, 0, dense.bbox().dim().z());
+    return coarse_from_dense(dense, grid, box, factor);
+}
+
+openvdb::FloatGrid::Ptr coarse_grid(const GridRegionSource& source, const openvdb::CoordBBox& box, int factor) {
+    DenseGrid dense(openvdb::CoordBBox(openvdb::Coord(0), coarse_dims(box, factor) - openvdb::Coord(1)));
+    const int layers = dense.bbox().dim().z();
+    // Slabs of whole coarse layers about one node thick, read one at a time.
+    const int slab_layers = std::max(1, kNodeVoxels / factor);
+    for (int first = 0; first < layers; first += slab_layers) {
+        const int end = std::min(layers, first + slab_layers);
+        IndexBox slab;
+        for (int a = 0; a < 3; ++a) {
+            slab.min[a] = box.min()[a];
+            slab.max[a] = box.max()[a] + 1;
+        }
+        slab.min[2] = box.min().z() + first * factor;
+        slab.max[2] = std::min(box.max().z() + 1, box.min().z() + end * factor);
+        fill_dense(*source.read(slab), box, factor, dense, first, end);
+    }
+    return coarse_from_dense(dense, *source.description(), box, factor);
 }
 
 }  // namespace vdbmesh::view

@@ -6,6 +6,8 @@
 
 #include <cstdint>
 
+#include "vdbmesh/grid_region.h"
+
 namespace vdbmesh::view {
 
 /// The smallest factor whose coarse grid of @a box has at most @a max_samples samples.
@@ -15,5 +17,8 @@ int coarse_factor(const openvdb::CoordBBox& box, std::int64_t max_samples);
 /// lies inside). Coarse voxel (0, 0, 0) is the block at box.min(), placed in the world at the
 /// block's centre; its scan box is the whole coarse grid, so meshers close the surface there.
 openvdb::FloatGrid::Ptr coarse_grid(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box, int factor);
+
+/// The same grid from @a source read in slabs about one node thick, one at a time.
+openvdb::FloatGrid::Ptr coarse_grid(const GridRegionSource& source, const openvdb::CoordBBox& box, int factor);
 
 }  // namespace vdbmesh::view

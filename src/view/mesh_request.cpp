@@ -10,7 +10,7 @@ namespace vdbmesh::view {
 
 namespace {
 
-const std::map<std::string, MeshLevel> kLevels = {{"coarse", MeshLevel::coarse}, {"full", MeshLevel::full}};
+const std::map<std::string, MeshLevel> kLevels = {{"coarse", MeshLevel::coarse}, {"full", MeshLevel::full}, {"region", MeshLevel::region}};
 const std::map<std::string, MeshMethod> kMethods = {
     {"dc", MeshMethod::dc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}};
 
@@ -21,6 +21,19 @@ Value named(const std::map<std::string, Value>& names, const std::string& parame
     std::string expected;
     for (const auto& [name, value] : names) expected += (expected.empty() ? "" : "|") + name;
     throw UsageError(parameter + ": expected " + expected + ", got \"" + text + "\"");
+}
+
+/// x0,y0,z0,x1,y1,z1 as a box of whole voxels, each max above its min.
+IndexBox index_box(const std::array<double, 6>& values, const std::string& text) {
+    IndexBox box;
+    for (int a = 0; a < 3; ++a) {
+        const double lo = values[a], hi = values[a + 3];
+        if (lo != std::floor(lo) || hi != std::floor(hi) || !(hi > lo) || std::fabs(lo) > 1e9 || std::fabs(hi) > 1e9)
+            throw UsageError("box: expected whole voxels x0,y0,z0,x1,y1,z1 with each max above its min, got \"" + text + "\"");
+        box.min[a] = std::int32_t(lo);
+        box.max[a] = std::int32_t(hi);
+    }
+    return box;
 }
 
 }  // namespace
@@ -44,6 +57,8 @@ std::string MeshRequest::key() const {
     key.precision(17);
     key << int(level) << ' ' << int(options.method) << ' ' << options.iso << ' ' << options.error << ' '
         << options.adaptivity;
+    if (level == MeshLevel::region)
+        for (int a = 0; a < 3; ++a) key << ' ' << box.min[a] << ' ' << box.max[a];
     return key.str();
 }
 
@@ -59,6 +74,12 @@ MeshRequest parse_mesh_request(const ParamLookup& param, double default_iso) {
         const double value = number_param("max_triangles", *most);
         if (value < 0) throw UsageError("max_triangles: expected a count >= 0, got \"" + *most + "\"");
         request.max_triangles = std::size_t(value);
+    }
+    const auto box = param("box");
+    if (box && request.level != MeshLevel::region) throw UsageError("box: only with level=region");
+    if (request.level == MeshLevel::region) {
+        const std::array<double, 6> values = number_params<6>(param, "box");  // throws when absent
+        request.box = index_box(values, *box);
     }
     return request;
 }

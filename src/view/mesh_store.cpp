@@ -1,8 +1,23 @@
 #include "view/mesh_store.h"
 
+#include <chrono>
 #include <utility>
 
+#include "view/region_mesh.h"
+
 namespace vdbmesh::view {
+
+namespace {
+
+/// The full mesh of a grid read by region: by bricks within kWholeMeshMemory where the method
+/// allows (DC at an error > 0), else read whole. The mesh itself is held whole either way.
+MeshResult whole_by_region(const GridRegionSource& regions, const MeshOptions& options) {
+    BrickOptions bricks;
+    if (options.method == MeshMethod::dc && options.error > 0) bricks.memory_bytes = kWholeMeshMemory;
+    return mesh_bricks(regions, options, bricks);
+}
+
+}  // namespace
 
 MeshStore::MeshStore(ViewSource source, GridMesher mesher)
     : source_(std::move(source)), mesher_(mesher ? std::move(mesher) : GridMesher(mesh_grid)) {}
@@ -26,6 +41,12 @@ std::shared_ptr<StoredMesh> MeshStore::make(const MeshRequest& request, std::uin
         stored->mesh = source_.mesh;
         return stored;
     }
+    if (request.level == MeshLevel::region) {
+        const auto start = std::chrono::steady_clock::now();
+        stored->mesh = std::make_shared<const Mesh>(region_mesh(*source_.scan->regions, request.box, request.options));
+        stored->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return stored;
+    }
     const bool coarse = request.level == MeshLevel::coarse;
     MeshOptions options = request.options;
     if (coarse) options.method = MeshMethod::mc;
@@ -36,7 +57,8 @@ std::shared_ptr<StoredMesh> MeshStore::make(const MeshRequest& request, std::uin
         give_up_when_superseded(0);
         options.progress = give_up_when_superseded;
     }
-    MeshResult result = mesher_(coarse ? *source_.scan->coarse : *source_.scan->grid, options);
+    MeshResult result = coarse || source_.scan->grid ? mesher_(coarse ? *source_.scan->coarse : *source_.scan->grid, options)
+                                                     : whole_by_region(*source_.scan->regions, options);
     stored->mesh = std::make_shared<const Mesh>(std::move(result.mesh));
     stored->seconds = result.report.total_seconds();
     return stored;

@@ -38,6 +38,9 @@ public:
     Superseded() : std::runtime_error("superseded: a newer isovalue or method was asked for") {}
 };
 
+/// The memory the bricks of a full mesh of a grid read by region may take (the mesh aside).
+inline constexpr std::uint64_t kWholeMeshMemory = std::uint64_t(1) << 30;
+
 class MeshStore {
 public:
     /// Meshes with @a mesher, mesh_grid() when empty.

@@ -1,6 +1,11 @@
 // prepare_scan() and prepare_grid(): a scan or a stored grid made ready for live re-meshing.
 
+#include <algorithm>
+#include <functional>
 #include <utility>
+
+#include "vdbmesh/error.h"
+#include "vdbmesh/grid_region.h"
 
 #include "vdbmesh/grid.h"
 #include "vdbmesh/view.h"
@@ -14,6 +19,7 @@ namespace {
 
 ViewScan finish_view_scan(openvdb::FloatGrid::Ptr grid, const openvdb::CoordBBox& box, const VolumeStats& stats) {
     ViewScan scan;
+    scan.regions = grid_regions_in_memory(grid);
     scan.histogram = view::sample_histogram(*grid, box, stats.min, stats.max, kViewHistogramBins);
     scan.suggested_iso = stats.suggested_iso;
     scan.suggested_reason = stats.suggested_reason;
@@ -21,6 +27,28 @@ ViewScan finish_view_scan(openvdb::FloatGrid::Ptr grid, const openvdb::CoordBBox
     scan.coarse = view::coarse_grid(*grid, box, scan.coarse_factor);
     scan.grid = std::move(grid);
     return scan;
+}
+
+/// Calls @a visit with each slab of @a box about one node thick (z-ordered) and the grid read
+/// for it from @a source.
+void for_each_slab(const GridRegionSource& source, const openvdb::CoordBBox& box,
+                   const std::function<void(const openvdb::FloatGrid&, const openvdb::CoordBBox&)>& visit) {
+    for (int z = box.min().z(); z <= box.max().z(); z += kNodeVoxels) {
+        const openvdb::CoordBBox slab(openvdb::Coord(box.min().x(), box.min().y(), z),
+                                      openvdb::Coord(box.max().x(), box.max().y(), std::min(box.max().z(), z + kNodeVoxels - 1)));
+        IndexBox read_box{{slab.min().x(), slab.min().y(), slab.min().z()}, {slab.max().x() + 1, slab.max().y() + 1, slab.max().z() + 1}};
+        visit(*source.read(read_box), slab);
+    }
+}
+
+/// The box of @a source's nodes.
+openvdb::CoordBBox nodes_box(const GridRegionSource& source) {
+    openvdb::CoordBBox box;
+    for (const NodeWeight& node : source.nodes()) {
+        const openvdb::Coord origin(node.origin[0], node.origin[1], node.origin[2]);
+        box.expand(openvdb::CoordBBox(origin, origin.offsetBy(kNodeVoxels - 1)));
+    }
+    return box;
 }
 
 }  // namespace
@@ -39,6 +67,33 @@ ViewScan prepare_grid(std::shared_ptr<openvdb::FloatGrid> grid) {
     VolumeStatsAccumulator accumulator;
     view::for_each_sample(*grid, box, [&](const float* values, std::size_t count) { accumulator.add(values, count); });
     return finish_view_scan(std::move(grid), box, accumulator.finish());
+}
+
+}  // namespace vdbmesh
+
+namespace vdbmesh {
+
+ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions) {
+    const auto description = regions->description();
+    const openvdb::CoordBBox box = stored_scan_box(*description).value_or(nodes_box(*regions));
+    if (box.empty()) throw Error("the grid holds no active voxels");
+    VolumeStatsAccumulator accumulator;
+    for_each_slab(*regions, box, [&](const openvdb::FloatGrid& slab_grid, const openvdb::CoordBBox& slab) {
+        view::for_each_sample(slab_grid, slab, [&](const float* values, std::size_t count) { accumulator.add(values, count); });
+    });
+    const VolumeStats stats = accumulator.finish();
+    ViewScan scan;
+    scan.histogram = ValueHistogram{stats.min, stats.max, std::vector<std::uint64_t>(kViewHistogramBins, 0)};
+    for_each_slab(*regions, box, [&](const openvdb::FloatGrid& slab_grid, const openvdb::CoordBBox& slab) {
+        const ValueHistogram part = view::sample_histogram(slab_grid, slab, stats.min, stats.max, kViewHistogramBins);
+        for (std::size_t bin = 0; bin < kViewHistogramBins; ++bin) scan.histogram.counts[bin] += part.counts[bin];
+    });
+    scan.suggested_iso = stats.suggested_iso;
+    scan.suggested_reason = stats.suggested_reason;
+    scan.coarse_factor = view::coarse_factor(box, kCoarseSampleBudget);
+    scan.coarse = view::coarse_grid(*regions, box, scan.coarse_factor);
+    scan.regions = std::move(regions);
+    return scan;
 }
 
 }  // namespace vdbmesh

@@ -9,24 +9,6 @@
 namespace vdbmesh::view {
 namespace {
 
-/// The comma-separated numbers of @a parameter, exactly @a count of them.
-template <std::size_t count>
-std::array<double, count> numbers(const ParamLookup& param, const std::string& parameter) {
-    const auto text = param(parameter);
-    if (!text) throw UsageError(parameter + ": expected " + std::to_string(count) + " comma-separated numbers, got nothing");
-    std::array<double, count> values{};
-    std::stringstream in(*text);
-    std::string item;
-    std::size_t n = 0;
-    while (std::getline(in, item, ',')) {
-        if (n == count) break;
-        values[n++] = number_param(parameter, item);
-    }
-    if (n != count || in.good())
-        throw UsageError(parameter + ": expected " + std::to_string(count) + " comma-separated numbers, got \"" + *text + "\"");
-    return values;
-}
-
 double positive(const ParamLookup& param, const std::string& parameter, double fallback) {
     const auto text = param(parameter);
     if (!text) return fallback;
@@ -49,8 +31,8 @@ SplatRequest parse_splat_request(const ParamLookup& param, double default_iso) {
     SplatRequest request;
     request.iso = default_iso;
     if (auto iso = param("iso")) request.iso = number_param("iso", *iso);
-    request.view.view_projection = numbers<16>(param, "vp");
-    request.view.eye = numbers<3>(param, "eye");
+    request.view.view_projection = number_params<16>(param, "vp");
+    request.view.eye = number_params<3>(param, "eye");
     request.view.focal_pixels = positive(param, "focal", request.view.focal_pixels);
     request.view.pixel_size = positive(param, "pixel", request.view.pixel_size);
     request.view.budget = std::size_t(positive(param, "budget", double(request.view.budget)));
@@ -76,7 +58,8 @@ std::shared_ptr<const StoredSplats> SplatStore::tree(double iso) {
     auto stored = std::make_shared<StoredSplats>();
     SplatOptions options;
     options.iso = iso;
-    stored->tree = build_splat_tree(*scan_->grid, options);
+    // The same tree either way; a grid read by region is read one node at a time.
+    stored->tree = scan_->grid ? build_splat_tree(*scan_->grid, options) : build_splat_tree(*scan_->regions, options);
     stored->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     kept_.emplace_front(iso, stored);
     if (kept_.size() > kKept) kept_.pop_back();

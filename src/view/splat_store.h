@@ -38,7 +38,7 @@ std::string splat_buffers(const SplatTree& tree, const SplatSelection& selection
 class SplatStore {
 public:
     explicit SplatStore(std::shared_ptr<const ViewScan> scan) : scan_(std::move(scan)) {}
-    /// The tree of the scan's full grid at @a iso, built now unless kept.
+    /// The tree of the scan's full grid at @a iso (read by region when not held), built now unless kept.
     /// @throw UsageError when the source is a mesh file (no grid to fit).
     std::shared_ptr<const StoredSplats> tree(double iso);
 
