@@ -3,39 +3,20 @@
 #include <openvdb/openvdb.h>
 
 #include <limits>
-#include <utility>
 #include <vector>
 
 namespace vdbmesh::view {
 namespace {
+
+/// Two leaves round the nodes read, as the bricked mesher reads a whole region (a block's
+/// sample window is -1..9 voxels from its origin).
+constexpr std::int32_t kWindowVoxels = 16;
 
 /// The floor of @a value / kNodeVoxels, times kNodeVoxels: the origin of the node holding it.
 std::int32_t node_origin(std::int32_t value) {
     const std::int32_t q = value >= 0 ? value / kNodeVoxels : -((-value + kNodeVoxels - 1) / kNodeVoxels);
     return q * kNodeVoxels;
 }
-
-/// @a source with only the nodes whose origins lie in [min, max] (node origins): what the
-/// mesher meshes; samples are still read from the whole source.
-class NodeSubset : public GridRegionSource {
-public:
-    NodeSubset(const GridRegionSource& source, const IndexBox& origins) : source_(source) {
-        for (const NodeWeight& node : source.nodes()) {
-            bool inside = true;
-            for (int a = 0; a < 3; ++a) inside = inside && node.origin[a] >= origins.min[a] && node.origin[a] <= origins.max[a];
-            if (inside) nodes_.push_back(node);
-        }
-    }
-    std::shared_ptr<const openvdb::FloatGrid> description() const override { return source_.description(); }
-    std::vector<NodeWeight> nodes() const override { return nodes_; }
-    std::shared_ptr<openvdb::FloatGrid> read(const IndexBox& box) const override { return source_.read(box); }
-    std::uint64_t estimated_bytes(const IndexBox& box) const override { return source_.estimated_bytes(box); }
-    std::uint64_t grid_bytes(const IndexBox& box) const override { return source_.grid_bytes(box); }
-
-private:
-    const GridRegionSource& source_;
-    std::vector<NodeWeight> nodes_;
-};
 
 /// The triangles of @a mesh with a corner inside @a box (index space of @a transform), and
 /// the vertices they use, both in their order.
@@ -71,17 +52,16 @@ Mesh triangles_in(const Mesh& mesh, const IndexBox& box, const openvdb::math::Tr
 
 Mesh region_mesh(const GridRegionSource& source, const IndexBox& box, const MeshOptions& options) {
     // A kept triangle's corner lies in a cell of its node; the block that owns the triangle
-    // (docs/dmc.md) holds the minimum sample of an edge of that cell: in the node or the next.
-    // One node more on each side leaves room for vertices placed on a cell's faces.
-    IndexBox origins;
+    // (docs/dmc.md, "Bricks") holds the minimum sample of an edge of that cell: in that node or
+    // the next one up. Every decision about an owned triangle reads at most one node away, so
+    // the owners are meshed right from the nodes one below to two above the box's, read whole
+    // with the two leaves of sample windows round them (all the other meshers read less).
+    IndexBox read_box;
     for (int a = 0; a < 3; ++a) {
-        origins.min[a] = node_origin(box.min[a]) - kNodeVoxels;
-        origins.max[a] = node_origin(box.max[a] - 1) + kNodeVoxels;
+        read_box.min[a] = node_origin(box.min[a]) - kNodeVoxels - kWindowVoxels;
+        read_box.max[a] = node_origin(box.max[a] - 1) + 3 * kNodeVoxels + kWindowVoxels;
     }
-    const NodeSubset subset(source, origins);
-    BrickOptions bricks;
-    if (options.method == MeshMethod::dc && options.error > 0) bricks.nodes_per_brick = 1;
-    const MeshResult result = mesh_bricks(subset, options, bricks);
+    const MeshResult result = mesh_grid(*source.read(read_box), options);
     return triangles_in(result.mesh, box, source.description()->transform());
 }
 

@@ -10,9 +10,8 @@ namespace vdbmesh::view {
 
 /// The triangles of the full mesh of @a source (mesh_grid() of the whole grid at @a options)
 /// with at least one corner inside @a box (index space, min inclusive, max exclusive), in the
-/// full mesh's order, with only the vertices they use. Meshes the nodes within one node of
-/// the box, by bricks of one node for DC at an error > 0 (docs/dmc.md, "Bricks": the same
-/// triangles as the whole run), else as one region (the meshers' cells read one voxel away).
+/// full mesh's order, with only the vertices they use. Reads and meshes the box's nodes and
+/// the nodes one below and two above them (docs/dmc.md, "Bricks": what decides a triangle).
 Mesh region_mesh(const GridRegionSource& source, const IndexBox& box, const MeshOptions& options);
 
 }  // namespace vdbmesh::view

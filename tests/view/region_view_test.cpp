@@ -22,14 +22,15 @@ namespace {
 
 using Triangle = std::array<std::array<float, 3>, 3>;
 
-/// A sphere of radius 20 voxels centred on the edge where four 128^3 nodes meet, converted like
-/// a scan (isovalue 0.5, with its scan box), and written to a .vdb.
+/// A cylinder along x through six 128^3 nodes (more than a region reads), converted like a
+/// scan (isovalue 0.5, with its scan box), and written to a .vdb.
 class RegionViewTest : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
-        PhantomSpec spec = phantom_preset("sphere", {160, 156, 90});
-        spec.centre = std::array<double, 3>{128.3, 127.6, 21.2};
-        spec.radius = 20;
+        PhantomSpec spec = phantom_preset("cylinder", {760, 48, 60});
+        spec.radius = 17;
+        spec.height = 700;
+        spec.rotation_degrees = {0, 90, 0};
         grid_ = test::phantom_scan_grid(spec);
         dir_ = new test::ScratchDir;
         write_vdb(*grid_, *dir_ / "sphere.vdb");
@@ -95,7 +96,7 @@ std::vector<Triangle> triangles_in_box(const Mesh& mesh, const openvdb::FloatGri
 
 TEST_F(RegionViewTest, ReadByRegionPreparesWhatTheWholeGridDoes) {
     ASSERT_FALSE(scan_->grid);  // never held whole
-    ASSERT_EQ(scan_->regions->nodes().size(), 4u);
+    ASSERT_EQ(scan_->regions->nodes().size(), 6u);
     const ViewScan whole = prepare_grid(grid_);
     EXPECT_EQ(scan_->histogram.counts, whole.histogram.counts);
     EXPECT_EQ(scan_->histogram.min, whole.histogram.min);
@@ -117,9 +118,10 @@ TEST_F(RegionViewTest, RegionTrianglesAreTheWholeMeshsTrianglesInTheBox) {
         MeshMethod method;
         double error;
     };
-    // Across the nodes' faces at x = 128 and y = 128; then within one node up to its faces,
-    // whose triangles there are partly made by the next nodes' blocks.
-    for (const IndexBox& box : {IndexBox{{110, 120, 0}, {131, 150, 30}}, IndexBox{{100, 96, 0}, {128, 128, 40}}})
+    // Across the nodes' face at x = 384; within one node up to its upper face (whose triangles
+    // there are partly made by the next node's blocks); from a node's lower face.
+    for (const IndexBox& box : {IndexBox{{350, 10, 0}, {400, 40, 60}}, IndexBox{{330, 0, 0}, {384, 48, 60}},
+                                IndexBox{{384, 20, 10}, {420, 48, 50}}})
     for (const Setting& setting : {Setting{"method=dc&error=0.25", MeshMethod::dc, 0.25}, Setting{"method=dc&error=0", MeshMethod::dc, 0},
                                    Setting{"method=mc", MeshMethod::mc, 0}}) {
         std::string box_text;
@@ -139,6 +141,15 @@ TEST_F(RegionViewTest, RegionTrianglesAreTheWholeMeshsTrianglesInTheBox) {
         ASSERT_GT(expected.size(), 100u);
         ASSERT_LT(expected.size(), whole.triangles.size() / 2);  // a part, not the whole
         EXPECT_EQ(served, expected);
+    }
+}
+
+TEST_F(RegionViewTest, ABoxAwayFromTheGridHasNoTriangles) {
+    for (const char* box : {"5000,5000,5000,5100,5100,5100", "0,0,0,20,20,20"}) {  // no node; a node but no surface
+        const auto result = get(std::string("/api/mesh?level=region&box=") + box);
+        ASSERT_TRUE(result);
+        ASSERT_EQ(result->status, 200) << box << ": " << result->body;
+        EXPECT_EQ(result->get_header_value("X-Triangles"), "0") << box;
     }
 }
 
