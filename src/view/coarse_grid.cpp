@@ -97,7 +97,8 @@ openvdb::FloatGrid::Ptr coarse_grid(const openvdb::FloatGrid& grid, const openvd
     return coarse_from_dense(dense, grid, box, factor);
 }
 
-openvdb::FloatGrid::Ptr coarse_grid(const GridRegionSource& source, const openvdb::CoordBBox& box, int factor) {
+openvdb::FloatGrid::Ptr coarse_grid(const GridRegionSource& source, const openvdb::CoordBBox& box, int factor,
+                                    const SlabVisitor& visit) {
     DenseGrid dense(openvdb::CoordBBox(openvdb::Coord(0), coarse_dims(box, factor) - openvdb::Coord(1)));
     const int layers = dense.bbox().dim().z();
     // Slabs of whole coarse layers about one node thick, read one at a time.
@@ -111,7 +112,10 @@ openvdb::FloatGrid::Ptr coarse_grid(const GridRegionSource& source, const openvd
         }
         slab.min[2] = box.min().z() + first * factor;
         slab.max[2] = std::min(box.max().z() + 1, box.min().z() + end * factor);
-        fill_dense(*source.read(slab), box, factor, dense, first, end);
+        const auto slab_grid = source.read(slab);
+        fill_dense(*slab_grid, box, factor, dense, first, end);
+        visit(*slab_grid, openvdb::CoordBBox(openvdb::Coord(box.min().x(), box.min().y(), slab.min[2]),
+                                             openvdb::Coord(box.max().x(), box.max().y(), slab.max[2] - 1)));
     }
     return coarse_from_dense(dense, *source.description(), box, factor);
 }

@@ -5,6 +5,7 @@
 #include <openvdb/openvdb.h>
 
 #include <cstdint>
+#include <functional>
 
 #include "vdbmesh/grid_region.h"
 
@@ -18,7 +19,12 @@ int coarse_factor(const openvdb::CoordBBox& box, std::int64_t max_samples);
 /// block's centre; its scan box is the whole coarse grid, so meshers close the surface there.
 openvdb::FloatGrid::Ptr coarse_grid(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box, int factor);
 
-/// The same grid from @a source read in slabs about one node thick, one at a time.
-openvdb::FloatGrid::Ptr coarse_grid(const GridRegionSource& source, const openvdb::CoordBBox& box, int factor);
+/// A slab's grid (read by region) and the part of the box it holds.
+using SlabVisitor = std::function<void(const openvdb::FloatGrid&, const openvdb::CoordBBox&)>;
+
+/// The same grid from @a source read in slabs of whole coarse layers about one node thick,
+/// one at a time; @a visit sees each slab too (so that other passes share the read).
+openvdb::FloatGrid::Ptr coarse_grid(const GridRegionSource& source, const openvdb::CoordBBox& box, int factor,
+                                    const SlabVisitor& visit);
 
 }  // namespace vdbmesh::view

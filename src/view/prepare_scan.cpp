@@ -1,7 +1,6 @@
 // prepare_scan() and prepare_grid(): a scan or a stored grid made ready for live re-meshing.
 
 #include <algorithm>
-#include <functional>
 #include <utility>
 
 #include "vdbmesh/error.h"
@@ -31,8 +30,7 @@ ViewScan finish_view_scan(openvdb::FloatGrid::Ptr grid, const openvdb::CoordBBox
 
 /// Calls @a visit with each slab of @a box about one node thick (z-ordered) and the grid read
 /// for it from @a source.
-void for_each_slab(const GridRegionSource& source, const openvdb::CoordBBox& box,
-                   const std::function<void(const openvdb::FloatGrid&, const openvdb::CoordBBox&)>& visit) {
+void for_each_slab(const GridRegionSource& source, const openvdb::CoordBBox& box, const view::SlabVisitor& visit) {
     for (int z = box.min().z(); z <= box.max().z(); z += kNodeVoxels) {
         const openvdb::CoordBBox slab(openvdb::Coord(box.min().x(), box.min().y(), z),
                                       openvdb::Coord(box.max().x(), box.max().y(), std::min(box.max().z(), z + kNodeVoxels - 1)));
@@ -77,12 +75,15 @@ ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions) {
     const auto description = regions->description();
     const openvdb::CoordBBox box = stored_scan_box(*description).value_or(nodes_box(*regions));
     if (box.empty()) throw Error("the grid holds no active voxels");
+    // Two passes over the samples: the statistics and the coarse grid, then the histogram
+    // (its bins span the values the first found).
     VolumeStatsAccumulator accumulator;
-    for_each_slab(*regions, box, [&](const openvdb::FloatGrid& slab_grid, const openvdb::CoordBBox& slab) {
+    ViewScan scan;
+    scan.coarse_factor = view::coarse_factor(box, kCoarseSampleBudget);
+    scan.coarse = view::coarse_grid(*regions, box, scan.coarse_factor, [&](const openvdb::FloatGrid& slab_grid, const openvdb::CoordBBox& slab) {
         view::for_each_sample(slab_grid, slab, [&](const float* values, std::size_t count) { accumulator.add(values, count); });
     });
     const VolumeStats stats = accumulator.finish();
-    ViewScan scan;
     scan.histogram = ValueHistogram{stats.min, stats.max, std::vector<std::uint64_t>(kViewHistogramBins, 0)};
     for_each_slab(*regions, box, [&](const openvdb::FloatGrid& slab_grid, const openvdb::CoordBBox& slab) {
         const ValueHistogram part = view::sample_histogram(slab_grid, slab, stats.min, stats.max, kViewHistogramBins);
@@ -90,8 +91,6 @@ ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions) {
     });
     scan.suggested_iso = stats.suggested_iso;
     scan.suggested_reason = stats.suggested_reason;
-    scan.coarse_factor = view::coarse_factor(box, kCoarseSampleBudget);
-    scan.coarse = view::coarse_grid(*regions, box, scan.coarse_factor);
     scan.regions = std::move(regions);
     return scan;
 }
