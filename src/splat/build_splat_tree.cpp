@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
-#include <iterator>
 #include <optional>
 #include <tuple>
 #include <utility>
@@ -42,42 +41,36 @@ std::vector<openvdb::Coord> candidate_cells(const openvdb::FloatGrid& grid, cons
     return cells;
 }
 
-/// A fitted cell and where it is.
-struct FittedCell {
-    openvdb::Coord origin;
-    CellNodes nodes;
-};
-
-/// Fits @a cells of @a grid in parallel, in their order (so the same for any thread count).
-std::vector<FittedCell> fit_cells(const openvdb::FloatGrid& grid, const std::vector<openvdb::Coord>& cells,
-                                  const SampleRule& rule, double tolerance) {
-    std::vector<FittedCell> fitted(cells.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.size(), 64), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i)
-            fitted[i] = FittedCell{cells[i], fit_cell(grid, cells[i], rule, tolerance)};
-    });
-    return fitted;
-}
-
 /// The nodes of every level while they are built; levels[L] holds level L's nodes, each
 /// one's children a range of levels[L - 1].
 using Levels = std::vector<std::vector<BuildNode>>;
 
-/// Levels 0 to 2 from the fitted cells (z-major).
-Levels cell_levels(std::vector<FittedCell>& fitted) {
-    Levels levels(kSplatRootLevel + 1);
-    for (FittedCell& fitted_cell : fitted) {
-        CellNodes& cell = fitted_cell.nodes;
-        if (!cell.leaf) continue;
-        const auto finest_offset = std::uint32_t(levels[0].size()), middle_offset = std::uint32_t(levels[1].size());
-        for (BuildNode& n : cell.middle) n.first_child += finest_offset;
-        if (cell.leaf->child_count != 0) cell.leaf->first_child += middle_offset;
-        levels[0].insert(levels[0].end(), cell.finest.begin(), cell.finest.end());
-        levels[1].insert(levels[1].end(), cell.middle.begin(), cell.middle.end());
-        levels[2].push_back(*cell.leaf);
-        cell = CellNodes{};  // free as we go
+/// Cells fitted at a time: their nodes are appended to the levels before the next are fitted,
+/// so that only the levels grow with the grid.
+constexpr std::size_t kCellsAtATime = 1 << 14;
+
+/// Fits @a cells of @a grid (in parallel, a chunk at a time) and appends their nodes of
+/// levels 0 to 2 to @a levels in the cells' order. The order of level 2 does not matter
+/// (merge_up() sorts it by position), so nor does that of @a cells.
+void append_cells(Levels& levels, const openvdb::FloatGrid& grid, const std::vector<openvdb::Coord>& cells,
+                  const SampleRule& rule, double tolerance) {
+    std::vector<CellNodes> fitted;
+    for (std::size_t begin = 0; begin < cells.size(); begin += kCellsAtATime) {
+        const std::size_t end = std::min(cells.size(), begin + kCellsAtATime);
+        fitted.assign(end - begin, CellNodes{});
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 64), [&](const auto& range) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) fitted[i - begin] = fit_cell(grid, cells[i], rule, tolerance);
+        });
+        for (CellNodes& cell : fitted) {
+            if (!cell.leaf) continue;
+            const auto finest_offset = std::uint32_t(levels[0].size()), middle_offset = std::uint32_t(levels[1].size());
+            for (BuildNode& n : cell.middle) n.first_child += finest_offset;
+            if (cell.leaf->child_count != 0) cell.leaf->first_child += middle_offset;
+            levels[0].insert(levels[0].end(), cell.finest.begin(), cell.finest.end());
+            levels[1].insert(levels[1].end(), cell.middle.begin(), cell.middle.end());
+            levels[2].push_back(*cell.leaf);
+        }
     }
-    return levels;
 }
 
 /// The origin of the level-@a level cube holding @a origin.
@@ -167,10 +160,8 @@ SampleRule sample_rule(const openvdb::FloatGrid& grid, const SplatOptions& optio
     return rule;
 }
 
-/// The tree from the fitted cells of the whole grid (z-major).
-SplatTree assemble(std::vector<FittedCell>& fitted, const openvdb::math::Transform& transform, const SplatOptions& options) {
-    Levels levels = cell_levels(fitted);
-    fitted = {};
+/// The tree from levels 0 to 2 of every cell of the grid.
+SplatTree assemble(Levels& levels, const openvdb::math::Transform& transform, const SplatOptions& options) {
     for (int level = kSplatLeafLevel + 1; level <= kSplatRootLevel; ++level)
         if (!levels[level - 1].empty()) merge_up(levels, level);
     SplatTree tree;
@@ -201,20 +192,19 @@ std::vector<openvdb::Coord> candidate_nodes(const GridRegionSource& source) {
 
 SplatTree build_splat_tree(const openvdb::FloatGrid& grid, const SplatOptions& options) {
     const splat::SampleRule rule = splat::sample_rule(grid, options);
-    std::vector<splat::FittedCell> fitted =
-        splat::fit_cells(grid, splat::candidate_cells(grid, std::nullopt), rule, options.coplanar_tolerance);
-    return splat::assemble(fitted, grid.transform(), options);
+    splat::Levels levels(kSplatRootLevel + 1);
+    splat::append_cells(levels, grid, splat::candidate_cells(grid, std::nullopt), rule, options.coplanar_tolerance);
+    return splat::assemble(levels, grid.transform(), options);
 }
 
 SplatTree build_splat_tree(const GridRegionSource& source, const SplatOptions& options) {
     const auto description = source.description();
     const splat::SampleRule rule = splat::sample_rule(*description, options);
-    const std::vector<openvdb::Coord> nodes = splat::candidate_nodes(source);
-    // One node at a time (each fitted in parallel): a region holds the node's cells, their
-    // closed cubes and one sample beyond for gradients, and the leaves just above whose
+    // One node at a time (its cells fitted in parallel): a region holds the node's cells,
+    // their closed cubes and one sample beyond for gradients, and the leaves just above whose
     // cells below lie in the node.
-    std::vector<splat::FittedCell> fitted;
-    for (const openvdb::Coord& node : nodes) {
+    splat::Levels levels(kSplatRootLevel + 1);
+    for (const openvdb::Coord& node : splat::candidate_nodes(source)) {
         const openvdb::CoordBBox cells_box(node, node.offsetBy(kNodeVoxels - 1));
         IndexBox box;
         for (int a = 0; a < 3; ++a) {
@@ -222,12 +212,9 @@ SplatTree build_splat_tree(const GridRegionSource& source, const SplatOptions& o
             box.max[a] = node[a] + kNodeVoxels + splat::kCell + 2;
         }
         const auto region = source.read(box);
-        std::vector<splat::FittedCell> node_cells =
-            splat::fit_cells(*region, splat::candidate_cells(*region, cells_box), rule, options.coplanar_tolerance);
-        std::move(node_cells.begin(), node_cells.end(), std::back_inserter(fitted));
+        splat::append_cells(levels, *region, splat::candidate_cells(*region, cells_box), rule, options.coplanar_tolerance);
     }
-    std::sort(fitted.begin(), fitted.end(), [](const auto& a, const auto& b) { return splat::z_major(a.origin, b.origin); });
-    return splat::assemble(fitted, description->transform(), options);
+    return splat::assemble(levels, description->transform(), options);
 }
 
 }  // namespace vdbmesh
