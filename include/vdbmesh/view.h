@@ -84,7 +84,9 @@ using GridMesher = std::function<MeshResult(const openvdb::FloatGrid&, const Mes
 struct ViewServerOptions {
     std::string host = "127.0.0.1";
     int port = 0;                            ///< 0: any free port
-    std::size_t triangle_budget = 2'000'000; ///< larger meshes are shown coarse until the user asks
+    /// Larger meshes are shown coarse until the user asks; a grid read by region is never
+    /// meshed whole beyond it.
+    std::size_t triangle_budget = 2'000'000;
     /// The figures of a mesh as a JSON object's text (GET /api/figures), e.g. what
     /// `vdbmesh check --json` prints; empty: none.
     std::function<std::string(const Mesh&)> mesh_figures;
@@ -102,7 +104,11 @@ struct ViewServerOptions {
 ///                       Parameters: level=coarse|full|region, method=dc|mc|openvdb, iso, error,
 ///                       adaptivity; box=x0,y0,z0,x1,y1,z1 (index space, max exclusive) with
 ///                       level=region: the full mesh's triangles with a corner in the box, made
-///                       from the nodes round it alone (the page's close-up)
+///                       from the nodes round it alone (the page's close-up). The full mesh of a grid read by
+///                       region (a .vdb) is made only within the budget: over the estimate (the
+///                       coarse mesh's triangles times the coarse factor squared) /api/mesh,
+///                       /api/figures and /api/download answer 413 with X-Triangles (the
+///                       estimate) and X-Estimated: 1
 /// GET /api/figures      JSON: the analysis of the mesh of the same parameters (as `check`)
 /// GET /api/download     the mesh of the same parameters as format=stl|ply|obj
 /// GET /api/splats       binary: the splats a camera needs (centre, normal as float32 x 3,

@@ -19,10 +19,22 @@ MeshResult whole_by_region(const GridRegionSource& regions, const MeshOptions& o
 
 }  // namespace
 
-MeshStore::MeshStore(ViewSource source, GridMesher mesher)
-    : source_(std::move(source)), mesher_(mesher ? std::move(mesher) : GridMesher(mesh_grid)) {}
+MeshStore::MeshStore(ViewSource source, GridMesher mesher, std::size_t triangle_budget)
+    : source_(std::move(source)), mesher_(mesher ? std::move(mesher) : GridMesher(mesh_grid)), triangle_budget_(triangle_budget) {}
+
+std::size_t MeshStore::estimated_full_triangles(const MeshRequest& request) const {
+    MeshOptions options = request.options;
+    options.method = MeshMethod::mc;
+    const std::size_t coarse = mesher_(*source_.scan->coarse, options).mesh.triangles.size();
+    const auto factor = std::size_t(source_.scan->coarse_factor);
+    return coarse * factor * factor;
+}
 
 std::shared_ptr<StoredMesh> MeshStore::mesh(const MeshRequest& request) {
+    if (request.level == MeshLevel::full && source_.scan && !source_.scan->grid) {
+        const std::size_t estimate = estimated_full_triangles(request);
+        if (estimate > triangle_budget_) throw FullMeshOverBudget(estimate);
+    }
     const std::string key = source_.mesh ? "file" : request.key();
     const std::uint64_t coarse_seen = request.level == MeshLevel::coarse ? ++coarse_requests_ : coarse_requests_.load();
     const std::lock_guard<std::mutex> lock(mutex_);

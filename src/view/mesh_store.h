@@ -38,26 +38,43 @@ public:
     Superseded() : std::runtime_error("superseded: a newer isovalue or method was asked for") {}
 };
 
+/// Thrown instead of making the full mesh of a grid read by region (a model too large to hold)
+/// whose estimated triangles exceed the budget: the page shows splats and close-ups instead.
+class FullMeshOverBudget : public std::runtime_error {
+public:
+    explicit FullMeshOverBudget(std::size_t estimate)
+        : std::runtime_error("the full mesh of a grid read by region is made only within the triangle budget (--budget); "
+                             "this one has about " + std::to_string(estimate) + " triangles: zoom in for triangles, or use `vdbmesh mesh --memory`"),
+          estimate(estimate) {}
+    std::size_t estimate;
+};
+
 /// The memory the bricks of a full mesh of a grid read by region may take (the mesh aside).
 inline constexpr std::uint64_t kWholeMeshMemory = std::uint64_t(1) << 30;
 
 class MeshStore {
 public:
-    /// Meshes with @a mesher, mesh_grid() when empty.
-    MeshStore(ViewSource source, GridMesher mesher);
+    /// Meshes with @a mesher, mesh_grid() when empty; a grid read by region only within
+    /// @a triangle_budget.
+    MeshStore(ViewSource source, GridMesher mesher, std::size_t triangle_budget);
     const ViewSource& source() const { return source_; }
     /// The mesh of @a request, made now unless kept. A coarse request is the page's first
     /// of a new setting: full meshes asked for before it stop at the mesher's next progress
     /// report (Superseded), so that the new one does not wait for them.
-    /// @throw UsageError for options the mesher refuses, Superseded.
+    /// @throw UsageError for options the mesher refuses, Superseded, FullMeshOverBudget.
     std::shared_ptr<StoredMesh> mesh(const MeshRequest& request);
 
 private:
     static constexpr std::size_t kKept = 4;
     std::shared_ptr<StoredMesh> make(const MeshRequest& request, std::uint64_t coarse_seen) const;
+    /// The triangles of the full mesh of a grid read by region, estimated without making it:
+    /// the coarse grid's Marching Cubes triangles times the coarse factor squared (a surface's
+    /// triangles grow as the square of the resolution).
+    std::size_t estimated_full_triangles(const MeshRequest& request) const;
 
     ViewSource source_;
     GridMesher mesher_;
+    std::size_t triangle_budget_;
     std::atomic<std::uint64_t> coarse_requests_{0};
     std::mutex mutex_;
     std::deque<std::pair<std::string, std::shared_ptr<StoredMesh>>> kept_;  ///< newest first

@@ -42,6 +42,10 @@ Handler guarded(Handler handler) {
             send_error(response, 400, e.what());
         } catch (const view::Superseded& e) {
             send_error(response, 409, e.what());
+        } catch (const view::FullMeshOverBudget& e) {
+            response.set_header("X-Triangles", std::to_string(e.estimate));
+            response.set_header("X-Estimated", "1");
+            send_error(response, 413, e.what());
         } catch (const std::exception& e) {
             send_error(response, 500, e.what());
         }
@@ -77,7 +81,7 @@ std::string encode_mesh(const Mesh& mesh, const std::string& format) {
 class ViewServer::Impl {
 public:
     Impl(ViewSource source, const ViewServerOptions& options)
-        : options_(options), store_(std::move(source), options.mesher), splats_(store_.source().scan) {
+        : options_(options), store_(std::move(source), options.mesher, options.triangle_budget), splats_(store_.source().scan) {
         add_routes();
         bind();
     }

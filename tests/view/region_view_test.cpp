@@ -43,12 +43,12 @@ protected:
     }
 
     /// The body of GET @a path from a server of the scan read by region.
-    static httplib::Result get(const std::string& path) {
+    static httplib::Result get(const std::string& path, const ViewServerOptions& options = {}) {
         ViewSource source;
         source.name = "sphere.vdb";
         source.scan = scan_;
         source.initial_iso = 0.5;
-        ViewServer server(source, ViewServerOptions{});
+        ViewServer server(source, options);
         std::thread serving([&server] { server.run(); });
         httplib::Client client("127.0.0.1", server.port());
         client.set_read_timeout(60, 0);
@@ -174,6 +174,34 @@ TEST_F(RegionViewTest, FullMeshOfAGridReadByRegionIsTheWholeGridsMesh) {
     const std::vector<Triangle> served = triangles_of_buffers(result->body, std::stoull(result->get_header_value("X-Vertices")),
                                                                std::stoull(result->get_header_value("X-Triangles")));
     EXPECT_EQ(served, triangles_in_box(whole, *grid_, IndexBox{{-1000, -1000, -1000}, {1000, 1000, 1000}}));
+}
+
+}  // namespace
+}  // namespace vdbmesh
+
+namespace vdbmesh {
+namespace {
+
+TEST_F(RegionViewTest, AFullMeshOverTheBudgetIsNotMadeButEstimated) {
+    ViewServerOptions options;
+    options.triangle_budget = 1000;
+    MeshOptions mesh_options;
+    mesh_options.iso = 0.5;
+    const std::size_t actual = mesh_grid(*grid_, mesh_options).mesh.triangles.size();
+    ASSERT_GT(actual, options.triangle_budget);
+    for (const char* api : {"mesh", "figures", "download"}) {
+        const auto result = get(std::string("/api/") + api + "?level=full&method=dc&iso=0.5&max_triangles=1000", options);
+        ASSERT_TRUE(result) << api;
+        EXPECT_EQ(result->status, 413) << api;
+        EXPECT_EQ(result->get_header_value("X-Estimated"), "1") << api;
+        EXPECT_NE(result->body.find("budget"), std::string::npos) << api << ": " << result->body;
+        // The coarse surface is smoother than the full one: within a factor of two of the count.
+        const double estimate = std::stod(result->get_header_value("X-Triangles"));
+        EXPECT_GT(estimate, 0.5 * double(actual)) << api;
+        EXPECT_LT(estimate, 2.0 * double(actual)) << api;
+    }
+    // Close-ups are still served.
+    EXPECT_EQ(get("/api/mesh?level=region&box=350,10,0,400,40,60", options)->status, 200);
 }
 
 }  // namespace

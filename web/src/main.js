@@ -98,13 +98,16 @@ function showMesh(mesh, level, params) {
   $('budget').classList.add('hidden');
 }
 
-function showOverBudget(triangles) {
+function showOverBudget(triangles, estimated) {
   state.overBudget = triangles;
   const budget = $('budget');
-  budget.innerHTML = `The full mesh has ${triangles.toLocaleString('en-US')} triangles, over the budget of ` +
-    `${info.triangle_budget.toLocaleString('en-US')}: the coarse one is shown. <button id="load-full">Show the full mesh</button>`;
+  const count = `${estimated ? 'about ' : ''}${triangles.toLocaleString('en-US')}`;
+  // A model read by region is never meshed whole: splats show it, close-ups show triangles.
+  const offer = estimated ? 'turn splats on to see it in detail.' : '<button id="load-full">Show the full mesh</button>';
+  budget.innerHTML = `The full mesh has ${count} triangles, over the budget of ` +
+    `${info.triangle_budget.toLocaleString('en-US')}: the coarse one is shown; ${offer}`;
   budget.classList.remove('hidden');
-  $('load-full').onclick = () => remesh(false);
+  if (!estimated) $('load-full').onclick = () => remesh(false);
 }
 
 const remesher = new Remesher(false, 0, {

@@ -2,10 +2,12 @@
 import * as THREE from 'three';
 
 /// Thrown when the full mesh has more triangles than the budget: its count, not its buffers.
+/// estimated: the server did not make it (a grid read by region), the count is its estimate.
 export class OverBudget extends Error {
-  constructor(triangles) {
+  constructor(triangles, estimated = false) {
     super(`${triangles} triangles`);
     this.triangles = triangles;
+    this.estimated = estimated;
   }
 }
 
@@ -25,7 +27,9 @@ async function errorText(response) {
 /// @returns {geometry, triangles, vertices, seconds}
 export async function fetchMesh(params, signal) {
   const response = await fetch(`/api/mesh?${meshQuery(params)}`, { signal });
-  if (response.status === 413) throw new OverBudget(Number(response.headers.get('X-Triangles')));
+  if (response.status === 413) {
+    throw new OverBudget(Number(response.headers.get('X-Triangles')), response.headers.get('X-Estimated') === '1');
+  }
   if (!response.ok) throw new Error(await errorText(response));
   const vertices = Number(response.headers.get('X-Vertices'));
   const triangles = Number(response.headers.get('X-Triangles'));

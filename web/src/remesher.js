@@ -6,7 +6,7 @@
 import { fetchJson, fetchMesh, meshQuery, OverBudget } from './mesh_loader.js';
 
 export class Remesher {
-  /// @param handlers {onMesh(mesh, level), onOverBudget(triangles), onFigures(figures)}
+  /// @param handlers {onMesh(mesh, level), onOverBudget(triangles, estimated), onFigures(figures)}
   /// @param drawn () => a promise of the next frame drawn
   constructor(isScan, budget, handlers, drawn) {
     this.drawn = drawn;
@@ -45,7 +45,8 @@ export class Remesher {
       if (!current() || error.name === 'AbortError') return null;
       if (!(error instanceof OverBudget)) throw error;
       timings.overBudgetMs = performance.now() - start;
-      this.handlers.onOverBudget(error.triangles);
+      this.handlers.onOverBudget(error.triangles, error.estimated);
+      if (error.estimated) return timings;  // the server makes no full mesh, nor its figures
     }
     const figures = await fetchJson(`/api/figures?${meshQuery({ ...params, level: 'full' })}`, abort.signal);
     if (current()) this.handlers.onFigures(figures);
