@@ -91,12 +91,19 @@ private:
                     }
                     const openvdb::Coord leaf_origin = origin + openvdb::Coord(lx * kCell, ly * kCell, lz * kCell);
                     const auto* leaf = accessor.probeConstLeaf(leaf_origin);
-                    const float tile = leaf ? 0.0f : accessor.getValue(leaf_origin);
+                    if (!leaf) {
+                        const float tile = accessor.getValue(leaf_origin);
+                        for (int z = lo[2]; z <= hi[2]; ++z)
+                            for (int y = lo[1]; y <= hi[1]; ++y)
+                                for (int x = lo[0]; x <= hi[0]; ++x) value_[index(x, y, z)] = tile;
+                        continue;
+                    }
+                    const float* data = leaf->buffer().data();  // loads a delayed leaf once
                     for (int z = lo[2]; z <= hi[2]; ++z)
                         for (int y = lo[1]; y <= hi[1]; ++y)
                             for (int x = lo[0]; x <= hi[0]; ++x) {
                                 const int ox = x - 1 - lx * kCell, oy = y - 1 - ly * kCell, oz = z - 1 - lz * kCell;
-                                value_[index(x, y, z)] = leaf ? leaf->getValue((ox << 6) | (oy << 3) | oz) : tile;
+                                value_[index(x, y, z)] = data[(ox << 6) | (oy << 3) | oz];  // LeafNode::coordToOffset
                             }
                 }
     }
