@@ -2,7 +2,10 @@
 
 #include <openvdb/openvdb.h>
 
+#include "vdbmesh/error.h"
+
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace vdbmesh::view {
@@ -50,7 +53,8 @@ Mesh triangles_in(const Mesh& mesh, const IndexBox& box, const openvdb::math::Tr
 
 }  // namespace
 
-Mesh region_mesh(const GridRegionSource& source, const IndexBox& box, const MeshOptions& options) {
+Mesh region_mesh(const GridRegionSource& source, const IndexBox& box, const MeshOptions& options,
+                 std::uint64_t max_read_bytes) {
     // A kept triangle's corner lies in a cell of its node; the block that owns the triangle
     // (docs/dmc.md, "Bricks") holds the minimum sample of an edge of that cell: in that node or
     // the next one up. Every decision about an owned triangle reads at most one node away, so
@@ -61,6 +65,10 @@ Mesh region_mesh(const GridRegionSource& source, const IndexBox& box, const Mesh
         read_box.min[a] = node_origin(box.min[a]) - kNodeVoxels - kWindowVoxels;
         read_box.max[a] = node_origin(box.max[a] - 1) + 3 * kNodeVoxels + kWindowVoxels;
     }
+    const std::uint64_t bytes = source.estimated_bytes(read_box);
+    if (bytes > max_read_bytes)
+        throw UsageError("box: its close-up reads about " + std::to_string(bytes >> 20) + " MB of the grid, over the " +
+                         std::to_string(max_read_bytes >> 20) + " MB allowed; ask for a smaller box");
     const MeshResult result = mesh_grid(*source.read(read_box), options);
     return triangles_in(result.mesh, box, source.description()->transform());
 }

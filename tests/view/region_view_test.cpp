@@ -11,11 +11,13 @@
 
 #include "phantom_grid.h"
 #include "test_data.h"
+#include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/phantom.h"
 #include "vdbmesh/view.h"
+#include "view/region_mesh.h"
 
 namespace vdbmesh {
 namespace {
@@ -202,6 +204,28 @@ TEST_F(RegionViewTest, AFullMeshOverTheBudgetIsNotMadeButEstimated) {
     }
     // Close-ups are still served.
     EXPECT_EQ(get("/api/mesh?level=region&box=350,10,0,400,40,60", options)->status, 200);
+}
+
+}  // namespace
+}  // namespace vdbmesh
+
+namespace vdbmesh {
+namespace {
+
+TEST_F(RegionViewTest, ABoxReadingMoreThanAllowedIsRefusedBeforeReading) {
+    const IndexBox box{{350, 10, 0}, {400, 40, 60}};
+    // The region the box reads: its nodes (x 256, y 0, z 0), one below and two above, and 16 voxels round.
+    const std::uint64_t bytes = scan_->regions->estimated_bytes(IndexBox{{112, -144, -144}, {784, 400, 400}});
+    ASSERT_GT(bytes, 1000u);
+    MeshOptions options;
+    options.iso = 0.5;
+    EXPECT_GT(view::region_mesh(*scan_->regions, box, options, bytes).triangles.size(), 100u);  // exactly its read: allowed
+    try {
+        view::region_mesh(*scan_->regions, box, options, bytes - 1);
+        FAIL() << "expected a UsageError";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("box"), std::string::npos) << e.what();
+    }
 }
 
 }  // namespace
