@@ -1,12 +1,12 @@
-// prepare_scan() and prepare_grid(): a scan or a stored grid made ready for live re-meshing.
+// prepare_scan(), prepare_grid() and prepare_grid_regions(): a scan or a stored grid made
+// ready for live re-meshing.
 
 #include <algorithm>
 #include <utility>
 
 #include "vdbmesh/error.h"
-#include "vdbmesh/grid_region.h"
-
 #include "vdbmesh/grid.h"
+#include "vdbmesh/grid_region.h"
 #include "vdbmesh/view.h"
 #include "vdbmesh/volume_stats.h"
 #include "view/coarse_grid.h"
@@ -66,10 +66,6 @@ ViewScan prepare_grid(std::shared_ptr<openvdb::FloatGrid> grid) {
     view::for_each_sample(*grid, box, [&](const float* values, std::size_t count) { accumulator.add(values, count); });
     return finish_view_scan(std::move(grid), box, accumulator.finish());
 }
-
-}  // namespace vdbmesh
-
-namespace vdbmesh {
 
 ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions) {
     const auto description = regions->description();
