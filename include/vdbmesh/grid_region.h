@@ -62,6 +62,16 @@ public:
     virtual std::uint64_t grid_bytes(const IndexBox& box) const { return estimated_bytes(box); }
 };
 
+/// Adds to @a into what @a region holds: its tiles copied at their own level, its leaves moved
+/// (@a region is left without leaves). For parts of one grid read by region with boxes that
+/// share no leaf, so that the tiles both hold are the same tile (the bricked mesher's wavefront
+/// assembles its layers so).
+void absorb_region(openvdb::FloatGrid& into, openvdb::FloatGrid& region);
+
+/// Frees every 128^3 node of @a grid lying wholly below z = @a z (its leaves with it); the grid
+/// is unchanged at and above @a z.
+void drop_nodes_below(openvdb::FloatGrid& grid, std::int32_t z);
+
 /// A grid already in memory seen as regions (read() copies the part of the tree that meets
 /// the box). For tests, and for the commands that built their grid in memory.
 std::unique_ptr<GridRegionSource> grid_regions_in_memory(std::shared_ptr<const openvdb::FloatGrid> grid);

@@ -19,7 +19,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "base/temp_file.h"
+#include "vdbmesh/temp_file.h"
 
 namespace vdbmesh::detail {
 

@@ -1,6 +1,6 @@
 // TempFile (temp_file.h): mkstemp(3) in $TMPDIR or /tmp, unlinked at once; written and read with
 // write(2) and pread(2), every short count retried and every failure named.
-#include "base/temp_file.h"
+#include "vdbmesh/temp_file.h"
 
 #include <unistd.h>
 

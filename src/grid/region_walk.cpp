@@ -1,5 +1,5 @@
-// The walk of region_walk.h: from the root down through the nodes that meet the box, tiles
-// copied at their own level, leaves gathered.
+// The walk of region_walk.h (from the root down through the nodes that meet the box, tiles
+// copied at their own level, leaves gathered), and grid_region.h's assembly of regions by it.
 
 #include "region_walk.h"
 
@@ -77,15 +77,27 @@ void walk_region(const Tree& tree, TreeRegion& region) {
 }
 
 
-void absorb_tree(Tree& into, Tree& from) {
+}  // namespace vdbmesh::detail::region_walk
+
+namespace vdbmesh {
+
+using detail::region_walk::Leaf;
+using detail::region_walk::Lower;
+using detail::region_walk::TreeRegion;
+using detail::region_walk::Upper;
+
+void absorb_region(openvdb::FloatGrid& into_grid, openvdb::FloatGrid& region) {
+    openvdb::FloatTree& into = into_grid.tree();
+    openvdb::FloatTree& from = region.tree();
     TreeRegion tiles{openvdb::CoordBBox::inf(), &into, {}, 0, 0};
-    walk_region(from, tiles);
+    detail::region_walk::walk_region(from, tiles);
     std::vector<Leaf*> leaves;
     from.stealNodes(leaves);  // moved, not copied: one copy of the samples at a time
     for (Leaf* leaf : leaves) into.addLeaf(leaf);
 }
 
-void drop_nodes_below(Tree& tree, std::int32_t z) {
+void drop_nodes_below(openvdb::FloatGrid& grid, std::int32_t z) {
+    openvdb::FloatTree& tree = grid.tree();
     std::vector<openvdb::Coord> below;
     for (auto upper = tree.root().cbeginChildOn(); upper; ++upper) {
         for (auto lower = upper->cbeginChildOn(); lower; ++lower) {
@@ -95,4 +107,4 @@ void drop_nodes_below(Tree& tree, std::int32_t z) {
     for (const openvdb::Coord& origin : below) tree.addTile(Upper::LEVEL, origin, tree.background(), false);
 }
 
-}  // namespace vdbmesh::detail::region_walk
+}  // namespace vdbmesh

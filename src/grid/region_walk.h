@@ -37,15 +37,6 @@ struct TreeRegion {
 /// Walks the nodes of @a tree that meet region.box.
 void walk_region(const Tree& tree, TreeRegion& region);
 
-/// Adds to @a into every tile of @a from (at its own level) and moves every leaf of @a from
-/// into it. For parts of one grid read by region with boxes that share no leaf: the tiles both
-/// hold are the same tile.
-void absorb_tree(Tree& into, Tree& from);
-
-/// Frees every level-1 node of @a tree lying wholly below z = @a z (its leaves with it); the
-/// tree is unchanged at and above @a z.
-void drop_nodes_below(Tree& tree, std::int32_t z);
-
 /// GridRegionSource::nodes() of @a tree: every node holding an active voxel (from the masks
 /// alone: no leaf buffer is loaded) or lying in an active tile, z-major.
 std::vector<NodeWeight> node_weights(const Tree& tree);

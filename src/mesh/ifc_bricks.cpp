@@ -29,7 +29,7 @@ namespace {
 /// account for 1.09 GB; bench/README.md, "Scale"), taken as 1 for an upper estimate.
 constexpr double kWorkPerGridByte = 1.0;
 /// What the process holds before it reads a grid (the program, its libraries, the thread
-/// pool): a first guess, not yet calibrated (bench/README.md, "Bricks").
+/// pool): a first guess; the plans it gave were all above the measured peaks (bench/README.md, "Scale").
 constexpr std::uint64_t kBaseBytes = std::uint64_t(24) << 20;
 
 /// The column of bricks @a brick belongs to, owned part.

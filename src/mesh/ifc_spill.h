@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "base/temp_file.h"
+#include "vdbmesh/temp_file.h"
 #include "mesh/ifc.h"
 
 namespace vdbmesh::detail {

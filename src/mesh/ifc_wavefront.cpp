@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <utility>
 
-#include "grid/region_walk.h"
 #include "mesh/mesh_phases.h"
 
 namespace vdbmesh::detail {
@@ -76,7 +75,7 @@ void IfcColumnWavefront::read(int z_begin, int z_end) {
     const IndexBox box{{column_.min_x - kWiden, column_.min_y - kWiden, z_begin},
                        {column_.max_x + 1 + kWiden, column_.max_y + 1 + kWiden, z_end}};
     std::shared_ptr<openvdb::FloatGrid> region = source_.read(box);
-    region_walk::absorb_tree(window_->tree(), region->tree());
+    absorb_region(*window_, *region);
     clock.lap(report_, "read");
 }
 
@@ -99,7 +98,7 @@ std::vector<IfcNodeOutput> IfcColumnWavefront::contour(int layer) {
 
 void IfcColumnWavefront::drop_below(int cells_z, int samples_z) {
     drop_cells_below(cells_, cells_z);
-    region_walk::drop_nodes_below(window_->tree(), samples_z);
+    drop_nodes_below(*window_, samples_z);
     release_free_memory();
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// Private: a temporary file for data larger than memory (the bounded `check`'s sorted runs, the
-// bricked mesher's spill).
+/// @file temp_file.h
+/// @brief A temporary file for data larger than memory (the bounded `check`'s sorted runs, the
+/// bricked mesher's spill), shared by the stages that need one.
 
 #include <cstddef>
 #include <cstdint>
