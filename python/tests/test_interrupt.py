@@ -19,6 +19,15 @@ def noise():
     return np.random.default_rng(1).random((288, 288, 288), dtype=np.float32)
 
 
+@pytest.fixture(autouse=True)
+def python_handles_sigint():
+    # A process started in the background by a non-interactive shell inherits SIGINT ignored,
+    # and Python then installs no handler of its own: give it back for these tests.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 def _interrupt_after(seconds):
     timer = threading.Timer(seconds, os.kill, (os.getpid(), signal.SIGINT))
     timer.start()
