@@ -79,12 +79,6 @@ std::optional<Inside> given_side(const MeshCommandOptions& options) {
     return options.inside ? std::optional<Inside>(kSides.at(lowercase(*options.inside))) : std::nullopt;
 }
 
-/// Sets the isovalue and the inside the input was found to take.
-void take_input_side(MeshCommandOptions& options, double iso, bool level_set) {
-    options.mesh.iso = iso;
-    options.mesh.inside = given_side(options).value_or(level_set ? Inside::below : Inside::above);
-}
-
 /// The grid to mesh, with options.mesh.iso and inside set: a .vdb as stored, a scan converted
 /// (band 1) closed at its box on either side (load_grid()).
 openvdb::FloatGrid::Ptr load_mesh_grid(MeshCommandOptions& options, Progress& progress) {
@@ -175,8 +169,10 @@ private:
 int run_bricked(MeshCommandOptions& options, std::uint64_t memory, Progress& progress, std::chrono::steady_clock::time_point start) {
     const std::string steps = grid_steps_text(options.processing);
     if (!steps.empty()) throw UsageError("--memory: " + steps + " work on the whole grid, which --memory never holds; leave them out");
-    const GridRegionsInput opened = open_grid_regions(options.inputs, options.iso, options.read, "mesh", mesh_conversion(options, progress));
-    take_input_side(options, opened.iso, opened.level_set);
+    const GridRegionsInput opened =
+        open_grid_regions(options.inputs, options.iso, options.read, "mesh", mesh_conversion(options, progress), "--iso", given_side(options));
+    options.mesh.iso = opened.iso;
+    options.mesh.inside = opened.inside;
     options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
     const std::shared_ptr<const openvdb::FloatGrid> description = opened.source->description();
     FileSink sink(options, *description);

@@ -64,6 +64,11 @@ openvdb::FloatGrid::Ptr convert_timed(VolumeReader& reader, const ConvertOptions
 
 namespace {
 
+/// The side of the object: @a inside if given, else below for a level set and above otherwise.
+Inside side_of(const openvdb::FloatGrid& grid, std::optional<Inside> inside) {
+    return inside.value_or(grid.getGridClass() == openvdb::GRID_LEVEL_SET ? Inside::below : Inside::above);
+}
+
 /// The isovalue a .vdb is meshed at: @a iso, else the one @a grid stores (0 for a level set).
 double vdb_isovalue(const std::string& input, const openvdb::FloatGrid& grid, std::optional<double> iso, const std::string& iso_option) {
     const bool level_set = grid.getGridClass() == openvdb::GRID_LEVEL_SET;
@@ -96,7 +101,7 @@ GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double
         loaded.grid = read_vdb(input);
         loaded.level_set = loaded.grid->getGridClass() == openvdb::GRID_LEVEL_SET;
         loaded.iso = vdb_isovalue(input, *loaded.grid, iso, iso_option);
-        loaded.inside = inside.value_or(loaded.level_set ? Inside::below : Inside::above);
+        loaded.inside = side_of(*loaded.grid, inside);
         return loaded;
     }
     if (!iso) throw UsageError(iso_option + ": required to " + purpose + " a scan");
@@ -108,19 +113,21 @@ GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double
 }
 
 GridRegionsInput open_grid_regions(const std::vector<std::string>& inputs, std::optional<double> iso, const ReadFlags& read,
-                                   const std::string& purpose, ConvertOptions convert, const std::string& iso_option) {
+                                   const std::string& purpose, ConvertOptions convert, const std::string& iso_option,
+                                   std::optional<Inside> inside) {
     check_grid_inputs(inputs, read, purpose);
     const std::string& input = inputs.front();
     GridRegionsInput opened;
     if (lowercase_extension(input) == ".vdb") {
         opened.source = open_vdb_regions(input);
         const std::shared_ptr<const openvdb::FloatGrid> description = opened.source->description();
-        opened.level_set = description->getGridClass() == openvdb::GRID_LEVEL_SET;
+        opened.inside = side_of(*description, inside);
         opened.iso = vdb_isovalue(input, *description, iso, iso_option);
         return opened;
     }
     if (!iso) throw UsageError(iso_option + ": required to " + purpose + " a scan");
     opened.iso = *iso;
+    opened.inside = inside.value_or(Inside::above);
     convert.iso = *iso;
     opened.source = open_scan_regions([inputs, read] { return std::unique_ptr<SliceReader>(open_scan(inputs, read)); }, convert);
     return opened;

@@ -50,13 +50,14 @@ GridInput load_grid(const std::vector<std::string>& inputs, std::optional<double
 struct GridRegionsInput {
     std::unique_ptr<GridRegionSource> source;
     double iso = 0;
-    bool level_set = false;
+    Inside inside = Inside::above;  ///< as load_grid() chooses it (a scan's samples are never negated here)
 };
 
 /// load_grid()'s input by region, never whole: a .vdb's topology (open_vdb_regions()), or a scan
 /// surveyed and read in z-bands (open_scan_regions()). The same checks and errors as load_grid().
 GridRegionsInput open_grid_regions(const std::vector<std::string>& inputs, std::optional<double> iso, const ReadFlags& read,
-                                   const std::string& purpose, ConvertOptions convert, const std::string& iso_option = "--iso");
+                                   const std::string& purpose, ConvertOptions convert, const std::string& iso_option = "--iso",
+                                   std::optional<Inside> inside = std::nullopt);
 
 /// The error for a grid of @a input with no surface at @a isovalues (low, high; equal for one
 /// isovalue) outside the values or in a constant volume: it names the stored value range when
