@@ -2,7 +2,7 @@
 # Runs the whole test suite (installs and builds first when needed).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/build.sh --all
+bash scripts/build.sh --tests
 cd build
 ctest --output-on-failure --parallel "$(nproc)"
 # The Python module's tests, run by the interpreter it was built for (none: built without it).

@@ -110,7 +110,7 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
     j["fallbacks"] = report.fallbacks;
     // How --memory cut the grid (null when it was meshed whole).
     j["bricks"] = report.bricks == 0 ? nlohmann::ordered_json(nullptr)
-                                     : nlohmann::ordered_json{{"nodes_across", report.nodes_per_brick},
+                                     : nlohmann::ordered_json{{"nodes_across", {report.brick_shape.nodes_x, report.brick_shape.nodes_y}},
                                                               {"count", report.bricks},
                                                               {"estimated_peak_bytes", report.estimated_peak_bytes}};
     j["verified"] = verified ? report_json(*verified) : nlohmann::ordered_json(nullptr);
@@ -176,7 +176,8 @@ int run_bricked(MeshCommandOptions& options, std::uint64_t memory, Progress& pro
     options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
     const std::shared_ptr<const openvdb::FloatGrid> description = opened.source->description();
     FileSink sink(options, *description);
-    BrickOptions bricks{0, memory};
+    BrickOptions bricks;
+    bricks.memory_bytes = memory;
     bricks.rank = this_rank();
     bricks.ranks = rank_count();
     bricks.gather = gather_to_rank0;

@@ -46,6 +46,14 @@ struct MeshPhase {
     double seconds = 0;
 };
 
+/// A brick's size across (docs/dmc.md, "Bricks"): nodes (kNodeVoxels each) in x and in y; a
+/// brick is one node high. {0, 0}: not given.
+struct BrickShape {
+    int nodes_x = 0;
+    int nodes_y = 0;
+    bool given() const { return nodes_x != 0 || nodes_y != 0; }
+};
+
 /// What mesh_grid() did: the settings it ran with, where the time went, and anything it
 /// did instead of what was asked.
 struct MeshReport {
@@ -57,9 +65,9 @@ struct MeshReport {
     bool open_boundary = false;
     std::vector<MeshPhase> phases;       ///< in the order run
     std::vector<std::string> fallbacks;  ///< anything the mesher fell back to, in words; empty when none
-    /// How mesh_bricks() cut the grid: nodes across a brick and how many bricks (docs/dmc.md,
-    /// "Bricks"); 0 and 0 when the grid was meshed whole.
-    int nodes_per_brick = 0;
+    /// How mesh_bricks() cut the grid: a brick's nodes across and how many bricks (docs/dmc.md,
+    /// "Bricks"); all 0 when the grid was meshed whole.
+    BrickShape brick_shape;
     std::uint64_t bricks = 0;
     std::uint64_t estimated_peak_bytes = 0;  ///< brick_peak_bytes() of that cut
     double total_seconds() const;        ///< the sum of the phases
@@ -83,11 +91,12 @@ MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options)
 
 /// How mesh_bricks() cuts the grid (docs/dmc.md, "Bricks").
 struct BrickOptions {
-    /// Nodes (kNodeVoxels each) across a brick, in x and y; a brick is one node high. The
-    /// bricks of a column are meshed bottom to top with a ring of one node round the column.
-    /// 0: one column holding the whole grid, unless memory_bytes is set.
-    int nodes_per_brick = 0;
-    /// With nodes_per_brick 0: the largest brick whose estimated peak (brick_peak_bytes()) fits.
+    /// The bricks' size across. The bricks of a column (the same x, y) are meshed bottom to top
+    /// with a ring of one node round the column. Planned when not given: one column holding
+    /// the whole grid, unless memory_bytes is set.
+    BrickShape shape;
+    /// With the shape not given: of the shapes whose estimated peak (brick_peak_bytes()) fits,
+    /// the one that builds the least octree twice (docs/dmc.md, "Bricks").
     std::uint64_t memory_bytes = 0;
     /// A run over several processes (ranks.h), for mesh_bricks_to_stream(): this one, @a rank
     /// of @a ranks, meshes the bricks bricks_to_ranks() gives it; rank 0 gathers every rank's
@@ -119,16 +128,16 @@ public:
 MeshReport mesh_bricks_to_stream(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks,
                                  MeshStreamSink& sink);
 
-/// The estimated peak of meshing @a source in columns of bricks @a nodes_per_brick nodes across
-/// (the largest over its bricks): three node layers of a column and its ring of nodes read
-/// (docs/dmc.md, "Bricks"), and the mesher's work on them.
-std::uint64_t brick_peak_bytes(const GridRegionSource& source, int nodes_per_brick);
+/// The estimated peak of meshing @a source in columns of bricks of @a shape (the largest over
+/// its bricks): three node layers of a column and its ring of nodes read (docs/dmc.md,
+/// "Bricks"), and the mesher's work on them.
+std::uint64_t brick_peak_bytes(const GridRegionSource& source, const BrickShape& shape);
 
 /// The mesh mesh_grid() makes of the grid @a source holds, read brick by brick: the same
 /// bytes for any brick size and thread count. Only MeshMethod::dc at options.error > 0 meshes
-/// by bricks; with nodes_per_brick 0 any method meshes the whole grid, read as one region.
+/// by bricks; with no shape and no memory limit any method meshes the whole grid, read as one region.
 /// @throw UsageError as mesh_grid(), and for bricks with another method, error 0, or
-/// nodes_per_brick outside [0, 4096]; before any work, when memory_bytes is below
+/// a shape outside [1, 4096] nodes across (or one side 0); before any work, when memory_bytes is below
 /// brick_peak_bytes() of a brick of one node (naming the smallest limit that works).
 MeshResult mesh_bricks(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks);
 

@@ -21,7 +21,7 @@ namespace vdbmesh::detail {
 /// phases ("octree", "contour", "weld") to @a report.
 Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report);
 
-/// The same mesh, brick after brick of @a bricks.nodes_per_brick^3 nodes read from @a source
+/// The same mesh, brick after brick of @a bricks.shape read from @a source
 /// (options.error > 0). The same bytes for any brick size and thread count.
 Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report);
 
@@ -30,7 +30,7 @@ Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& optio
 void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, bool mirrored,
                                   MeshStreamSink& sink, MeshReport& report);
 
-/// A brick (docs/dmc.md, "Bricks"): n x n nodes across from (min_x, min_y) (voxels), and one
+/// A brick (docs/dmc.md, "Bricks"): its shape's nodes across from (min_x, min_y) (voxels), and one
 /// node high, at node layer @a layer (z / kNodeVoxels); with the active voxels of its nodes,
 /// which ranks are balanced by.
 struct IfcBrick {
@@ -38,13 +38,14 @@ struct IfcBrick {
     std::uint64_t active_voxels = 0;
 };
 
-/// The bricks of @a nodes_per_brick nodes across holding a node that may hold surface, in
-/// visiting order: columns in (y, x) order, each column's layers bottom to top without gaps.
-std::vector<IfcBrick> plan_ifc_bricks(const GridRegionSource& source, int nodes_per_brick);
+/// The bricks of @a shape holding a node that may hold surface, in visiting order: columns in
+/// (y, x) order, each column's layers bottom to top without gaps.
+std::vector<IfcBrick> plan_ifc_bricks(const GridRegionSource& source, const BrickShape& shape);
 
-/// The widest column of bricks (nodes across) whose brick_peak_bytes() fits in @a memory_bytes.
+/// Without a limit (@a memory_bytes 0), one column holding every node; else, of the shapes
+/// whose brick_peak_bytes() fits, the one whose rings build the least octree twice.
 /// @throw UsageError naming the smallest limit that works when even one node does not fit.
-int plan_brick_size(const GridRegionSource& source, std::uint64_t memory_bytes);
+BrickShape plan_brick_shape(const GridRegionSource& source, std::uint64_t memory_bytes);
 
 /// What the blocks of one node made: per block in origin order its vertices (coarse cells
 /// taken out) and triangles, then the node's coarse cells, once each in key order.

@@ -1,5 +1,5 @@
 // Intersection-free octree contouring brick by brick (docs/dmc.md, "Bricks"): a brick is
-// n x n nodes across and one node high; the bricks of one column of n x n nodes are contoured
+// nx x ny nodes across and one node high; the bricks of one column (the same x, y) are contoured
 // bottom to top by one wavefront (ifc_wavefront.cpp), and the nodes' outputs are welded in
 // z-major order, so the mesh is the whole-grid run's, byte for byte.
 
@@ -33,8 +33,8 @@ constexpr double kWorkPerGridByte = 1.0;
 constexpr std::uint64_t kBaseBytes = std::uint64_t(24) << 20;
 
 /// The column of bricks @a brick belongs to, owned part.
-IfcColumn column_of(const IfcBrick& brick, int column_voxels) {
-    return {brick.min_x, brick.min_y, brick.min_x + column_voxels - 1, brick.min_y + column_voxels - 1};
+IfcColumn column_of(const IfcBrick& brick, const BrickShape& shape) {
+    return {brick.min_x, brick.min_y, brick.min_x + shape.nodes_x * kNodeVoxels - 1, brick.min_y + shape.nodes_y * kNodeVoxels - 1};
 }
 
 /// The boxes of what a column's wavefront holds when it contours @a brick: three node layers
@@ -43,8 +43,8 @@ IfcColumn column_of(const IfcBrick& brick, int column_voxels) {
 struct WavefrontBoxes {
     IndexBox held, read;
 };
-WavefrontBoxes wavefront_boxes(const IfcBrick& brick, int column_voxels) {
-    const IfcColumn column = column_of(brick, column_voxels);
+WavefrontBoxes wavefront_boxes(const IfcBrick& brick, const BrickShape& shape) {
+    const IfcColumn column = column_of(brick, shape);
     constexpr int kWiden = kNodeVoxels + 8;
     const IndexBox held{{column.min_x - kWiden, column.min_y - kWiden, (brick.layer - 1) * kNodeVoxels},
                         {column.max_x + 1 + kWiden, column.max_y + 1 + kWiden, (brick.layer + 2) * kNodeVoxels + 8}};
@@ -52,6 +52,45 @@ WavefrontBoxes wavefront_boxes(const IfcBrick& brick, int column_voxels) {
     read.min[2] = (brick.layer + 2) * kNodeVoxels;
     read.max[2] = (brick.layer + 3) * kNodeVoxels;
     return {held, read};
+}
+
+/// The nodes meshed: those listed and the 7 below each (a block's cells read samples up to 8
+/// beyond its origin, so a node whose upper neighbours hold surface may too), with the active
+/// voxels of the listed ones.
+std::vector<std::pair<openvdb::Coord, std::uint64_t>> meshed_nodes(const GridRegionSource& source) {
+    std::vector<std::pair<openvdb::Coord, std::uint64_t>> meshed;
+    for (const NodeWeight& node : source.nodes()) {
+        for (int d = 0; d < 8; ++d) {
+            const openvdb::Coord origin(node.origin[0] - kNodeVoxels * (d & 1), node.origin[1] - kNodeVoxels * ((d >> 1) & 1),
+                                        node.origin[2] - kNodeVoxels * (d >> 2));
+            meshed.push_back({origin, d == 0 ? node.active_voxels : 0});
+        }
+    }
+    return meshed;
+}
+
+/// Where columns start: the lowest meshed node in x and y, so that the narrowest column
+/// holding every node is one column.
+openvdb::Coord columns_origin(const std::vector<std::pair<openvdb::Coord, std::uint64_t>>& meshed) {
+    openvdb::Coord low(std::numeric_limits<int>::max());
+    for (const auto& [origin, active] : meshed) low = openvdb::Coord::minComponent(low, origin);
+    return low;
+}
+
+/// The octree work of meshing in columns of @a shape: each node's active voxels times the
+/// columns that build it (its own and those whose ring holds it).
+std::uint64_t built_voxels(const std::vector<std::pair<openvdb::Coord, std::uint64_t>>& meshed, const openvdb::Coord& low,
+                           const openvdb::Coord& extent, const BrickShape& shape) {
+    // The columns (along one axis) whose extent widened by the ring holds node @a i of @a nodes.
+    auto builders = [](int i, int width, int nodes) {
+        return 1 + (i % width == 0 && i > 0 ? 1 : 0) + (i % width == width - 1 && i + 1 < nodes ? 1 : 0);
+    };
+    std::uint64_t built = 0;
+    for (const auto& [origin, active] : meshed) {
+        const int ix = (origin.x() - low.x()) / kNodeVoxels, iy = (origin.y() - low.y()) / kNodeVoxels;
+        built += active * std::uint64_t(builders(ix, shape.nodes_x, extent.x()) * builders(iy, shape.nodes_y, extent.y()));
+    }
+    return built;
 }
 
 /// The bricks of @a planned that ranks.h's rule gives @a rank of @a ranks: a contiguous run.
@@ -68,31 +107,19 @@ std::vector<IfcBrick> bricks_of_rank(std::vector<IfcBrick> planned, int rank, in
 
 }  // namespace
 
-std::vector<IfcBrick> plan_ifc_bricks(const GridRegionSource& source, int nodes_per_brick) {
-    const int column_voxels = nodes_per_brick * kNodeVoxels;
-    // The nodes meshed are those listed and the 7 below each: a block's cells read samples up
-    // to 8 beyond its origin, so a node whose upper neighbours hold surface may too.
-    std::vector<std::pair<openvdb::Coord, std::uint64_t>> meshed;  // origin, active voxels
-    int low_x = std::numeric_limits<int>::max(), low_y = low_x;
-    for (const NodeWeight& node : source.nodes()) {
-        for (int d = 0; d < 8; ++d) {
-            const openvdb::Coord origin(node.origin[0] - kNodeVoxels * (d & 1), node.origin[1] - kNodeVoxels * ((d >> 1) & 1),
-                                        node.origin[2] - kNodeVoxels * (d >> 2));
-            meshed.push_back({origin, d == 0 ? node.active_voxels : 0});
-            low_x = std::min(low_x, origin.x());
-            low_y = std::min(low_y, origin.y());
-        }
-    }
-    // Columns start at the lowest meshed node, so the narrowest column holding every node is
-    // one column. Keyed column (y, x), layer -> active voxels.
+std::vector<IfcBrick> plan_ifc_bricks(const GridRegionSource& source, const BrickShape& shape) {
+    const int width_x = shape.nodes_x * kNodeVoxels, width_y = shape.nodes_y * kNodeVoxels;
+    const std::vector<std::pair<openvdb::Coord, std::uint64_t>> meshed = meshed_nodes(source);
+    const openvdb::Coord low = columns_origin(meshed);
+    // Keyed column (y, x), layer -> active voxels.
     std::map<std::tuple<int, int, int>, std::uint64_t> weights;
     for (const auto& [origin, active] : meshed) {
-        weights[{(origin.y() - low_y) / column_voxels, (origin.x() - low_x) / column_voxels, origin.z() / kNodeVoxels}] += active;
+        weights[{(origin.y() - low.y()) / width_y, (origin.x() - low.x()) / width_x, origin.z() / kNodeVoxels}] += active;
     }
     std::vector<IfcBrick> bricks;
     for (const auto& [key, active] : weights) {
         const auto& [y, x, layer] = key;
-        const IfcBrick brick{low_x + x * column_voxels, low_y + y * column_voxels, layer, active};
+        const IfcBrick brick{low.x() + x * width_x, low.y() + y * width_y, layer, active};
         // A column's layers run without gaps, so one wavefront climbs each column.
         if (!bricks.empty() && bricks.back().min_x == brick.min_x && bricks.back().min_y == brick.min_y) {
             for (int l = bricks.back().layer + 1; l < layer; ++l) bricks.push_back({brick.min_x, brick.min_y, l, 0});
@@ -102,23 +129,40 @@ std::vector<IfcBrick> plan_ifc_bricks(const GridRegionSource& source, int nodes_
     return bricks;
 }
 
-int plan_brick_size(const GridRegionSource& source, std::uint64_t memory_bytes) {
-    const std::vector<NodeWeight> nodes = source.nodes();
-    if (nodes.empty()) return 1;
-    std::array<int, 3> lo = nodes.front().origin, hi = lo;
-    for (const NodeWeight& node : nodes) {
-        for (std::size_t a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], node.origin[a]);
-            hi[a] = std::max(hi[a], node.origin[a]);
+BrickShape plan_brick_shape(const GridRegionSource& source, std::uint64_t memory_bytes) {
+    const std::vector<std::pair<openvdb::Coord, std::uint64_t>> meshed = meshed_nodes(source);
+    if (meshed.empty()) return {1, 1};
+    const openvdb::Coord low = columns_origin(meshed);
+    openvdb::Coord high = low;
+    for (const auto& [origin, active] : meshed) high = openvdb::Coord::maxComponent(high, origin);
+    const int extent_x = (high.x() - low.x()) / kNodeVoxels + 1, extent_y = (high.y() - low.y()) / kNodeVoxels + 1;
+    const openvdb::Coord extent(extent_x, extent_y, 1);
+    if (memory_bytes == 0) return {extent_x, extent_y};  // no limit: one column
+    // The widths that cut an extent into 1, 2, 3 ... columns.
+    auto widths = [](int extent) {
+        std::vector<int> found;
+        for (int columns = 1; columns <= extent; ++columns) {
+            const int width = (extent + columns - 1) / columns;
+            if (found.empty() || found.back() != width) found.push_back(width);
+        }
+        return found;
+    };
+    // Shapes by the octree work their rings repeat, then the fewest columns; the first that fits.
+    std::vector<std::tuple<std::uint64_t, int, BrickShape>> shapes;
+    for (const int x : widths(extent_x)) {
+        for (const int y : widths(extent_y)) {
+            const BrickShape shape{x, y};
+            const int columns = ((extent_x + x - 1) / x) * ((extent_y + y - 1) / y);
+            shapes.push_back({built_voxels(meshed, low, extent, shape), columns, shape});
         }
     }
-    int extent = 1;  // nodes across a column holding them all, and their lower neighbours
-    for (std::size_t a = 0; a < 2; ++a) extent = std::max(extent, (hi[a] - lo[a]) / kNodeVoxels + 2);
-    if (memory_bytes == 0) return extent;  // no limit: one column
-    for (int n = extent; n >= 1; --n) {
-        if (brick_peak_bytes(source, n) <= memory_bytes) return n;
+    std::stable_sort(shapes.begin(), shapes.end(), [](const auto& a, const auto& b) {
+        return std::tie(std::get<0>(a), std::get<1>(a)) < std::tie(std::get<0>(b), std::get<1>(b));
+    });
+    for (const auto& candidate : shapes) {
+        if (brick_peak_bytes(source, std::get<2>(candidate)) <= memory_bytes) return std::get<2>(candidate);
     }
-    const std::uint64_t smallest = brick_peak_bytes(source, 1);
+    const std::uint64_t smallest = brick_peak_bytes(source, {1, 1});
     constexpr std::uint64_t kMiB = std::uint64_t(1) << 20;
     throw UsageError("memory: " + std::to_string(memory_bytes / kMiB) + "M is too small: a column of one node with its ring needs about " +
                      std::to_string((smallest + kMiB - 1) / kMiB) + "M here; the smallest limit that works is " +
@@ -127,11 +171,10 @@ int plan_brick_size(const GridRegionSource& source, std::uint64_t memory_bytes) 
 
 void for_each_brick(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report,
                     const std::function<void(std::vector<IfcNodeOutput>&&)>& consume) {
-    const int column_voxels = bricks.nodes_per_brick * kNodeVoxels;
-    std::vector<IfcBrick> planned = plan_ifc_bricks(source, bricks.nodes_per_brick);
-    report.nodes_per_brick = bricks.nodes_per_brick;
+    std::vector<IfcBrick> planned = plan_ifc_bricks(source, bricks.shape);
+    report.brick_shape = bricks.shape;
     report.bricks = planned.size();
-    report.estimated_peak_bytes = brick_peak_bytes(source, bricks.nodes_per_brick);
+    report.estimated_peak_bytes = brick_peak_bytes(source, bricks.shape);
     if (bricks.ranks > 1) planned = bricks_of_rank(std::move(planned), bricks.rank, bricks.ranks);
     const SampleClassifier classifier(*source.description(), options);
     MeshOptions per_column = options;
@@ -141,7 +184,7 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
         std::size_t last = first;  // the bricks of one column, consecutive layers
         while (last + 1 < planned.size() && planned[last + 1].min_x == planned[first].min_x && planned[last + 1].min_y == planned[first].min_y)
             ++last;
-        IfcColumnWavefront wavefront(source, classifier, per_column, column_of(planned[first], column_voxels), report);
+        IfcColumnWavefront wavefront(source, classifier, per_column, column_of(planned[first], bricks.shape), report);
         wavefront.run(planned[first].layer, planned[last].layer, [&](std::vector<IfcNodeOutput>&& made) {
             consume(std::move(made));
             if (options.progress) options.progress(0.9 * double(++done) / double(planned.size()));
@@ -187,12 +230,11 @@ void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOpti
 
 namespace vdbmesh {
 
-std::uint64_t brick_peak_bytes(const GridRegionSource& source, int nodes_per_brick) {
-    const int column_voxels = nodes_per_brick * kNodeVoxels;
+std::uint64_t brick_peak_bytes(const GridRegionSource& source, const BrickShape& shape) {
     std::uint64_t peak = detail::kBaseBytes;
-    for (const detail::IfcBrick& brick : detail::plan_ifc_bricks(source, nodes_per_brick)) {
+    for (const detail::IfcBrick& brick : detail::plan_ifc_bricks(source, shape)) {
         // The grid held, the mesher's cells on it, and the next layer being read.
-        const detail::WavefrontBoxes boxes = detail::wavefront_boxes(brick, column_voxels);
+        const detail::WavefrontBoxes boxes = detail::wavefront_boxes(brick, shape);
         const double held = double(source.grid_bytes(boxes.held)) * (1.0 + detail::kWorkPerGridByte);
         peak = std::max(peak, detail::kBaseBytes + std::uint64_t(held) + source.estimated_bytes(boxes.read));
     }

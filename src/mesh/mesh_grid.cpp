@@ -74,10 +74,25 @@ IndexBox whole_region(const GridRegionSource& source) {
     return box;
 }
 
+/// A report of @a options' settings, without phases yet.
+MeshReport report_of(const MeshOptions& options) {
+    MeshReport report;
+    report.method = options.method;
+    report.iso = options.iso;
+    report.error = options.error;
+    report.adaptivity = options.adaptivity;
+    report.inside = options.inside;
+    report.open_boundary = options.open_boundary;
+    return report;
+}
+
 void check_brick_options(const MeshOptions& options, const BrickOptions& bricks) {
     check_options(options);
-    if (bricks.nodes_per_brick < 0 || bricks.nodes_per_brick > 4096) {
-        throw UsageError("bricks: expected 0 to 4096 nodes per brick edge, got " + std::to_string(bricks.nodes_per_brick));
+    const BrickShape& shape = bricks.shape;
+    const bool in_range = shape.nodes_x >= 1 && shape.nodes_x <= 4096 && shape.nodes_y >= 1 && shape.nodes_y <= 4096;
+    if (shape.given() && !in_range) {
+        throw UsageError("bricks: expected 1 to 4096 nodes across a brick in x and in y, got " + std::to_string(shape.nodes_x) + " x " +
+                         std::to_string(shape.nodes_y));
     }
     if (bricks.ranks < 1 || bricks.rank < 0 || bricks.rank >= bricks.ranks) {
         throw UsageError("bricks: expected rank 0 to " + std::to_string(bricks.ranks - 1) + " of at least 1 rank, got rank " +
@@ -93,7 +108,7 @@ BrickOptions planned_bricks(const GridRegionSource& source, const MeshOptions& o
         throw UsageError("bricks: only the dc method at an error above 0 meshes by bricks (the others mesh the whole grid)");
     }
     BrickOptions planned = bricks;
-    if (planned.nodes_per_brick == 0) planned.nodes_per_brick = detail::plan_brick_size(source, bricks.memory_bytes);
+    if (!planned.shape.given()) planned.shape = detail::plan_brick_shape(source, bricks.memory_bytes);
     return planned;
 }
 
@@ -103,7 +118,7 @@ MeshReport mesh_bricks_to_stream(const GridRegionSource& source, const MeshOptio
                                  MeshStreamSink& sink) {
     check_brick_options(options, bricks);
     const BrickOptions planned = planned_bricks(source, options, bricks);
-    MeshReport report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, {}};
+    MeshReport report = report_of(options);
     detail::bricked_contouring_to_stream(source, options, planned, mirrors(source.description()->transform()), sink, report);
     return report;
 }
@@ -117,7 +132,7 @@ double MeshReport::total_seconds() const {
 MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options) {
     check_options(options);
     MeshResult result;
-    result.report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, {}};
+    result.report = report_of(options);
     detail::PhaseClock clock;
     result.mesh = run_mesher(grid, options, result.report);
     // Meshers that time no phases of their own are one phase.
@@ -129,10 +144,10 @@ MeshResult mesh_grid(const openvdb::FloatGrid& grid, const MeshOptions& options)
 MeshResult mesh_bricks(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks) {
     check_brick_options(options, bricks);
     if (bricks.ranks > 1) throw UsageError("bricks: a run over several ranks writes its mesh to a stream (mesh_bricks_to_stream())");
-    if (bricks.nodes_per_brick == 0 && bricks.memory_bytes == 0) return mesh_grid(*source.read(whole_region(source)), options);
+    if (!bricks.shape.given() && bricks.memory_bytes == 0) return mesh_grid(*source.read(whole_region(source)), options);
     const BrickOptions planned = planned_bricks(source, options, bricks);
     MeshResult result;
-    result.report = {options.method, options.iso, options.error, options.adaptivity, options.inside, options.open_boundary, {}, {}};
+    result.report = report_of(options);
     result.mesh = detail::bricked_contouring(source, options, planned, result.report);
     orient_outward(source.description()->transform(), result.mesh);
     return result;

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "cgal_judge.h"
+#include "mesh/ifc.h"
 #include "phantom_grid.h"
 #include "shared_scan.h"
 #include "vdbmesh/error.h"
@@ -30,10 +31,10 @@ MeshOptions dc_options(double error, double iso = 0.5) {
     return options;
 }
 
-MeshResult bricked(const openvdb::FloatGrid::Ptr& grid, const MeshOptions& options, int nodes_per_brick, int threads) {
+MeshResult bricked(const openvdb::FloatGrid::Ptr& grid, const MeshOptions& options, const BrickShape& shape, int threads) {
     const std::unique_ptr<GridRegionSource> source = grid_regions_in_memory(grid);
     MeshResult result;
-    tbb::task_arena(threads).execute([&] { result = mesh_bricks(*source, options, BrickOptions{nodes_per_brick}); });
+    tbb::task_arena(threads).execute([&] { result = mesh_bricks(*source, options, BrickOptions{shape}); });
     return result;
 }
 
@@ -53,9 +54,9 @@ public:
     bool corners_match = true;
 };
 
-Mesh streamed(const openvdb::FloatGrid::Ptr& grid, const MeshOptions& options, int nodes_per_brick) {
+Mesh streamed(const openvdb::FloatGrid::Ptr& grid, const MeshOptions& options, const BrickShape& shape) {
     CollectingSink sink;
-    mesh_bricks_to_stream(*grid_regions_in_memory(grid), options, BrickOptions{nodes_per_brick}, sink);
+    mesh_bricks_to_stream(*grid_regions_in_memory(grid), options, BrickOptions{shape}, sink);
     EXPECT_EQ(sink.announced.first, sink.mesh.vertices.size());
     EXPECT_EQ(sink.announced.second, sink.mesh.triangles.size());
     EXPECT_TRUE(sink.corners_match);
@@ -65,11 +66,11 @@ Mesh streamed(const openvdb::FloatGrid::Ptr& grid, const MeshOptions& options, i
 /// mesh_bricks_to_stream() run as @a ranks ranks one after another in this process, the last
 /// rank first: each hands its part to a stand-in for ranks.h's gather, and rank 0's gets them all
 /// in rank order, as gather_to_rank0() returns them under mpirun. Returns what rank 0 sent.
-Mesh streamed_over_ranks(const openvdb::FloatGrid::Ptr& grid, const MeshOptions& options, int nodes_per_brick, int ranks) {
+Mesh streamed_over_ranks(const openvdb::FloatGrid::Ptr& grid, const MeshOptions& options, const BrickShape& shape, int ranks) {
     const std::unique_ptr<GridRegionSource> source = grid_regions_in_memory(grid);
     std::vector<std::string> parts(static_cast<std::size_t>(ranks));
     for (int rank = ranks - 1; rank >= 0; --rank) {
-        BrickOptions bricks{nodes_per_brick};
+        BrickOptions bricks{shape};
         bricks.rank = rank;
         bricks.ranks = ranks;
         bricks.gather = [&parts, rank](const std::string& bytes) {
@@ -85,10 +86,16 @@ Mesh streamed_over_ranks(const openvdb::FloatGrid::Ptr& grid, const MeshOptions&
 }
 
 struct Bricking {
-    int nodes_per_brick;
+    BrickShape shape;
     int threads;
 };
-const std::vector<Bricking> kEveryBricking = {{1, 1}, {1, 2}, {2, 2}};
+/// Square columns of one node, strips along x and along y.
+const std::vector<Bricking> kEveryBricking = {{{1, 1}, 1}, {{1, 1}, 2}, {{2, 1}, 2}, {{1, 3}, 1}};
+
+std::string describe(const Bricking& b) {
+    return std::to_string(b.shape.nodes_x) + " x " + std::to_string(b.shape.nodes_y) + " node(s) a brick, " + std::to_string(b.threads) +
+           " thread(s)";
+}
 
 /// The whole-grid mesh (2 threads) and the bricked ones hold the same vertices and triangles in
 /// the same order; CGAL finds the mesh of one-node bricks clean when @a judge.
@@ -98,22 +105,22 @@ void expect_same_as_whole(const openvdb::FloatGrid::Ptr& grid, const MeshOptions
     tbb::task_arena(2).execute([&] { whole = mesh_grid(*grid, options).mesh; });
     ASSERT_FALSE(whole.triangles.empty()) << what;
     for (const Bricking& b : brickings) {
-        const Mesh mesh = bricked(grid, options, b.nodes_per_brick, b.threads).mesh;
-        EXPECT_EQ(mesh.vertices, whole.vertices) << what << ", " << b.nodes_per_brick << " node(s) a brick, " << b.threads << " thread(s)";
-        EXPECT_EQ(mesh.triangles, whole.triangles) << what << ", " << b.nodes_per_brick << " node(s) a brick, " << b.threads << " thread(s)";
+        const Mesh mesh = bricked(grid, options, b.shape, b.threads).mesh;
+        EXPECT_EQ(mesh.vertices, whole.vertices) << what << ", " << describe(b);
+        EXPECT_EQ(mesh.triangles, whole.triangles) << what << ", " << describe(b);
     }
     // Through the spill, never held whole: the same.
-    const Mesh stream = streamed(grid, options, 1);
+    const Mesh stream = streamed(grid, options, {1, 1});
     EXPECT_EQ(stream.vertices, whole.vertices) << what << ", streamed";
     EXPECT_EQ(stream.triangles, whole.triangles) << what << ", streamed";
     // Over ranks, each meshing its run of bricks and rank 0 assembling: the same.
     for (const int ranks : {2, 3}) {
-        const Mesh assembled = streamed_over_ranks(grid, options, 1, ranks);
+        const Mesh assembled = streamed_over_ranks(grid, options, {1, 1}, ranks);
         EXPECT_EQ(assembled.vertices, whole.vertices) << what << ", " << ranks << " ranks";
         EXPECT_EQ(assembled.triangles, whole.triangles) << what << ", " << ranks << " ranks";
     }
     if (!judge) return;
-    const test::CgalVerdict verdict = test::judge_with_cgal(bricked(grid, options, 1, 2).mesh);
+    const test::CgalVerdict verdict = test::judge_with_cgal(bricked(grid, options, {1, 1}, 2).mesh);
     EXPECT_TRUE(verdict.clean()) << what << ": " << verdict.describe();
 }
 
@@ -169,7 +176,7 @@ TEST(BricksTest, RealScanCThead) {
     const test::SharedScan& scan = test::shared_scan("CThead");
     ASSERT_NO_FATAL_FAILURE(test::convert_shared_scan(scan, grid));
     if (!grid) return;
-    expect_same_as_whole(grid, dc_options(0.5, scan.iso), "CThead", {{1, 2}}, false);
+    expect_same_as_whole(grid, dc_options(0.5, scan.iso), "CThead", {{{1, 1}, 2}, {{3, 1}, 1}}, false);
 }
 
 // The bunny CT (4 x 4 x 3 nodes): one-node bricks read a halo smaller than the scan. About a
@@ -180,7 +187,7 @@ TEST(BricksTest, RealScanBunnyFull) {
     const test::SharedScan& scan = test::shared_scan("BunnyCt");
     ASSERT_NO_FATAL_FAILURE(test::convert_shared_scan(scan, grid));
     if (!grid) return;
-    expect_same_as_whole(grid, dc_options(0.25, scan.iso), "bunny", {{1, 2}, {2, 1}}, false);
+    expect_same_as_whole(grid, dc_options(0.25, scan.iso), "bunny", {{{1, 1}, 2}, {{2, 1}, 1}}, false);
 }
 
 TEST(BricksTest, InMemoryRegionsReadTheBoxExactly) {
@@ -222,8 +229,8 @@ TEST(BricksTest, MirroredGridIsWoundAlike) {
     const auto grid = test::phantom_scan_grid(spec);
     grid->transform().preScale(openvdb::Vec3d(-1, 1, 1));
     const Mesh whole = mesh_grid(*grid, dc_options(0.5)).mesh;
-    EXPECT_EQ(bricked(grid, dc_options(0.5), 1, 2).mesh.triangles, whole.triangles);
-    EXPECT_EQ(streamed(grid, dc_options(0.5), 1).triangles, whole.triangles);
+    EXPECT_EQ(bricked(grid, dc_options(0.5), {1, 1}, 2).mesh.triangles, whole.triangles);
+    EXPECT_EQ(streamed(grid, dc_options(0.5), {1, 1}).triangles, whole.triangles);
 }
 
 TEST(BricksTest, RefusesBricksWithOtherMethodsAndErrorZero) {
@@ -231,14 +238,34 @@ TEST(BricksTest, RefusesBricksWithOtherMethodsAndErrorZero) {
     spec.dims = {40, 40, 40};
     spec.radius = 12;
     const auto source = grid_regions_in_memory(test::phantom_scan_grid(spec));
-    EXPECT_THROW(mesh_bricks(*source, dc_options(0.0), BrickOptions{1}), UsageError);
+    EXPECT_THROW(mesh_bricks(*source, dc_options(0.0), BrickOptions{{1, 1}}), UsageError);
     MeshOptions mc = dc_options(0.5);
     mc.method = MeshMethod::mc;
-    EXPECT_THROW(mesh_bricks(*source, mc, BrickOptions{1}), UsageError);
-    EXPECT_THROW(mesh_bricks(*source, dc_options(0.5), BrickOptions{-1}), UsageError);
+    EXPECT_THROW(mesh_bricks(*source, mc, BrickOptions{{1, 1}}), UsageError);
+    EXPECT_THROW(mesh_bricks(*source, dc_options(0.5), BrickOptions{{-1, 1}}), UsageError);
+    EXPECT_THROW(mesh_bricks(*source, dc_options(0.5), BrickOptions{{2, 0}}), UsageError);
     // One brick of the whole grid: any method, the same mesh as mesh_grid().
-    EXPECT_EQ(mesh_bricks(*source, mc, BrickOptions{0}).mesh.triangles.size(),
+    EXPECT_EQ(mesh_bricks(*source, mc, BrickOptions{}).mesh.triangles.size(),
               mesh_grid(*test::phantom_scan_grid(spec), mc).mesh.triangles.size());
+}
+
+// A flat slab over 8 x 8 nodes, under a limit that one column exceeds but a cut along one axis
+// meets: the plan cuts it into strips (the ring one node wide along one cut) rather than into
+// squares (rings along two), and the shape it picks fits the limit.
+TEST(BricksTest, PlanCutsIntoStripsWhereTheyFit) {
+    auto grid = openvdb::FloatGrid::create(0.0f);
+    grid->tree().denseFill(openvdb::CoordBBox({0, 0, 0}, {1023, 1023, 15}), 1.0f, true);
+    const std::unique_ptr<GridRegionSource> source = grid_regions_in_memory(grid);
+    // Columns start at the lowest meshed node (x, y = -128): 9 nodes across.
+    const std::uint64_t whole = brick_peak_bytes(*source, {9, 9});
+    const std::uint64_t strips = brick_peak_bytes(*source, {9, 3});
+    ASSERT_LT(strips, whole);
+    const std::uint64_t limit = (strips + whole) / 2;
+    const BrickShape planned = detail::plan_brick_shape(*source, limit);
+    EXPECT_LE(brick_peak_bytes(*source, planned), limit);
+    EXPECT_TRUE(planned.nodes_x == 9 || planned.nodes_y == 9) << planned.nodes_x << " x " << planned.nodes_y;
+    EXPECT_EQ(detail::plan_brick_shape(*source, 0).nodes_x, 9);  // no limit: one column
+    EXPECT_THROW(detail::plan_brick_shape(*source, 1000), UsageError);
 }
 
 }  // namespace
