@@ -148,12 +148,10 @@ std::vector<IfcNodeOutput> group_ifc_outputs_by_node(const std::vector<openvdb::
 }
 
 IfcCellGrid build_ifc_cell_grid(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
-                                const IfcOriginFilter& keep, MeshReport& report) {
+                                const std::optional<openvdb::CoordBBox>& within, MeshReport& report) {
     PhaseClock clock;
     IfcCellGrid cells;
-    cells.origins = surface_blocks(grid, classifier);
-    if (keep) cells.origins.erase(std::remove_if(cells.origins.begin(), cells.origins.end(), [&](const openvdb::Coord& o) { return !keep(o); }),
-                                  cells.origins.end());
+    cells.origins = surface_blocks(grid, classifier, within);
     cells.blocks.resize(cells.origins.size());
     auto may_hold_surface = [&](std::size_t b, auto& accessor) { return block_may_hold_surface(accessor, classifier, cells.origins[b]); };
     for_each_surface_block(grid, classifier, cells.origins, may_hold_surface, [&](const IfcSamples& samples, std::size_t b) {
@@ -186,7 +184,7 @@ std::vector<IfcBlockOutput> contour_ifc_cells(const openvdb::FloatGrid& grid, co
 
 std::vector<IfcNodeOutput> contour_ifc_nodes(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
                                              MeshReport& report) {
-    IfcCellGrid cells = build_ifc_cell_grid(grid, classifier, options, {}, report);
+    IfcCellGrid cells = build_ifc_cell_grid(grid, classifier, options, std::nullopt, report);
     PhaseClock clock;
     split_clipped_blocks(cells, {});
     clock.lap(report, "split");

@@ -5,6 +5,7 @@
 #include <openvdb/openvdb.h>
 
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "mesh/ifc_block.h"
@@ -66,11 +67,12 @@ void release_free_memory();
 /// Which block origins a stage of the contouring takes (every block when empty).
 using IfcOriginFilter = std::function<bool(const openvdb::Coord&)>;
 
-/// The cells of the blocks of @a grid that may hold surface and whose origins @a keep accepts:
-/// each block's octree, then each node's coarse merge (ifc_coarse.cpp; @a keep must take every
-/// block of a node or none). Adds the phases "octree" and "coarse" to @a report.
+/// The cells of the blocks of @a grid that may hold surface, with origins @a within (every
+/// block when not given): each block's octree, then each node's coarse merge (ifc_coarse.cpp;
+/// @a within must hold every block of a node or none). Adds the phases "octree" and "coarse"
+/// to @a report.
 IfcCellGrid build_ifc_cell_grid(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
-                                const IfcOriginFilter& keep, MeshReport& report);
+                                const std::optional<openvdb::CoordBBox>& within, MeshReport& report);
 
 /// Splits the blocks that are still one 8-voxel cell of their own after the merge across
 /// blocks, whose surface only clips one of their faces, where the block across that face is not

@@ -81,8 +81,10 @@ void IfcColumnWavefront::read(int z_begin, int z_end) {
 
 void IfcColumnWavefront::build(int layer) {
     const int z0 = layer_z(layer), z1 = layer_z(layer + 1);
-    auto in_layer_and_ring = [&](const openvdb::Coord& o) { return o.z() >= z0 && o.z() < z1 && in_column(o, kNodeVoxels); };
-    cells_ = merge_cells(std::move(cells_), build_ifc_cell_grid(*window_, classifier_, options_, in_layer_and_ring, report_));
+    // The layer's nodes in the column and its ring (block origins, inclusive).
+    const openvdb::CoordBBox layer_and_ring({column_.min_x - kNodeVoxels, column_.min_y - kNodeVoxels, z0},
+                                            {column_.max_x + kNodeVoxels, column_.max_y + kNodeVoxels, z1 - 1});
+    cells_ = merge_cells(std::move(cells_), build_ifc_cell_grid(*window_, classifier_, options_, layer_and_ring, report_));
     // A block's split reads its 26 neighbours: decide those whose neighbours are all built.
     PhaseClock clock;
     split_clipped_blocks(cells_, [&](const openvdb::Coord& o) { return o.z() < z1 - kLeafVoxels; });

@@ -21,18 +21,19 @@ openvdb::Coord block_origin(const openvdb::Coord& ijk) {
 }
 
 /// Appends the blocks of the cells that straddle the boundary of the sample box @a box:
-/// minimum corners in [min - 1, max] but not in [min, max - 1].
+/// minimum corners in [min - 1, max] but not in [min, max - 1]; those with origins in
+/// @a within only.
 template <typename Keep>
-void append_shell_blocks(const openvdb::CoordBBox& box, Keep keep, std::vector<openvdb::Coord>& blocks) {
-    const openvdb::Coord lo = block_origin(box.min().offsetBy(-1));
-    const openvdb::Coord hi = block_origin(box.max());
+void append_shell_blocks(const openvdb::CoordBBox& box, const openvdb::CoordBBox& within, Keep keep, std::vector<openvdb::Coord>& blocks) {
+    const openvdb::Coord lo = openvdb::Coord::maxComponent(block_origin(box.min().offsetBy(-1)), block_origin(within.min()));
+    const openvdb::Coord hi = openvdb::Coord::minComponent(block_origin(box.max()), block_origin(within.max()));
     const openvdb::CoordBBox interior(box.min(), box.max().offsetBy(-1));
     for (int x = lo.x(); x <= hi.x(); x += kBlockDim) {
         for (int y = lo.y(); y <= hi.y(); y += kBlockDim) {
             for (int z = lo.z(); z <= hi.z(); z += kBlockDim) {
                 const openvdb::Coord origin(x, y, z);
                 const openvdb::CoordBBox block(origin, origin.offsetBy(kBlockDim - 1));
-                if (!interior.isInside(block) && keep(origin)) blocks.push_back(origin);
+                if (!interior.isInside(block) && within.isInside(origin) && keep(origin)) blocks.push_back(origin);
             }
         }
     }
@@ -61,20 +62,32 @@ void for_each_tile(const openvdb::FloatTree& tree, Keep&& keep, Visit&& visit) {
 
 }  // namespace
 
-std::vector<openvdb::Coord> surface_blocks(const openvdb::FloatGrid& grid, const SampleClassifier& classifier) {
+std::vector<openvdb::Coord> surface_blocks(const openvdb::FloatGrid& grid, const SampleClassifier& classifier,
+                                           const std::optional<openvdb::CoordBBox>& within) {
     const openvdb::FloatTree& tree = grid.tree();
     std::vector<openvdb::Coord> blocks;
-    for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
-        const openvdb::Coord origin = leaf->origin();
-        for (int d = 0; d < 8; ++d) {
-            blocks.push_back(origin.offsetBy(-kBlockDim * (d & 1), -kBlockDim * ((d >> 1) & 1), -kBlockDim * (d >> 2)));
+    const openvdb::CoordBBox region = within ? *within : openvdb::CoordBBox::inf();
+    auto kept = [&](const openvdb::Coord& origin) { return region.isInside(origin); };
+    // A leaf at L lists the blocks L - (0 or 8 on each axis): those within the box come from
+    // leaves in [min, max + 8].
+    using Lower = openvdb::FloatTree::RootNodeType::ChildNodeType::ChildNodeType;
+    std::vector<const Lower*> lowers;
+    tree.getNodes(lowers);
+    const openvdb::CoordBBox leaves_wanted = within ? openvdb::CoordBBox(within->min(), within->max().offsetBy(kBlockDim)) : region;
+    for (const Lower* node : lowers) {
+        if (!leaves_wanted.hasOverlap(node->getNodeBoundingBox())) continue;
+        for (auto leaf = node->cbeginChildOn(); leaf; ++leaf) {
+            const openvdb::Coord origin = leaf->origin();
+            for (int d = 0; d < 8; ++d) {
+                const openvdb::Coord block = origin.offsetBy(-kBlockDim * (d & 1), -kBlockDim * ((d >> 1) & 1), -kBlockDim * (d >> 2));
+                if (kept(block)) blocks.push_back(block);
+            }
         }
     }
     const bool background_inside = classifier.inside(grid.background());
-    auto always = [](const openvdb::Coord&) { return true; };
     for_each_tile(
         tree, [&](float value) { return classifier.inside(value) != background_inside; },
-        [&](const openvdb::CoordBBox& box) { append_shell_blocks(box, always, blocks); });
+        [&](const openvdb::CoordBBox& box) { append_shell_blocks(box, region, [](const openvdb::Coord&) { return true; }, blocks); });
     if (const auto& box = classifier.scan_box()) {
         // A block straddling the box needs a visit when a tile or the background next to it is
         // inside (leaves are already listed).
@@ -86,7 +99,7 @@ std::vector<openvdb::Coord> surface_blocks(const openvdb::FloatGrid& grid, const
             }
             return false;
         };
-        append_shell_blocks(*box, meets_inside, blocks);
+        append_shell_blocks(*box, region, meets_inside, blocks);
     }
     tbb::parallel_sort(blocks.begin(), blocks.end());  // eight per leaf: the longest serial step here
     blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());

@@ -3,6 +3,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <optional>
 #include <vector>
 
 #include "mesh/sample_classifier.h"
@@ -16,7 +17,10 @@ inline constexpr int kBlockDim = int(openvdb::FloatTree::LeafNodeType::DIM);
 /// corner of every cell whose 8 samples are not all inside or all outside according to
 /// @a classifier: the blocks next to each leaf node, the shells of tiles classified unlike
 /// the background, and the shell of the scan box where it meets inside samples.
-std::vector<openvdb::Coord> surface_blocks(const openvdb::FloatGrid& grid, const SampleClassifier& classifier);
+/// With @a within, only the origins inside it; the leaves visited are those near it, so a
+/// region's blocks cost what the region holds, not the grid.
+std::vector<openvdb::Coord> surface_blocks(const openvdb::FloatGrid& grid, const SampleClassifier& classifier,
+                                           const std::optional<openvdb::CoordBBox>& within = std::nullopt);
 
 /// False when every sample the cells of the block at @a origin read (origin .. origin + 8) is
 /// on the same side, so the block holds no surface. It reads leaf buffers and tiles in place
