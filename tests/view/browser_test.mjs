@@ -207,9 +207,10 @@ async function checkClip(driver, checks) {
   await driver.page.selectOption('#clip-mode', 'none');
 }
 
-/// Splat mode: the splats cover the view like the mesh, a zoom refines them (the page's
-/// reported level gets finer or stays at the finest, the picture changes), and turning it off
-/// brings the mesh back.
+/// Splat mode: the splats cover the view like the mesh, a zoom out coarsens them, a zoom in
+/// refines them (the page's reported level, the picture changes) down to the full mesh's
+/// triangles close up (the figures say triangles, wireframe shows their edges), and turning it
+/// off brings the mesh back.
 async function checkSplats(driver, checks, solid, timeout) {
   // The page asks once the camera has been still for 250 ms: wait for the camera to rest a
   // second (wheel events may reach a busy page late) and the last view asked to be drawn.
@@ -224,23 +225,33 @@ async function checkSplats(driver, checks, solid, timeout) {
     if (state.error) throw new Error(`the page reports: ${state.error}`);
     return state;
   };
+  const detailShown = async () => driver.page.locator('#detail').textContent();
+  const box = await driver.page.locator('#view canvas').boundingBox();
+  const wheel = async (steps) => {
+    await driver.page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+    for (let i = 0; i < Math.abs(steps); ++i) await driver.page.mouse.wheel(0, Math.sign(steps) * 400);
+  };
   const started = Date.now();
   await driver.click('#splats');
   const first = await waitForSplats(0);
-  console.log(`splats on screen ${Date.now() - started} ms after the switch: ${first.splats} at level ${first.splatLevel}`);
+  console.log(`splat mode on screen ${Date.now() - started} ms after the switch: ${first.detail}, ${first.splats} splats, ` +
+    `${first.closeUpTriangles} triangles close up`);
+  // Farther (the model about a quarter of its size): splats alone, as a small model's
+  // triangles are cheaper than its splats at the home view.
+  await wheel(6);
+  const middle = await waitForSplats(first.splatViews);
   const splatted = await driver.shot('splats');
   const drawn = foreground(splatted, BACKGROUND);
-  checks.expect(drawn.share > 0.03, `the splats cover ${(100 * drawn.share).toFixed(1)}% of the view (> 3%)`);
-  checks.expect(first.splats > 0 && Number.isInteger(first.splatLevel), `the page reports ${first.splats} splats at level ${first.splatLevel}`);
+  checks.expect(drawn.share > 0.01, `the splats cover ${(100 * drawn.share).toFixed(1)}% of the view (> 1%)`);
+  checks.expect(middle.detail === 'splats' && middle.splats > 0 && Number.isInteger(middle.splatLevel),
+    `the page reports ${middle.splats} splats at level ${middle.splatLevel} (${middle.detail})`);
   const shown = await driver.page.locator('#splat-figures').textContent();
-  checks.expect(shown.includes(`finest level ${first.splatLevel}`), `the figures name the level shown (${shown})`);
+  checks.expect(shown.includes(`finest level ${middle.splatLevel}`) && (await detailShown()) === 'splats', `the figures name the level shown (${shown})`);
   // From afar (the model some ten pixels wide) coarser nodes suffice; then close up.
-  const box = await driver.page.locator('#view canvas').boundingBox();
-  await driver.page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
-  for (let i = 0; i < 15; ++i) await driver.page.mouse.wheel(0, 400);
-  const coarse = await waitForSplats(first.splatViews);
+  await wheel(9);  // 15 steps out in all: farther, the camera's far plane would cut the model
+  const coarse = await waitForSplats(middle.splatViews);
   const far = await driver.shot('splats-far');
-  for (let i = 0; i < 25; ++i) await driver.page.mouse.wheel(0, -400);
+  await wheel(-25);
   const zoomed = await waitForSplats(coarse.splatViews);
   const closer = await driver.shot('splats-zoomed');
   const changed = changedShare(far, closer);
@@ -248,7 +259,15 @@ async function checkSplats(driver, checks, solid, timeout) {
   // The page's level: the coarsest node shown in place of its children (-1: full detail).
   checks.expect(coarse.splatCutLevel > 0, `from afar nodes stand for their children (coarsest level ${coarse.splatCutLevel}, ${coarse.splats} splats)`);
   checks.expect(zoomed.splatCutLevel < coarse.splatCutLevel,
-    `zooming in refines the splats: coarsest level ${coarse.splatCutLevel} -> ${zoomed.splatCutLevel} (${zoomed.splats} splats)`);
+    `zooming in refines the splats: coarsest level ${coarse.splatCutLevel} -> ${zoomed.splatCutLevel}`);
+  // Close up, the full mesh's triangles replace the splats (GET /api/mesh?level=region).
+  checks.expect(zoomed.detail === 'triangles' && zoomed.closeUpTriangles > 0 && (await detailShown()) === 'triangles',
+    `close up the figures say triangles (${zoomed.closeUpTriangles} triangles of the box ${zoomed.closeUpBox}, ${zoomed.splats} splats elsewhere)`);
+  checks.expect(changedShare(splatted, closer) > 0.05, `and the picture differs from the splats' (${(100 * changedShare(splatted, closer)).toFixed(1)}% of pixels)`);
+  await driver.click('input[name=style][value=wireframe]');
+  const wire = await driver.shot('close-up-wireframe');
+  checks.expect(changedShare(closer, wire) > 0.02, `wireframe shows the close-up's edges (${(100 * changedShare(closer, wire)).toFixed(1)}% of pixels change)`);
+  await driver.click('input[name=style][value=solid]');
   await driver.click('#splats');
   await driver.click('#reset-view');
   const mesh = await driver.shot('splats-off');

@@ -8,7 +8,9 @@ const WIRE_ON_SOLID = 0x1c2230;
 const WIRE_ALONE = 0x9fc4ff;
 
 export class Model {
-  constructor(scene3d) {
+  /// @a caps false: no caps on the cut faces (for an open piece of a mesh, whose stencil count
+  /// would not tell inside from outside).
+  constructor(scene3d, { caps = true } = {}) {
     this.scene3d = scene3d;
     this.group = new THREE.Group();
     scene3d.scene.add(this.group);
@@ -18,8 +20,9 @@ export class Model {
     });
     this.wireMaterial = new THREE.MeshBasicMaterial({ color: WIRE_ALONE, wireframe: true });
     this.style = 'solid';
-    this.caps = new ClipCaps(this.group);
+    this.caps = caps ? new ClipCaps(this.group) : null;
     this.planes = [];
+    this.labelMaterials = [];
   }
 
   /// Shows @a geometry (a BufferGeometry with position, normal and index) instead of the last.
@@ -46,7 +49,7 @@ export class Model {
     this.solid = this.part(new THREE.Mesh(geometry, solid), 2);
     this.solid.castShadow = this.solid.receiveShadow = true;
     this.wire = this.part(new THREE.Mesh(geometry, wire), 3);
-    this.caps.setGeometry(geometry);
+    this.caps?.setGeometry(geometry);
     this.applyStyle();
   }
 
@@ -91,7 +94,7 @@ export class Model {
   setClipPlanes(planes, bounds) {
     this.planes = planes;
     for (const material of [this.solidMaterial, this.wireMaterial, ...this.solidMaterials(), ...this.wireMaterials()]) material.clippingPlanes = planes;
-    this.caps.setPlanes(planes, bounds, this.style !== 'wireframe');
+    this.caps?.setPlanes(planes, bounds, this.style !== 'wireframe');
     this.scene3d.requestRender();
   }
 
@@ -100,7 +103,7 @@ export class Model {
     this.solid.visible = this.style !== 'wireframe';
     this.wire.visible = this.style !== 'solid';
     for (const material of [this.wireMaterial, ...this.wireMaterials()]) material.color.set(this.style === 'both' ? WIRE_ON_SOLID : WIRE_ALONE);
-    this.caps.setVisible(this.style !== 'wireframe');
+    this.caps?.setVisible(this.style !== 'wireframe');
     this.scene3d.requestRender();
   }
 }
