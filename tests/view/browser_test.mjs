@@ -123,6 +123,8 @@ class PageDriver {
   }
 
   async shot(name) {
+    // While the camera moves the page draws at a lower resolution: wait for the full one.
+    await this.page.waitForFunction(() => !window.vdbmeshView.moving, null, { polling: 50 });
     await this.frames();
     const png = await this.page.locator('#view canvas').screenshot();
     fs.writeFileSync(path.join(this.outDir, `${name}.png`), png);
@@ -207,6 +209,25 @@ async function checkClip(driver, checks) {
   await driver.page.selectOption('#clip-mode', 'none');
 }
 
+/// Rotates the view by dragging across it and returns the frame time the page measured and
+/// shows (the median of the frames drawn while the camera moved); @a what names what is shown.
+async function measureRotation(driver, checks, what) {
+  const box = await driver.page.locator('#view canvas').boundingBox();
+  const y = box.y + box.height / 2;
+  await driver.page.mouse.move(box.x + box.width * 0.3, y);
+  await driver.page.mouse.down();
+  await driver.page.mouse.move(box.x + box.width * 0.7, y, { steps: 15 });
+  await driver.page.mouse.move(box.x + box.width * 0.3, y, { steps: 15 });
+  await driver.page.mouse.up();
+  await driver.frames();
+  const state = await driver.state();
+  const shown = await driver.page.locator('#frame-time').textContent();
+  checks.expect(state.frameSamples >= 10 && state.frameMs > 0 && shown.includes(state.frameMs.toFixed(1)),
+    `the page measures the frame time while rotating (${what}) and shows it: ${shown}`);
+  console.log(`frame time while rotating (${what}): ${state.frameMs?.toFixed(1)} ms, median of ${state.frameSamples} frames`);
+  return state.frameMs;
+}
+
 /// Splat mode: the splats cover the view like the mesh, a zoom out coarsens them, a zoom in
 /// refines them (the page's reported level, the picture changes) down to the full mesh's
 /// triangles close up (the figures say triangles, wireframe shows their edges), and turning it
@@ -247,9 +268,11 @@ async function checkSplats(driver, checks, solid, timeout) {
     `the page reports ${middle.splats} splats at level ${middle.splatLevel} (${middle.detail})`);
   const shown = await driver.page.locator('#splat-figures').textContent();
   checks.expect(shown.includes(`finest level ${middle.splatLevel}`) && (await detailShown()) === 'splats', `the figures name the level shown (${shown})`);
+  await measureRotation(driver, checks, `${middle.splats} splats`);
+  const rotated = await waitForSplats(middle.splatViews);
   // From afar (the model some ten pixels wide) coarser nodes suffice; then close up.
   await wheel(9);  // 15 steps out in all: farther, the camera's far plane would cut the model
-  const coarse = await waitForSplats(middle.splatViews);
+  const coarse = await waitForSplats(rotated.splatViews);
   const far = await driver.shot('splats-far');
   await wheel(-25);
   const zoomed = await waitForSplats(coarse.splatViews);
@@ -385,6 +408,9 @@ async function main() {
     const remeshed = await checkIsoSlider(driver, checks, solid, options.isoTo === undefined ? undefined : Number(options.isoTo), timeout);
     await checkWireframe(driver, checks, remeshed);
     await checkClip(driver, checks);
+    const { level, triangles } = await driver.state();
+    await measureRotation(driver, checks, `the ${level} mesh, ${triangles} triangles`);
+    await driver.click('#reset-view');
     await checkSplats(driver, checks, await driver.shot('solid-before-splats'), timeout);
     if (!options.scan || options.labelsMap) await checkLabels(browser, options, scratch, driver.decode, checks, timeout);
   } finally {

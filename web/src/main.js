@@ -16,7 +16,7 @@ const radio = (name) => document.querySelector(`input[name=${name}]:checked`).va
 const state = (window.vdbmeshView = {
   level: '', triangles: 0, meshes: 0, busy: false, timings: [], error: '', figures: null, overBudget: 0, labels: 0, drawnTriangles: 0,
   splatMode: false, cameraMovedAt: 0, splats: 0, splatLevel: null, splatCutLevel: null, splatComplete: false, splatViews: 0, splatBusy: false,
-  detail: 'mesh', closeUpTriangles: 0, closeUpBox: null,
+  detail: 'mesh', closeUpTriangles: 0, closeUpBox: null, frameMs: null, frameSamples: 0, moving: false,
 });
 
 const scene3d = new Scene3D($('view'));
@@ -35,6 +35,16 @@ const splatLayer = new SplatLayer(scene3d, {
     status(`error: ${error.message}`);
   },
 });
+scene3d.onMoving = (moving) => {
+  state.moving = moving;
+  for (const shown of [model, closeUp, splatLayer]) shown.setMoving(moving);
+};
+scene3d.onFrameTime = ({ ms, frames, triangles }) => {
+  Object.assign(state, { frameMs: ms, frameSamples: frames, frameTriangles: triangles });
+  const shown = state.splatMode ? state.detail : `${state.level} mesh`;
+  $('frame-time').textContent = `frame time while moving: ${ms.toFixed(1)} ms (median of the last ${frames} frames; ` +
+    `${shown}, ${triangles.toLocaleString('en-US')} triangles drawn while moving)`;
+};
 let info;
 let histogram;
 let labelList;
@@ -99,6 +109,7 @@ function showSplats(shown) {
 
 function setSplatMode(on) {
   state.splatMode = on;
+  scene3d.frameTimes = [];  // a frame time is of one mode
   state.detail = on ? 'splats' : 'mesh';
   model.group.visible = !on;
   closeUp.group.visible = on && Boolean(state.closeUpBox);

@@ -1,7 +1,9 @@
 // The mesh on screen: solid, wireframe or both, flat or smooth shading, and cut by the clip
 // planes with their caps (clipping.js); a label map's labels each in its colour, switchable.
+// While the camera moves, a large mesh is drawn through its coarser proxy (motion_proxy.js).
 import * as THREE from 'three';
 import { ClipCaps } from './clipping.js';
+import { motionGeometry } from './motion_proxy.js';
 
 const SOLID_COLOUR = 0xd9cbb0;
 const WIRE_ON_SOLID = 0x1c2230;
@@ -50,6 +52,15 @@ export class Model {
     this.solid.castShadow = this.solid.receiveShadow = true;
     this.wire = this.part(new THREE.Mesh(geometry, wire), 3);
     this.caps?.setGeometry(geometry);
+    this.proxy?.geometry.dispose();
+    const proxy = labels ? null : motionGeometry(geometry);  // a label map's colours need its own triangles
+    this.proxy = proxy && this.part(new THREE.Mesh(proxy, this.solidMaterial), 2);
+    this.applyStyle();
+  }
+
+  /// Draws the coarser proxy (if the mesh has one) while @a moving.
+  setMoving(moving) {
+    this.moving = moving;
     this.applyStyle();
   }
 
@@ -100,10 +111,15 @@ export class Model {
 
   applyStyle() {
     if (!this.solid) return;
-    this.solid.visible = this.style !== 'wireframe';
-    this.wire.visible = this.style !== 'solid';
+    const proxied = Boolean(this.moving && this.proxy);
+    this.solid.visible = !proxied && this.style !== 'wireframe';
+    this.wire.visible = !proxied && this.style !== 'solid';
+    if (this.proxy) {
+      this.proxy.visible = proxied;
+      this.proxy.material = this.style === 'wireframe' ? this.wireMaterial : this.solidMaterial;
+    }
     for (const material of [this.wireMaterial, ...this.wireMaterials()]) material.color.set(this.style === 'both' ? WIRE_ON_SOLID : WIRE_ALONE);
-    this.caps?.setVisible(this.style !== 'wireframe');
+    this.caps?.setVisible(!proxied && this.style !== 'wireframe');
     this.scene3d.requestRender();
   }
 }

@@ -7,6 +7,7 @@
 // triangles there (GET /api/mesh?level=region) and draws them instead of the splats inside it.
 import * as THREE from 'three';
 import { fetchMesh } from './mesh_loader.js';
+import { MOTION_TRIANGLES } from './motion_proxy.js';
 
 const SPLAT_COLOUR = 0xd9cbb0;  // the mesh's
 const DISC_SEGMENTS = 8;
@@ -15,6 +16,8 @@ export const SPLAT_BUDGET = 60000;
 const PIXEL_SIZE = 3;            // refine while a disc spans more pixels than this
 /// A close-up has at most the triangles the budget's discs would take.
 export const CLOSE_UP_TRIANGLES = DISC_SEGMENTS * SPLAT_BUDGET;
+/// While the camera moves, at most this many discs are drawn (every k-th, k times the area).
+const MOTION_SPLATS = MOTION_TRIANGLES / DISC_SEGMENTS;
 
 const Z = new THREE.Vector3(0, 0, 1);
 
@@ -113,9 +116,31 @@ export class SplatLayer {
     }
   }
 
+  /// While @a moving, every k-th disc of those drawn, k times larger in area, so that at most
+  /// MOTION_SPLATS are drawn.
+  setMoving(moving) {
+    this.motion?.dispose();
+    this.motion = null;
+    if (this.mesh) this.mesh.visible = true;
+    if (!moving || !this.mesh || this.mesh.count <= MOTION_SPLATS) return;
+    const stride = Math.ceil(this.mesh.count / MOTION_SPLATS);
+    this.motion = new THREE.InstancedMesh(this.disc, this.material, Math.ceil(this.mesh.count / stride));
+    const matrix = new THREE.Matrix4();
+    const grow = new THREE.Matrix4().makeScale(Math.sqrt(stride), Math.sqrt(stride), 1);  // in the disc's plane
+    for (let i = 0, j = 0; i < this.mesh.count; i += stride, ++j) {
+      this.mesh.getMatrixAt(i, matrix);
+      this.motion.setMatrixAt(j, matrix.multiply(grow));
+    }
+    this.motion.frustumCulled = false;
+    this.mesh.visible = false;
+    this.group.add(this.motion);
+  }
+
   /// One disc per splat: centred, turned from +z onto its normal, scaled to its radius.
   show(values, count) {
     this.mesh?.dispose();
+    this.motion?.dispose();
+    this.motion = null;
     this.group.clear();
     this.mesh = new THREE.InstancedMesh(this.disc, this.material, Math.max(count, 1));
     this.mesh.count = count;
