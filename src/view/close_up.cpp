@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace vdbmesh::view {
@@ -64,10 +66,21 @@ std::size_t estimated_triangles(const SplatTree& tree, const IndexBox& box, cons
     return kTrianglesPerCrossing * crossings;
 }
 
-bool asks_for_triangles(const SplatNode& node, const SplatView& view) {
-    if (node.child_count != 0) return false;
+/// How many of its surface's triangles a node's discs would cost at the view's pixel size, as
+/// a ratio: over 1, triangles are cheaper.
+double disc_cost_over_triangles(const SplatNode& node, const SplatView& view) {
     const double discs = std::pow(projected_splat_size(node, view) / view.pixel_size, 2);
-    return discs > double(kTrianglesPerCrossing) * node.weight;
+    return discs / (double(kTrianglesPerCrossing) * std::max<std::uint32_t>(node.weight, 1));
+}
+
+/// @a box grown to hold @a more.
+IndexBox joined(const IndexBox& box, const IndexBox& more) {
+    IndexBox out;
+    for (int a = 0; a < 3; ++a) {
+        out.min[a] = std::min(box.min[a], more.min[a]);
+        out.max[a] = std::max(box.max[a], more.max[a]);
+    }
+    return out;
 }
 
 bool centre_inside(const SplatNode& node, const IndexBox& box, const openvdb::math::Transform& transform) {
@@ -82,15 +95,22 @@ bool centre_inside(const SplatNode& node, const IndexBox& box, const openvdb::ma
 std::optional<CloseUp> find_close_up(const SplatTree& tree, const SplatSelection& selection, const SplatView& view,
                                      const openvdb::FloatGrid& grid, std::size_t max_triangles) {
     const openvdb::math::Transform& transform = grid.transform();
-    CloseUp close;
+    // The nodes that ask, the most pressing first; each joins the box unless it would stretch
+    // it beyond kCloseUpMaxVoxels (a close-up reads the nodes round its box).
+    std::vector<std::pair<double, std::uint32_t>> asking;
     for (std::uint32_t index : selection.nodes) {
-        const SplatNode& node = tree.nodes[index];
-        if (!asks_for_triangles(node, view)) continue;
-        const IndexBox around = sphere_box(node, transform);
-        for (int a = 0; a < 3; ++a) {
-            close.box.min[a] = close.nodes == 0 ? around.min[a] : std::min(close.box.min[a], around.min[a]);
-            close.box.max[a] = close.nodes == 0 ? around.max[a] : std::max(close.box.max[a], around.max[a]);
-        }
+        const double ratio = disc_cost_over_triangles(tree.nodes[index], view);
+        if (ratio > 1) asking.emplace_back(ratio, index);
+    }
+    std::sort(asking.begin(), asking.end(), std::greater<>());
+    CloseUp close;
+    for (const auto& [ratio, index] : asking) {
+        const IndexBox around = sphere_box(tree.nodes[index], transform);
+        const IndexBox grown = close.nodes == 0 ? around : joined(close.box, around);
+        bool fits = true;
+        for (int a = 0; a < 3; ++a) fits = fits && grown.max[a] - grown.min[a] <= kCloseUpMaxVoxels;
+        if (!fits) continue;
+        close.box = grown;
         ++close.nodes;
     }
     if (close.nodes == 0) return std::nullopt;

@@ -29,11 +29,16 @@ struct CloseUp {
     std::size_t nodes = 0;                ///< selected nodes that asked for triangles
 };
 
-/// Whether a childless node of @a selection asks for triangles: its disc spans d pixels on
-/// screen, more detail than its splat holds, and the (d / pixel_size)^2 discs of pixel_size
-/// that would show it are more than the kTrianglesPerCrossing x weight triangles of the mesh
-/// there. The box holds every such node (their spheres, in the index space of @a grid's
-/// transform, snapped to kCloseUpSnapVoxels). None when no node asks, or when the box's
+/// Close-up boxes span at most this many voxels on each axis (before snapping): one node's
+/// width, so that the nodes a close-up reads round it stay within its read cap on a dense scan.
+inline constexpr std::int32_t kCloseUpMaxVoxels = kNodeVoxels;
+
+/// Whether a node of @a selection asks for triangles: its disc spans d pixels on screen, and the
+/// (d / pixel_size)^2 discs of pixel_size that would show its surface at the detail the view
+/// asks for are more than the kTrianglesPerCrossing x weight triangles of the mesh there. The
+/// box holds such nodes, the most pressing first, as long as it spans at most
+/// kCloseUpMaxVoxels (their spheres, in the index space of @a grid's transform), then is
+/// snapped outward to kCloseUpSnapVoxels. None when no node asks, or when the box's
 /// triangles, estimated from the tree, exceed @a max_triangles.
 std::optional<CloseUp> find_close_up(const SplatTree& tree, const SplatSelection& selection, const SplatView& view,
                                      const openvdb::FloatGrid& grid, std::size_t max_triangles);

@@ -136,7 +136,7 @@ function showMesh(mesh, level, params) {
 }
 
 function showOverBudget(triangles, estimated) {
-  state.overBudget = triangles;
+  Object.assign(state, { overBudget: triangles, overBudgetEstimated: estimated });
   const budget = $('budget');
   const count = `${estimated ? 'about ' : ''}${triangles.toLocaleString('en-US')}`;
   // A model read by region is never meshed whole: splats show it, close-ups show triangles.
