@@ -109,7 +109,7 @@ function showSplats(shown) {
 
 function setSplatMode(on) {
   state.splatMode = on;
-  scene3d.frameTimes = [];  // a frame time is of one mode
+  scene3d.resetFrameTimes();  // a frame time is of one mode
   state.detail = on ? 'splats' : 'mesh';
   model.group.visible = !on;
   closeUp.group.visible = on && Boolean(state.closeUpBox);

@@ -160,6 +160,11 @@ export class Scene3D {
     for (const resolve of waiting) resolve();
   }
 
+  /// Forgets the frame times measured so far (what is drawn changed).
+  resetFrameTimes() {
+    this.frameTimes = [];
+  }
+
   recordFrameTime(ms) {
     this.frameTimes.push(ms);
     if (this.frameTimes.length > FRAME_SAMPLES) this.frameTimes.shift();
