@@ -95,6 +95,10 @@ struct SplatSelection {
     bool complete = true;
 };
 
+/// The diameter of @a node's disc on @a view's screen, in pixels (unbounded when the eye is
+/// inside its sphere).
+double projected_splat_size(const SplatNode& node, const SplatView& view);
+
 /// The nodes a view needs: from the root down, largest projected disc first, refined while it
 /// spans more than pixel_size and the budget allows; nodes outside the view frustum or whose
 /// normal cone faces wholly away from the eye are left out.

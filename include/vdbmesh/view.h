@@ -116,7 +116,12 @@ struct ViewServerOptions {
 ///                       headers X-Splats, X-Level (finest level shown), X-Cut-Level (coarsest node
 ///                       shown for its children, -1: full detail), X-Complete, X-Tree-Nodes,
 ///                       X-Seconds (the tree's build). Parameters: iso, vp (16 numbers, world to
-///                       clip, column-major), eye (3), focal (pixels per unit at w = 1), pixel, budget
+///                       clip, column-major), eye (3), focal (pixels per unit at w = 1), pixel, budget;
+///                       closeup=N: where the view asks for more detail than the finest splats
+///                       hold and triangles are cheaper (src/view/close_up.h), a box of at most
+///                       about N triangles for level=region: X-Closeup-Box (x0,y0,z0,x1,y1,z1),
+///                       X-Closeup-Triangles (estimated), X-Closeup-Splats (the last splats sent,
+///                       inside the box: the triangles replace them)
 class ViewServer {
 public:
     /// @throw Error when the address cannot be bound (a port in use).

@@ -73,14 +73,6 @@ public:
     }
 
 private:
-    /// The disc's diameter on screen in pixels (unbounded when the eye is inside its sphere).
-    double projected_size(const SplatNode& node) const {
-        const auto& m = view_.view_projection;
-        const double w = m[3] * node.centre[0] + m[7] * node.centre[1] + m[11] * node.centre[2] + m[15];
-        if (w <= node.radius) return INFINITY;
-        return 2 * node.radius * view_.focal_pixels / w;
-    }
-
     bool in_frustum(const SplatNode& node) const {
         for (const auto& p : planes_)
             if (p[0] * node.centre[0] + p[1] * node.centre[1] + p[2] * node.centre[2] + p[3] < -node.radius) return false;
@@ -104,7 +96,7 @@ private:
         return count;
     }
 
-    void push(std::uint32_t index) { queue_.emplace(projected_size(tree_.nodes[index]), index); }
+    void push(std::uint32_t index) { queue_.emplace(projected_splat_size(tree_.nodes[index], view_), index); }
 
     const SplatTree& tree_;
     const SplatView& view_;
@@ -114,6 +106,13 @@ private:
 };
 
 }  // namespace
+
+double projected_splat_size(const SplatNode& node, const SplatView& view) {
+    const auto& m = view.view_projection;
+    const double w = m[3] * node.centre[0] + m[7] * node.centre[1] + m[11] * node.centre[2] + m[15];
+    if (w <= node.radius) return INFINITY;
+    return 2 * node.radius * view.focal_pixels / w;
+}
 
 SplatSelection select_splats(const SplatTree& tree, const SplatView& view) { return Traversal(tree, view).run(); }
 

@@ -2,6 +2,7 @@
 // ready for live re-meshing.
 
 #include <algorithm>
+#include <optional>
 #include <utility>
 
 #include "vdbmesh/error.h"
@@ -49,6 +50,23 @@ openvdb::CoordBBox nodes_box(const GridRegionSource& source) {
     return box;
 }
 
+/// The range of a converted grid's samples as far as its description tells: the scan's values
+/// its metadata states (kMetaValueMin/Max) and the background (the converter's value outside
+/// the surface's band lies beyond them). None without the metadata.
+std::optional<std::pair<double, double>> stated_value_range(const openvdb::FloatGrid& grid) {
+    const auto low = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMin);
+    const auto high = grid.getMetadata<openvdb::DoubleMetadata>(kMetaValueMax);
+    if (!low || !high) return std::nullopt;
+    const double background = grid.background();
+    const std::pair<double, double> range{std::min(low->value(), background), std::max(high->value(), background)};
+    if (!(range.first < range.second)) return std::nullopt;
+    return range;
+}
+
+void add_histogram(ValueHistogram& into, const ValueHistogram& part) {
+    for (std::size_t bin = 0; bin < into.counts.size(); ++bin) into.counts[bin] += part.counts[bin];
+}
+
 }  // namespace
 
 ViewScan prepare_scan(const std::function<std::unique_ptr<VolumeReader>()>& open_reader) {
@@ -71,20 +89,29 @@ ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions) {
     const auto description = regions->description();
     const openvdb::CoordBBox box = stored_scan_box(*description).value_or(nodes_box(*regions));
     if (box.empty()) throw Error("the grid holds no active voxels");
-    // Two passes over the samples: the statistics and the coarse grid, then the histogram
-    // (its bins span the values the first found).
+    // The histogram's bins span the samples' range. A converted grid states it: the histogram
+    // is then counted in the same pass as the statistics and the coarse grid, and kept when the
+    // samples' range is the one stated (the samples are read once, not twice). Otherwise a
+    // second pass counts it.
+    const auto stated = stated_value_range(*description);
+    ValueHistogram histogram;
+    if (stated) histogram = ValueHistogram{stated->first, stated->second, std::vector<std::uint64_t>(kViewHistogramBins, 0)};
     VolumeStatsAccumulator accumulator;
     ViewScan scan;
     scan.coarse_factor = view::coarse_factor(box, kCoarseSampleBudget);
     scan.coarse = view::coarse_grid(*regions, box, scan.coarse_factor, [&](const openvdb::FloatGrid& slab_grid, const openvdb::CoordBBox& slab) {
         view::for_each_sample(slab_grid, slab, [&](const float* values, std::size_t count) { accumulator.add(values, count); });
+        if (stated) add_histogram(histogram, view::sample_histogram(slab_grid, slab, stated->first, stated->second, kViewHistogramBins));
     });
     const VolumeStats stats = accumulator.finish();
-    scan.histogram = ValueHistogram{stats.min, stats.max, std::vector<std::uint64_t>(kViewHistogramBins, 0)};
-    for_each_slab(*regions, box, [&](const openvdb::FloatGrid& slab_grid, const openvdb::CoordBBox& slab) {
-        const ValueHistogram part = view::sample_histogram(slab_grid, slab, stats.min, stats.max, kViewHistogramBins);
-        for (std::size_t bin = 0; bin < kViewHistogramBins; ++bin) scan.histogram.counts[bin] += part.counts[bin];
-    });
+    if (stated && stats.min == stated->first && stats.max == stated->second) {
+        scan.histogram = std::move(histogram);
+    } else {
+        scan.histogram = ValueHistogram{stats.min, stats.max, std::vector<std::uint64_t>(kViewHistogramBins, 0)};
+        for_each_slab(*regions, box, [&](const openvdb::FloatGrid& slab_grid, const openvdb::CoordBBox& slab) {
+            add_histogram(scan.histogram, view::sample_histogram(slab_grid, slab, stats.min, stats.max, kViewHistogramBins));
+        });
+    }
     scan.suggested_iso = stats.suggested_iso;
     scan.suggested_reason = stats.suggested_reason;
     scan.regions = std::move(regions);

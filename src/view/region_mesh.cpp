@@ -53,8 +53,7 @@ Mesh triangles_in(const Mesh& mesh, const IndexBox& box, const openvdb::math::Tr
 
 }  // namespace
 
-Mesh region_mesh(const GridRegionSource& source, const IndexBox& box, const MeshOptions& options,
-                 std::uint64_t max_read_bytes) {
+IndexBox region_read_box(const IndexBox& box) {
     // A kept triangle's corner lies in a cell of its node; the block that owns the triangle
     // (docs/dmc.md, "Bricks") holds the minimum sample of an edge of that cell: in that node or
     // the next one up. Every decision about an owned triangle reads at most one node away, so
@@ -65,6 +64,12 @@ Mesh region_mesh(const GridRegionSource& source, const IndexBox& box, const Mesh
         read_box.min[a] = node_origin(box.min[a]) - kNodeVoxels - kWindowVoxels;
         read_box.max[a] = node_origin(box.max[a] - 1) + 3 * kNodeVoxels + kWindowVoxels;
     }
+    return read_box;
+}
+
+Mesh region_mesh(const GridRegionSource& source, const IndexBox& box, const MeshOptions& options,
+                 std::uint64_t max_read_bytes) {
+    const IndexBox read_box = region_read_box(box);
     const std::uint64_t bytes = source.estimated_bytes(read_box);
     if (bytes > max_read_bytes)
         throw UsageError("box: its close-up reads about " + std::to_string(bytes >> 20) + " MB of the grid, over the " +

@@ -13,6 +13,10 @@ namespace vdbmesh::view {
 /// The most a close-up may read: the server stays bounded whatever box is asked for.
 inline constexpr std::uint64_t kRegionReadBytes = std::uint64_t(1) << 30;
 
+/// What region_mesh() of @a box reads: the box's nodes and the nodes one below and two above
+/// them, with the two leaves of sample windows round them.
+IndexBox region_read_box(const IndexBox& box);
+
 /// The triangles of the full mesh of @a source (mesh_grid() of the whole grid at @a options)
 /// with at least one corner inside @a box (index space, min inclusive, max exclusive), in the
 /// full mesh's order, with only the vertices they use. Reads and meshes the box's nodes and

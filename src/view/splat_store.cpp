@@ -36,6 +36,7 @@ SplatRequest parse_splat_request(const ParamLookup& param, double default_iso) {
     request.view.focal_pixels = positive(param, "focal", request.view.focal_pixels);
     request.view.pixel_size = positive(param, "pixel", request.view.pixel_size);
     request.view.budget = std::size_t(positive(param, "budget", double(request.view.budget)));
+    if (param("closeup")) request.close_up_triangles = std::size_t(positive(param, "closeup", 1));
     return request;
 }
 

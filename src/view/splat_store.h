@@ -6,6 +6,7 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -22,10 +23,12 @@ struct StoredSplats {
 };
 
 /// What the page asks for: iso (the scan's initial one), vp (16 numbers, column-major, world
-/// to clip), eye (3 numbers), focal (pixels per unit at w = 1), pixel (2), budget (200000).
+/// to clip), eye (3 numbers), focal (pixels per unit at w = 1), pixel (2), budget (200000),
+/// closeup (the most triangles a close-up may have; none: splats only).
 struct SplatRequest {
     double iso = 0;
     SplatView view;
+    std::optional<std::size_t> close_up_triangles;
 };
 
 /// @throw UsageError naming the parameter for a missing or bad value.

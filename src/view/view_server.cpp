@@ -16,8 +16,10 @@
 #include "vdbmesh/error.h"
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/view.h"
+#include "view/close_up.h"
 #include "view/mesh_buffers.h"
 #include "view/mesh_store.h"
+#include "view/region_mesh.h"
 #include "view/splat_store.h"
 #include "view/view_json.h"
 #include "view/web_assets.h"
@@ -185,7 +187,8 @@ private:
     void serve_splats(const httplib::Request& request, httplib::Response& response) {
         const view::SplatRequest parsed = view::parse_splat_request(params_of(request), store_.source().initial_iso);
         const auto stored = splats_.tree(parsed.iso);
-        const SplatSelection selection = select_splats(stored->tree, parsed.view);
+        SplatSelection selection = select_splats(stored->tree, parsed.view);
+        if (parsed.close_up_triangles) add_close_up(*stored, parsed, selection, response);
         response.set_header("X-Splats", std::to_string(selection.nodes.size()));
         response.set_header("X-Level", std::to_string(selection.finest_level));
         response.set_header("X-Cut-Level", std::to_string(selection.cut_level));
@@ -194,6 +197,24 @@ private:
         response.set_header("X-Seconds", std::to_string(stored->seconds));
         response.set_header("Cache-Control", "no-store");
         response.set_content(view::splat_buffers(stored->tree, selection), "application/octet-stream");
+    }
+
+    /// The close-up the view asks for, if any, in headers: X-Closeup-Box (x0,y0,z0,x1,y1,z1, for
+    /// GET /api/mesh?level=region), X-Closeup-Triangles (estimated) and X-Closeup-Splats (the
+    /// selection's last nodes, whose centres lie in the box: the triangles replace them). None
+    /// when the close-up would read more than a close-up may.
+    void add_close_up(const view::StoredSplats& stored, const view::SplatRequest& request, SplatSelection& selection,
+                      httplib::Response& response) const {
+        const GridRegionSource& regions = *store_.source().scan->regions;
+        const auto grid = regions.description();
+        const auto close = view::find_close_up(stored.tree, selection, request.view, *grid, *request.close_up_triangles);
+        if (!close || regions.estimated_bytes(view::region_read_box(close->box)) > view::kRegionReadBytes) return;
+        std::string box;
+        for (auto bound : {close->box.min, close->box.max})
+            for (std::int32_t v : bound) box += (box.empty() ? "" : ",") + std::to_string(v);
+        response.set_header("X-Closeup-Box", box);
+        response.set_header("X-Closeup-Triangles", std::to_string(close->estimated_triangles));
+        response.set_header("X-Closeup-Splats", std::to_string(view::move_inside_last(stored.tree, close->box, *grid, selection)));
     }
 
     void serve_download(const httplib::Request& request, httplib::Response& response) {

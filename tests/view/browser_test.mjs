@@ -109,10 +109,15 @@ class PageDriver {
     return state;
   }
 
-  /// waitForMeshes(), then the full mesh loaded by the button when it was over the budget.
+  /// waitForMeshes(), then the full mesh loaded by the button when it was over the budget (a
+  /// grid read by region has no such button: its coarse mesh stays).
   async waitForFullMesh(meshesBefore, timeout) {
     const state = await this.waitForMeshes(meshesBefore, timeout);
     if (state.level === 'full') return state;
+    if (state.overBudgetEstimated) {
+      console.log(`the full mesh (about ${state.overBudget} triangles) of a grid read by region is not made: the coarse one stays`);
+      return state;
+    }
     console.log(`the full mesh (${state.overBudget} triangles) is over the budget: loading it with the button`);
     await this.click('#load-full');
     return this.waitForMeshes(state.meshes, timeout);
@@ -123,6 +128,8 @@ class PageDriver {
   }
 
   async shot(name) {
+    // While the camera moves the page draws at a lower resolution: wait for the full one.
+    await this.page.waitForFunction(() => !window.vdbmeshView.moving, null, { polling: 50 });
     await this.frames();
     const png = await this.page.locator('#view canvas').screenshot();
     fs.writeFileSync(path.join(this.outDir, `${name}.png`), png);
@@ -207,9 +214,29 @@ async function checkClip(driver, checks) {
   await driver.page.selectOption('#clip-mode', 'none');
 }
 
-/// Splat mode: the splats cover the view like the mesh, a zoom refines them (the page's
-/// reported level gets finer or stays at the finest, the picture changes), and turning it off
-/// brings the mesh back.
+/// Rotates the view by dragging across it and returns the frame time the page measured and
+/// shows (the median of the frames drawn while the camera moved); @a what names what is shown.
+async function measureRotation(driver, checks, what) {
+  const box = await driver.page.locator('#view canvas').boundingBox();
+  const y = box.y + box.height / 2;
+  await driver.page.mouse.move(box.x + box.width * 0.3, y);
+  await driver.page.mouse.down();
+  await driver.page.mouse.move(box.x + box.width * 0.7, y, { steps: 15 });
+  await driver.page.mouse.move(box.x + box.width * 0.3, y, { steps: 15 });
+  await driver.page.mouse.up();
+  await driver.frames();
+  const state = await driver.state();
+  const shown = await driver.page.locator('#frame-time').textContent();
+  checks.expect(state.frameSamples >= 10 && state.frameMs > 0 && shown.includes(state.frameMs.toFixed(1)),
+    `the page measures the frame time while rotating (${what}) and shows it: ${shown}`);
+  console.log(`frame time while rotating (${what}): ${state.frameMs?.toFixed(1)} ms, median of ${state.frameSamples} frames`);
+  return state.frameMs;
+}
+
+/// Splat mode: the splats cover the view like the mesh, a zoom out coarsens them, a zoom in
+/// refines them (the page's reported level, the picture changes) down to the full mesh's
+/// triangles close up (the figures say triangles, wireframe shows their edges), and turning it
+/// off brings the mesh back.
 async function checkSplats(driver, checks, solid, timeout) {
   // The page asks once the camera has been still for 250 ms: wait for the camera to rest a
   // second (wheel events may reach a busy page late) and the last view asked to be drawn.
@@ -224,31 +251,52 @@ async function checkSplats(driver, checks, solid, timeout) {
     if (state.error) throw new Error(`the page reports: ${state.error}`);
     return state;
   };
+  const detailShown = async () => driver.page.locator('#detail').textContent();
+  const box = await driver.page.locator('#view canvas').boundingBox();
+  const wheel = async (steps) => {
+    await driver.page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+    for (let i = 0; i < Math.abs(steps); ++i) await driver.page.mouse.wheel(0, Math.sign(steps) * 400);
+  };
   const started = Date.now();
   await driver.click('#splats');
   const first = await waitForSplats(0);
-  console.log(`splats on screen ${Date.now() - started} ms after the switch: ${first.splats} at level ${first.splatLevel}`);
+  console.log(`splat mode on screen ${Date.now() - started} ms after the switch: ${first.detail}, ${first.splats} splats, ` +
+    `${first.closeUpTriangles} triangles close up`);
+  // Farther (the model about a quarter of its size): splats alone, as a small model's
+  // triangles are cheaper than its splats at the home view.
+  await wheel(6);
+  const middle = await waitForSplats(first.splatViews);
   const splatted = await driver.shot('splats');
   const drawn = foreground(splatted, BACKGROUND);
-  checks.expect(drawn.share > 0.03, `the splats cover ${(100 * drawn.share).toFixed(1)}% of the view (> 3%)`);
-  checks.expect(first.splats > 0 && Number.isInteger(first.splatLevel), `the page reports ${first.splats} splats at level ${first.splatLevel}`);
+  checks.expect(drawn.share > 0.01, `the splats cover ${(100 * drawn.share).toFixed(1)}% of the view (> 1%)`);
+  checks.expect(middle.detail === 'splats' && middle.splats > 0 && Number.isInteger(middle.splatLevel),
+    `the page reports ${middle.splats} splats at level ${middle.splatLevel} (${middle.detail})`);
   const shown = await driver.page.locator('#splat-figures').textContent();
-  checks.expect(shown.includes(`finest level ${first.splatLevel}`), `the figures name the level shown (${shown})`);
+  checks.expect(shown.includes(`finest level ${middle.splatLevel}`) && (await detailShown()) === 'splats', `the figures name the level shown (${shown})`);
+  await measureRotation(driver, checks, `${middle.splats} splats`);
+  const rotated = await waitForSplats(middle.splatViews);
   // From afar (the model some ten pixels wide) coarser nodes suffice; then close up.
-  const box = await driver.page.locator('#view canvas').boundingBox();
-  await driver.page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
-  for (let i = 0; i < 15; ++i) await driver.page.mouse.wheel(0, 400);
-  const coarse = await waitForSplats(first.splatViews);
+  await wheel(9);  // 15 steps out in all: farther, the camera's far plane would cut the model
+  const coarse = await waitForSplats(rotated.splatViews);
   const far = await driver.shot('splats-far');
-  for (let i = 0; i < 25; ++i) await driver.page.mouse.wheel(0, -400);
+  await wheel(-25);
   const zoomed = await waitForSplats(coarse.splatViews);
   const closer = await driver.shot('splats-zoomed');
   const changed = changedShare(far, closer);
   checks.expect(changed > 0.05, `zooming in changes the picture (${(100 * changed).toFixed(1)}% of pixels)`);
   // The page's level: the coarsest node shown in place of its children (-1: full detail).
   checks.expect(coarse.splatCutLevel > 0, `from afar nodes stand for their children (coarsest level ${coarse.splatCutLevel}, ${coarse.splats} splats)`);
-  checks.expect(zoomed.splatCutLevel < coarse.splatCutLevel,
-    `zooming in refines the splats: coarsest level ${coarse.splatCutLevel} -> ${zoomed.splatCutLevel} (${zoomed.splats} splats)`);
+  // On a huge model the budget keeps far nodes coarse: then the finest level shown falls.
+  checks.expect(zoomed.splatCutLevel < coarse.splatCutLevel || zoomed.splatLevel < coarse.splatLevel,
+    `zooming in refines the splats: coarsest level ${coarse.splatCutLevel} -> ${zoomed.splatCutLevel}, finest ${coarse.splatLevel} -> ${zoomed.splatLevel}`);
+  // Close up, the full mesh's triangles replace the splats (GET /api/mesh?level=region).
+  checks.expect(zoomed.detail === 'triangles' && zoomed.closeUpTriangles > 0 && (await detailShown()) === 'triangles',
+    `close up the figures say triangles (${zoomed.closeUpTriangles} triangles of the box ${zoomed.closeUpBox}, ${zoomed.splats} splats elsewhere)`);
+  checks.expect(changedShare(splatted, closer) > 0.05, `and the picture differs from the splats' (${(100 * changedShare(splatted, closer)).toFixed(1)}% of pixels)`);
+  await driver.click('input[name=style][value=wireframe]');
+  const wire = await driver.shot('close-up-wireframe');
+  checks.expect(changedShare(closer, wire) > 0.02, `wireframe shows the close-up's edges (${(100 * changedShare(closer, wire)).toFixed(1)}% of pixels change)`);
+  await driver.click('input[name=style][value=solid]');
   await driver.click('#splats');
   await driver.click('#reset-view');
   const mesh = await driver.shot('splats-off');
@@ -366,6 +414,9 @@ async function main() {
     const remeshed = await checkIsoSlider(driver, checks, solid, options.isoTo === undefined ? undefined : Number(options.isoTo), timeout);
     await checkWireframe(driver, checks, remeshed);
     await checkClip(driver, checks);
+    const { level, triangles } = await driver.state();
+    await measureRotation(driver, checks, `the ${level} mesh, ${triangles} triangles`);
+    await driver.click('#reset-view');
     await checkSplats(driver, checks, await driver.shot('solid-before-splats'), timeout);
     if (!options.scan || options.labelsMap) await checkLabels(browser, options, scratch, driver.decode, checks, timeout);
   } finally {

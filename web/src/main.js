@@ -16,19 +16,35 @@ const radio = (name) => document.querySelector(`input[name=${name}]:checked`).va
 const state = (window.vdbmeshView = {
   level: '', triangles: 0, meshes: 0, busy: false, timings: [], error: '', figures: null, overBudget: 0, labels: 0, drawnTriangles: 0,
   splatMode: false, cameraMovedAt: 0, splats: 0, splatLevel: null, splatCutLevel: null, splatComplete: false, splatViews: 0, splatBusy: false,
+  detail: 'mesh', closeUpTriangles: 0, closeUpBox: null, frameMs: null, frameSamples: 0, moving: false,
 });
 
 const scene3d = new Scene3D($('view'));
 scene3d.controls.addEventListener('change', () => (state.cameraMovedAt = Date.now()));
 const model = new Model(scene3d);
+// Splat mode's close-up: the full mesh's triangles of a box (an open piece: no caps).
+const closeUp = new Model(scene3d, { caps: false });
+closeUp.group.visible = false;
 const splatLayer = new SplatLayer(scene3d, {
   onAsk: () => (state.splatBusy = true),
   onShown: showSplats,
+  meshParams: () => meshParams(),
+  onCloseUp: showCloseUp,
   onError: (error) => {
     Object.assign(state, { splatBusy: false, error: error.message });
     status(`error: ${error.message}`);
   },
 });
+scene3d.onMoving = (moving) => {
+  state.moving = moving;
+  for (const shown of [model, closeUp, splatLayer]) shown.setMoving(moving);
+};
+scene3d.onFrameTime = ({ ms, frames, triangles }) => {
+  Object.assign(state, { frameMs: ms, frameSamples: frames, frameTriangles: triangles });
+  const shown = state.splatMode ? state.detail : `${state.level} mesh`;
+  $('frame-time').textContent = `frame time while moving: ${ms.toFixed(1)} ms (median of the last ${frames} frames; ` +
+    `${shown}, ${triangles.toLocaleString('en-US')} triangles drawn while moving)`;
+};
 let info;
 let histogram;
 let labelList;
@@ -57,25 +73,46 @@ function applyClip() {
   };
   const planes = clipPlanes(settings, model.geometry.boundingBox);
   model.setClipPlanes(planes, model.geometry.boundingBox);
+  closeUp.setClipPlanes(planes, model.geometry.boundingBox);
   splatLayer.setClipPlanes(planes);
 }
 
-/// The figures of the splats on screen: how many, the finest level (cubes of 2^(level+1) voxels).
+/// The close-up's triangles on screen with the splats (null: none).
+function showCloseUp(mesh) {
+  if (mesh) {
+    closeUp.setGeometry(mesh.geometry);
+    closeUp.setClipPlanes(closeUp.planes, model.geometry.boundingBox);
+  }
+  closeUp.group.visible = Boolean(mesh) && state.splatMode;
+  scene3d.requestRender();
+}
+
+/// The figures of what splat mode shows: the close-up's triangles where the view is close, and
+/// the splats (how many, the coarsest level standing for its children, the finest level: cubes
+/// of 2^(level+1) voxels).
 function showSplats(shown) {
   Object.assign(state, {
     splats: shown.splats, splatLevel: shown.level, splatCutLevel: shown.cutLevel, splatComplete: shown.complete, splatViews: state.splatViews + 1, splatBusy: false,
+    detail: shown.closeUp ? 'triangles' : 'splats', closeUpTriangles: shown.closeUp?.triangles ?? 0, closeUpBox: shown.closeUp?.box ?? null,
   });
   const cube = (level) => `${2 ** (level + 1)}³ voxels`;
   const detail = shown.cutLevel < 0 ? 'full detail' : `coarsest level ${shown.cutLevel} (${cube(shown.cutLevel)})`;
-  $('splat-figures').textContent = `${shown.splats.toLocaleString('en-US')} splats, ${detail}, finest level ${shown.level} ` +
+  const triangles = shown.closeUp
+    ? `<span id="detail">triangles</span> close up: ${shown.closeUp.triangles.toLocaleString('en-US')} of the full mesh ` +
+      `(voxels ${shown.closeUp.box.replace(/,/g, ' ')}, meshed in ${shown.closeUp.seconds.toFixed(2)} s); splats elsewhere: `
+    : '<span id="detail">splats</span>: ';
+  $('splat-figures').innerHTML = `${triangles}${shown.splats.toLocaleString('en-US')} splats, ${detail}, finest level ${shown.level} ` +
     `(${cube(shown.level)})${shown.complete ? '' : ', budget reached'}; tree of ${shown.treeNodes.toLocaleString('en-US')} ` +
     `nodes built in ${shown.seconds.toFixed(2)} s; view in ${shown.ms.toFixed(0)} ms`;
-  status(`splats: ${detail}`);
+  status(shown.closeUp ? `triangles close up, splats elsewhere: ${detail}` : `splats: ${detail}`);
 }
 
 function setSplatMode(on) {
   state.splatMode = on;
+  scene3d.resetFrameTimes();  // a frame time is of one mode
+  state.detail = on ? 'splats' : 'mesh';
   model.group.visible = !on;
+  closeUp.group.visible = on && Boolean(state.closeUpBox);
   splatLayer.setEnabled(on, info.scan ? Number($('iso-value').value) : undefined);
 }
 
@@ -99,7 +136,7 @@ function showMesh(mesh, level, params) {
 }
 
 function showOverBudget(triangles, estimated) {
-  state.overBudget = triangles;
+  Object.assign(state, { overBudget: triangles, overBudgetEstimated: estimated });
   const budget = $('budget');
   const count = `${estimated ? 'about ' : ''}${triangles.toLocaleString('en-US')}`;
   // A model read by region is never meshed whole: splats show it, close-ups show triangles.
@@ -159,8 +196,12 @@ function setUpScan(scan) {
   slider.addEventListener('input', () => setIso(Number(slider.value), false));
   slider.addEventListener('change', () => setIso(Number(slider.value), true));
   $('iso-value').addEventListener('change', () => setIso(Number($('iso-value').value), true));
-  $('method').addEventListener('change', () => remesh());
-  $('method-parameter').addEventListener('change', () => remesh());
+  for (const id of ['method', 'method-parameter']) {
+    $(id).addEventListener('change', () => {
+      remesh();
+      if (splatLayer.enabled) splatLayer.refresh();  // the close-up's triangles are the method's
+    });
+  }
 }
 
 function download(url, name) {
@@ -173,8 +214,15 @@ function download(url, name) {
 function setUpPanel() {
   $('reset-view').onclick = () => scene3d.setView('home');
   for (const button of document.querySelectorAll('[data-axis]')) button.onclick = () => scene3d.setView(button.dataset.axis);
-  for (const input of document.querySelectorAll('input[name=style]')) input.onchange = () => { model.setStyle(radio('style')); applyClip(); };
-  for (const input of document.querySelectorAll('input[name=shading]')) input.onchange = () => model.setFlatShading(radio('shading') === 'flat');
+  for (const input of document.querySelectorAll('input[name=style]')) {
+    input.onchange = () => {
+      for (const shown of [model, closeUp]) shown.setStyle(radio('style'));
+      applyClip();
+    };
+  }
+  for (const input of document.querySelectorAll('input[name=shading]')) {
+    input.onchange = () => { for (const shown of [model, closeUp]) shown.setFlatShading(radio('shading') === 'flat'); };
+  }
   $('shadows').onchange = () => scene3d.setShadows($('shadows').checked);
   $('splats').onchange = () => setSplatMode($('splats').checked);
   for (const id of ['clip-mode', 'clip-axis', 'clip-flip', 'clip-position', 'clip-thickness']) $(id).addEventListener('input', applyClip);

@@ -1,14 +1,18 @@
 // The mesh on screen: solid, wireframe or both, flat or smooth shading, and cut by the clip
 // planes with their caps (clipping.js); a label map's labels each in its colour, switchable.
+// While the camera moves, a large mesh is drawn through its coarser proxy (motion_proxy.js).
 import * as THREE from 'three';
 import { ClipCaps } from './clipping.js';
+import { motionGeometry } from './motion_proxy.js';
 
 const SOLID_COLOUR = 0xd9cbb0;
 const WIRE_ON_SOLID = 0x1c2230;
 const WIRE_ALONE = 0x9fc4ff;
 
 export class Model {
-  constructor(scene3d) {
+  /// @a caps false: no caps on the cut faces (for an open piece of a mesh, whose stencil count
+  /// would not tell inside from outside).
+  constructor(scene3d, { caps = true } = {}) {
     this.scene3d = scene3d;
     this.group = new THREE.Group();
     scene3d.scene.add(this.group);
@@ -18,8 +22,9 @@ export class Model {
     });
     this.wireMaterial = new THREE.MeshBasicMaterial({ color: WIRE_ALONE, wireframe: true });
     this.style = 'solid';
-    this.caps = new ClipCaps(this.group);
+    this.caps = caps ? new ClipCaps(this.group) : null;
     this.planes = [];
+    this.labelMaterials = [];
   }
 
   /// Shows @a geometry (a BufferGeometry with position, normal and index) instead of the last.
@@ -46,7 +51,16 @@ export class Model {
     this.solid = this.part(new THREE.Mesh(geometry, solid), 2);
     this.solid.castShadow = this.solid.receiveShadow = true;
     this.wire = this.part(new THREE.Mesh(geometry, wire), 3);
-    this.caps.setGeometry(geometry);
+    this.caps?.setGeometry(geometry);
+    this.proxy?.geometry.dispose();
+    const proxy = labels ? null : motionGeometry(geometry);  // a label map's colours need its own triangles
+    this.proxy = proxy && this.part(new THREE.Mesh(proxy, this.solidMaterial), 2);
+    this.applyStyle();
+  }
+
+  /// Draws the coarser proxy (if the mesh has one) while @a moving.
+  setMoving(moving) {
+    this.moving = moving;
     this.applyStyle();
   }
 
@@ -91,16 +105,21 @@ export class Model {
   setClipPlanes(planes, bounds) {
     this.planes = planes;
     for (const material of [this.solidMaterial, this.wireMaterial, ...this.solidMaterials(), ...this.wireMaterials()]) material.clippingPlanes = planes;
-    this.caps.setPlanes(planes, bounds, this.style !== 'wireframe');
+    this.caps?.setPlanes(planes, bounds, this.style !== 'wireframe');
     this.scene3d.requestRender();
   }
 
   applyStyle() {
     if (!this.solid) return;
-    this.solid.visible = this.style !== 'wireframe';
-    this.wire.visible = this.style !== 'solid';
+    const proxied = Boolean(this.moving && this.proxy);
+    this.solid.visible = !proxied && this.style !== 'wireframe';
+    this.wire.visible = !proxied && this.style !== 'solid';
+    if (this.proxy) {
+      this.proxy.visible = proxied;
+      this.proxy.material = this.style === 'wireframe' ? this.wireMaterial : this.solidMaterial;
+    }
     for (const material of [this.wireMaterial, ...this.wireMaterials()]) material.color.set(this.style === 'both' ? WIRE_ON_SOLID : WIRE_ALONE);
-    this.caps.setVisible(this.style !== 'wireframe');
+    this.caps?.setVisible(!proxied && this.style !== 'wireframe');
     this.scene3d.requestRender();
   }
 }

@@ -4,6 +4,9 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 
 const BACKGROUND = 0x0f1115;
+const FRAME_SAMPLES = 30;  // the frame time shown is the median of this many frames
+const MOVING_PIXEL_RATIO = 0.5;  // of the device's, while the camera moves
+const SETTLE_MS = 250;           // the camera counts as still after this long without a change
 
 const AXIS_VIEWS = {
   '+x': { direction: [1, 0, 0], up: [0, 0, 1] },
@@ -24,12 +27,17 @@ export class Scene3D {
     this.renderer.localClippingEnabled = true;
     this.renderer.shadowMap.enabled = true;
     this.renderer.shadowMap.type = THREE.PCFSoftShadowMap;
+    // The sun is fixed in the world: its shadow map is drawn again only when the scene changes
+    // (requestRender()), not when the camera moves.
+    this.renderer.shadowMap.autoUpdate = false;
     container.prepend(this.renderer.domElement);
 
     this.scene = new THREE.Scene();
     this.camera = new THREE.PerspectiveCamera(35, 1, 0.01, 1000);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
-    this.controls.addEventListener('change', () => this.requestRender());
+    this.controls.addEventListener('change', () => this.cameraMoved());
+    this.frameTimes = [];
+    this.shadows = true;
     this.addLights();
     this.bounds = new THREE.Box3(new THREE.Vector3(-1, -1, -1), new THREE.Vector3(1, 1, 1));
 
@@ -71,6 +79,14 @@ export class Scene3D {
   }
 
   setShadows(on) {
+    this.shadows = on;
+    this.showShadows();
+  }
+
+  /// Shadows when asked for, and not while the camera moves (their soft edges' samples cost
+  /// more than the rest of a software-rendered frame).
+  showShadows() {
+    const on = this.shadows && !this.moving;
     this.sun.castShadow = on;
     this.ground.visible = on;
     this.requestRender();
@@ -100,18 +116,66 @@ export class Scene3D {
     this.requestRender();
   }
 
+  /// Draws again after a change to the scene (its shadows too).
   requestRender() {
     this.dirty = true;
+    this.renderer.shadowMap.needsUpdate = true;
   }
 
+  /// While the camera moves, frames are drawn at a fraction of the resolution and without
+  /// shadows (the user sees motion, not detail); once it has been still for SETTLE_MS, in full.
+  cameraMoved() {
+    this.cameraChanged = true;
+    this.dirty = true;
+    if (!this.moving) this.setMoving(true);
+    clearTimeout(this.settle);
+    this.settle = setTimeout(() => this.setMoving(false), SETTLE_MS);
+  }
+
+  setMoving(moving) {
+    this.moving = moving;
+    this.onMoving?.(moving);
+    this.renderer.setPixelRatio(window.devicePixelRatio * (moving ? MOVING_PIXEL_RATIO : 1));
+    this.resize();
+    this.showShadows();
+  }
+
+  /// Called on every animation frame. A frame drawn because the camera moved is timed from its
+  /// start to the next animation frame, which the browser gives once that frame is drawn and
+  /// composited: the frame time a user sees while rotating (rendering alone, even to
+  /// gl.finish(), leaves out most of a software renderer's work).
   renderIfNeeded() {
+    const now = performance.now();
+    if (this.timedFrameStart !== undefined) this.recordFrameTime(now - this.timedFrameStart);
+    this.timedFrameStart = undefined;
     if (!this.dirty) return;
     this.dirty = false;
+    if (this.cameraChanged) this.timedFrameStart = now;
+    this.cameraChanged = false;
     this.renderer.render(this.scene, this.camera);
+    if (this.timedFrameStart !== undefined) this.movingTriangles = this.renderer.info.render.triangles;
     const waiting = this.waitingForRender ?? [];
     this.waitingForRender = [];
     if (waiting.length > 0) this.renderer.getContext().finish();
     for (const resolve of waiting) resolve();
+  }
+
+  /// Forgets the frame times measured so far (what is drawn changed).
+  resetFrameTimes() {
+    this.frameTimes = [];
+  }
+
+  recordFrameTime(ms) {
+    this.frameTimes.push(ms);
+    if (this.frameTimes.length > FRAME_SAMPLES) this.frameTimes.shift();
+    if (this.frameTimes.length % 10 === 0 || this.frameTimes.length === FRAME_SAMPLES) this.onFrameTime?.(this.frameTime());
+  }
+
+  /// The median frame time (ms) of the last frames drawn while the camera moved, how many, and
+  /// the triangles the last of them drew.
+  frameTime() {
+    const sorted = [...this.frameTimes].sort((a, b) => a - b);
+    return { ms: sorted.length ? sorted[Math.floor(sorted.length / 2)] : NaN, frames: sorted.length, triangles: this.movingTriangles };
   }
 
   /// Resolves once the next frame is drawn (its GL commands finished).

@@ -2,19 +2,30 @@
 // mesh. The page sends its camera when it stops moving and the server answers with the
 // nodes that view needs (by projected size, within the budget); while the camera moves the
 // last answer stays on screen, so a view is refined each time the camera comes to rest.
+// Close up, where the view asks for more detail than the finest splats hold and the mesh is
+// cheaper (src/view/close_up.h), the server names a box: the page fetches the full mesh's
+// triangles there (GET /api/mesh?level=region) and draws them instead of the splats inside it.
 import * as THREE from 'three';
+import { fetchMesh } from './mesh_loader.js';
+import { MOTION_TRIANGLES } from './motion_proxy.js';
 
 const SPLAT_COLOUR = 0xd9cbb0;  // the mesh's
 const DISC_SEGMENTS = 8;
 const SETTLE_MS = 250;           // the camera counts as still after this long without a change
 export const SPLAT_BUDGET = 60000;
 const PIXEL_SIZE = 3;            // refine while a disc spans more pixels than this
+/// A close-up has at most the triangles the budget's discs would take.
+export const CLOSE_UP_TRIANGLES = DISC_SEGMENTS * SPLAT_BUDGET;
+/// While the camera moves, at most this many discs are drawn (every k-th, k times the area).
+const MOTION_SPLATS = MOTION_TRIANGLES / DISC_SEGMENTS;
 
 const Z = new THREE.Vector3(0, 0, 1);
 
 export class SplatLayer {
   /// @a handlers: onAsk() when a view is asked for, onShown(figures) when its answer is drawn
-  /// ({ splats, level, cutLevel, complete, treeNodes, seconds, ms }), onError(error).
+  /// ({ splats, level, cutLevel, complete, treeNodes, seconds, ms, closeUp: null or { box,
+  /// triangles, seconds } }), onError(error), meshParams() the mesh's method and parameters,
+  /// onCloseUp(mesh or null) the close-up's triangles to draw (null: none).
   constructor(scene3d, handlers) {
     Object.assign(this, { scene3d, handlers });
     this.group = new THREE.Group();
@@ -63,7 +74,7 @@ export class SplatLayer {
     const params = {
       vp: viewProjection.elements.map((v) => v.toPrecision(9)).join(','),
       eye: camera.position.toArray().map((v) => v.toPrecision(9)).join(','),
-      focal: focal.toPrecision(9), pixel: PIXEL_SIZE, budget: SPLAT_BUDGET,
+      focal: focal.toPrecision(9), pixel: PIXEL_SIZE, budget: SPLAT_BUDGET, closeup: CLOSE_UP_TRIANGLES,
     };
     if (this.iso !== undefined) params.iso = this.iso;
     return new URLSearchParams(params).toString();
@@ -82,12 +93,22 @@ export class SplatLayer {
       const buffer = await response.arrayBuffer();
       if (buffer.byteLength !== 28 * count) throw new Error('splat buffers: unexpected size');
       this.show(new Float32Array(buffer), count);
+      const box = response.headers.get('X-Closeup-Box');
+      let closeUp = null;
+      if (box) {
+        // The splats stay on screen (all of them) until the triangles that replace some arrive.
+        const mesh = await fetchMesh({ ...this.handlers.meshParams(), iso: this.iso, level: 'region', box }, abort.signal);
+        if (abort !== this.abort) return;
+        this.mesh.count = count - Number(response.headers.get('X-Closeup-Splats'));
+        closeUp = { box, triangles: mesh.triangles, seconds: mesh.seconds, mesh };
+      }
+      this.handlers.onCloseUp(closeUp?.mesh ?? null);
       await this.scene3d.nextRender();
       if (abort !== this.abort) return;
       this.handlers.onShown({
-        splats: count, level: Number(response.headers.get('X-Level')), cutLevel: Number(response.headers.get('X-Cut-Level')), complete: response.headers.get('X-Complete') === '1',
+        splats: this.mesh.count, level: Number(response.headers.get('X-Level')), cutLevel: Number(response.headers.get('X-Cut-Level')), complete: response.headers.get('X-Complete') === '1',
         treeNodes: Number(response.headers.get('X-Tree-Nodes')), seconds: Number(response.headers.get('X-Seconds')),
-        ms: performance.now() - started,
+        ms: performance.now() - started, closeUp: closeUp && { box, triangles: closeUp.triangles, seconds: closeUp.seconds },
       });
     } catch (error) {
       if (error.name === 'AbortError') return;
@@ -95,9 +116,31 @@ export class SplatLayer {
     }
   }
 
+  /// While @a moving, every k-th disc of those drawn, k times larger in area, so that at most
+  /// MOTION_SPLATS are drawn.
+  setMoving(moving) {
+    this.motion?.dispose();
+    this.motion = null;
+    if (this.mesh) this.mesh.visible = true;
+    if (!moving || !this.mesh || this.mesh.count <= MOTION_SPLATS) return;
+    const stride = Math.ceil(this.mesh.count / MOTION_SPLATS);
+    this.motion = new THREE.InstancedMesh(this.disc, this.material, Math.ceil(this.mesh.count / stride));
+    const matrix = new THREE.Matrix4();
+    const grow = new THREE.Matrix4().makeScale(Math.sqrt(stride), Math.sqrt(stride), 1);  // in the disc's plane
+    for (let i = 0, j = 0; i < this.mesh.count; i += stride, ++j) {
+      this.mesh.getMatrixAt(i, matrix);
+      this.motion.setMatrixAt(j, matrix.multiply(grow));
+    }
+    this.motion.frustumCulled = false;
+    this.mesh.visible = false;
+    this.group.add(this.motion);
+  }
+
   /// One disc per splat: centred, turned from +z onto its normal, scaled to its radius.
   show(values, count) {
     this.mesh?.dispose();
+    this.motion?.dispose();
+    this.motion = null;
     this.group.clear();
     this.mesh = new THREE.InstancedMesh(this.disc, this.material, Math.max(count, 1));
     this.mesh.count = count;

@@ -1,0 +1,59 @@
+// The wall time from starting `vdbmesh view FILE` to its first picture in a browser (issue 30:
+// "the whole model on the page within 5 s"), and the server's peak memory. Starts the server
+// under /usr/bin/time, opens its page in Debian's headless Chromium (SwiftShader, 900 x 700
+// canvas) as soon as it serves, and waits for the page's first mesh on screen; then,
+// with --splats, ticks Display > splats and waits for the first splats on screen. Prints JSON.
+// A benchmark, not a test.
+//
+// node bench/view_first_picture.mjs --vdbmesh build/vdbmesh --web web FILE [--splats] [-- view arguments]
+import { spawn } from 'node:child_process';
+import { createRequire } from 'node:module';
+import path from 'node:path';
+
+const argv = process.argv.slice(2);
+const split = argv.indexOf('--');
+const own = split < 0 ? argv : argv.slice(0, split);
+const option = (name) => own[own.indexOf(name) + 1];
+const file = own.filter((a, i) => !a.startsWith('--') && !['--vdbmesh', '--web'].includes(own[i - 1]))[0];
+const { chromium } = createRequire(path.resolve(option('--web'), 'package.json'))('playwright-core');
+
+const started = Date.now();
+const seconds = () => Number(((Date.now() - started) / 1000).toFixed(2));
+const server = spawn('/usr/bin/time', ['-f', 'peak_kb %M', path.resolve(option('--vdbmesh')), 'view', file, '--no-open', '--quiet',
+  '--port', '0', ...(split < 0 ? [] : argv.slice(split + 1))], { stdio: ['ignore', 'pipe', 'pipe'], detached: true });
+let errors = '';
+server.stderr.on('data', (chunk) => (errors += chunk));
+const address = await new Promise((resolve, reject) => {
+  let printed = '';
+  server.stdout.on('data', (chunk) => {
+    const found = (printed += chunk).match(/at (http:\/\/\S+)/);
+    if (found) resolve(found[1]);
+  });
+  server.on('exit', (code) => reject(new Error(`vdbmesh view exited with ${code}: ${errors}`)));
+});
+const report = { file, serving_s: seconds() };
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium', headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+});
+try {
+  const page = await browser.newPage({ viewport: { width: 1200, height: 700 } });  // the panel takes 300
+  page.setDefaultTimeout(3600 * 1000);
+  await page.goto(address);
+  await page.waitForFunction(() => window.vdbmeshView.meshes > 0 || window.vdbmeshView.error, null, { polling: 50 });
+  const state = await page.evaluate(() => ({ ...window.vdbmeshView }));
+  Object.assign(report, { first_picture_s: seconds(), first_picture: `${state.level} mesh, ${state.triangles} triangles`, error: state.error || undefined });
+  if (own.includes('--splats')) {
+    await page.locator('#splats').click();
+    await page.waitForFunction(() => window.vdbmeshView.splatViews > 0 || window.vdbmeshView.error, null, { polling: 100 });
+    const shown = await page.evaluate(() => ({ ...window.vdbmeshView }));
+    Object.assign(report, { first_splats_s: seconds(), splats: shown.splats, close_up_triangles: shown.closeUpTriangles, error: shown.error || undefined });
+  }
+} finally {
+  await browser.close();
+  process.kill(-server.pid, 'SIGINT');  // to vdbmesh too: GNU time ignores it while it waits
+  await new Promise((resolve) => server.on('exit', resolve));
+}
+const peak = errors.match(/peak_kb (\d+)/);
+report.peak_mb = peak ? Math.round(Number(peak[1]) / 1024) : null;
+console.log(JSON.stringify(report, null, 1));
