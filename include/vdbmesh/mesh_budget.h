@@ -1,0 +1,43 @@
+#pragma once
+/// @file mesh_budget.h
+/// @brief A triangle budget (`vdbmesh mesh --triangles N`): the closest mesh of a grid's
+/// isosurface with at most N triangles that is still closed, manifold, outward and free of
+/// self-intersections. DC at an error picked from N, then, when that mesh has more than N
+/// triangles, decimate_mesh() (process.h) down to N. OpenVDB-free: the grid is only declared.
+
+#include <cstddef>
+
+#include "vdbmesh/mesher.h"
+#include "vdbmesh/openvdb_fwd.h"
+#include "vdbmesh/process.h"
+
+namespace vdbmesh {
+
+/// The DC error (voxels) a budget starts from: DC's lightest meshes lie at errors 1 to 2
+/// (fewer triangles barely, farther from the surface: bunny CT 583,492 triangles at 0.97 voxel
+/// against 559,996 at 1.74), so a smaller budget is left to the decimator from here.
+inline constexpr double kBudgetBaseError = 1.0;
+
+/// What mesh_to_budget() did.
+struct BudgetReport {
+    double error = 0;                   ///< the DC error of the mesh it kept or decimated
+    std::size_t meshed_triangles = 0;   ///< that mesh's triangles
+    DecimateReport decimate;            ///< what the decimation did (no collapses when that mesh fit)
+};
+
+/// @brief The mesh of @a grid (options.iso, inside, open_boundary; options.method and error are
+/// ignored) with at most @a max_triangles triangles, closest to the surface by this route: DC at
+/// kBudgetBaseError; when it has more triangles than the budget, decimated by decimate_mesh() to
+/// the budget (a phase "decimate" in the report); when it has no more, DC at the next smaller
+/// error of 0.5, 0.25, 0.1, 0, while its mesh still fits (the most accurate that fits is kept).
+/// Every guarantee of DC holds: the decimator keeps them. The same mesh for any thread count.
+/// Two budgets cannot be met as asked, and `vdbmesh mesh --triangles` refuses both: one above
+/// the error-0 mesh's triangles gives that mesh (report->error 0, fewer triangles than the
+/// budget); one below what the decimator can reach keeping the guarantees gives the mesh where
+/// it stopped (more triangles than the budget: each further collapse would break one).
+/// @throw UsageError for max_triangles 0 or options.open_boundary (the decimator needs a closed
+/// surface).
+MeshResult mesh_to_budget(const openvdb::FloatGrid& grid, const MeshOptions& options, std::size_t max_triangles,
+                          BudgetReport* report = nullptr);
+
+}  // namespace vdbmesh
