@@ -1,8 +1,7 @@
 // mesh_to_budget(): DC at an error picked from the budget, then the guaranteed decimator down to
-// it (mesh_budget.h). Measured against volumeToMesh at adaptivity 1 in bench/README.md, "Budget".
+// it (mesh_budget.h). Measured against volumeToMesh at adaptivity 1 in bench/README.md, "Triangle budget".
 #include <array>
 #include <chrono>
-#include <string>
 
 #include "vdbmesh/error.h"
 #include "vdbmesh/mesh_budget.h"
