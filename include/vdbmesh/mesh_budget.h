@@ -13,10 +13,13 @@
 
 namespace vdbmesh {
 
-/// The DC error (voxels) a budget starts from: DC's lightest meshes lie at errors 1 to 2
-/// (fewer triangles barely, farther from the surface: bunny CT 583,492 triangles at 0.97 voxel
-/// against 559,996 at 1.74), so a smaller budget is left to the decimator from here.
-inline constexpr double kBudgetBaseError = 1.0;
+/// The DC error (voxels) a budget starts from: about DC's lightest mesh (errors above add few
+/// fewer triangles: bunny CT 559,996 at 2, 553,028 at 8), so a smaller budget is left to the
+/// decimator from here, with the least to remove. Starting at error 1 instead (bunny CT 583,492
+/// triangles, 0.97 voxel from the surface against 1.74) was measured as the other route: closer
+/// to the surface after the decimation, but 4-35% slower and with more small angles
+/// (bench/README.md, "Triangle budget").
+inline constexpr double kBudgetBaseError = 2.0;
 
 /// What mesh_to_budget() did.
 struct BudgetReport {
@@ -29,7 +32,7 @@ struct BudgetReport {
 /// ignored) with at most @a max_triangles triangles, closest to the surface by this route: DC at
 /// kBudgetBaseError; when it has more triangles than the budget, decimated by decimate_mesh() to
 /// the budget (a phase "decimate" in the report); when it has no more, DC at the next smaller
-/// error of 0.5, 0.25, 0.1, 0, while its mesh still fits (the most accurate that fits is kept).
+/// error of 1, 0.5, 0.25, 0.1, 0, while its mesh still fits (the most accurate that fits is kept).
 /// Every guarantee of DC holds: the decimator keeps them. The same mesh for any thread count.
 /// Two budgets cannot be met as asked, and `vdbmesh mesh --triangles` refuses both: one above
 /// the error-0 mesh's triangles gives that mesh (report->error 0, fewer triangles than the

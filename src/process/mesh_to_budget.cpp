@@ -10,7 +10,7 @@ namespace vdbmesh {
 namespace {
 
 /// The errors tried below kBudgetBaseError when its mesh fits, most accurate last.
-constexpr std::array<double, 4> kSmallerErrors{0.5, 0.25, 0.1, 0};
+constexpr std::array<double, 5> kSmallerErrors{1, 0.5, 0.25, 0.1, 0};
 
 MeshResult dc_mesh(const openvdb::FloatGrid& grid, MeshOptions options, double error) {
     options.method = MeshMethod::dc;

@@ -146,12 +146,12 @@ TEST_P(CompareDominanceTest, SomeDcMeshBeatsVolumeToMeshOnEveryCountAtAMillionSa
 }
 
 // Issue 29's adaptivity-1 pair, without its time column (bench/README.md, "Triangle budget":
-// the budget takes 2 to 5.6 times volumeToMesh's time there): the triangle budget at
+// the budget takes 1.4 to 5.2 times volumeToMesh's time there): the triangle budget at
 // volumeToMesh's count (`mesh --triangles`) has no more triangles, no larger Hausdorff distance,
 // no larger share of angles under 10 degrees and no defect. Measured (100,000 samples; triangles
-// / Hausdorff / angles, budget against volumeToMesh): bunny 444,564 / 0.88 / 0.84% against
-// 3.78 / 2.10%; CThead 181,774 / 0.98 / 1.10% against 3.07 / 3.15%; engine 45,626 / 1.14 / 1.09%
-// against 3.86 / 1.10% (the closest margin); walnut 175,876 / 1.00 / 0.88% against 3.58 / 4.20%.
+// / Hausdorff / angles, budget against volumeToMesh): bunny 444,564 / 1.47 / 0.78% against
+// 3.78 / 2.10%; CThead 181,774 / 1.36 / 0.91% against 3.07 / 3.15%; engine 45,626 / 2.46 / 0.88%
+// against 3.86 / 1.10%; walnut 175,876 / 1.31 / 0.79% against 3.58 / 4.20%.
 TEST_P(CompareDominanceTest, TheBudgetBeatsVolumeToMeshAtAdaptivityOne) {
     VDBMESH_FULL_ONLY();
     const Scan& scan = GetParam();

@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "test_data.h"
 #include "vdbmesh/measure.h"
+#include "vdbmesh/mesh_budget.h"
 #include "vdbmesh/mesh_io.h"
 
 namespace vdbmesh::test {
@@ -96,7 +97,7 @@ TEST(CmdMeshProcessingTest, TriangleBudgetIsKept) {
                                       status);
     ASSERT_EQ(status, cli::kSuccess);
     EXPECT_EQ(j["triangle_budget"], 101);
-    EXPECT_EQ(j["error"], 1.0);
+    EXPECT_EQ(j["error"], kBudgetBaseError);
     EXPECT_EQ(j["phases"].back()["name"], "decimate");
     const Mesh mesh = read_mesh(output);
     EXPECT_EQ(mesh.triangles.size(), 100u);  // a closed mesh: an even count

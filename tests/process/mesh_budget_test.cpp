@@ -30,7 +30,7 @@ std::size_t triangles_at(const openvdb::FloatGrid& grid, double iso, double erro
     return mesh_grid(grid, options).mesh.triangles.size();
 }
 
-/// Meshes @a grid to each share of its error-1 mesh's triangles and checks the budget and the
+/// Meshes @a grid to each share of its kBudgetBaseError mesh's triangles and checks the budget and the
 /// guarantees: a closed mesh has an even count, and each collapse removes two triangles, so a
 /// decimated budget ends at N or N - 1.
 void expect_budgets_kept(const openvdb::FloatGrid& grid, double iso, const std::vector<double>& shares) {
@@ -62,7 +62,7 @@ TEST(MeshBudgetTest, RealCtKeepsTheBudgetAndTheGuarantees) {
     expect_budgets_kept(*grid, 600.5, {0.72, 0.4});
 }
 
-// A budget the error-1 mesh fits: the most accurate of the smaller errors' meshes that still
+// A budget the kBudgetBaseError mesh fits: the most accurate of the smaller errors' meshes that still
 // fits, with no decimation; above the error-0 mesh, that mesh (the caller refuses it).
 TEST(MeshBudgetTest, RoomyBudgetTakesTheSmallestErrorThatFits) {
     const auto grid = phantom_scan_grid(phantom_preset("torus", {48, 48, 48}));
