@@ -9,8 +9,9 @@
 namespace vdbmesh {
 namespace {
 
-/// The errors tried below kBudgetBaseError when its mesh fits, most accurate last.
-constexpr std::array<double, 5> kSmallerErrors{1, 0.5, 0.25, 0.1, 0};
+/// The errors tried below kBudgetBaseError when its mesh fits and the error-0 mesh does not,
+/// most accurate last.
+constexpr std::array<double, 4> kSmallerErrors{1, 0.5, 0.25, 0.1};
 
 MeshResult dc_mesh(const openvdb::FloatGrid& grid, MeshOptions options, double error) {
     options.method = MeshMethod::dc;
@@ -19,10 +20,17 @@ MeshResult dc_mesh(const openvdb::FloatGrid& grid, MeshOptions options, double e
 }
 
 /// The most accurate of the smaller errors' meshes that fits (@a fitting, at kBudgetBaseError,
-/// when none does), in @a report.
+/// when none does), in @a report. The error-0 mesh (Marching Cubes', the quickest to make) is
+/// tried first: when it fits, no other is made.
 MeshResult most_accurate_fitting(const openvdb::FloatGrid& grid, const MeshOptions& options, std::size_t max_triangles,
                                  MeshResult fitting, BudgetReport& report) {
     if (fitting.mesh.triangles.empty()) return fitting;  // no surface: none at a smaller error either
+    MeshResult finest = dc_mesh(grid, options, 0);
+    if (finest.mesh.triangles.size() <= max_triangles) {
+        report.error = 0;
+        report.meshed_triangles = finest.mesh.triangles.size();
+        return finest;
+    }
     for (const double error : kSmallerErrors) {
         MeshResult finer = dc_mesh(grid, options, error);
         const std::size_t triangles = finer.mesh.triangles.size();
