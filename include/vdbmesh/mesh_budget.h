@@ -32,8 +32,8 @@ struct BudgetReport {
 /// ignored) with at most @a max_triangles triangles, closest to the surface by this route: DC at
 /// kBudgetBaseError; when it has more triangles than the budget, decimated by decimate_mesh() to
 /// the budget (a phase "decimate" in the report); when it has no more, the error-0 mesh if it
-/// fits, else DC at the next smaller error of 1, 0.5, 0.25, 0.1 while its mesh still fits (the
-/// most accurate that fits is kept).
+/// fits, else the mesh of the smallest of the errors 1, 0.5, 0.25, 0.1 that fits, found by
+/// bisection (DC's triangle count grows as the error shrinks, nearly everywhere).
 /// Every guarantee of DC holds: the decimator keeps them. The same mesh for any thread count.
 /// Two budgets cannot be met as asked, and `vdbmesh mesh --triangles` refuses both: one above
 /// the error-0 mesh's triangles gives that mesh (report->error 0, fewer triangles than the

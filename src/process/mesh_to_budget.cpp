@@ -9,9 +9,9 @@
 namespace vdbmesh {
 namespace {
 
-/// The errors tried below kBudgetBaseError when its mesh fits and the error-0 mesh does not,
-/// most accurate last.
-constexpr std::array<double, 4> kSmallerErrors{1, 0.5, 0.25, 0.1};
+/// The errors between kBudgetBaseError and 0, coarsest first: DC's triangle count grows along
+/// them (nearly everywhere: the walnut's error 0.1 has more triangles than its error 0).
+constexpr std::array<double, 4> kBetweenErrors{1, 0.5, 0.25, 0.1};
 
 MeshResult dc_mesh(const openvdb::FloatGrid& grid, MeshOptions options, double error) {
     options.method = MeshMethod::dc;
@@ -19,25 +19,28 @@ MeshResult dc_mesh(const openvdb::FloatGrid& grid, MeshOptions options, double e
     return mesh_grid(grid, options);
 }
 
-/// The most accurate of the smaller errors' meshes that fits (@a fitting, at kBudgetBaseError,
-/// when none does), in @a report. The error-0 mesh (Marching Cubes', the quickest to make) is
-/// tried first: when it fits, no other is made.
+/// The most accurate mesh that fits, given @a fitting at kBudgetBaseError that does, in
+/// @a report: the error-0 mesh (Marching Cubes', the quickest to make) when it fits, else the
+/// smallest of kBetweenErrors whose mesh fits, found by bisection (two or three meshes, not up
+/// to four one after the other), else @a fitting.
 MeshResult most_accurate_fitting(const openvdb::FloatGrid& grid, const MeshOptions& options, std::size_t max_triangles,
                                  MeshResult fitting, BudgetReport& report) {
     if (fitting.mesh.triangles.empty()) return fitting;  // no surface: none at a smaller error either
-    MeshResult finest = dc_mesh(grid, options, 0);
-    if (finest.mesh.triangles.size() <= max_triangles) {
-        report.error = 0;
-        report.meshed_triangles = finest.mesh.triangles.size();
-        return finest;
-    }
-    for (const double error : kSmallerErrors) {
+    const auto take_if_fits = [&](double error) {
         MeshResult finer = dc_mesh(grid, options, error);
-        const std::size_t triangles = finer.mesh.triangles.size();
-        if (triangles > max_triangles) break;
-        fitting = std::move(finer);
+        if (finer.mesh.triangles.size() > max_triangles) return false;
         report.error = error;
-        report.meshed_triangles = triangles;
+        report.meshed_triangles = finer.mesh.triangles.size();
+        fitting = std::move(finer);
+        return true;
+    };
+    if (take_if_fits(0)) return fitting;
+    // Bisection: kBetweenErrors[fits] fits (-1: the base error), kBetweenErrors[fails] does not
+    // (the size: error 0).
+    int fits = -1, fails = int(kBetweenErrors.size());
+    while (fails - fits > 1) {
+        const int middle = (fits + fails) / 2;
+        (take_if_fits(kBetweenErrors[std::size_t(middle)]) ? fits : fails) = middle;
     }
     return fitting;
 }
