@@ -91,6 +91,18 @@ const MeshComparison& find(const Comparison& comparison, MeshMethod method, doub
     throw std::runtime_error("no such mesh in the comparison");
 }
 
+/// Prints the figures of @a ours against @a vdb and checks that ours has no more triangles, no
+/// larger Hausdorff distance, no larger share of angles under 10 degrees and no defect.
+void expect_beats(const MeshComparison& ours, const MeshComparison& vdb, const std::string& label) {
+    std::cout << "[ figures  ] " << label << ": triangles " << ours.analysis.triangles << " / " << vdb.analysis.triangles
+              << ", Hausdorff " << ours.accuracy.distance.hausdorff << " / " << vdb.accuracy.distance.hausdorff
+              << ", angles under 10 degrees " << ours.analysis.small_angle_share << " / " << vdb.analysis.small_angle_share << "\n";
+    EXPECT_LE(ours.analysis.triangles, vdb.analysis.triangles) << label;
+    EXPECT_LE(ours.accuracy.distance.hausdorff, vdb.accuracy.distance.hausdorff) << label;
+    EXPECT_LE(ours.analysis.small_angle_share, vdb.analysis.small_angle_share) << label;
+    EXPECT_TRUE(ours.analysis.is_clean()) << label;
+}
+
 /// Checks every pair of @a scan on @a grid in one compare_meshers() run drawing @a samples points each way.
 void expect_dominance(const openvdb::FloatGrid& grid, const Scan& scan, std::size_t samples) {
     CompareOptions options;
@@ -112,13 +124,7 @@ void expect_dominance(const openvdb::FloatGrid& grid, const Scan& scan, std::siz
         std::ostringstream name;
         name << scan.scan.name << " (" << samples << " samples): DC " << pair.error << " against volumeToMesh " << pair.adaptivity;
         const std::string label = name.str();
-        std::cout << "[ figures  ] " << label << ": triangles " << dc.analysis.triangles << " / " << vdb.analysis.triangles
-                  << ", Hausdorff " << dc.accuracy.distance.hausdorff << " / " << vdb.accuracy.distance.hausdorff
-                  << ", angles under 10 degrees " << dc.analysis.small_angle_share << " / " << vdb.analysis.small_angle_share << "\n";
-        EXPECT_LE(dc.analysis.triangles, vdb.analysis.triangles) << label;
-        EXPECT_LE(dc.accuracy.distance.hausdorff, vdb.accuracy.distance.hausdorff) << label;
-        EXPECT_LE(dc.analysis.small_angle_share, vdb.analysis.small_angle_share) << label;
-        EXPECT_TRUE(dc.analysis.is_clean()) << label;
+        expect_beats(dc, vdb, label);
         // A sample with no surface point found within the search counts as the search's
         // radius, which is not a measured distance (the bunny's DC 1 had one by a face of the
         // scan box until the search moved isosurface points beyond the box onto it:
@@ -168,14 +174,7 @@ TEST_P(CompareDominanceTest, TheBudgetBeatsVolumeToMeshAtAdaptivityOne) {
     ASSERT_EQ(comparison.meshes.size(), 2u);
     const MeshComparison &vdb = comparison.meshes[0], &budget = comparison.meshes[1];
     ASSERT_EQ(budget.budget, std::optional<std::size_t>(vdb.analysis.triangles));
-    const std::string label = scan.scan.name + ": the budget against volumeToMesh 1";
-    std::cout << "[ figures  ] " << label << ": triangles " << budget.analysis.triangles << " / " << vdb.analysis.triangles
-              << ", Hausdorff " << budget.accuracy.distance.hausdorff << " / " << vdb.accuracy.distance.hausdorff
-              << ", angles under 10 degrees " << budget.analysis.small_angle_share << " / " << vdb.analysis.small_angle_share << "\n";
-    EXPECT_LE(budget.analysis.triangles, vdb.analysis.triangles) << label;
-    EXPECT_LE(budget.accuracy.distance.hausdorff, vdb.accuracy.distance.hausdorff) << label;
-    EXPECT_LE(budget.analysis.small_angle_share, vdb.analysis.small_angle_share) << label;
-    EXPECT_TRUE(budget.analysis.is_clean()) << label;
+    expect_beats(budget, vdb, scan.scan.name + ": the budget against volumeToMesh 1");
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedData, CompareDominanceTest, testing::ValuesIn(kScans),
