@@ -13,7 +13,11 @@
 //
 // Usage: vdbmesh_bench [--scans bunny,cthead,engine,walnut] [--phantom-sizes 256,512]
 //                      [--errors 0,0.1,0.25,1] [--adaptivities 0,0.1,0.25,1]
-//                      [--threads 1,2]
+//                      [--threads 1,2] [--budgets 1,2]
+// --budgets: after the volumeToMesh meshes, the triangle budget at each one's triangle count by
+// route 1 (mesh_to_budget(), `mesh --triangles`: DC at error 2, then the guaranteed decimator)
+// and route 2 (DC at error 1, then the decimator), each measured with its volumeToMesh mesh
+// against the trilinear isosurface (compare.h, 100,000 samples each way) and by analyze_mesh().
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
@@ -22,6 +26,7 @@
 #include <tbb/global_control.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -30,6 +35,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -37,7 +43,10 @@
 #include <vector>
 
 #include "shared_data_dir.h"
+#include "vdbmesh/analysis.h"
+#include "vdbmesh/compare.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/mesh_budget.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/phantom.h"
 #include "vdbmesh/read.h"
@@ -51,6 +60,7 @@ using Json = nlohmann::ordered_json;
 /// Otsu's threshold that `vdbmesh info` suggests for the walnut (the others: issue 4's isovalues).
 constexpr double kWalnutIso = 4084.5;
 using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 constexpr int kRunsPerMesher = 2;
 
@@ -61,18 +71,46 @@ struct Scan {
     double iso = 0;
 };
 
+/// Route 2 of the budget: DC at this error, then the decimator (route 1 starts at kBudgetBaseError).
+constexpr double kRoute2Error = 1;
+
 struct Setting {
     MeshMethod method;
-    double value = 0;  ///< error (DC) or adaptivity (volumeToMesh)
+    double value = 0;  ///< error (DC) or adaptivity (volumeToMesh; a budget's: the mesh whose count it meets)
+    int budget_route = 0;  ///< 1 or 2: a triangle budget (--budgets) at the count of setting budget_of
+    std::size_t budget_of = 0;
     std::string label() const {
         std::ostringstream text;
+        if (budget_route != 0) return "budget " + std::to_string(budget_route) + " <= a=" + (text << value, text.str());
         text << (method == MeshMethod::dc ? "dc e=" : method == MeshMethod::mc ? "mc" : "openvdb a=");
         if (method != MeshMethod::mc) text << value;
         return text.str();
     }
 };
 
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+/// The mesh of @a s: a mesher setting, or a budget of @a budget triangles by its route.
+MeshResult mesh_setting(const openvdb::FloatGrid& grid, const Setting& s, MeshOptions options, std::size_t budget) {
+    if (s.budget_route == 1) return mesh_to_budget(grid, options, budget);
+    if (s.budget_route == 0) return mesh_grid(grid, options);
+    options.error = kRoute2Error;
+    MeshResult result = mesh_grid(grid, options);
+    const auto start = Clock::now();
+    DecimateOptions decimate;
+    decimate.target_triangles = budget;
+    result.mesh = decimate_mesh(result.mesh, decimate);
+    result.report.phases.push_back({"decimate", seconds_since(start)});
+    return result;
+}
+
+/// The figures of a mesh the budget table compares: distance to the trilinear isosurface (voxels),
+/// share of angles under 10 degrees, and whether it is clean.
+Json accuracy_figures(const TrueSurface& truth, const Mesh& mesh) {
+    const MeshAnalysis analysis = analyze_mesh(mesh);
+    return {{"hausdorff", truth.measure(mesh).distance.hausdorff},
+            {"small_angle_share", analysis.small_angle_share},
+            {"clean", analysis.is_clean()}};
+}
+
 
 double peak_rss_mb() {
     rusage usage{};
@@ -143,6 +181,9 @@ Json convert_and_mesh(const Scan& scan, const std::vector<Setting>& settings, in
     result["convert_cpu_seconds"] = cpu_seconds_since(cpu_start);
     result["active_voxels"] = grid->activeVoxelCount();
     result["convert_peak_mb"] = peak_rss_mb();
+    const bool budgets = std::any_of(settings.begin(), settings.end(), [](const Setting& s) { return s.budget_route != 0; });
+    std::optional<TrueSurface> truth;
+    if (budgets) truth.emplace(*grid, scan.iso, Inside::above);
     for (const Setting& s : settings) {
         MeshOptions options;
         options.method = s.method;
@@ -153,13 +194,16 @@ Json convert_and_mesh(const Scan& scan, const std::vector<Setting>& settings, in
         double best = std::numeric_limits<double>::infinity();
         std::size_t triangles = 0;
         MeshReport best_report;
+        const std::size_t budget = s.budget_route ? result["meshes"][s.budget_of]["triangles"].get<std::size_t>() : 0;
+        Mesh mesh;
         for (int run = 0; run < kRunsPerMesher; ++run) {
             start = Clock::now();
-            const MeshResult meshed = mesh_grid(*grid, options);
+            MeshResult meshed = mesh_setting(*grid, s, options, budget);
             const double seconds = seconds_since(start);
             if (seconds < best) best_report = meshed.report;
             best = std::min(best, seconds);
             triangles = meshed.mesh.triangles.size();
+            mesh = std::move(meshed.mesh);
         }
         Json phases = Json::array();
         for (const MeshPhase& phase : best_report.phases) phases.push_back({phase.name, phase.seconds});
@@ -167,6 +211,7 @@ Json convert_and_mesh(const Scan& scan, const std::vector<Setting>& settings, in
                                     {"triangles", triangles},
                                     {"peak_mb", peak_rss_mb()},
                                     {"phases", phases}});
+        if (truth && (s.method == MeshMethod::openvdb || s.budget_route != 0)) result["meshes"].back()["accuracy"] = accuracy_figures(*truth, mesh);
     }
     // Last, so that writing leaves the conversion's and the meshers' peaks as they were.
     result["grid"] = grid_figures(*grid, scratch / "sparse.vdb");
@@ -227,8 +272,28 @@ std::string phases_text(const Json& mesher) {
 std::size_t matching_openvdb(const std::vector<Setting>& settings, std::size_t adaptive_index) {
     std::size_t first_openvdb = 0;
     while (first_openvdb < settings.size() && settings[first_openvdb].method != MeshMethod::openvdb) ++first_openvdb;
-    const std::size_t count = settings.size() - first_openvdb;
+    const auto count = std::size_t(std::count_if(settings.begin(), settings.end(), [](const Setting& s) { return s.method == MeshMethod::openvdb; }));
     return first_openvdb + std::min(adaptive_index, count - 1);
+}
+
+/// --budgets: each budget row against its volumeToMesh mesh (from run @a r).
+void budget_table(const std::vector<Setting>& settings, const Json& r) {
+    bool header = false;
+    for (std::size_t i = 0; i < settings.size(); ++i) {
+        if (settings[i].budget_route == 0) continue;
+        if (!header) {
+            std::cout << "\n| budget | triangles | Hausdorff (voxels) | angles < 10 deg | clean | time / volumeToMesh |\n|---|---|---|---|---|---|\n";
+            header = true;
+        }
+        const Json &ours = r["meshes"][i], &theirs = r["meshes"][settings[i].budget_of];
+        const auto pair = [&](const char* key, int digits, double scale) {
+            return fixed(scale * ours["accuracy"][key].get<double>(), digits) + " / " + fixed(scale * theirs["accuracy"][key].get<double>(), digits);
+        };
+        std::cout << "| " << settings[i].label() << " | " << ours["triangles"].get<std::size_t>() << " / " << theirs["triangles"].get<std::size_t>()
+                  << " | " << pair("hausdorff", 3, 1) << " | " << pair("small_angle_share", 2, 100) << "% | "
+                  << (ours["accuracy"]["clean"].get<bool>() ? "yes" : "no") << " / " << (theirs["accuracy"]["clean"].get<bool>() ? "yes" : "no")
+                  << " | " << fixed(ours["seconds"].get<double>() / theirs["seconds"].get<double>(), 2) << " |\n";
+    }
 }
 
 void report(const Scan& scan, const std::vector<Setting>& settings, const std::map<int, Json>& runs, const Json& dense) {
@@ -264,7 +329,9 @@ void report(const Scan& scan, const std::vector<Setting>& settings, const std::m
         const Json& m = r["meshes"][i];
         const double s = m["seconds"].get<double>(), triangles = m["triangles"].get<double>();
         std::string ratio = "";
-        if (settings[i].method == MeshMethod::dc) {
+        if (settings[i].budget_route != 0) {
+            ratio = fixed(s / r["meshes"][settings[i].budget_of]["seconds"].get<double>(), 2) + " (vs " + settings[settings[i].budget_of].label() + ")";
+        } else if (settings[i].method == MeshMethod::dc) {
             const std::size_t j = matching_openvdb(settings, adaptive_index++);
             ratio = fixed(s / r["meshes"][j]["seconds"].get<double>(), 2) + " (vs " + settings[j].label() + ")";
         } else if (settings[i].method == MeshMethod::mc) {
@@ -278,6 +345,7 @@ void report(const Scan& scan, const std::vector<Setting>& settings, const std::m
                 std::cout << " " << fixed(run["meshes"][i]["seconds"].get<double>() / s, 2) << " |";
         std::cout << "\n";
     }
+    budget_table(settings, r);
     for (const auto& [threads, run] : runs)
         if (threads != most && !run.contains("failed"))
             std::cout << "\nconversion " << threads << "-thread / " << most << "-thread: "
@@ -339,7 +407,8 @@ int run(int argc, char** argv) {
                                                 {"--phantom-sizes", "256,512"},
                                                 {"--errors", "0,0.1,0.25,1"},
                                                 {"--adaptivities", "0,0.1,0.25,1"},
-                                                {"--threads", "1,2"}};
+                                                {"--threads", "1,2"},
+                                                {"--budgets", ""}};
     for (int i = 1; i + 1 < argc; i += 2) {
         if (!flags.count(argv[i])) {
             std::cerr << "unknown flag " << argv[i] << " (see the top of bench/bench_main.cpp)\n";
@@ -351,6 +420,10 @@ int run(int argc, char** argv) {
     for (double e : numbers(flags["--errors"])) settings.push_back({MeshMethod::dc, e});
     settings.push_back({MeshMethod::mc, 0});
     for (double a : numbers(flags["--adaptivities"])) settings.push_back({MeshMethod::openvdb, a});
+    for (std::size_t i = 0, count = settings.size(); i < count; ++i) {
+        if (settings[i].method != MeshMethod::openvdb) continue;
+        for (double route : numbers(flags["--budgets"])) settings.push_back({MeshMethod::dc, settings[i].value, int(route), i});
+    }
 
     const std::filesystem::path data = test::shared_data_dir();
     std::vector<Scan> scans;

@@ -1,7 +1,8 @@
-// `vdbmesh compare IN [--iso V] [--error LIST] [--adaptivity LIST] [--decimate LIST] [--json FILE] [--plot FILE.svg]`
+// `vdbmesh compare IN [--iso V] [--error LIST] [--adaptivity LIST] [--no-budget] [--decimate LIST] [--json FILE] [--plot FILE.svg]`
 // `vdbmesh compare --phantom SHAPE [--size N] [--blur W] ...`
 // Converts once, then meshes the same grid in this process with DC (the default mesher) at each
-// --error, Marching Cubes, volumeToMesh at each --adaptivity, and DC at
+// --error, Marching Cubes, volumeToMesh at each --adaptivity, the triangle budget at each
+// volumeToMesh mesh's count (as `vdbmesh mesh --triangles`; not with --no-budget), and DC at
 // error 0 decimated to each --decimate fraction (as `vdbmesh mesh --decimate`), and measures each mesh (compare_meshers(),
 // include/vdbmesh/compare.h): time, `vdbmesh check`'s figures, two-sided distance to the true
 // isosurface in voxels and normal deviation. The true surface of a scan or .vdb is the
@@ -48,6 +49,7 @@ struct CompareCommandOptions {
     double blur = 5;
     std::string errors = "0,0.1,0.25,0.5", adaptivities = "0,0.1,0.25,1";
     std::string decimate;
+    bool no_budget = false;
     std::optional<std::string> dmc_errors;  ///< refused: DMC was retired (docs/dmc.md)
     Inside inside = Inside::above;
     std::size_t samples = 100000;
@@ -149,6 +151,7 @@ nlohmann::ordered_json mesh_json(const MeshComparison& m) {
     j["error"] = m.error ? nlohmann::ordered_json(*m.error) : nullptr;
     j["adaptivity"] = m.adaptivity ? nlohmann::ordered_json(*m.adaptivity) : nullptr;
     j["decimate"] = m.decimate ? nlohmann::ordered_json(*m.decimate) : nullptr;
+    j["triangle_budget"] = m.budget ? nlohmann::ordered_json(*m.budget) : nullptr;
     j["seconds"] = m.seconds;
     j["decimate_seconds"] = m.decimate ? nlohmann::ordered_json(m.decimate_seconds) : nullptr;
     j["phases"] = phases_json(m.mesher);
@@ -169,10 +172,13 @@ nlohmann::ordered_json mesh_json(const MeshComparison& m) {
     return j;
 }
 
-/// The setting of @a m: each value after its name in @a names (decimate, error, adaptivity).
-std::string setting_text(const MeshComparison& m, const std::array<const char*, 3>& names) {
+/// The setting of @a m: each value after its name in @a names (decimate, error, adaptivity,
+/// triangle budget).
+std::string setting_text(const MeshComparison& m, const std::array<const char*, 4>& names) {
     std::ostringstream text;
-    if (m.decimate)
+    if (m.budget)
+        text << names[3] << *m.budget;
+    else if (m.decimate)
         text << names[0] << *m.decimate;
     else if (m.error)
         text << names[1] << *m.error;
@@ -193,7 +199,7 @@ void print_table(const nlohmann::ordered_json& report, const std::vector<MeshCom
     out << std::fixed;
     for (const auto& m : meshes) {
         const DistanceReport& d = m.accuracy.distance;
-        out << std::left << std::setw(9) << method_name(m.method) << std::setw(12) << setting_text(m, {"dec ", "error ", "adapt "}) << std::right
+        out << std::left << std::setw(9) << method_name(m.method) << std::setw(12) << setting_text(m, {"dec ", "error ", "adapt ", "<= "}) << std::right
             << std::setprecision(3) << std::setw(9) << m.seconds << std::setw(11) << m.analysis.triangles << std::setw(11)
             << m.analysis.vertices << std::setprecision(4) << std::setw(11) << d.hausdorff << std::setw(9) << d.mean
             << std::setprecision(2) << std::setw(9) << m.accuracy.normals.mean_deg << std::setw(8)
@@ -212,13 +218,14 @@ Plot make_plot(const std::string& title, const std::vector<MeshComparison>& mesh
     plot.x_label = "triangles (log scale)";
     plot.y_label = "two-sided Hausdorff distance (voxels)";
     for (MeshMethod method : {MeshMethod::dc, MeshMethod::mc, MeshMethod::openvdb}) {
-        for (const bool decimated : {false, true}) {
+        for (const char* kind : {"", " + decimate", " budget"}) {
             PlotSeries series;
             series.name = method == MeshMethod::openvdb ? "volumeToMesh" : method == MeshMethod::dc ? "DC" : "MC";
-            if (decimated) series.name += " + decimate";
+            series.name += kind;
             for (const auto& m : meshes) {
-                if (m.method != method || m.decimate.has_value() != decimated) continue;
-                series.points.push_back({double(m.analysis.triangles), m.accuracy.distance.hausdorff, setting_text(m, {"d=", "e=", "a="})});
+                const char* of = m.budget ? " budget" : m.decimate ? " + decimate" : "";
+                if (m.method != method || std::string(of) != kind) continue;
+                series.points.push_back({double(m.analysis.triangles), m.accuracy.distance.hausdorff, setting_text(m, {"d=", "e=", "a=", "<="})});
             }
             if (!series.points.empty()) plot.series.push_back(series);
         }
@@ -254,7 +261,8 @@ int run_compare(const CompareCommandOptions& o) {
         }
     }
     options.accuracy.samples = o.samples;
-    const std::size_t mesh_count = options.errors.size() + options.adaptivities.size() +
+    options.budget_rows = !o.no_budget;
+    const std::size_t mesh_count = options.errors.size() + options.adaptivities.size() * (o.no_budget ? 1 : 2) +
                                options.decimate_fractions.size() + 1;  // and Marching Cubes
     refuse_beyond_memory("--samples", "the surface samples (24 bytes each)", 24.0 * double(o.samples));
     refuse_beyond_work(o.work_limit, "--samples", 2.0 * double(o.samples) * double(mesh_count),
@@ -306,6 +314,8 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
     command.add_option("--dmc-error", o.dmc_errors, "Retired with dmc: refused, naming --error")->group("");
     command.add_option("--adaptivity", o.adaptivities, "volumeToMesh adaptivities in [0, 1], one mesh each")
         ->capture_default_str();
+    command.add_flag("--no-budget", o.no_budget,
+                     "No triangle-budget rows (by default, one per --adaptivity: the budget at that volumeToMesh mesh's triangles)");
     command.add_option("--decimate", o.decimate,
                        "Shares of triangles in (0, 1] to keep of the error-0 mesh (as mesh --decimate), one mesh each");
     const std::map<std::string, Inside> sides = {{"above", Inside::above}, {"below", Inside::below}};

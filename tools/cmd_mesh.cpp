@@ -29,6 +29,7 @@
 #include "vdbmesh/grid_region.h"
 #include "vdbmesh/ranks.h"
 #include "vdbmesh/json_text.h"
+#include "vdbmesh/mesh_budget.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/read.h"
@@ -43,6 +44,17 @@ const std::map<std::string, MeshMethod> kMethods = {
     {"dmc", MeshMethod::dc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}, {"dc", MeshMethod::dc}};
 const std::map<std::string, Inside> kSides = {{"above", Inside::above}, {"below", Inside::below}};
 
+/// --triangles: a whole number from 1 to the most a mesh's 32-bit indices allow.
+const CLI::Validator kTriangleCount(
+    [](std::string& text) -> std::string {
+        const bool digits = !text.empty() && text.size() <= 10 &&
+                            std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c) != 0; });
+        if (!digits || std::stoull(text) < 1 || std::stoull(text) > 0xffffffffull)
+            return "expected a whole number of triangles from 1 to 4294967295, got " + text;
+        return {};
+    },
+    "N >= 1");
+
 struct MeshCommandOptions {
     std::vector<std::string> inputs;  ///< the input, then the further parts of a split raw scan
     std::string output;
@@ -55,6 +67,7 @@ struct MeshCommandOptions {
     bool json = false;
     bool verify = false;
     std::string memory;  ///< --memory SIZE, empty when not given
+    std::optional<std::uint64_t> triangles;  ///< --triangles N: the budget (mesh_budget.h)
     ReadFlags read;
     ProcessingOptions processing;
     CommonOptions common;
@@ -101,6 +114,7 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
     j["iso"] = options.iso.value_or(options.mesh.iso);  // as asked: mesh.iso is its negative for a scan's object below
     j["error"] = dc ? nlohmann::ordered_json(options.mesh.error) : nlohmann::ordered_json(nullptr);
     j["adaptivity"] = openvdb ? nlohmann::ordered_json(options.mesh.adaptivity) : nlohmann::ordered_json(nullptr);
+    j["triangle_budget"] = options.triangles ? nlohmann::ordered_json(*options.triangles) : nlohmann::ordered_json(nullptr);
     j["processing"] = processing_json(options.processing, processing);
     j["triangles"] = triangles;
     j["vertices"] = vertices;
@@ -195,6 +209,28 @@ int run_bricked(MeshCommandOptions& options, std::uint64_t memory, Progress& pro
     return 0;
 }
 
+/// The mesh of --triangles N (mesh_to_budget()). Refused as bad input: a budget above the
+/// error-0 mesh's triangles (the most accurate mesh there is, which `--error 0` makes), and one
+/// below where the decimation has to stop to keep the guarantees. options.mesh.error becomes the
+/// error the budget picked (for the report).
+MeshResult mesh_to_budget_checked(const openvdb::FloatGrid& grid, MeshCommandOptions& options) {
+    BudgetReport budget;
+    MeshResult result = mesh_to_budget(grid, options.mesh, std::size_t(*options.triangles), &budget);
+    options.mesh.error = budget.error;
+    if (result.mesh.triangles.empty()) return result;  // (no surface: reported as such)
+    const std::string asked = "--triangles " + std::to_string(*options.triangles) + ": ";
+    if (budget.error == 0 && budget.meshed_triangles < *options.triangles) {
+        throw Error(asked + "the most accurate mesh there is (--error 0) has " + std::to_string(budget.meshed_triangles) +
+                    " triangles; expected a budget of at most that many");
+    }
+    if (result.mesh.triangles.size() > *options.triangles) {
+        throw Error(asked + "the decimation keeping the mesh closed, manifold and free of self-intersections stops at " +
+                    std::to_string(result.mesh.triangles.size()) +
+                    " triangles (each further collapse would break a guarantee); expected a budget of at least that many");
+    }
+    return result;
+}
+
 /// Exit status 0, or 3 when --verify found a defect (the mesh is then not written).
 int run_mesh(MeshCommandOptions& options) {
     if (options.labels.label.labels) {
@@ -222,7 +258,7 @@ int run_mesh(MeshCommandOptions& options) {
     ProcessingReport processing;
     process_grid(grid, options.mesh, options.processing, processing);
     options.mesh.progress = [&](double fraction) { progress(0.5 + 0.5 * fraction); };
-    MeshResult result = mesh_grid(*grid, options.mesh);
+    MeshResult result = options.triangles ? mesh_to_budget_checked(*grid, options) : mesh_grid(*grid, options.mesh);
     result.mesh = process_mesh(std::move(result.mesh), options.processing, processing);
     const Mesh& mesh = result.mesh;
     if (mesh.triangles.empty())
@@ -250,6 +286,19 @@ int run_mesh(MeshCommandOptions& options) {
         }
     }
     return defective ? 3 : 0;
+}
+
+/// --triangles picks the error and decimates itself: refused with another method, --error, the
+/// decimation options and --memory (a budget needs the whole mesh).
+void refuse_budget_conflicts(const MeshCommandOptions& options, const CLI::Option* triangles, const CLI::Option* error) {
+    if (!options.triangles) return;
+    const std::string method = lowercase(options.method);
+    refuse_unless(triangles, method == "dc" || method == "dmc", "with --method dc, got --method " + method);
+    refuse_unless(error, false, "without --triangles (the budget picks the error), got --triangles");
+    const ProcessingOptions& p = options.processing;
+    if (p.decimate || p.max_error || !options.memory.empty() || options.mesh.open_boundary)
+        throw UsageError("--triangles: decimates to the budget itself and needs the whole, closed mesh; leave out --decimate, "
+                         "--max-error, --memory and --open-boundary");
 }
 
 }  // namespace
@@ -280,12 +329,15 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     command.add_flag("--json", options->json, "Print the figures as one JSON object on stdout");
     auto* verify = command.add_flag("--verify", options->verify,
                      "Check the whole mesh as `vdbmesh check` does; a defect: nothing written, exit status 3");
+    auto* triangles = command.add_option("--triangles", options->triangles,
+                          "dc: at most N triangles, the closest such mesh (DC, then the guaranteed decimator); not with --error")
+        ->check(kTriangleCount);
     auto* memory = command.add_option("--memory", options->memory,
                        "Mesh brick by brick within about SIZE bytes (K, M, G suffixes; dc at --error > 0): the same mesh");
     add_read_flags(command, options->read);
     // What shapes one surface means nothing to a label map, meshed per label: refused with --labels.
     std::vector<const CLI::Option*> one_surface = add_processing_options(command, options->processing);
-    one_surface.insert(one_surface.end(), {iso, method, error, adaptivity, inside, open_boundary, normals, verify, memory});
+    one_surface.insert(one_surface.end(), {iso, method, error, adaptivity, inside, open_boundary, normals, verify, memory, triangles});
     add_common_options(command, options->common);
     add_label_flags(command, options->labels.label, "Mesh a label map: all, or a list like 3,5,10-12; one closed mesh per label, walls shared");
     const CLI::Option* format = command.add_option("--format", options->labels.format, "--labels into a folder: the files' format")
@@ -294,7 +346,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     const CLI::Option* smooth_iterations = command.add_option("--smooth-iterations", options->labels.smooth_iterations, "--labels: constrained smoothing passes (0: voxel faces)")
         ->check(CLI::Range(0, 1000))
         ->capture_default_str();
-    command.callback([options, &result, one_surface, error, adaptivity, format, smooth_iterations] {
+    command.callback([options, &result, one_surface, error, adaptivity, format, smooth_iterations, triangles] {
         const std::string method = lowercase(options->method);
         const bool labels = bool(options->labels.label.labels);
         refuse_unless(format, labels, "with --labels, got none");
@@ -303,6 +355,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
             refuse_unless(option, !labels, "without --labels (a label map is meshed per label), got --labels");
         refuse_unless(error, method == "dc" || method == "dmc", "with --method dc or dmc, got --method " + method);
         refuse_unless(adaptivity, method == "openvdb", "with --method openvdb, got --method " + method);
+        refuse_budget_conflicts(*options, triangles, error);
         result.status = run_mesh(*options);
     });
 }

@@ -100,6 +100,9 @@ struct CompareOptions {
     /// decimate_mesh() (as `vdbmesh mesh --decimate`), one mesh each.
     std::vector<double> decimate_fractions;
     bool marching_cubes = true;                            ///< one MC mesh
+    /// Per volumeToMesh mesh, mesh_to_budget() (mesh_budget.h) at its triangle count: the mesh
+    /// of ours meant to beat it on every count.
+    bool budget_rows = true;
     AccuracyOptions accuracy;
     /// Called before each mesh with its index and the number of meshes.
     std::function<void(std::size_t index, std::size_t count)> progress;
@@ -111,6 +114,7 @@ struct MeshComparison {
     std::optional<double> error;       ///< DC
     std::optional<double> adaptivity;  ///< volumeToMesh
     std::optional<double> decimate;    ///< the share of triangles kept by decimate_mesh()
+    std::optional<std::size_t> budget; ///< mesh_to_budget()'s budget (its time is seconds, its report mesher)
     double seconds = 0;                ///< mesh_grid() wall time, the fastest of up to 3 runs under 0.2 s (with decimate: plus decimate_seconds)
     double decimate_seconds = 0;       ///< decimate_mesh() wall time
     MeshReport mesher;                 ///< what mesh_grid() reported (phases, fallbacks)
@@ -128,7 +132,8 @@ struct Comparison {
 };
 
 /// Meshes @a grid with every setting (DC at each error, MC, volumeToMesh at each
-/// adaptivity, DC at error 0 decimated to each fraction, in that order), one at a time in this
+/// adaptivity, the budget at each volumeToMesh mesh's triangle count, DC at error 0 decimated to
+/// each fraction, in that order), one at a time in this
 /// process, timing mesh_grid() (and decimate_mesh()) alone, and measures each result (once per
 /// distinct mesh). Meshes are dropped once measured, but for the error-0 mesh that is decimated.
 Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions& options);

@@ -34,6 +34,9 @@ Mesh taubin_smooth(const Mesh& mesh, const TaubinOptions& options, TaubinReport*
 /// Options of decimate_mesh(): collapse edges while both bounds allow.
 struct DecimateOptions {
     double keep_fraction = 0;  ///< stop at this share of the triangles, in [0, 1] (0: as far as max_error allows)
+    /// Stop at this many triangles or fewer (a collapse removes two), in place of keep_fraction
+    /// when not 0.
+    std::size_t target_triangles = 0;
     /// Stop before a collapse whose new vertex lies farther than this (world units) from the
     /// plane of an input triangle merged into it (the square root of its unweighted quadric error).
     double max_error = std::numeric_limits<double>::infinity();

@@ -21,6 +21,7 @@
 
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/mesh_budget.h"
 #include "vdbmesh/process.h"
 #include "vdbmesh/trilinear_field.h"
 
@@ -179,12 +180,13 @@ constexpr int kTimedRuns = 3;
 
 /// mesh_grid() of @a grid from its fastest run (see kRetimeBelowSeconds; every run makes the
 /// same mesh), and that run's time.
-std::pair<MeshResult, double> timed_mesh(const openvdb::FloatGrid& grid, const MeshOptions& options) {
+std::pair<MeshResult, double> timed_mesh(const openvdb::FloatGrid& grid, const MeshOptions& options,
+                                         std::optional<std::size_t> budget = std::nullopt) {
     double fastest = std::numeric_limits<double>::infinity();
     std::optional<MeshResult> kept;
     for (int run = 0; run < kTimedRuns && (run == 0 || fastest < kRetimeBelowSeconds); ++run) {
         const auto start = std::chrono::steady_clock::now();
-        MeshResult result = mesh_grid(grid, options);
+        MeshResult result = budget ? mesh_to_budget(grid, options, *budget) : mesh_grid(grid, options);
         const double seconds = seconds_since(start);
         if (seconds < fastest) {
             fastest = seconds;
@@ -205,8 +207,9 @@ Mesh mesh_of(const openvdb::FloatGrid& grid, const CompareOptions& options, Mesh
     mesh_options.inside = options.inside;
     mesh_options.error = run.error.value_or(0.0);
     mesh_options.adaptivity = run.adaptivity.value_or(0.0);
+    if (run.budget == std::optional<std::size_t>(0)) return {};  // (volumeToMesh found no surface: nothing to meet)
     if (!run.decimate) {
-        auto [result, seconds] = timed_mesh(grid, mesh_options);
+        auto [result, seconds] = timed_mesh(grid, mesh_options, run.budget);
         run.seconds = seconds;
         run.mesher = std::move(result.report);
         return std::move(result.mesh);
@@ -313,7 +316,17 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
     for (double error : options.errors) add_run(MeshMethod::dc, error, std::nullopt);
     if (options.marching_cubes) add_run(MeshMethod::mc, std::nullopt, std::nullopt);
     for (double adaptivity : options.adaptivities) add_run(MeshMethod::openvdb, std::nullopt, adaptivity);
+    // (a budget run's count is its volumeToMesh mesh's, known once that one is made)
+    std::vector<std::optional<std::size_t>> budget_of(runs.size());
+    if (options.budget_rows) {
+        for (std::size_t i = 0, count = runs.size(); i < count; ++i) {
+            if (runs[i].method != MeshMethod::openvdb) continue;
+            add_run(MeshMethod::dc, std::nullopt, std::nullopt);
+            budget_of.push_back(i);
+        }
+    }
     for (double fraction : options.decimate_fractions) add_run(MeshMethod::dc, 0.0, std::nullopt, fraction);
+    budget_of.resize(runs.size());
 
     const TrueSurface truth(grid, options.iso, options.inside, options.accuracy);
     std::vector<MeshFingerprint> fingerprints(runs.size());
@@ -321,6 +334,7 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
     for (std::size_t i = 0; i < runs.size(); ++i) {
         if (options.progress) options.progress(i, runs.size());
         MeshComparison& run = runs[i];
+        if (budget_of[i]) run.budget = runs[*budget_of[i]].analysis.triangles;
         const Mesh mesh = mesh_of(grid, options, run, error0);
         fingerprints[i] = mesh_fingerprint(mesh);
         for (std::size_t earlier = 0; earlier < i && !run.same_mesh_as; ++earlier)

@@ -564,7 +564,8 @@ public:
           boxes_(mesh.triangles.size()),  // (refresh() writes each)
           summaries_(parallel_array<Summary>(mesh.triangles.size(), [](std::size_t) { return Summary{}; })),
           moved_(parallel_array<char>(mesh.triangles.size(), [](std::size_t) { return 0; })), alive_count_(mesh.triangles.size()),
-          target_(std::size_t(std::ceil(options.keep_fraction * double(mesh.triangles.size())))),
+          target_(options.target_triangles != 0 ? options.target_triangles
+                                                : std::size_t(std::ceil(options.keep_fraction * double(mesh.triangles.size())))),
           max_error_squared_(options.max_error * options.max_error), closed_manifold_(link_corners()) {}
 
     /// Whether every edge has exactly two triangles, running either way, and every vertex one

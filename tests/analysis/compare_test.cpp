@@ -134,6 +134,7 @@ TEST_F(CompareTest, CompareMeshersRunsEverySettingInOrder) {
     options.iso = 0.5;
     options.errors = {0, 0.25};
     options.adaptivities = {0, 1};
+    options.budget_rows = false;  // (CompareCliTest checks them)
     options.accuracy = {5000, exact_distance(*sphere_)};
     std::size_t calls = 0;
     options.progress = [&](std::size_t, std::size_t count) {

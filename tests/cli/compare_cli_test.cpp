@@ -25,8 +25,8 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
     const nlohmann::json report = nlohmann::json::parse(in);
     EXPECT_EQ(report["grid"]["truth"], "exact phantom surface");
     EXPECT_GT(report["grid"]["active_voxels"].get<long>(), 0);
-    ASSERT_EQ(report["meshes"].size(), 5u);  // 2 DC, MC, 2 volumeToMesh
-    for (const char* key : {"method", "error", "adaptivity", "seconds", "triangles", "vertices", "hausdorff_voxels",
+    ASSERT_EQ(report["meshes"].size(), 7u);  // 2 DC, MC, 2 volumeToMesh, 2 budgets at their counts
+    for (const char* key : {"method", "error", "adaptivity", "triangle_budget", "seconds", "triangles", "vertices", "hausdorff_voxels",
                             "mean_distance_voxels", "self_intersecting_pairs", "closed", "manifold", "normal_mean_deg",
                             "normal_p95_deg", "boundary_edges", "genus", "area", "volume", "min_angle_deg", "phases",
                             "same_mesh_as"}) {
@@ -42,6 +42,17 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
     EXPECT_TRUE(report["meshes"][1]["same_mesh_as"].is_null());
     ASSERT_EQ(report["meshes"][1]["phases"].size(), 5u);
     EXPECT_EQ(report["meshes"][1]["phases"][0]["name"], "octree");
+    // The budget rows (`mesh --triangles`), one per volumeToMesh mesh, at most its triangles and clean.
+    for (const std::size_t i : {5u, 6u}) {
+        const auto& budget = report["meshes"][i];
+        const auto& openvdb = report["meshes"][i - 2];
+        EXPECT_EQ(budget["method"], "dc");
+        EXPECT_TRUE(budget["error"].is_null());
+        EXPECT_EQ(budget["triangle_budget"], openvdb["triangles"]);
+        EXPECT_LE(budget["triangles"].get<double>(), openvdb["triangles"].get<double>());
+        EXPECT_TRUE(budget["clean"].get<bool>());
+    }
+    EXPECT_NE(table.find("<= "), std::string::npos) << table;
 
     std::ifstream plot(svg);
     const std::string text((std::istreambuf_iterator<char>(plot)), std::istreambuf_iterator<char>());
@@ -57,7 +68,7 @@ TEST(CompareCliTest, DecimateAddsRowsOfTheDecimatedErrorZeroMesh) {
     const test::ScratchDir dir;
     const std::string json = (dir / "report.json").string(), svg = (dir / "curve.svg").string();
     testing::internal::CaptureStdout();
-    ASSERT_EQ(run({"compare", "--phantom", "sphere", "--size", "32", "--error", "0", "--adaptivity", "1", "--decimate",
+    ASSERT_EQ(run({"compare", "--phantom", "sphere", "--size", "32", "--error", "0", "--adaptivity", "1", "--no-budget", "--decimate",
                    "0.5,0.2", "--samples", "2000", "--json", json, "--plot", svg, "--quiet"}),
               kSuccess);
     const std::string table = testing::internal::GetCapturedStdout();
@@ -65,7 +76,7 @@ TEST(CompareCliTest, DecimateAddsRowsOfTheDecimatedErrorZeroMesh) {
 
     std::ifstream in(json);
     const nlohmann::json report = nlohmann::json::parse(in);
-    ASSERT_EQ(report["meshes"].size(), 5u);  // DC 0, MC, volumeToMesh 1, two decimated
+    ASSERT_EQ(report["meshes"].size(), 5u);  // DC 0, MC, volumeToMesh 1, two decimated (--no-budget: no budget row)
     const auto& full = report["meshes"][0];
     EXPECT_TRUE(full["decimate"].is_null());
     EXPECT_TRUE(full["decimate_seconds"].is_null());

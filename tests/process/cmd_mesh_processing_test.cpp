@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "test_data.h"
 #include "vdbmesh/measure.h"
+#include "vdbmesh/mesh_budget.h"
 #include "vdbmesh/mesh_io.h"
 
 namespace vdbmesh::test {
@@ -82,6 +83,58 @@ TEST(CmdMeshProcessingTest, RealCtKeepsTheGuarantees) {
     const CgalVerdict verdict = judge_with_cgal(read_mesh(output));
     EXPECT_TRUE(verdict.clean()) << verdict.describe();
     EXPECT_LE(j["triangles"].get<double>(), 0.2 * j["processing"]["triangles_meshed"].get<double>() + 2);
+}
+
+// --triangles N: the mesh written has at most N triangles and is clean by CGAL; the report gives
+// the budget and the error it started from.
+TEST(CmdMeshProcessingTest, TriangleBudgetIsKept) {
+    const ScratchDir scratch;
+    const auto scan = scratch / "sphere.nii";
+    ASSERT_EQ(cli::run({"phantom", "sphere", "--size", "64", "-o", scan.string(), "--quiet"}), cli::kSuccess);
+    const auto output = scratch / "budget.ply";
+    int status = 0;
+    const nlohmann::json j = run_json({"mesh", scan.string(), "--iso", "0.5", "--triangles", "101", "-o", output.string(), "--json"},
+                                      status);
+    ASSERT_EQ(status, cli::kSuccess);
+    EXPECT_EQ(j["triangle_budget"], 101);
+    EXPECT_EQ(j["error"], kBudgetBaseError);
+    EXPECT_EQ(j["phases"].back()["name"], "decimate");
+    const Mesh mesh = read_mesh(output);
+    EXPECT_EQ(mesh.triangles.size(), 100u);  // a closed mesh: an even count
+    const CgalVerdict verdict = judge_with_cgal(mesh);
+    EXPECT_TRUE(verdict.clean()) << verdict.describe();
+}
+
+// Bad budgets and what --triangles cannot go with are usage errors (exit 2); a budget above the
+// error-0 mesh's triangles, or below where the decimation must stop, is refused once meshed
+// (exit 1), naming --triangles and the count; nothing is written.
+TEST(CmdMeshProcessingTest, BadTriangleBudgetsAreRefusedAndWriteNothing) {
+    const ScratchDir scratch;
+    const auto scan = noisy_sphere_scan(scratch);
+    const auto output = scratch / "out.stl";
+    const auto run_with = [&](const std::vector<std::string>& flags) {
+        std::vector<std::string> args{"mesh", scan.string(), "--iso", "0.5", "-o", output.string(), "--quiet"};
+        args.insert(args.end(), flags.begin(), flags.end());
+        testing::internal::CaptureStderr();
+        const int status = cli::run(args);
+        const std::string message = testing::internal::GetCapturedStderr();
+        EXPECT_FALSE(std::filesystem::exists(output)) << testing::PrintToString(flags);
+        return std::make_pair(status, message);
+    };
+    for (const std::vector<std::string>& flags :
+         {std::vector<std::string>{"--triangles", "0"}, {"--triangles", "-5"}, {"--triangles", "many"}, {"--triangles", "1.5"},
+          {"--triangles", "99999999999"}, {"--triangles", "1000", "--error", "1"}, {"--triangles", "1000", "--method", "mc"},
+          {"--triangles", "1000", "--decimate", "0.5"}, {"--triangles", "1000", "--open-boundary"}}) {
+        const auto [status, message] = run_with(flags);
+        EXPECT_EQ(status, cli::kUsageError) << testing::PrintToString(flags);
+        EXPECT_NE(message.find("--triangles"), std::string::npos) << message;
+    }
+    for (const char* budget : {"100000000", "4"}) {
+        const auto [status, message] = run_with({"--triangles", budget});
+        EXPECT_EQ(status, cli::kRuntimeError) << budget;
+        EXPECT_NE(message.find(std::string("--triangles ") + budget + ":"), std::string::npos) << message;
+        EXPECT_NE(message.find(budget == std::string("4") ? "stops at" : "(--error 0) has"), std::string::npos) << message;
+    }
 }
 
 // Issue 11's figure: the bunny CT (512 x 512 x 361, iso 1200.5 as in bench/) decimated to a fifth
