@@ -168,22 +168,35 @@ void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
         vertex_count += node.vertex_count;
         triangle_count += node.triangle_count;
     }
-    // First pass: which vertices a triangle uses (the weld drops the others).
+    if (vertex_count >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
+    // One pass resolves every triangle's keys (the costly part), marking the vertices used (the
+    // weld drops the others) and keeping the triangles resolved in a second file, read back in
+    // order once the used vertices are counted and written.
+    struct ResolvedTriangle {
+        std::array<std::uint32_t, 3> number;  ///< before unused vertices are dropped
+        std::array<std::array<float, 3>, 3> corners;
+    };
+    TempFile resolved("for the bricks' resolved triangles");
     UsedVertices used(vertex_count);
-    auto for_each_triangle = [&](auto&& visit) {
+    {
+        std::vector<ResolvedTriangle> batch;
         Tables tables(*this);
         for (const NodeRecord& node : nodes_) {
             tables.drop_below(node.origin.z());
             for (const KeyedTriangle& t : read<KeyedTriangle>(node.triangle_offset, node.triangle_count)) {
-                visit(std::array{tables.find(t[0]), tables.find(t[1]), tables.find(t[2])});
+                ResolvedTriangle& r = batch.emplace_back();
+                for (int k = 0; k < 3; ++k) {
+                    const auto [number, position] = tables.find(t[k]);
+                    used.mark(number);
+                    r.number[k] = std::uint32_t(number);
+                    r.corners[k] = *position;
+                }
             }
+            resolved.append(batch.data(), batch.size() * sizeof(ResolvedTriangle));
+            batch.clear();
         }
-    };
-    for_each_triangle([&](const auto& corners) {
-        for (const auto& [number, position] : corners) used.mark(number);
-    });
+    }
     const std::uint64_t used_count = used.count();
-    if (used_count >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
     sink.begin(used_count, triangle_count);
     for (const NodeRecord& node : nodes_) {
         const std::vector<VertexRecord> vertices = read<VertexRecord>(node.vertex_offset, node.vertex_count);
@@ -191,19 +204,21 @@ void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
             if (used.used(node.first_vertex + v)) sink.vertex(vertices[v].position);
         }
     }
-    for_each_triangle([&](const auto& corners) {
-        std::array<std::uint32_t, 3> triangle;
-        std::array<std::array<float, 3>, 3> positions;
-        for (int k = 0; k < 3; ++k) {
-            triangle[k] = std::uint32_t(used.rank(corners[k].first));
-            positions[k] = *corners[k].second;
+    constexpr std::uint64_t kBatch = 1 << 16;
+    std::vector<ResolvedTriangle> batch;
+    for (std::uint64_t first = 0; first < triangle_count; first += kBatch) {
+        batch.resize(std::min(kBatch, triangle_count - first));
+        resolved.read(first * sizeof(ResolvedTriangle), batch.data(), batch.size() * sizeof(ResolvedTriangle));
+        for (ResolvedTriangle& r : batch) {
+            std::array<std::uint32_t, 3> triangle;
+            for (int k = 0; k < 3; ++k) triangle[k] = std::uint32_t(used.rank(r.number[k]));
+            if (mirrored) {
+                std::swap(triangle[1], triangle[2]);
+                std::swap(r.corners[1], r.corners[2]);
+            }
+            sink.triangle(triangle, r.corners);
         }
-        if (mirrored) {
-            std::swap(triangle[1], triangle[2]);
-            std::swap(positions[1], positions[2]);
-        }
-        sink.triangle(triangle, positions);
-    });
+    }
 }
 
 }  // namespace vdbmesh::detail
