@@ -1,6 +1,6 @@
 #pragma once
 // Private: the ONE rule for inside/outside and for where the surface crosses an edge, shared
-// by Marching Cubes (marching_cubes.cpp) and intersection-free DC (ifc_*.cpp) so that DC at
+// by Marching Cubes (marching_cubes.cpp) and intersection-free DC (dc_*.cpp) so that DC at
 // error 0 reproduces MC bit for bit.
 //
 // - A sample is inside iff its value is strictly above the isovalue (Inside::above) or strictly

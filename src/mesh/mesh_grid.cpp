@@ -6,7 +6,7 @@
 #include <string>
 #include <utility>
 
-#include "mesh/ifc.h"
+#include "mesh/dual_contouring.h"
 #include "mesh/marching_cubes.h"
 #include "mesh/mesh_phases.h"
 #include "mesh/openvdb_mesher.h"

@@ -49,11 +49,11 @@ struct Pair {
 // nearly equal meshes), and volumeToMesh's rose from 0.88 to 1.50 on the CThead at 0.1. The
 // samples come from fixed seeds, so every run decides the same.
 // The CThead pairs failed on the Hausdorff distance (DC 1: 1.49) until a polygon that drops an
-// edge's crossing had to pass within the error of it (ifc_polygons.cpp, polygon_near()) and
-// the quarter points of a vertex's spokes were tested (ifc_octree.cpp, fan_near_surface());
+// edge's crossing had to pass within the error of it (dc_polygons.cpp, polygon_near()) and
+// the quarter points of a vertex's spokes were tested (dc_octree.cpp, fan_near_surface());
 // the engine's on angles (at 0.25, DC 1: 1.05%) until vertices kept wider margins from their
-// cells' faces (ifc_block.h, ifc_vertex_boxes()), and at 0.1 (DC 0.5: 0.64%) until blocks
-// whose surface only clips a face were split (ifc.cpp, split_clipped_blocks()). Every pair at
+// cells' faces (dc_block.h, ifc_vertex_boxes()), and at 0.1 (DC 0.5: 0.64%) until blocks
+// whose surface only clips a face were split (dual_contouring.cpp, split_clipped_blocks()). Every pair at
 // adaptivity 1 fails on triangles.
 constexpr std::size_t kSamples = 1000000;
 /// The default suite's draw: the same fixed seeds, a tenth of the points.

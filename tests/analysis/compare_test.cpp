@@ -150,7 +150,7 @@ TEST_F(CompareTest, CompareMeshersRunsEverySettingInOrder) {
     EXPECT_FALSE(result.meshes[2].error.has_value());
     EXPECT_EQ(result.meshes[4].adaptivity, 1.0);
     EXPECT_GT(result.reference_triangles, 0u);
-    // DC at error 0 is MC (ifc.h): the same mesh, measured once; every other mesh differs.
+    // DC at error 0 is MC (dual_contouring.h): the same mesh, measured once; every other mesh differs.
     EXPECT_EQ(result.meshes[0].analysis.triangles, result.meshes[2].analysis.triangles);
     EXPECT_EQ(result.meshes[2].same_mesh_as, std::optional<std::size_t>(0));
     EXPECT_EQ(result.meshes[2].accuracy.distance.hausdorff, result.meshes[0].accuracy.distance.hausdorff);

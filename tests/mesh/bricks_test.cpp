@@ -12,7 +12,7 @@
 #include <string>
 
 #include "cgal_judge.h"
-#include "mesh/ifc.h"
+#include "mesh/dual_contouring.h"
 #include "phantom_grid.h"
 #include "shared_scan.h"
 #include "vdbmesh/error.h"

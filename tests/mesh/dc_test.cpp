@@ -1,4 +1,4 @@
-// Tests of intersection-free octree contouring (MeshMethod::dc, src/mesh/ifc*.cpp). Its
+// Tests of intersection-free octree contouring (MeshMethod::dc, src/mesh/dual_contouring.cpp, dc_*.cpp). Its
 // guarantees (closed, manifold, outward, no degenerate face, no self-intersection) come from
 // the construction alone; CGAL (cgal_judge.h), not our own checker, judges them, on fields
 // made to stress the local tests: noise (ambiguous faces, thin sheets, specks), sharp

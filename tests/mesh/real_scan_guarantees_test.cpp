@@ -92,7 +92,7 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
             EXPECT_LE(double(report.triangles), kMaxTriangleShare * double(mc_report.triangles)) << scan.name << " dc --error 1";
         }
         // Crossings kept min(E, 0.25) from the samples and face points chosen for their angles
-        // (ifc_polygons.cpp): fewer angles under 10 degrees than Marching Cubes on the same
+        // (dc_polygons.cpp): fewer angles under 10 degrees than Marching Cubes on the same
         // grid (before, DC had more: bunny at error 1, 3.88% against 3.21%).
         std::cout << "[ figures  ] " << scan.name << " dc --error " << error << ": angles under 10 degrees " << report.small_angle_share
                   << " (MC " << mc_report.small_angle_share << ")\n";
@@ -107,7 +107,7 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
 }
 
 // A polygon round a crossed edge drops the edge's crossing, so it must pass within the error of
-// it (ifc_polygons.cpp, polygon_near()). On the CThead a thin wall (0.2 voxel) ends at the bottom
+// it (dc_polygons.cpp, polygon_near()). On the CThead a thin wall (0.2 voxel) ends at the bottom
 // slice by (174, 224, 0); at --error 1 the polygon of the four cells round its lowest crossed
 // edge cut 1.72 voxels off its tip (0.85 since). The Marching Cubes vertices there must lie
 // within the error of the DC mesh, plus the 0.25 voxel the mesh's crossings are moved along

@@ -1,9 +1,9 @@
-// The spill of bricked contouring (ifc_spill.h). A triangle's vertices lie in its node or in a
+// The spill of bricked contouring (dc_spill.h). A triangle's vertices lie in its node or in a
 // neighbour (keys name grid points at most a node away), so resolving the triangles of the
 // nodes in z-major order needs the vertices of three layers of nodes at most: each node's
 // table is loaded when first asked for and dropped once every node that can refer to it is done.
 
-#include "mesh/ifc_spill.h"
+#include "mesh/dc_spill.h"
 
 #include <algorithm>
 #include <cstring>
@@ -12,7 +12,7 @@
 #include <string>
 #include <tuple>
 
-#include "mesh/ifc_key_index.h"
+#include "mesh/dc_key_index.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::detail {

@@ -1,6 +1,6 @@
 #pragma once
 // Private: the accuracy tests a merged cell of intersection-free contouring must pass, shared
-// by the merges within a block (ifc_octree.cpp) and across blocks (ifc_coarse.cpp).
+// by the merges within a block (dc_octree.cpp) and across blocks (dc_coarse_merge.cpp).
 
 #include <array>
 
@@ -49,7 +49,7 @@ private:
 /// being the chord from @a a to @a b: at least the cell's size. Where it only clips the face by a
 /// corner, the triangles over that face join the cell's far vertex to a short chord (the chord
 /// itself, or a unit face's segment next to a Marching Cubes cell) and are slivers unless the
-/// cell across is as large (ifc.cpp, split_clipped_blocks()).
+/// cell across is as large (dual_contouring.cpp, split_clipped_blocks()).
 inline bool ifc_chord_spans_face(const Point3d& a, const Point3d& b, int size) {
     return squared_distance(a, b) >= double(size) * size;
 }

@@ -1,8 +1,8 @@
 #pragma once
-// Private: the intersection-free octree contouring (ifc.cpp) of one 8^3 block of cells. A
+// Private: the intersection-free octree contouring (dual_contouring.cpp) of one 8^3 block of cells. A
 // cell is the cube between 8 samples, as in Marching Cubes. Unit cells stay Marching Cubes
 // cells; cells of 2, 4 and 8 voxels are merged bottom-up where the surface inside is one
-// disk the cell's single vertex can stand for (ifc_octree.cpp), and are contoured dually.
+// disk the cell's single vertex can stand for (dc_octree.cpp), and are contoured dually.
 
 #include <openvdb/openvdb.h>
 
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "mesh/edge_crossing.h"
-#include "mesh/ifc_qef.h"
+#include "mesh/dc_qef.h"
 #include "mesh/sample_classifier.h"
 
 namespace vdbmesh::detail {
@@ -105,7 +105,7 @@ struct IfcBlockCells : IfcLeaves {
     Qef3 root_qef;
     /// Where the whole block is one cell whose surface only clips some of its faces
     /// (ifc_chord_spans_face() fails there; bit 2 * axis + side of clipped_faces): the block's
-    /// leaves without that one, which split_clipped_blocks() (ifc.cpp) may put in its place.
+    /// leaves without that one, which split_clipped_blocks() (dual_contouring.cpp) may put in its place.
     struct Parts : IfcLeaves {
         std::uint8_t clipped_faces = 0;
     };
@@ -118,7 +118,7 @@ struct IfcBlockCells : IfcLeaves {
     bool sampled = false;
     std::array<std::uint16_t, kIfcSampleDim * kIfcSampleDim> inside_rows{};
     std::vector<double> crossings;
-    /// Whether split_clipped_blocks() (ifc.cpp) has decided this block, and whether it split
+    /// Whether split_clipped_blocks() (dual_contouring.cpp) has decided this block, and whether it split
     /// it: a split block was one 8-voxel cell, which is what its neighbours' decisions read, so
     /// blocks may be decided in any order (the bricked driver decides them layer by layer).
     bool split_decided = false;
@@ -173,7 +173,7 @@ struct IfcVertexBox {
 /// they could not tell a vertex pulled off the surface. (Sessions 9-10 narrowed every side of a
 /// cell whose tests' samples, one beyond the cell for gradients, went beyond the box; the
 /// CThead point that rule was made for, 1.7 voxels from the mesh, was a thin wall's tip that a
-/// polygon dropped, which polygon_near() in ifc_polygons.cpp now keeps.)
+/// polygon dropped, which polygon_near() in dc_polygons.cpp now keeps.)
 inline void ifc_vertex_boxes(const openvdb::Coord& min, int size, const openvdb::CoordBBox* scan_box,
                              std::array<IfcVertexBox, 3>& boxes) {
     const std::array<double, 3> margins = {std::min(0.15 * size, 0.5), std::min(0.1 * size, 0.5), kIfcInteriorMargin};

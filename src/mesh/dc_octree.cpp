@@ -20,10 +20,10 @@
 #include <memory>
 #include <numeric>
 
-#include "mesh/ifc_block.h"
-#include "mesh/ifc_fan.h"
-#include "mesh/ifc_qef.h"
-#include "mesh/ifc_topology.h"
+#include "mesh/dc_block.h"
+#include "mesh/dc_fan.h"
+#include "mesh/dc_qef.h"
+#include "mesh/dc_topology.h"
 #include "mesh/mc_table.h"
 #include "vdbmesh/geometry.h"
 
@@ -156,7 +156,7 @@ Hermite edge_hermite(const IfcSamples& s, double iso, int x, int y, int z, int a
 namespace {
 
 /// Per Marching Cubes case: whether the cell may be a leaf child in the 27-sign topology test
-/// (ifc_topology.h): no surface, or one component (a disk; triangles joined by shared cell
+/// (dc_topology.h): no surface, or one component (a disk; triangles joined by shared cell
 /// edges) and no ambiguous face (one chain per face).
 const std::array<bool, 256>& simple_unit_cells() {
     static const std::array<bool, 256> simple = [] {
@@ -485,7 +485,7 @@ private:
         // A crossing on one of the cell's 12 edges ends the chords of both faces round it (the
         // cell is simple: each face holds at most one chain), so it is a vertex of the fan; where
         // the contour replaces it by the polygon of the cells round its edge, that polygon must
-        // pass within the error of it (ifc_polygons.cpp).
+        // pass within the error of it (dc_polygons.cpp).
         Point3d lo, hi;
         for (int a = 0; a < 3; ++a) {
             lo[a] = s_->origin[a] + min[a];
@@ -574,7 +574,7 @@ private:
     }
 
     /// Where the whole block is one cell whose surface only clips some of its faces: the cells
-    /// it would have without that one, into @a out.parts (ifc.cpp, split_clipped_blocks()).
+    /// it would have without that one, into @a out.parts (dual_contouring.cpp, split_clipped_blocks()).
     void keep_parts(IfcBlockCells& out) {
         if (state_[kIfcMaxLevel][0] != CellState::surface) return;
         const std::uint8_t clipped = root_clipped_faces();

@@ -3,12 +3,12 @@
 //
 // Every child of a candidate cell is a leaf merged whole before (a block's single cell, or a
 // coarse cell), so the topology of the union follows from the children's 27 corner signs
-// (ifc_topology.h).
+// (dc_topology.h).
 // Accuracy cannot be tested on every crossing in a cell of up to 128^3 voxels; it is tested,
 // through the grid, on samples that scale with the cell:
 //  - the RMS distance from the vertex to the tangent planes of the cell's crossings (the
 //    summed QEF) is within the error;
-//  - the fan (ifc_fan.h), on a lattice of 8 steps per triangle side, lies within the error of
+//  - the fan (dc_fan.h), on a lattice of 8 steps per triangle side, lies within the error of
 //    the trilinear isosurface (first-order estimate);
 //  - the crossings of the grid lines a quarter of the cell apart lie within twice the error
 //    of the fan, and the children's vertices (within the error of the surface) within it.
@@ -21,9 +21,9 @@
 #include <memory>
 #include <numeric>
 
-#include "mesh/ifc_block.h"
-#include "mesh/ifc_fan.h"
-#include "mesh/ifc_topology.h"
+#include "mesh/dc_block.h"
+#include "mesh/dc_fan.h"
+#include "mesh/dc_topology.h"
 
 namespace vdbmesh::detail {
 

@@ -1,13 +1,13 @@
 #pragma once
 // Private: the contouring of one column of bricks, node layer after node layer
-// (ifc_wavefront.cpp; docs/dmc.md, "Bricks").
+// (dc_wavefront.cpp; docs/dmc.md, "Bricks").
 
 #include <openvdb/openvdb.h>
 
 #include <functional>
 #include <vector>
 
-#include "mesh/ifc.h"
+#include "mesh/dual_contouring.h"
 
 namespace vdbmesh::detail {
 

@@ -1,4 +1,4 @@
-// The QEF of intersection-free contouring (src/mesh/ifc_qef.h): its minimiser where the planes
+// The QEF of intersection-free contouring (src/mesh/dc_qef.h): its minimiser where the planes
 // pin a point down, and, where they do not (flat and ridge cells: a rank-deficient A^T A), the
 // point nearest the planes' points' mean, so such a cell's vertex stays on its surface's middle.
 
@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "mesh/ifc_qef.h"
+#include "mesh/dc_qef.h"
 
 namespace vdbmesh::detail {
 namespace {

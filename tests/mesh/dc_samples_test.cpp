@@ -1,4 +1,4 @@
-// The block window of dc (src/mesh/ifc_octree.cpp, ifc_block.h) and the check that skips
+// The block window of dc (src/mesh/dc_octree.cpp, dc_block.h) and the check that skips
 // blocks without surface (src/mesh/surface_blocks.cpp), judged sample by sample through the
 // grid's own accessor: every crossed edge, mixed cell and configuration the rows of bits give,
 // and every block the check skips, must agree with what getValue() and the classifier say.
@@ -14,7 +14,7 @@
 #include <limits>
 #include <random>
 
-#include "mesh/ifc_block.h"
+#include "mesh/dc_block.h"
 #include "mesh/sample_classifier.h"
 #include "mesh/surface_blocks.h"
 #include "vdbmesh/grid.h"

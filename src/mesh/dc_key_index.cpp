@@ -1,4 +1,4 @@
-#include "mesh/ifc_key_index.h"
+#include "mesh/dc_key_index.h"
 
 #include "vdbmesh/huge_pages.h"
 

@@ -1,7 +1,7 @@
 #pragma once
 // Private: the topology test of a merge whose children are all leaves merged before (or
-// without surface), used within blocks from cells of 4 voxels up (ifc_octree.cpp) and across
-// blocks (ifc_coarse.cpp).
+// without surface), used within blocks from cells of 4 voxels up (dc_octree.cpp) and across
+// blocks (dc_coarse_merge.cpp).
 //
 // Each such child holds one disk or nothing, each of its edges changes sign at most once and
 // each of its faces carries at most one chain. So the surface of the union is known from the

@@ -1,6 +1,6 @@
 // Intersection-free octree contouring brick by brick (docs/dmc.md, "Bricks"): a brick is
 // nx x ny nodes across and one node high; the bricks of one column (the same x, y) are contoured
-// bottom to top by one wavefront (ifc_wavefront.cpp), and the nodes' outputs are welded in
+// bottom to top by one wavefront (dc_wavefront.cpp), and the nodes' outputs are welded in
 // z-major order, so the mesh is the whole-grid run's, byte for byte.
 
 #include <algorithm>
@@ -12,9 +12,9 @@
 #include <string>
 #include <tuple>
 
-#include "mesh/ifc.h"
-#include "mesh/ifc_spill.h"
-#include "mesh/ifc_wavefront.h"
+#include "mesh/dual_contouring.h"
+#include "mesh/dc_spill.h"
+#include "mesh/dc_wavefront.h"
 #include "mesh/mesh_phases.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/ranks.h"
@@ -38,7 +38,7 @@ IfcColumn column_of(const IfcBrick& brick, const BrickShape& shape) {
 }
 
 /// The boxes of what a column's wavefront holds when it contours @a brick: three node layers
-/// and a leaf row of the column's nodes and their ring (ifc_wavefront.h), and the layer it reads
+/// and a leaf row of the column's nodes and their ring (dc_wavefront.h), and the layer it reads
 /// then.
 struct WavefrontBoxes {
     IndexBox held, read;

@@ -1,4 +1,4 @@
-// The 27-sign topology test of dc merges (src/mesh/ifc_topology.cpp), judged against the
+// The 27-sign topology test of dc merges (src/mesh/dc_topology.cpp), judged against the
 // Marching Cubes surface of the 2 x 2 x 2 unit cells itself: built from the case table,
 // welded by grid edge, and measured by components, Euler characteristic, sign changes along
 // the cell's edges and the chains on its faces. The test must agree with it on every sign
@@ -14,7 +14,7 @@
 #include <random>
 #include <set>
 
-#include "mesh/ifc_topology.h"
+#include "mesh/dc_topology.h"
 #include "vdbmesh/mc_case.h"
 
 namespace vdbmesh::detail {

@@ -1,10 +1,10 @@
 // Intersection-free octree contouring, the driver: per block in parallel, the octree; per
 // lower internal node in parallel, the cells across blocks; per block, the triangles with
-// keyed vertices, grouped by node; then one weld of the keys (ifc_weld.cpp). Blocks and nodes
+// keyed vertices, grouped by node; then one weld of the keys (dc_weld.cpp). Blocks and nodes
 // are visited in a fixed order and every vertex list has a fixed order, so the mesh does not
-// depend on the thread count, nor on bricks (ifc_bricks.cpp; docs/dmc.md, "Bricks").
+// depend on the thread count, nor on bricks (dc_bricks.cpp; docs/dmc.md, "Bricks").
 
-#include "mesh/ifc.h"
+#include "mesh/dual_contouring.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -17,7 +17,7 @@
 #include <array>
 #include <memory>
 
-#include "mesh/ifc_polygons.h"
+#include "mesh/dc_polygons.h"
 #include "mesh/marching_cubes.h"
 #include "mesh/mesh_phases.h"
 #include "mesh/surface_blocks.h"

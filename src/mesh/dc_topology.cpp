@@ -1,8 +1,8 @@
-// The topology test of a merge from leaf children, by their 27 corner signs (ifc_topology.h).
+// The topology test of a merge from leaf children, by their 27 corner signs (dc_topology.h).
 // A face of the children's lattice has 3 x 3 signs, so what the test needs of a face comes
 // from a table of the 512 cases.
 
-#include "mesh/ifc_topology.h"
+#include "mesh/dc_topology.h"
 
 #include <cstddef>
 #include <numeric>

@@ -26,7 +26,7 @@
 // The tests use a margin far above the float rounding of the output (kIfcInteriorMargin,
 // kOrientationFloor), so what holds in double holds for the written floats.
 
-#include "mesh/ifc_polygons.h"
+#include "mesh/dc_polygons.h"
 
 #include <algorithm>
 #include <cmath>

@@ -7,8 +7,8 @@
 
 #include <algorithm>
 
-#include "mesh/ifc.h"
-#include "mesh/ifc_key_index.h"
+#include "mesh/dual_contouring.h"
+#include "mesh/dc_key_index.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/huge_pages.h"
 

@@ -4,7 +4,7 @@
 // contoured once the layer above is built. So a column holds three node layers of cells and
 // samples, whatever its height, and no node is built twice inside it.
 
-#include "mesh/ifc_wavefront.h"
+#include "mesh/dc_wavefront.h"
 
 #include <algorithm>
 #include <utility>

@@ -1,5 +1,5 @@
 #pragma once
-// Private: the triangles of intersection-free octree contouring (ifc_polygons.cpp), per block,
+// Private: the triangles of intersection-free octree contouring (dc_polygons.cpp), per block,
 // with their vertices named by keys (a grid edge, a merged cell, a face between two merged
 // cells) so that blocks weld them without coordinates.
 
@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "mesh/ifc_block.h"
+#include "mesh/dc_block.h"
 
 namespace vdbmesh::detail {
 

@@ -1,6 +1,6 @@
 // The 3D QEF's minimiser, by an eigen-decomposition of A^T A around the points' mean.
 
-#include "mesh/ifc_qef.h"
+#include "mesh/dc_qef.h"
 
 #include <Eigen/Eigenvalues>
 

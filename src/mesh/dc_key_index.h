@@ -1,5 +1,5 @@
 #pragma once
-// Private: finding a welded vertex by its key (ifc.cpp). The weld looks up three keys per
+// Private: finding a welded vertex by its key (dual_contouring.cpp). The weld looks up three keys per
 // triangle; a binary search over half a million vertices missed the cache about ten times per
 // lookup and was half of the weld. Open addressing finds most keys at the first slot; each slot
 // holds its key beside the vertex index, so a lookup reads one cache line, which the weld

@@ -1,6 +1,6 @@
 // The accuracy tests of merged cells: the fan a cell will be, and the trilinear estimate.
 
-#include "mesh/ifc_fan.h"
+#include "mesh/dc_fan.h"
 
 #include <cmath>
 #include <limits>

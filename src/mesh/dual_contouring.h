@@ -8,8 +8,8 @@
 #include <optional>
 #include <vector>
 
-#include "mesh/ifc_block.h"
-#include "mesh/ifc_polygons.h"
+#include "mesh/dc_block.h"
+#include "mesh/dc_polygons.h"
 #include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesh.h"
 #include "vdbmesh/mesher.h"
@@ -17,7 +17,7 @@
 namespace vdbmesh::detail {
 
 /// Dual Contouring on the octree of every 8^3 leaf with Marching Cubes in the unit cells
-/// (ifc_octree.cpp merges, ifc_polygons.cpp triangulates), closed, manifold and free of
+/// (dc_octree.cpp merges, dc_polygons.cpp triangulates), closed, manifold and free of
 /// self-intersections by construction, at any options.error (0: Marching Cubes). Adds its
 /// phases ("octree", "contour", "weld") to @a report.
 Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report);
@@ -26,7 +26,7 @@ Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOpti
 /// (options.error > 0). The same bytes for any brick size and thread count.
 Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report);
 
-/// The same mesh into @a sink through a spill (ifc_spill.h), never held whole; with
+/// The same mesh into @a sink through a spill (dc_spill.h), never held whole; with
 /// @a mirrored every triangle wound the other way.
 void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, bool mirrored,
                                   MeshStreamSink& sink, MeshReport& report);
@@ -68,7 +68,7 @@ void release_free_memory();
 using IfcOriginFilter = std::function<bool(const openvdb::Coord&)>;
 
 /// The cells of the blocks of @a grid that may hold surface, with origins @a within (every
-/// block when not given): each block's octree, then each node's coarse merge (ifc_coarse.cpp;
+/// block when not given): each block's octree, then each node's coarse merge (dc_coarse_merge.cpp;
 /// @a within must hold every block of a node or none). Adds the phases "octree" and "coarse"
 /// to @a report.
 IfcCellGrid build_ifc_cell_grid(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
@@ -103,7 +103,7 @@ std::vector<IfcNodeOutput> contour_ifc_nodes(const openvdb::FloatGrid& grid, con
                                              MeshReport& report);
 
 /// One vertex per key, numbered node after node in the order of @a nodes (z-major), the
-/// triangles in the same order; vertices no triangle uses are dropped (ifc_weld.cpp).
+/// triangles in the same order; vertices no triangle uses are dropped (dc_weld.cpp).
 Mesh weld_ifc_nodes(std::vector<IfcNodeOutput>&& nodes);
 
 }  // namespace vdbmesh::detail

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "vdbmesh/temp_file.h"
-#include "mesh/ifc.h"
+#include "mesh/dual_contouring.h"
 
 namespace vdbmesh::detail {
 
