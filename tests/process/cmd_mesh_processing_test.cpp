@@ -83,6 +83,7 @@ TEST(CmdMeshProcessingTest, RealCtKeepsTheGuarantees) {
     const CgalVerdict verdict = judge_with_cgal(read_mesh(output));
     EXPECT_TRUE(verdict.clean()) << verdict.describe();
     EXPECT_LE(j["triangles"].get<double>(), 0.2 * j["processing"]["triangles_meshed"].get<double>() + 2);
+    EXPECT_GE(j["triangles"].get<double>(), 0.19 * j["processing"]["triangles_meshed"].get<double>());
 }
 
 // --triangles N: the mesh written has at most N triangles and is clean by CGAL; the report gives
@@ -138,8 +139,11 @@ TEST(CmdMeshProcessingTest, BadTriangleBudgetsAreRefusedAndWriteNothing) {
 }
 
 // Issue 11's figure: the bunny CT (512 x 512 x 361, iso 1200.5 as in bench/) decimated to a fifth
-// of its 3.0 M triangles stays closed, manifold and free of self-intersections, by CGAL.
+// of its 3.0 M triangles stays closed, manifold and free of self-intersections, by CGAL. The same
+// checks run by default on the CThead above (RealCtKeepsTheGuarantees); this one, at the scale of
+// the figure, takes ~25 s and runs with VDBMESH_FULL=1.
 TEST(CmdMeshProcessingTest, BunnyCtDecimatedToAFifthKeepsTheGuarantees) {
+    VDBMESH_FULL_ONLY();
     VDBMESH_SHARED_DATA(first, "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part1of2.raw.gz");
     VDBMESH_SHARED_DATA(second, "raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be.part2of2.raw.gz");
     const ScratchDir scratch;

@@ -1,18 +1,25 @@
 #!/bin/sh
 # Issue 28: `vdbmesh mesh` under mpirun gives the same bytes as one plain process, on a phantom
 # it writes (a cylinder through five node layers, noisy, so that ranks split it mid-surface).
-# Usage: mesh_under_mpirun.sh MPIEXEC VDBMESH RANKS
-# Exit 0 when the file rank 0 writes is byte-identical to the plain run's, else 1.
+# The phantom and the plain run are made once (a ctest fixture) for the runs with 1, 2 and 3 ranks:
+#   mesh_under_mpirun.sh plain VDBMESH WORK          writes WORK/cylinder.nii.gz and WORK/plain.ply
+#   mesh_under_mpirun.sh ranks VDBMESH WORK MPIEXEC RANKS
+# The second exits 0 when the file rank 0 writes is byte-identical to the plain run's, else 1.
 set -eu
-mpiexec=$1 vdbmesh=$2 ranks=$3
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-"$vdbmesh" phantom cylinder --dims 200,200,600 --radius 80 --noise 0.05 -q -o "$work/cylinder.nii.gz"
+step=$1 vdbmesh=$2 work=$3
 mesh="mesh $work/cylinder.nii.gz --iso 0.5 --error 0.25 -q"
-"$vdbmesh" $mesh -o "$work/plain.ply"
+if [ "$step" = plain ]; then
+    mkdir -p "$work"
+    "$vdbmesh" phantom cylinder --dims 200,200,600 --radius 80 --noise 0.05 -q -o "$work/cylinder.nii.gz"
+    "$vdbmesh" $mesh -o "$work/plain.ply"
+    exit 0
+fi
+mpiexec=$4 ranks=$5
+output="$work/ranks$ranks.ply"
+trap 'rm -f "$output"' EXIT
 # Root may start ranks here (tests run as root), and more ranks than cores.
-"$mpiexec" --allow-run-as-root --oversubscribe -np "$ranks" "$vdbmesh" $mesh --threads 1 -o "$work/ranks.ply"
-if ! cmp "$work/plain.ply" "$work/ranks.ply"; then
+"$mpiexec" --allow-run-as-root --oversubscribe -np "$ranks" "$vdbmesh" $mesh --threads 1 -o "$output"
+if ! cmp "$work/plain.ply" "$output"; then
     echo "mesh under mpirun -np $ranks differs from the plain run"
     exit 1
 fi
