@@ -67,16 +67,18 @@ void append_cells(Levels& levels, const openvdb::FloatGrid& grid, const std::vec
         tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 64), [&](const auto& range) {
             for (std::size_t i = range.begin(); i != range.end(); ++i) fitted[i - begin] = fit_cell(grid, cells[i], rule, tolerance);
         });
-        for (CellNodes& cell : fitted) {
-            if (!cell.leaf) continue;
-            const auto finest_offset = std::uint32_t(levels[0].size()), middle_offset = std::uint32_t(levels[1].size());
-            for (BuildNode& n : cell.middle) n.first_child += finest_offset;
-            if (cell.leaf->child_count != 0) cell.leaf->first_child += middle_offset;
-            levels[0].insert(levels[0].end(), cell.finest.begin(), cell.finest.end());
-            levels[1].insert(levels[1].end(), cell.middle.begin(), cell.middle.end());
-            levels[2].push_back(*cell.leaf);
-        }
+        for (CellNodes& cell : fitted) append_cell(levels, cell);
     }
+}
+
+void append_cell(Levels& levels, CellNodes& cell) {
+    if (!cell.leaf) return;
+    const auto finest_offset = std::uint32_t(levels[0].size()), middle_offset = std::uint32_t(levels[1].size());
+    for (BuildNode& n : cell.middle) n.first_child += finest_offset;
+    if (cell.leaf->child_count != 0) cell.leaf->first_child += middle_offset;
+    levels[0].insert(levels[0].end(), cell.finest.begin(), cell.finest.end());
+    levels[1].insert(levels[1].end(), cell.middle.begin(), cell.middle.end());
+    levels[2].push_back(*cell.leaf);
 }
 
 /// By parent, then z-major.

@@ -1,6 +1,7 @@
-// The splat hierarchy of a shared tree with result matching: each 128^3 node's subtree fitted
+// The splat hierarchy of a shared tree with result matching: each 128^3 node's subtree built
 // once per distinct neighbourhood (the node and its 26 neighbours, compared by their shared
-// ids), placed by translation, and the levels above merged over the placed nodes.
+// ids), from its 8^3 cells each fitted once per distinct neighbourhood of blocks; placed by
+// translation, and the levels above merged over the placed nodes.
 
 #include <openvdb/openvdb.h>
 
@@ -107,6 +108,79 @@ openvdb::FloatGrid::Ptr neighbourhood_grid(const SharedTree& tree, const Coord3&
     return grid;
 }
 
+/// The 27 shared refs (leaves or tiles) of the 8^3 blocks around a cell: what its fit reads
+/// (its closed cube and one sample beyond, for gradients).
+using CellNeighbourhood = std::array<SharedRef, 27>;
+
+/// A node's level-1 refs and its neighbours', and the leaf-level refs of the blocks in them.
+class NodeBlocks {
+public:
+    NodeBlocks(const SharedTree& tree, const Coord3& origin) : tree_(tree), origin_(origin), refs_(neighbourhood(tree, origin)) {}
+
+    /// The ref of the block at @a block (a multiple of 8, within a node of the neighbourhood).
+    SharedRef at(const Coord3& block) const {
+        int node = 0, index = 0;
+        for (int a = 0; a < 3; ++a) {
+            const int local = block[a] - origin_[a] + kNodeVoxels;  // 0 .. 3 * 128 - 1
+            node = node * 3 + local / kNodeVoxels;
+            index = index * 16 + (local % kNodeVoxels) / 8;
+        }
+        const SharedRef r1 = refs_[node];
+        return is_tile(r1) ? r1 : tree_.nodes1[r1].children[index];
+    }
+
+    CellNeighbourhood around(const Coord3& cell) const {
+        CellNeighbourhood refs{};
+        int i = 0;
+        for (int dx = -8; dx <= 8; dx += 8)
+            for (int dy = -8; dy <= 8; dy += 8)
+                for (int dz = -8; dz <= 8; dz += 8) refs[i++] = at({cell[0] + dx, cell[1] + dy, cell[2] + dz});
+        return refs;
+    }
+
+    /// The cells of the node whose closed cube may hold a crossing (as candidate_cells() of the
+    /// node's region): the node's leaves and the cells just below every leaf, z-major.
+    std::vector<Coord3> candidate_cells() const {
+        std::vector<Coord3> cells;
+        for (int x = 0; x <= kNodeVoxels; x += 8)
+            for (int y = 0; y <= kNodeVoxels; y += 8)
+                for (int z = 0; z <= kNodeVoxels; z += 8) {
+                    const Coord3 block{origin_[0] + x, origin_[1] + y, origin_[2] + z};
+                    if (is_tile(at(block))) continue;
+                    for (int d = 0; d < 8; ++d) {
+                        const Coord3 cell{block[0] - (d & 1) * 8, block[1] - ((d >> 1) & 1) * 8, block[2] - (d >> 2) * 8};
+                        bool inside = true;
+                        for (int a = 0; a < 3; ++a) inside = inside && cell[a] >= origin_[a] && cell[a] < origin_[a] + kNodeVoxels;
+                        if (inside) cells.push_back(cell);
+                    }
+                }
+        std::sort(cells.begin(), cells.end(), z_major);
+        cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+        return cells;
+    }
+
+private:
+    const SharedTree& tree_;
+    Coord3 origin_;
+    Neighbourhood refs_;
+};
+
+void translate(splat::CellNodes& cell, const Coord3& by) {
+    const auto shift = [&](BuildNode& n) {
+        for (int a = 0; a < 3; ++a) {
+            n.centre[a] = float(double(n.centre[a]) + by[a]);
+            n.origin[a] += by[a];
+        }
+    };
+    for (BuildNode& n : cell.finest) shift(n);
+    for (BuildNode& n : cell.middle) shift(n);
+    if (cell.leaf) shift(*cell.leaf);
+}
+
+/// Result matching at the finer grain: each cell's nodes, relative to its origin, by the
+/// blocks it reads (a lattice has few distinct leaves, so its cells repeat within a node too).
+using CellCache = std::map<CellNeighbourhood, splat::CellNodes>;
+
 /// A node's subtree fitted at @a origin: its level-6 node relative to the origin (index
 /// space) and the subtree breadth-first in world units relative to it; none without crossings.
 struct Fitted {
@@ -114,13 +188,22 @@ struct Fitted {
     std::vector<SplatNode> nodes;
 };
 
-std::optional<Fitted> fit_node(const SharedTree& tree, const Coord3& origin, const SplatOptions& options) {
-    const auto region = neighbourhood_grid(tree, origin);
-    const splat::SampleRule rule = splat::sample_rule(*region, options);
-    const openvdb::Coord corner(origin[0], origin[1], origin[2]);
+std::optional<Fitted> fit_node(const SharedTree& tree, const Coord3& origin, const splat::SampleRule& rule, double tolerance,
+                               CellCache& cache) {
+    const NodeBlocks blocks(tree, origin);
+    openvdb::FloatGrid::Ptr region;  // read when a cell is fitted for the first time
     splat::Levels levels(kSplatNodeLevel + 1);
-    splat::append_cells(levels, *region, splat::candidate_cells(*region, openvdb::CoordBBox(corner, corner.offsetBy(kNodeVoxels - 1))),
-                        rule, options.coplanar_tolerance);
+    for (const Coord3& cell : blocks.candidate_cells()) {
+        auto [it, added] = cache.try_emplace(blocks.around(cell));
+        if (added) {
+            if (!region) region = neighbourhood_grid(tree, origin);
+            it->second = splat::fit_cell(*region, openvdb::Coord(cell[0], cell[1], cell[2]), rule, tolerance);
+            translate(it->second, {-cell[0], -cell[1], -cell[2]});
+        }
+        splat::CellNodes placed = it->second;
+        translate(placed, cell);
+        splat::append_cell(levels, placed);
+    }
     for (int level = kSplatLeafLevel + 1; level <= kSplatNodeLevel; ++level)
         if (!levels[level - 1].empty()) splat::merge_up(levels, level);
     if (levels[kSplatNodeLevel].empty()) return std::nullopt;
@@ -130,7 +213,8 @@ std::optional<Fitted> fit_node(const SharedTree& tree, const Coord3& origin, con
                 n.centre[a] = float(double(n.centre[a]) - origin[a]);
                 n.origin[a] -= origin[a];
             }
-    Fitted fitted{levels[kSplatNodeLevel][0], splat::breadth_first(levels, kSplatNodeLevel, region->transform())};
+    const auto transform = openvdb::math::Transform::createLinearTransform(tree.voxel_size);
+    Fitted fitted{levels[kSplatNodeLevel][0], splat::breadth_first(levels, kSplatNodeLevel, *transform)};
     return fitted;
 }
 
@@ -152,10 +236,13 @@ SharedSplatTree build_splat_tree(const SharedTree& tree, const SplatOptions& opt
     std::vector<SharedSplatTree::Placed> placed;
     std::map<Neighbourhood, std::optional<std::uint32_t>> matched;  ///< subtree of a neighbourhood (none: no crossings)
     std::vector<BuildNode> roots;  ///< each subtree's level-6 node, relative to its origin
+    CellCache cells;
+    // A lattice's grid has no scan box: a cell's samples are its blocks' alone.
+    const splat::SampleRule rule = splat::sample_rule(*openvdb::FloatGrid::create(tree.background), options);
     for (const Coord3& origin : candidate_nodes(tree)) {
         auto [it, added] = matched.try_emplace(neighbourhood(tree, origin));
         if (added) {
-            if (auto fitted = fit_node(tree, origin, options)) {
+            if (auto fitted = fit_node(tree, origin, rule, options.coplanar_tolerance, cells)) {
                 it->second = std::uint32_t(out.subtrees.size());
                 out.subtrees.push_back(std::move(fitted->nodes));
                 roots.push_back(fitted->root);

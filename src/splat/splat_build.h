@@ -68,6 +68,10 @@ std::vector<openvdb::Coord> candidate_cells(const openvdb::FloatGrid& grid, cons
 void append_cells(Levels& levels, const openvdb::FloatGrid& grid, const std::vector<openvdb::Coord>& cells,
                   const SampleRule& rule, double tolerance);
 
+/// Appends one cell's nodes to @a levels (its children's indices made the levels'; @a cell is
+/// changed so).
+void append_cell(Levels& levels, CellNodes& cell);
+
 /// Builds levels[level] from levels[level - 1] (reordered so each parent's children are
 /// contiguous); the root level takes every node below as a child.
 void merge_up(Levels& levels, int level);
