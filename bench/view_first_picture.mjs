@@ -5,7 +5,11 @@
 // with --splats, ticks Display > splats and waits for the first splats on screen. Prints JSON.
 // A benchmark, not a test.
 //
+// With --lattice, the server is `vdbmesh lattice ARGUMENTS --view` (the arguments after --) and
+// the first picture is its first splats.
+//
 // node bench/view_first_picture.mjs --vdbmesh build/vdbmesh --web web FILE [--splats] [-- view arguments]
+// node bench/view_first_picture.mjs --vdbmesh build/vdbmesh --web web --lattice -- gyroid --period 64 --thickness 4 --box 4096 --voxel 1
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
 import path from 'node:path';
@@ -19,7 +23,9 @@ const { chromium } = createRequire(path.resolve(option('--web'), 'package.json')
 
 const started = Date.now();
 const seconds = () => Number(((Date.now() - started) / 1000).toFixed(2));
-const server = spawn('/usr/bin/time', ['-f', 'peak_kb %M', path.resolve(option('--vdbmesh')), 'view', file, '--no-open', '--quiet',
+const lattice = own.includes('--lattice');
+const command = lattice ? ['lattice', '--view'] : ['view', file];
+const server = spawn('/usr/bin/time', ['-f', 'peak_kb %M', path.resolve(option('--vdbmesh')), ...command, '--no-open', '--quiet',
   '--port', '0', ...(split < 0 ? [] : argv.slice(split + 1))], { stdio: ['ignore', 'pipe', 'pipe'], detached: true });
 let errors = '';
 server.stderr.on('data', (chunk) => (errors += chunk));
@@ -31,7 +37,7 @@ const address = await new Promise((resolve, reject) => {
   });
   server.on('exit', (code) => reject(new Error(`vdbmesh view exited with ${code}: ${errors}`)));
 });
-const report = { file, serving_s: seconds() };
+const report = { file: lattice ? `lattice ${argv.slice(split + 1).join(' ')}` : file, serving_s: seconds() };
 const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium', headless: true,
   args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
@@ -40,9 +46,11 @@ try {
   const page = await browser.newPage({ viewport: { width: 1200, height: 700 } });  // the panel takes 300
   page.setDefaultTimeout(3600 * 1000);
   await page.goto(address);
-  await page.waitForFunction(() => window.vdbmeshView.meshes > 0 || window.vdbmeshView.error, null, { polling: 50 });
+  await page.waitForFunction(() => window.vdbmeshView.meshes > 0 || window.vdbmeshView.splatViews > 0 || window.vdbmeshView.error, null, { polling: 50 });
   const state = await page.evaluate(() => ({ ...window.vdbmeshView }));
-  Object.assign(report, { first_picture_s: seconds(), first_picture: `${state.level} mesh, ${state.triangles} triangles`, error: state.error || undefined });
+  const picture = state.splatViews > 0 ? `${state.splats} splats, finest level ${state.splatLevel}` : `${state.level} mesh, ${state.triangles} triangles`;
+  Object.assign(report, { first_picture_s: seconds(), first_picture: picture, error: state.error || undefined });
+  if (state.splatViews > 0) report.splat_figures = await page.locator('#splat-figures').textContent();
   if (own.includes('--splats')) {
     await page.locator('#splats').click();
     await page.waitForFunction(() => window.vdbmeshView.splatViews > 0 || window.vdbmeshView.error, null, { polling: 100 });

@@ -6,6 +6,8 @@
 //    per leaf neighbourhood; -o x.gltf/.glb: the same surface instanced (distinct block meshes
 //    and their translations, EXT_mesh_gpu_instancing), for surfaces too large to write flat.
 //  - --measure: volume, area, components, voxels, unique and represented leaves, nothing written.
+//  - --view: the page of `vdbmesh view` showing the lattice by its splat hierarchy, fitted with
+//    result matching on the shared tree (include/vdbmesh/shared_splats.h), until Ctrl-C.
 // --clip intersects the lattice with a solid: a mesh file, or a .vdb / scan meshed as `measure` does.
 
 #include <algorithm>
@@ -24,13 +26,16 @@
 #include "load_grid.h"
 #include "load_mesh.h"
 #include "option_checks.h"
+#include "serve_view.h"
 #include "work_limits.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/lattice.h"
 #include "vdbmesh/mesh_io.h"
+#include "vdbmesh/shared_splats.h"
 #include "vdbmesh/shared_tree.h"
+#include "vdbmesh/view.h"
 
 namespace vdbmesh::cli {
 namespace {
@@ -47,6 +52,9 @@ struct LatticeCommandOptions {
     std::string clip_inside = "above";
     std::string output;
     bool measure = false;
+    bool view = false;
+    bool no_open = false;
+    ViewServerOptions server;
     bool json = false;
     bool ascii = false;
     CommonOptions common;
@@ -105,6 +113,31 @@ void refuse_unbounded_lattice(const WorkLimit& limit, const LatticeOptions& latt
                        (0.5e-6 * classified + 9e-6 * evaluated) / classified);
 }
 
+/// Serves the page showing @a tree by its splat hierarchy until Ctrl-C.
+void view_lattice(const SharedTree& tree, const LatticeOptions& lattice, const LatticeCommandOptions& o,
+                  std::chrono::steady_clock::time_point start) {
+    const auto fit_start = std::chrono::steady_clock::now();
+    SplatOptions options;
+    options.inside = Inside::below;
+    auto shown = std::make_shared<ViewLattice>();
+    shown->splats = std::make_shared<const SharedSplatTree>(build_splat_tree(tree, options));
+    shown->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - fit_start).count();
+    for (int a = 0; a < 3; ++a) {
+        shown->box_min[a] = lattice.box_min[a];
+        shown->box_max[a] = lattice.box_min[a] + lattice.box[a];
+    }
+    if (!o.common.quiet) {
+        std::cerr << "vdbmesh lattice: splats of " << shown->splats->placed.size() << " nodes of 128^3 fitted as "
+                  << shown->splats->subtrees.size() << " in " << shown->seconds << " s (" << 
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() << " s in all)\n";
+    }
+    ViewSource source;
+    source.name = o.kind + " lattice";
+    source.lattice = std::move(shown);
+    const std::string name = source.name;
+    serve_view(std::move(source), o.server, name, o.no_open, o.common.quiet);
+}
+
 int run_lattice(const LatticeCommandOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     LatticeOptions lattice;
@@ -115,8 +148,10 @@ int run_lattice(const LatticeCommandOptions& o) {
     lattice.voxel = o.voxel;
     lattice.band = o.band;
     const std::string extension = lowercase_extension(o.output);
-    if (o.output.empty() && !o.measure) throw UsageError("lattice: expected -o FILE or --measure, got neither");
-    if (!o.output.empty() && o.measure) throw UsageError("lattice: --measure writes nothing; expected no -o, got \"" + o.output + "\"");
+    if (int(!o.output.empty()) + int(o.measure) + int(o.view) != 1)
+        throw UsageError("lattice: expected one of -o FILE, --measure and --view, got " +
+                         std::to_string(int(!o.output.empty()) + int(o.measure) + int(o.view)));
+    if (!o.view && o.no_open) throw UsageError("--no-open: only with --view");
     if (!o.output.empty() && extension != ".vdb" && extension != ".stl" && extension != ".ply" && extension != ".obj" &&
         extension != ".gltf" && extension != ".glb") {
         throw UsageError("-o: expected a .vdb, .stl, .ply, .obj, .gltf or .glb file, got \"" + o.output + "\"");
@@ -161,6 +196,10 @@ int run_lattice(const LatticeCommandOptions& o) {
     nlohmann::ordered_json j;
     j["kind"] = o.kind;
     j["voxels_per_axis"] = {std::llround(lattice.box[0] / o.voxel), std::llround(lattice.box[1] / o.voxel), std::llround(lattice.box[2] / o.voxel)};
+    if (o.view) {
+        view_lattice(tree, lattice, o, start);
+        return 0;
+    }
     if (o.measure) {
         j["volume"] = shared_volume(tree);
         j["area"] = shared_area(tree);
@@ -225,6 +264,9 @@ void add_lattice_command(CLI::App& command, CommandResult& result) {
     };
     output_file(command.add_option("-o,--output", o->output, "Output: .vdb (level set), .stl/.ply/.obj (mesh), .gltf/.glb (instanced mesh)"));
     command.add_flag("--measure", o->measure, "Print volume, area, components, voxels, unique_leaves, leaves; write nothing");
+    command.add_flag("--view", o->view, "Show it in the browser by its splat hierarchy (as `vdbmesh view`), until Ctrl-C");
+    command.add_option("--port", o->server.port, "With --view: the port (0: any free one)")->check(CLI::Range(0, 65535))->capture_default_str();
+    command.add_flag("--no-open", o->no_open, "With --view: do not open a browser");
     command.add_flag("--json", o->json, "Print the figures as one JSON object on stdout");
     command.add_flag("--ascii", o->ascii, "ASCII STL or PLY");
     add_read_flags(command, o->clip_input.read);

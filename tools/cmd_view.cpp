@@ -1,15 +1,12 @@
 // `vdbmesh view`: serves a page on 127.0.0.1 that shows a scan (re-meshed live as the
 // isovalue moves), a mesh file or a label map's labels (--labels), until Ctrl-C.
 
-#include <chrono>
-#include <csignal>
 #include <filesystem>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "commands.h"
@@ -17,6 +14,7 @@
 #include "common_options.h"
 #include "load_grid.h"
 #include "report_json.h"
+#include "serve_view.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/grid_region.h"
@@ -37,11 +35,6 @@ struct ViewCommandOptions {
     ReadFlags read;
     CommonOptions common;
 };
-
-volatile std::sig_atomic_t g_stop_requested = 0;
-
-extern "C" void request_stop(int) { g_stop_requested = 1; }
-
 
 /// Reads the input before anything is served, so that a bad file is reported at once.
 ViewSource load_source(const ViewCommandOptions& options) {
@@ -78,23 +71,6 @@ ViewSource load_source(const ViewCommandOptions& options) {
 /// The figures `vdbmesh check --json` prints, for the page.
 std::string check_figures(const Mesh& mesh) { return detail::json_text(report_json(analyze_mesh(mesh))); }
 
-/// Hands @a address to the desktop's browser, when there is one.
-void open_browser(const std::string& address) {
-    if (std::system("command -v xdg-open >/dev/null 2>&1") != 0) return;
-    const std::string command = "xdg-open '" + address + "' >/dev/null 2>&1 &";
-    if (std::system(command.c_str()) != 0) std::cerr << "vdbmesh view: could not open a browser\n";
-}
-
-/// Serves in a thread until SIGINT or SIGTERM, then stops the server and returns.
-void serve_until_interrupted(ViewServer& server) {
-    std::signal(SIGINT, request_stop);
-    std::signal(SIGTERM, request_stop);
-    std::thread serving([&server] { server.run(); });
-    while (!g_stop_requested) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    server.stop();
-    serving.join();
-}
-
 void run_view(ViewCommandOptions& options) {
     const ThreadLimit limit(options.common);
     if (!options.common.quiet) std::cerr << "vdbmesh view: reading " << options.inputs.front() << "\n";
@@ -102,12 +78,7 @@ void run_view(ViewCommandOptions& options) {
     options.server.mesh_figures = check_figures;
     if (!source.labels.empty())
         options.server.mesh_figures = [labels = source.labels](const Mesh& mesh) { return label_figures(mesh, labels); };
-    ViewServer server(std::move(source), options.server);
-    std::cout << "vdbmesh view: serving " << options.inputs.front() << " at " << server.address()
-              << " (Ctrl-C to stop)" << std::endl;
-    if (!options.no_open) open_browser(server.address());
-    serve_until_interrupted(server);
-    if (!options.common.quiet) std::cerr << "vdbmesh view: stopped\n";
+    serve_view(std::move(source), options.server, options.inputs.front(), options.no_open, options.common.quiet);
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 namespace vdbmesh {
 
 class GridRegionSource;
+struct SharedSplatTree;
 
 /// Counts of samples in equal bins over [min, max].
 struct ValueHistogram {
@@ -69,12 +70,20 @@ struct ViewLabel {
     std::size_t first_vertex = 0, vertices = 0;
 };
 
-/// What the page shows: a scan, a mesh, or a label map's meshes.
+/// A lattice shown by its shared tree's splat hierarchy alone (never meshed, never expanded).
+struct ViewLattice {
+    std::shared_ptr<const SharedSplatTree> splats;
+    double seconds = 0;                    ///< the splat hierarchy's build
+    std::array<double, 3> box_min{}, box_max{};  ///< world units: what the page frames first
+};
+
+/// What the page shows: a scan, a mesh, a label map's meshes, or a lattice's splats.
 struct ViewSource {
     std::string name;                  ///< the input's file name, shown as the title
     std::shared_ptr<const ViewScan> scan;  ///< set for scans and .vdb grids
     std::shared_ptr<const Mesh> mesh;      ///< set for mesh files and label maps
     std::vector<ViewLabel> labels;     ///< set for label maps: the runs of @a mesh, ascending values
+    std::shared_ptr<const ViewLattice> lattice;  ///< set for a lattice (then neither scan nor mesh)
     double initial_iso = 0;            ///< scans: the isovalue shown first
 };
 
@@ -98,7 +107,9 @@ struct ViewServerOptions {
 /// The HTTP server of `vdbmesh view`, bound on construction.
 /// GET /                 the page; /app.js its script
 /// GET /api/info         JSON: the input, its histogram and suggested isovalue, the budget;
-///                       for a label map its labels (value, name, colour, their runs of the mesh)
+///                       for a label map its labels (value, name, colour, their runs of the mesh);
+///                       for a lattice (kind "lattice") its box, placed and fitted subtrees
+///                       (only /api/splats serves a lattice, without close-ups)
 /// GET /api/mesh         binary: positions (float32 x 3V), normals (float32 x 3V), indices
 ///                       (uint32 x 3T); headers X-Vertices, X-Triangles, X-Seconds.
 ///                       Parameters: level=coarse|full|region, method=dc|mc|openvdb, iso, error,

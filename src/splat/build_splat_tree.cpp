@@ -24,9 +24,10 @@ bool z_major(const openvdb::Coord& a, const openvdb::Coord& b) {
     return std::make_tuple(a.z(), a.y(), a.x()) < std::make_tuple(b.z(), b.y(), b.x());
 }
 
-/// Every 8^3 cell whose closed cube may hold a crossed edge: the leaves, and the cells just
-/// below them on each axis (their cube reaches the leaf's first samples), z-major; only those
-/// whose origin lies in @a within when given.
+}  // namespace
+
+/// The leaves, and the cells just below them on each axis (their cube reaches the leaf's first
+/// samples).
 std::vector<openvdb::Coord> candidate_cells(const openvdb::FloatGrid& grid, const std::optional<openvdb::CoordBBox>& within) {
     std::vector<openvdb::Coord> cells;
     for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf)
@@ -41,17 +42,22 @@ std::vector<openvdb::Coord> candidate_cells(const openvdb::FloatGrid& grid, cons
     return cells;
 }
 
-/// The nodes of every level while they are built; levels[L] holds level L's nodes, each
-/// one's children a range of levels[L - 1].
-using Levels = std::vector<std::vector<BuildNode>>;
+namespace {
 
 /// Cells fitted at a time: their nodes are appended to the levels before the next are fitted,
 /// so that only the levels grow with the grid.
 constexpr std::size_t kCellsAtATime = 1 << 14;
 
-/// Fits @a cells of @a grid (in parallel, a chunk at a time) and appends their nodes of
-/// levels 0 to 2 to @a levels in the cells' order. The order of level 2 does not matter
-/// (merge_up() sorts it by position), so nor does that of @a cells.
+/// The origin of the level-@a level cube holding @a origin.
+std::array<std::int32_t, 3> parent_origin(const std::array<std::int32_t, 3>& origin, int level) {
+    const std::int32_t mask = ~((std::int32_t(2) << level) - 1);
+    return {origin[0] & mask, origin[1] & mask, origin[2] & mask};
+}
+
+}  // namespace
+
+/// A chunk of cells at a time; their nodes in the cells' order. The order of level 2 does not
+/// matter (merge_up() sorts it by position), so nor does that of @a cells.
 void append_cells(Levels& levels, const openvdb::FloatGrid& grid, const std::vector<openvdb::Coord>& cells,
                   const SampleRule& rule, double tolerance) {
     std::vector<CellNodes> fitted;
@@ -61,26 +67,21 @@ void append_cells(Levels& levels, const openvdb::FloatGrid& grid, const std::vec
         tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 64), [&](const auto& range) {
             for (std::size_t i = range.begin(); i != range.end(); ++i) fitted[i - begin] = fit_cell(grid, cells[i], rule, tolerance);
         });
-        for (CellNodes& cell : fitted) {
-            if (!cell.leaf) continue;
-            const auto finest_offset = std::uint32_t(levels[0].size()), middle_offset = std::uint32_t(levels[1].size());
-            for (BuildNode& n : cell.middle) n.first_child += finest_offset;
-            if (cell.leaf->child_count != 0) cell.leaf->first_child += middle_offset;
-            levels[0].insert(levels[0].end(), cell.finest.begin(), cell.finest.end());
-            levels[1].insert(levels[1].end(), cell.middle.begin(), cell.middle.end());
-            levels[2].push_back(*cell.leaf);
-        }
+        for (CellNodes& cell : fitted) append_cell(levels, cell);
     }
 }
 
-/// The origin of the level-@a level cube holding @a origin.
-std::array<std::int32_t, 3> parent_origin(const std::array<std::int32_t, 3>& origin, int level) {
-    const std::int32_t mask = ~((std::int32_t(2) << level) - 1);
-    return {origin[0] & mask, origin[1] & mask, origin[2] & mask};
+void append_cell(Levels& levels, CellNodes& cell) {
+    if (!cell.leaf) return;
+    const auto finest_offset = std::uint32_t(levels[0].size()), middle_offset = std::uint32_t(levels[1].size());
+    for (BuildNode& n : cell.middle) n.first_child += finest_offset;
+    if (cell.leaf->child_count != 0) cell.leaf->first_child += middle_offset;
+    levels[0].insert(levels[0].end(), cell.finest.begin(), cell.finest.end());
+    levels[1].insert(levels[1].end(), cell.middle.begin(), cell.middle.end());
+    levels[2].push_back(*cell.leaf);
 }
 
-/// Builds levels[level] from levels[level - 1] (reordered so each parent's children are
-/// contiguous, by parent then z-major); the root level takes every node below as a child.
+/// By parent, then z-major.
 void merge_up(Levels& levels, int level) {
     std::vector<BuildNode>& below = levels[level - 1];
     const bool root = level == kSplatRootLevel;
@@ -100,6 +101,8 @@ void merge_up(Levels& levels, int level) {
     }
 }
 
+namespace {
+
 /// The node in the grid's world space (normals by the inverse transpose of the index-to-world
 /// map; radii by its largest voxel edge).
 SplatNode to_world(const BuildNode& n, const openvdb::math::Transform& transform, double voxel, std::uint8_t level) {
@@ -116,17 +119,20 @@ SplatNode to_world(const BuildNode& n, const openvdb::math::Transform& transform
     return out;
 }
 
-/// The nodes breadth-first from the root, each node's children contiguous.
-std::vector<SplatNode> breadth_first(const Levels& levels, const openvdb::math::Transform& transform) {
+}  // namespace
+
+std::vector<SplatNode> breadth_first(const Levels& levels, int top, const openvdb::math::Transform& transform,
+                                     std::vector<std::pair<int, std::uint32_t>>* sources) {
     std::vector<SplatNode> nodes;
-    if (levels[kSplatRootLevel].empty()) return nodes;
+    if (levels[top].empty()) return nodes;
     const openvdb::Vec3d voxel_size = transform.voxelSize();
     const double voxel = std::max({voxel_size.x(), voxel_size.y(), voxel_size.z()});
-    std::deque<std::pair<int, std::uint32_t>> queue{{kSplatRootLevel, 0}};
-    nodes.push_back(to_world(levels[kSplatRootLevel][0], transform, voxel, kSplatRootLevel));
+    std::deque<std::pair<int, std::uint32_t>> queue{{top, 0}};
+    nodes.push_back(to_world(levels[top][0], transform, voxel, std::uint8_t(top)));
     for (std::size_t out = 0; !queue.empty(); ++out) {
         const auto [level, index] = queue.front();
         queue.pop_front();
+        if (sources) sources->emplace_back(level, index);
         const BuildNode& n = levels[level][index];
         nodes[out].first_child = std::uint32_t(nodes.size());
         nodes[out].child_count = n.child_count;
@@ -138,7 +144,6 @@ std::vector<SplatNode> breadth_first(const Levels& levels, const openvdb::math::
     return nodes;
 }
 
-}  // namespace
 }  // namespace vdbmesh::splat
 
 namespace vdbmesh {
@@ -148,7 +153,6 @@ std::size_t SplatTree::leaf_count() const {
 }
 
 namespace splat {
-namespace {
 
 SampleRule sample_rule(const openvdb::FloatGrid& grid, const SplatOptions& options) {
     if (!(options.coplanar_tolerance >= 0))
@@ -160,12 +164,14 @@ SampleRule sample_rule(const openvdb::FloatGrid& grid, const SplatOptions& optio
     return rule;
 }
 
+namespace {
+
 /// The tree from levels 0 to 2 of every cell of the grid.
 SplatTree assemble(Levels& levels, const openvdb::math::Transform& transform, const SplatOptions& options) {
     for (int level = kSplatLeafLevel + 1; level <= kSplatRootLevel; ++level)
         if (!levels[level - 1].empty()) merge_up(levels, level);
     SplatTree tree;
-    tree.nodes = breadth_first(levels, transform);
+    tree.nodes = breadth_first(levels, kSplatRootLevel, transform);
     tree.iso = options.iso;
     tree.inside = options.inside;
     tree.tolerance = options.coplanar_tolerance;

@@ -1,11 +1,13 @@
 // The nodes of a splat tree a camera needs (QSplat's traversal by projected size, with
-// frustum and normal-cone culling), largest first under a budget.
+// frustum and normal-cone culling), largest first under a budget; over a plain tree or a
+// shared one (its placed subtrees entered as the traversal reaches them).
 
 #include <algorithm>
 #include <cmath>
 #include <queue>
 #include <utility>
 
+#include "vdbmesh/shared_splats.h"
 #include "vdbmesh/splats.h"
 
 namespace vdbmesh {
@@ -40,35 +42,45 @@ std::array<std::array<double, 4>, 6> frustum_planes(const std::array<double, 16>
     return planes;
 }
 
+/// A node of a tree as the traversal addresses it: an index (a plain tree) or an index with
+/// the placed subtree it lies in (a shared tree, shared_splats.h).
+using Handle = std::uint64_t;
+
+/// QSplat's traversal over @a Tree, which gives node(handle) (in world space) and
+/// child(handle, node, c), the handle of its c-th child.
+template <class Tree>
 class Traversal {
 public:
-    Traversal(const SplatTree& tree, const SplatView& view) : tree_(tree), view_(view), planes_(frustum_planes(view.view_projection)) {}
+    Traversal(const Tree& tree, const SplatView& view) : tree_(tree), view_(view), planes_(frustum_planes(view.view_projection)) {}
 
-    SplatSelection run() {
+    /// The selection's figures, its nodes' handles in @a shown.
+    SplatSelection run(std::vector<Handle>& shown_nodes) {
         SplatSelection selection;
-        if (tree_.nodes.empty()) return selection;
-        if (visible(tree_.nodes[0])) push(0);
+        if (tree_.empty()) return selection;
+        if (visible(tree_.node(0))) push(0);
         std::size_t shown = 0;  // nodes kept so far; the queue's nodes are shown too if the traversal stops
         while (!queue_.empty()) {
-            const auto [size, index] = queue_.top();
+            const auto [size, handle] = queue_.top();
             queue_.pop();
-            const SplatNode& node = tree_.nodes[index];
+            const SplatNode node = tree_.node(handle);
             const bool wants_children = node.child_count != 0 && size > view_.pixel_size;
-            const std::size_t visible_children = wants_children ? count_visible(node) : 0;
+            const std::size_t visible_children = wants_children ? count_visible(handle, node) : 0;
             if (wants_children && visible_children == 0) continue;  // its sphere peeks in, its surface does not
             const bool refine = wants_children && shown + queue_.size() + visible_children <= view_.budget;
             if (!refine) {
                 if (wants_children) selection.complete = false;
-                selection.nodes.push_back(index);
+                shown_nodes.push_back(handle);
                 selection.finest_level = std::min(selection.finest_level, node.level);
                 if (node.child_count != 0) selection.cut_level = std::max(selection.cut_level, int(node.level));
                 ++shown;
                 continue;
             }
-            for (std::uint32_t c = node.first_child; c < node.first_child + node.child_count; ++c)
-                if (visible(tree_.nodes[c])) push(c);
+            for (std::uint32_t c = 0; c < node.child_count; ++c) {
+                const Handle child = tree_.child(handle, node, c);
+                if (visible(tree_.node(child))) push(child);
+            }
         }
-        std::sort(selection.nodes.begin(), selection.nodes.end());
+        std::sort(shown_nodes.begin(), shown_nodes.end());
         return selection;
     }
 
@@ -90,19 +102,52 @@ private:
 
     bool visible(const SplatNode& node) const { return in_frustum(node) && may_face_eye(node); }
 
-    std::size_t count_visible(const SplatNode& node) const {
+    std::size_t count_visible(Handle handle, const SplatNode& node) const {
         std::size_t count = 0;
-        for (std::uint32_t c = node.first_child; c < node.first_child + node.child_count; ++c) count += visible(tree_.nodes[c]);
+        for (std::uint32_t c = 0; c < node.child_count; ++c) count += visible(tree_.node(tree_.child(handle, node, c)));
         return count;
     }
 
-    void push(std::uint32_t index) { queue_.emplace(projected_splat_size(tree_.nodes[index], view_), index); }
+    void push(Handle handle) { queue_.emplace(projected_splat_size(tree_.node(handle), view_), handle); }
 
-    const SplatTree& tree_;
+    const Tree& tree_;
     const SplatView& view_;
     const std::array<std::array<double, 4>, 6> planes_;
-    /// Largest first; equal sizes by the larger index (deterministic either way).
-    std::priority_queue<std::pair<double, std::uint32_t>> queue_;
+    /// Largest first; equal sizes by the larger handle (deterministic either way).
+    std::priority_queue<std::pair<double, Handle>> queue_;
+};
+
+/// A plain tree: a handle is a node's index.
+struct PlainNodes {
+    const SplatTree& tree;
+    bool empty() const { return tree.nodes.empty(); }
+    const SplatNode& node(Handle h) const { return tree.nodes[h]; }
+    Handle child(Handle, const SplatNode& node, std::uint32_t c) const { return node.first_child + c; }
+};
+
+/// A shared tree: a handle's high 32 bits are 0 for the top's nodes, else 1 + the placed
+/// subtree's index, its low 32 bits the node's index there. A placed node of the top is its
+/// subtree's root (the same node), so its children are the subtree's.
+struct SharedNodes {
+    const SharedSplatTree& tree;
+    bool empty() const { return tree.top.nodes.empty(); }
+
+    SplatNode node(Handle h) const {
+        const auto place = std::uint32_t(h >> 32), index = std::uint32_t(h);
+        if (place == 0 && index < tree.first_placed) return tree.top.nodes[index];
+        const std::uint32_t placed = place == 0 ? std::uint32_t(index - tree.first_placed) : place - 1;
+        const SharedSplatTree::Placed& p = tree.placed[placed];
+        SplatNode n = tree.subtrees[p.subtree][place == 0 ? 0 : index];
+        for (int a = 0; a < 3; ++a) n.centre[a] = float(n.centre[a] + p.offset[a]);
+        return n;
+    }
+
+    Handle child(Handle h, const SplatNode& node, std::uint32_t c) const {
+        const auto place = std::uint32_t(h >> 32), index = std::uint32_t(h);
+        if (place == 0 && index < tree.first_placed) return node.first_child + c;
+        const Handle subtree = place == 0 ? Handle(index - tree.first_placed) + 1 : place;
+        return (subtree << 32) | (node.first_child + c);
+    }
 };
 
 }  // namespace
@@ -114,6 +159,20 @@ double projected_splat_size(const SplatNode& node, const SplatView& view) {
     return 2 * node.radius * view.focal_pixels / w;
 }
 
-SplatSelection select_splats(const SplatTree& tree, const SplatView& view) { return Traversal(tree, view).run(); }
+SplatSelection select_splats(const SplatTree& tree, const SplatView& view) {
+    std::vector<Handle> shown;
+    SplatSelection selection = Traversal<PlainNodes>(PlainNodes{tree}, view).run(shown);
+    selection.nodes.assign(shown.begin(), shown.end());
+    return selection;
+}
+
+SharedSplatSelection select_splats(const SharedSplatTree& tree, const SplatView& view) {
+    const SharedNodes nodes{tree};
+    std::vector<Handle> shown;
+    SharedSplatSelection selection{Traversal<SharedNodes>(nodes, view).run(shown), {}};
+    selection.nodes.reserve(shown.size());
+    for (Handle h : shown) selection.nodes.push_back(nodes.node(h));
+    return selection;
+}
 
 }  // namespace vdbmesh

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "vdbmesh/splats.h"
@@ -54,5 +55,34 @@ BuildNode merge_children(const BuildNode* children, std::uint32_t count, const s
 /// Whether @a parent may stand for its @a children: all childless and every child's disc within
 /// @a tolerance voxels of the parent's plane.
 bool coplanar_within(const BuildNode& parent, const BuildNode* children, std::uint32_t count, double tolerance);
+
+/// The nodes of every level while they are built; levels[L] holds level L's nodes, each
+/// one's children a range of levels[L - 1].
+using Levels = std::vector<std::vector<BuildNode>>;
+
+/// Every 8^3 cell of @a grid whose closed cube may hold a crossed edge, z-major; only those
+/// whose origin lies in @a within when given.
+std::vector<openvdb::Coord> candidate_cells(const openvdb::FloatGrid& grid, const std::optional<openvdb::CoordBBox>& within);
+
+/// Fits @a cells of @a grid (in parallel) and appends their nodes of levels 0 to 2 to @a levels.
+void append_cells(Levels& levels, const openvdb::FloatGrid& grid, const std::vector<openvdb::Coord>& cells,
+                  const SampleRule& rule, double tolerance);
+
+/// Appends one cell's nodes to @a levels (its children's indices made the levels'; @a cell is
+/// changed so).
+void append_cell(Levels& levels, CellNodes& cell);
+
+/// Builds levels[level] from levels[level - 1] (reordered so each parent's children are
+/// contiguous); the root level takes every node below as a child.
+void merge_up(Levels& levels, int level);
+
+/// The nodes breadth-first from levels[top][0] (the only node of that level), each node's
+/// children contiguous, in world space by @a transform; in @a sources (when given) the level
+/// and index in @a levels each came from.
+std::vector<SplatNode> breadth_first(const Levels& levels, int top, const openvdb::math::Transform& transform,
+                                     std::vector<std::pair<int, std::uint32_t>>* sources = nullptr);
+
+/// The rule of @a grid's samples for @a options. @throw UsageError on a negative tolerance.
+SampleRule sample_rule(const openvdb::FloatGrid& grid, const SplatOptions& options);
 
 }  // namespace vdbmesh::splat

@@ -40,13 +40,25 @@ SplatRequest parse_splat_request(const ParamLookup& param, double default_iso) {
     return request;
 }
 
+namespace {
+
+void put_node(std::string& out, const SplatNode& n) {
+    put_floats(out, {n.centre[0], n.centre[1], n.centre[2], n.normal[0], n.normal[1], n.normal[2], n.radius});
+}
+
+}  // namespace
+
 std::string splat_buffers(const SplatTree& tree, const SplatSelection& selection) {
     std::string out;
     out.reserve(28 * selection.nodes.size());
-    for (std::uint32_t i : selection.nodes) {
-        const SplatNode& n = tree.nodes[i];
-        put_floats(out, {n.centre[0], n.centre[1], n.centre[2], n.normal[0], n.normal[1], n.normal[2], n.radius});
-    }
+    for (std::uint32_t i : selection.nodes) put_node(out, tree.nodes[i]);
+    return out;
+}
+
+std::string splat_buffers(const std::vector<SplatNode>& nodes) {
+    std::string out;
+    out.reserve(28 * nodes.size());
+    for (const SplatNode& n : nodes) put_node(out, n);
     return out;
 }
 

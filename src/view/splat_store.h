@@ -37,6 +37,8 @@ SplatRequest parse_splat_request(const ParamLookup& param, double default_iso);
 /// The selected nodes as the page draws them, back to back and little-endian: per node
 /// centre (float32 x 3), normal (float32 x 3), radius (float32): 28 bytes a node.
 std::string splat_buffers(const SplatTree& tree, const SplatSelection& selection);
+/// The same of nodes already placed (a shared tree's selection).
+std::string splat_buffers(const std::vector<SplatNode>& nodes);
 
 class SplatStore {
 public:

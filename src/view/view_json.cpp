@@ -1,5 +1,7 @@
 #include "view/view_json.h"
 
+#include "vdbmesh/shared_splats.h"
+
 namespace vdbmesh::view {
 
 namespace {
@@ -21,9 +23,15 @@ nlohmann::json scan_json(const ViewScan& scan, double initial_iso) {
 nlohmann::json info_json(const ViewSource& source, std::size_t triangle_budget) {
     nlohmann::json j;
     j["name"] = source.name;
-    j["kind"] = source.scan ? "scan" : source.labels.empty() ? "mesh" : "labels";
+    j["kind"] = source.lattice ? "lattice" : source.scan ? "scan" : source.labels.empty() ? "mesh" : "labels";
     j["triangle_budget"] = triangle_budget;
     if (source.scan) j["scan"] = scan_json(*source.scan, source.initial_iso);
+    if (source.lattice) {
+        const SharedSplatTree& splats = *source.lattice->splats;
+        j["lattice"] = {{"box_min", source.lattice->box_min}, {"box_max", source.lattice->box_max},
+                        {"placed", splats.placed.size()}, {"fitted", splats.subtrees.size()},
+                        {"represented_nodes", splats.represented_nodes()}, {"seconds", source.lattice->seconds}};
+    }
     if (!source.labels.empty()) {
         j["labels"] = nlohmann::json::array();
         for (const ViewLabel& label : source.labels)

@@ -15,6 +15,7 @@
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/json_text.h"
+#include "vdbmesh/shared_splats.h"
 #include "vdbmesh/view.h"
 #include "view/close_up.h"
 #include "view/mesh_buffers.h"
@@ -154,6 +155,7 @@ private:
     }
 
     view::MeshRequest parse(const httplib::Request& request) const {
+        if (store_.source().lattice) throw UsageError("a lattice is shown by its splats only (GET /api/splats)");
         return view::parse_mesh_request(params_of(request), store_.source().initial_iso);
     }
 
@@ -186,17 +188,28 @@ private:
 
     void serve_splats(const httplib::Request& request, httplib::Response& response) {
         const view::SplatRequest parsed = view::parse_splat_request(params_of(request), store_.source().initial_iso);
+        if (const auto& lattice = store_.source().lattice) {
+            const SharedSplatSelection selection = select_splats(*lattice->splats, parsed.view);
+            set_splat_headers(response, selection.summary, selection.nodes.size(), lattice->splats->represented_nodes(), lattice->seconds);
+            response.set_content(view::splat_buffers(selection.nodes), "application/octet-stream");
+            return;
+        }
         const auto stored = splats_.tree(parsed.iso);
         SplatSelection selection = select_splats(stored->tree, parsed.view);
         if (parsed.close_up_triangles) add_close_up(*stored, parsed, selection, response);
-        response.set_header("X-Splats", std::to_string(selection.nodes.size()));
+        set_splat_headers(response, selection, selection.nodes.size(), stored->tree.nodes.size(), stored->seconds);
+        response.set_content(view::splat_buffers(stored->tree, selection), "application/octet-stream");
+    }
+
+    static void set_splat_headers(httplib::Response& response, const SplatSelection& selection, std::size_t shown,
+                                  std::uint64_t tree_nodes, double seconds) {
+        response.set_header("X-Splats", std::to_string(shown));
         response.set_header("X-Level", std::to_string(selection.finest_level));
         response.set_header("X-Cut-Level", std::to_string(selection.cut_level));
         response.set_header("X-Complete", selection.complete ? "1" : "0");
-        response.set_header("X-Tree-Nodes", std::to_string(stored->tree.nodes.size()));
-        response.set_header("X-Seconds", std::to_string(stored->seconds));
+        response.set_header("X-Tree-Nodes", std::to_string(tree_nodes));
+        response.set_header("X-Seconds", std::to_string(seconds));
         response.set_header("Cache-Control", "no-store");
-        response.set_content(view::splat_buffers(stored->tree, selection), "application/octet-stream");
     }
 
     /// The close-up the view asks for, if any, in headers: X-Closeup-Box (x0,y0,z0,x1,y1,z1, for

@@ -52,9 +52,10 @@ function findChromium() {
   return candidates.find((candidate) => fs.existsSync(candidate));
 }
 
-/// Starts `vdbmesh view` and resolves with it and the address it prints.
-function startViewer(vdbmesh, viewArguments) {
-  const child = spawn(vdbmesh, ['view', ...viewArguments, '--no-open', '--port', '0'], { stdio: ['ignore', 'pipe', 'inherit'] });
+/// Starts `vdbmesh view` (or another command serving the page, `lattice ... --view`) and
+/// resolves with it and the address it prints.
+function startViewer(vdbmesh, viewArguments, command = ['view']) {
+  const child = spawn(vdbmesh, [...command, ...viewArguments, '--no-open', '--port', '0'], { stdio: ['ignore', 'pipe', 'inherit'] });
   return new Promise((resolve, reject) => {
     let printed = '';
     child.stdout.on('data', (chunk) => {
@@ -381,6 +382,50 @@ async function checkLabels(browser, options, scratch, decode, checks, timeout) {
   }
 }
 
+/// `vdbmesh lattice gyroid ... --view`: the page shows the lattice by splats at once (no mesh),
+/// covering the view, and zooming in refines them. --lattice-box 4096 for the issue's gyroid.
+async function checkLattice(browser, options, decode, checks, timeout) {
+  const side = options.latticeBox ?? '512';
+  const started = Date.now();
+  const viewer = await startViewer(options.vdbmesh, ['gyroid', '--period', '64', '--thickness', '4', '--box', side, '--voxel', '1'],
+    ['lattice', '--view']);
+  try {
+    const page = await browser.newPage({ viewport: { width: 900, height: 700 } });
+    page.on('pageerror', (error) => checks.expect(false, `no error in the lattice page: ${error.message}`));
+    page.setDefaultTimeout(timeout);
+    const driver = new PageDriver(page, options.out, decode);
+    await page.goto(viewer.address);
+    const waitForSplats = async (before) => {
+      await page.waitForFunction((views) => {
+        const s = window.vdbmeshView;
+        return s.error || (Date.now() - s.cameraMovedAt > 1000 && s.splatViews > views && !s.splatBusy);
+      }, before, { timeout, polling: 100 });
+      const state = await driver.state();
+      if (state.error) throw new Error(`the lattice page reports: ${state.error}`);
+      return state;
+    };
+    const first = await waitForSplats(0);
+    const whole = await driver.shot('lattice');
+    console.log(`the ${side}^3 gyroid on the page ${Date.now() - started} ms after starting vdbmesh lattice --view: ` +
+      `${first.splats} splats, finest level ${first.splatLevel}, coarsest ${first.splatCutLevel}`);
+    const drawn = foreground(whole, BACKGROUND).share;
+    checks.expect(drawn > 0.2, `the lattice covers ${(100 * drawn).toFixed(1)}% of the view (> 20%)`);
+    const shown = await page.locator('#splat-figures').textContent();
+    checks.expect(first.splats > 0 && shown.includes(`finest level ${first.splatLevel}`), `its figures name the level shown (${shown})`);
+    const box = await page.locator('#view canvas').boundingBox();
+    await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+    for (let i = 0; i < 12; ++i) await page.mouse.wheel(0, -400);
+    const zoomed = await waitForSplats(first.splatViews);
+    const closer = await driver.shot('lattice-zoomed');
+    checks.expect(changedShare(whole, closer) > 0.05, `zooming into the lattice changes the picture (${(100 * changedShare(whole, closer)).toFixed(1)}% of pixels)`);
+    checks.expect(zoomed.splatLevel < first.splatLevel || zoomed.splatCutLevel < first.splatCutLevel,
+      `and refines its splats: finest level ${first.splatLevel} -> ${zoomed.splatLevel}, coarsest ${first.splatCutLevel} -> ${zoomed.splatCutLevel}`);
+    await page.close();
+  } finally {
+    checks.expect((await stopViewer(viewer.child)) === 0, 'the lattice viewer stops cleanly on SIGINT (exit 0)');
+  }
+}
+
 async function main() {
   const options = parseArguments(process.argv.slice(2));
   const chromiumPath = findChromium();
@@ -419,6 +464,7 @@ async function main() {
     await driver.click('#reset-view');
     await checkSplats(driver, checks, await driver.shot('solid-before-splats'), timeout);
     if (!options.scan || options.labelsMap) await checkLabels(browser, options, scratch, driver.decode, checks, timeout);
+    if (!options.scan || options.latticeBox) await checkLattice(browser, options, driver.decode, checks, timeout);
   } finally {
     await browser?.close();
     if (viewer) checks.expect((await stopViewer(viewer.child)) === 0, 'vdbmesh view stops cleanly on SIGINT (exit 0)');

@@ -1,6 +1,7 @@
 // The page of `vdbmesh view`: wires the panel to the 3D view and the server (and, for a label
 // map, the list of its labels).
 // window.vdbmeshView reports what is on screen, for the browser test.
+import * as THREE from 'three';
 import { Scene3D } from './scene.js';
 import { Model } from './model.js';
 import { clipPlanes } from './clip_planes.js';
@@ -233,6 +234,16 @@ function setUpPanel() {
   $('save-png').onclick = async () => download(URL.createObjectURL(await scene3d.snapshot()), 'view.png');
 }
 
+/// A lattice is shown by its splats alone (`vdbmesh lattice --view`): never meshed, framed by its box.
+function setUpLattice(lattice) {
+  scene3d.fitTo(new THREE.Box3(new THREE.Vector3(...lattice.box_min), new THREE.Vector3(...lattice.box_max)));
+  scene3d.setView('home');
+  fitted = true;
+  $('splat-controls').classList.remove('hidden');
+  Object.assign($('splats'), { checked: true, disabled: true });
+  setSplatMode(true);
+}
+
 async function start() {
   info = await fetchJson('/api/info');
   document.title = `${info.name} · vdbmesh view`;
@@ -246,7 +257,8 @@ async function start() {
       (drawn) => (state.drawnTriangles = drawn));
     state.labels = info.labels.length;
   }
-  await remesh();
+  if (info.lattice) setUpLattice(info.lattice);
+  else await remesh();
 }
 
 start().catch((error) => {
