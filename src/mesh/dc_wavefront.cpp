@@ -62,9 +62,8 @@ IfcColumnWavefront::IfcColumnWavefront(const GridRegionSource& source, const Sam
     window_->setTransform(description->transform().copy());
 }
 
-bool IfcColumnWavefront::in_column(const openvdb::Coord& origin, int widen) const {
-    return origin.x() >= column_.min_x - widen && origin.x() <= column_.max_x + widen && origin.y() >= column_.min_y - widen &&
-           origin.y() <= column_.max_y + widen;
+bool IfcColumnWavefront::in_column(const openvdb::Coord& origin) const {
+    return origin.x() >= column_.min_x && origin.x() <= column_.max_x && origin.y() >= column_.min_y && origin.y() <= column_.max_y;
 }
 
 void IfcColumnWavefront::read(int z_begin, int z_end) {
@@ -93,7 +92,7 @@ void IfcColumnWavefront::build(int layer) {
 
 std::vector<IfcNodeOutput> IfcColumnWavefront::contour(int layer) {
     const int z0 = layer_z(layer), z1 = layer_z(layer + 1);
-    auto owned = [&](const openvdb::Coord& o) { return o.z() >= z0 && o.z() < z1 && in_column(o, 0); };
+    auto owned = [&](const openvdb::Coord& o) { return o.z() >= z0 && o.z() < z1 && in_column(o); };
     std::vector<IfcBlockOutput> outputs = contour_ifc_cells(*window_, classifier_, options_, cells_, owned, report_);
     return group_ifc_outputs_by_node(cells_.origins, outputs);
 }

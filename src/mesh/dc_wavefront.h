@@ -30,7 +30,7 @@ public:
     void run(int first, int last, const std::function<void(std::vector<IfcNodeOutput>&&)>& consume);
 
 private:
-    bool in_column(const openvdb::Coord& origin, int widen) const;
+    bool in_column(const openvdb::Coord& origin) const;
     void read(int z_begin, int z_end);
     void build(int layer);
     std::vector<IfcNodeOutput> contour(int layer);
