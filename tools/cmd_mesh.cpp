@@ -166,6 +166,7 @@ public:
     void triangle(const std::array<std::uint32_t, 3>& t, const std::array<std::array<float, 3>, 3>& corners) override {
         writer_->add_triangle(t, corners);
     }
+    bool needs_corners() const override { return MeshStreamWriter::writes_corners(options_.output); }
     /// Writes the file: on the rank that received the mesh (rank 0), nothing elsewhere.
     void commit() {
         if (writer_) writer_->commit();

@@ -42,6 +42,9 @@ public:
 
     /// The next vertex; all of them before the first triangle.
     void add_vertex(const std::array<float, 3>& position);
+    /// Whether add_triangle() writes the corners it is given into a file named @a path (STL),
+    /// or only the vertex numbers (PLY, OBJ). @throw UsageError for an unknown extension.
+    static bool writes_corners(const std::filesystem::path& path);
     /// The next triangle (vertex numbers from 0) and the positions of its three vertices.
     void add_triangle(const std::array<std::uint32_t, 3>& triangle, const std::array<std::array<float, 3>, 3>& corners);
     /// Renames the file into place. @throw Error when the counts given at the start were not

@@ -116,6 +116,9 @@ public:
     virtual void begin(std::uint64_t vertex_count, std::uint64_t triangle_count) = 0;
     virtual void vertex(const std::array<float, 3>& position) = 0;
     virtual void triangle(const std::array<std::uint32_t, 3>& triangle, const std::array<std::array<float, 3>, 3>& corners) = 0;
+    /// False when triangle() ignores its corners (they may then be zeros): a file of vertex
+    /// numbers (PLY, OBJ) spares the spill a third of its bytes.
+    virtual bool needs_corners() const { return true; }
 };
 
 /// mesh_bricks() without holding the mesh: each brick's vertices and triangles go to a spill

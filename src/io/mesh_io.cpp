@@ -80,6 +80,8 @@ void MeshStreamWriter::add_vertex(const std::array<float, 3>& position) {
     else if (s.format == MeshFormat::kObj) detail::write_obj_vertex(s.out, position);
 }
 
+bool MeshStreamWriter::writes_corners(const std::filesystem::path& path) { return format_of(path) == MeshFormat::kStl; }
+
 void MeshStreamWriter::add_triangle(const std::array<std::uint32_t, 3>& triangle, const std::array<std::array<float, 3>, 3>& corners) {
     Stream& s = *stream_;
     if (s.triangles_written == s.triangle_count) throw Error(s.target.string() + ": a triangle beyond the " + std::to_string(s.triangle_count) + " announced");

@@ -171,28 +171,34 @@ void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
     if (vertex_count >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
     // One pass resolves every triangle's keys (the costly part), marking the vertices used (the
     // weld drops the others) and keeping the triangles resolved in a second file, read back in
-    // order once the used vertices are counted and written.
-    struct ResolvedTriangle {
-        std::array<std::uint32_t, 3> number;  ///< before unused vertices are dropped
-        std::array<std::array<float, 3>, 3> corners;
-    };
+    // order once the used vertices are counted and written: each its vertex numbers (before
+    // unused vertices are dropped), then, when the sink wants them, its corners.
+    using Numbers = std::array<std::uint32_t, 3>;
+    using Corners = std::array<std::array<float, 3>, 3>;
+    const bool with_corners = sink.needs_corners();
+    const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
     TempFile resolved("for the bricks' resolved triangles");
     UsedVertices used(vertex_count);
     {
-        std::vector<ResolvedTriangle> batch;
+        std::vector<char> batch;
         Tables tables(*this);
         for (const NodeRecord& node : nodes_) {
             tables.drop_below(node.origin.z());
             for (const KeyedTriangle& t : read<KeyedTriangle>(node.triangle_offset, node.triangle_count)) {
-                ResolvedTriangle& r = batch.emplace_back();
+                Numbers numbers;
+                Corners corners;
                 for (int k = 0; k < 3; ++k) {
                     const auto [number, position] = tables.find(t[k]);
                     used.mark(number);
-                    r.number[k] = std::uint32_t(number);
-                    r.corners[k] = *position;
+                    numbers[k] = std::uint32_t(number);
+                    corners[k] = *position;
                 }
+                const std::size_t at = batch.size();
+                batch.resize(at + record_bytes);
+                std::memcpy(batch.data() + at, &numbers, sizeof(numbers));
+                if (with_corners) std::memcpy(batch.data() + at + sizeof(numbers), &corners, sizeof(corners));
             }
-            resolved.append(batch.data(), batch.size() * sizeof(ResolvedTriangle));
+            resolved.append(batch.data(), batch.size());
             batch.clear();
         }
     }
@@ -205,18 +211,23 @@ void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
         }
     }
     constexpr std::uint64_t kBatch = 1 << 16;
-    std::vector<ResolvedTriangle> batch;
+    std::vector<char> batch;
     for (std::uint64_t first = 0; first < triangle_count; first += kBatch) {
-        batch.resize(std::min(kBatch, triangle_count - first));
-        resolved.read(first * sizeof(ResolvedTriangle), batch.data(), batch.size() * sizeof(ResolvedTriangle));
-        for (ResolvedTriangle& r : batch) {
+        const std::uint64_t count = std::min(kBatch, triangle_count - first);
+        batch.resize(count * record_bytes);
+        resolved.read(first * record_bytes, batch.data(), batch.size());
+        for (std::uint64_t r = 0; r < count; ++r) {
+            Numbers numbers;
+            Corners corners{};
+            std::memcpy(&numbers, batch.data() + r * record_bytes, sizeof(numbers));
+            if (with_corners) std::memcpy(&corners, batch.data() + r * record_bytes + sizeof(numbers), sizeof(corners));
             std::array<std::uint32_t, 3> triangle;
-            for (int k = 0; k < 3; ++k) triangle[k] = std::uint32_t(used.rank(r.number[k]));
+            for (int k = 0; k < 3; ++k) triangle[k] = std::uint32_t(used.rank(numbers[k]));
             if (mirrored) {
                 std::swap(triangle[1], triangle[2]);
-                std::swap(r.corners[1], r.corners[2]);
+                std::swap(corners[1], corners[2]);
             }
-            sink.triangle(triangle, r.corners);
+            sink.triangle(triangle, corners);
         }
     }
 }

@@ -38,24 +38,31 @@ MeshResult bricked(const openvdb::FloatGrid::Ptr& grid, const MeshOptions& optio
     return result;
 }
 
-/// Collects what mesh_bricks_to_stream() sends, as a mesh.
+/// Collects what mesh_bricks_to_stream() sends, as a mesh; with @a wants_corners false, as a
+/// sink of vertex numbers only (PLY, OBJ) does.
 class CollectingSink final : public MeshStreamSink {
 public:
+    explicit CollectingSink(bool wants_corners = true) : wants_corners_(wants_corners) {}
     void begin(std::uint64_t vertex_count, std::uint64_t triangle_count) override {
         announced = {vertex_count, triangle_count};
     }
     void vertex(const std::array<float, 3>& position) override { mesh.vertices.push_back(position); }
     void triangle(const std::array<std::uint32_t, 3>& t, const std::array<std::array<float, 3>, 3>& corners) override {
         mesh.triangles.push_back(t);
-        for (int k = 0; k < 3; ++k) corners_match &= t[k] < mesh.vertices.size() && mesh.vertices[t[k]] == corners[k];
+        if (wants_corners_)
+            for (int k = 0; k < 3; ++k) corners_match &= t[k] < mesh.vertices.size() && mesh.vertices[t[k]] == corners[k];
     }
+    bool needs_corners() const override { return wants_corners_; }
     Mesh mesh;
     std::pair<std::uint64_t, std::uint64_t> announced;
     bool corners_match = true;
+
+private:
+    bool wants_corners_;
 };
 
-Mesh streamed(const openvdb::FloatGrid::Ptr& grid, const MeshOptions& options, const BrickShape& shape) {
-    CollectingSink sink;
+Mesh streamed(const openvdb::FloatGrid::Ptr& grid, const MeshOptions& options, const BrickShape& shape, bool wants_corners = true) {
+    CollectingSink sink(wants_corners);
     mesh_bricks_to_stream(*grid_regions_in_memory(grid), options, BrickOptions{shape}, sink);
     EXPECT_EQ(sink.announced.first, sink.mesh.vertices.size());
     EXPECT_EQ(sink.announced.second, sink.mesh.triangles.size());
@@ -113,6 +120,7 @@ void expect_same_as_whole(const openvdb::FloatGrid::Ptr& grid, const MeshOptions
     const Mesh stream = streamed(grid, options, {1, 1});
     EXPECT_EQ(stream.vertices, whole.vertices) << what << ", streamed";
     EXPECT_EQ(stream.triangles, whole.triangles) << what << ", streamed";
+    EXPECT_EQ(streamed(grid, options, {2, 1}, /*wants_corners=*/false).triangles, whole.triangles) << what << ", streamed, numbers only";
     // Over ranks, each meshing its run of bricks and rank 0 assembling: the same.
     for (const int ranks : {2, 3}) {
         const Mesh assembled = streamed_over_ranks(grid, options, {1, 1}, ranks);
@@ -231,6 +239,7 @@ TEST(BricksTest, MirroredGridIsWoundAlike) {
     const Mesh whole = mesh_grid(*grid, dc_options(0.5)).mesh;
     EXPECT_EQ(bricked(grid, dc_options(0.5), {1, 1}, 2).mesh.triangles, whole.triangles);
     EXPECT_EQ(streamed(grid, dc_options(0.5), {1, 1}).triangles, whole.triangles);
+    EXPECT_EQ(streamed(grid, dc_options(0.5), {1, 1}, /*wants_corners=*/false).triangles, whole.triangles);
 }
 
 TEST(BricksTest, RefusesBricksWithOtherMethodsAndErrorZero) {

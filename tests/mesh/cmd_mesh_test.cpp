@@ -216,6 +216,11 @@ TEST(CmdMeshTest, MemoryLimitGivesTheSameBytesOrIsRefused) {
         return std::string(std::istreambuf_iterator<char>(in), {});
     };
     EXPECT_EQ(bytes(bounded), bytes(whole));
+    // STL writes each triangle's corners, which the spill then keeps too: the same bytes.
+    const auto whole_stl = scratch / "whole.stl", bounded_stl = scratch / "bounded.stl";
+    ASSERT_EQ(run_with({"-o", whole_stl.string(), "--error", "0.5"}), cli::kSuccess);
+    ASSERT_EQ(run_with({"-o", bounded_stl.string(), "--error", "0.5", "--memory", "64M"}), cli::kSuccess);
+    EXPECT_EQ(bytes(bounded_stl), bytes(whole_stl));
     const auto refused = scratch / "refused.ply";
     testing::internal::CaptureStderr();
     EXPECT_EQ(run_with({"-o", refused.string(), "--error", "0.5", "--memory", "1M"}), cli::kUsageError);
