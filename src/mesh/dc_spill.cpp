@@ -1,9 +1,13 @@
 // The spill of bricked contouring (dc_spill.h). A triangle's vertices lie in its node or in a
 // neighbour (keys name grid points at most a node away), so resolving the triangles of the
 // nodes in z-major order needs the vertices of three layers of nodes at most: each node's
-// table is loaded when first asked for and dropped once every node that can refer to it is done.
+// table is loaded before the nodes that can refer to it are resolved and dropped once every node
+// that can refer to it is done. The nodes of a run (one z-layer, a bounded number of triangles)
+// are resolved in parallel from tables loaded beforehand, read-only meanwhile.
 
 #include "mesh/dc_spill.h"
+
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cstring>
@@ -32,7 +36,8 @@ std::tuple<int, int, int> z_major(const openvdb::Coord& c) { return {c.z(), c.y(
 class UsedVertices {
 public:
     explicit UsedVertices(std::uint64_t count) : words_((count + 63) / 64, 0) {}
-    void mark(std::uint64_t v) { words_[v / 64] |= std::uint64_t(1) << (v % 64); }
+    /// Safe to call from several threads at once.
+    void mark(std::uint64_t v) { __atomic_fetch_or(&words_[v / 64], std::uint64_t(1) << (v % 64), __ATOMIC_RELAXED); }
     bool used(std::uint64_t v) const { return (words_[v / 64] >> (v % 64)) & 1u; }
     /// Counts the used vertices; rank() answers after this.
     std::uint64_t count() {
@@ -63,23 +68,6 @@ public:
         for (std::size_t n = 0; n < spill.nodes_.size(); ++n) by_origin_[z_major(spill.nodes_[n].origin)] = n;
     }
 
-    /// The vertex @a key names: its number (before unused ones are dropped) and position.
-    std::pair<std::uint64_t, const std::array<float, 3>*> find(std::uint64_t key) {
-        const openvdb::Coord node = node_of(ifc_key_point(key));
-        const Table* table = (last_ && last_->origin == node) ? last_ : load(node);
-        const std::uint32_t index = table ? table->index->find(key) : IfcKeyIndex::kMissing;
-        if (index == IfcKeyIndex::kMissing) throw Error("contouring: a triangle refers to a missing vertex");
-        last_ = table;
-        return {table->first_vertex + index, &table->positions[index]};
-    }
-
-    /// Drops the tables no node at or after z-layer @a z can refer to.
-    void drop_below(int z) {
-        for (auto it = loaded_.begin(); it != loaded_.end() && std::get<0>(it->first) < z - kNodeVoxels;) it = loaded_.erase(it);
-        last_ = nullptr;
-    }
-
-private:
     struct Table {
         openvdb::Coord origin;
         std::uint64_t first_vertex;
@@ -87,11 +75,39 @@ private:
         std::unique_ptr<IfcKeyIndex> index;
     };
 
-    const Table* load(const openvdb::Coord& node) {
+    /// Loads the tables of @a nodes and of the nodes next to them: every table their
+    /// triangles can name.
+    void load_around(const NodeRecord* nodes, std::size_t count) {
+        for (std::size_t n = 0; n < count; ++n)
+            for (int dz = -1; dz <= 1; ++dz)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) load(nodes[n].origin.offsetBy(dx * kNodeVoxels, dy * kNodeVoxels, dz * kNodeVoxels));
+    }
+
+    /// The vertex @a key names: its number (before unused ones are dropped) and position,
+    /// from the tables loaded (load_around()); @a last is the caller's table last used.
+    std::pair<std::uint64_t, const std::array<float, 3>*> find(std::uint64_t key, const Table*& last) const {
+        const openvdb::Coord node = node_of(ifc_key_point(key));
+        if (!last || last->origin != node) {
+            const auto it = loaded_.find(z_major(node));
+            last = it == loaded_.end() ? nullptr : it->second.get();
+        }
+        const std::uint32_t index = last ? last->index->find(key) : IfcKeyIndex::kMissing;
+        if (index == IfcKeyIndex::kMissing) throw Error("contouring: a triangle refers to a missing vertex");
+        return {last->first_vertex + index, &last->positions[index]};
+    }
+
+    /// Drops the tables no node at or after z-layer @a z can refer to.
+    void drop_below(int z) {
+        for (auto it = loaded_.begin(); it != loaded_.end() && std::get<0>(it->first) < z - kNodeVoxels;) it = loaded_.erase(it);
+    }
+
+private:
+    void load(const openvdb::Coord& node) {
         const auto key = z_major(node);
-        if (auto it = loaded_.find(key); it != loaded_.end()) return it->second.get();
+        if (loaded_.count(key) != 0) return;
         const auto record = by_origin_.find(key);
-        if (record == by_origin_.end()) return nullptr;
+        if (record == by_origin_.end()) return;
         const NodeRecord& r = spill_.nodes_[record->second];
         const std::vector<VertexRecord> vertices = spill_.read<VertexRecord>(r.vertex_offset, r.vertex_count);
         auto table = std::make_unique<Table>();
@@ -104,13 +120,12 @@ private:
             table->positions[v] = vertices[v].position;
         }
         table->index = std::make_unique<IfcKeyIndex>(keys);
-        return (loaded_[key] = std::move(table)).get();
+        loaded_[key] = std::move(table);
     }
 
     const IfcSpill& spill_;
     std::map<std::tuple<int, int, int>, std::size_t> by_origin_;
     std::map<std::tuple<int, int, int>, std::unique_ptr<Table>> loaded_;
-    const Table* last_ = nullptr;
 };
 
 void IfcSpill::append(IfcNodeOutput&& node) {
@@ -179,27 +194,43 @@ void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
     const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
     TempFile resolved("for the bricks' resolved triangles");
     UsedVertices used(vertex_count);
-    {
-        std::vector<char> batch;
-        Tables tables(*this);
-        for (const NodeRecord& node : nodes_) {
-            tables.drop_below(node.origin.z());
-            for (const KeyedTriangle& t : read<KeyedTriangle>(node.triangle_offset, node.triangle_count)) {
-                Numbers numbers;
-                Corners corners;
-                for (int k = 0; k < 3; ++k) {
-                    const auto [number, position] = tables.find(t[k]);
-                    used.mark(number);
-                    numbers[k] = std::uint32_t(number);
-                    corners[k] = *position;
-                }
-                const std::size_t at = batch.size();
-                batch.resize(at + record_bytes);
-                std::memcpy(batch.data() + at, &numbers, sizeof(numbers));
-                if (with_corners) std::memcpy(batch.data() + at + sizeof(numbers), &corners, sizeof(corners));
+    auto resolve_node = [&](const Tables& tables, const NodeRecord& node, std::vector<char>& batch) {
+        const Tables::Table* last = nullptr;
+        const std::vector<KeyedTriangle> triangles = read<KeyedTriangle>(node.triangle_offset, node.triangle_count);
+        batch.resize(triangles.size() * record_bytes);
+        char* at = batch.data();
+        for (const KeyedTriangle& t : triangles) {
+            Numbers numbers;
+            Corners corners;
+            for (int k = 0; k < 3; ++k) {
+                const auto [number, position] = tables.find(t[k], last);
+                used.mark(number);
+                numbers[k] = std::uint32_t(number);
+                corners[k] = *position;
             }
-            resolved.append(batch.data(), batch.size());
-            batch.clear();
+            std::memcpy(at, &numbers, sizeof(numbers));
+            if (with_corners) std::memcpy(at + sizeof(numbers), &corners, sizeof(corners));
+            at += record_bytes;
+        }
+    };
+    {
+        // Runs of nodes of one z-layer holding at most this many triangles (one node more
+        // when a single node holds more): their resolved triangles are held until appended.
+        constexpr std::uint64_t kRunTriangles = std::uint64_t{1} << 19;
+        Tables tables(*this);
+        std::vector<std::vector<char>> batches;
+        for (std::size_t first = 0; first < nodes_.size();) {
+            std::size_t end = first + 1;
+            std::uint64_t triangles = nodes_[first].triangle_count;
+            while (end < nodes_.size() && nodes_[end].origin.z() == nodes_[first].origin.z() &&
+                   triangles + nodes_[end].triangle_count <= kRunTriangles)
+                triangles += nodes_[end++].triangle_count;
+            tables.drop_below(nodes_[first].origin.z());
+            tables.load_around(nodes_.data() + first, end - first);
+            batches.resize(end - first);
+            tbb::parallel_for(std::size_t{0}, end - first, [&](std::size_t n) { resolve_node(tables, nodes_[first + n], batches[n]); });
+            for (const std::vector<char>& batch : batches) resolved.append(batch.data(), batch.size());
+            first = end;
         }
     }
     const std::uint64_t used_count = used.count();
