@@ -20,6 +20,7 @@ namespace vdbmesh {
 
 class GridRegionSource;
 struct SharedSplatTree;
+struct SplatTree;
 
 /// Counts of samples in equal bins over [min, max].
 struct ValueHistogram {
@@ -77,6 +78,15 @@ struct ViewLattice {
     std::array<double, 3> box_min{}, box_max{};  ///< world units: what the page frames first
 };
 
+/// The splat tree of a scan at its initial isovalue, made before serving (`view --splats FILE`:
+/// read from its file, or fitted and written there): the page shows it at once.
+struct ViewSplats {
+    std::shared_ptr<const SplatTree> tree;
+    double seconds = 0;     ///< the fit's, or the file's reading
+    std::string file;       ///< the splat file's name
+    bool from_file = false; ///< read from the file (else fitted now and written to it)
+};
+
 /// What the page shows: a scan, a mesh, a label map's meshes, or a lattice's splats.
 struct ViewSource {
     std::string name;                  ///< the input's file name, shown as the title
@@ -85,6 +95,7 @@ struct ViewSource {
     std::vector<ViewLabel> labels;     ///< set for label maps: the runs of @a mesh, ascending values
     std::shared_ptr<const ViewLattice> lattice;  ///< set for a lattice (then neither scan nor mesh)
     double initial_iso = 0;            ///< scans: the isovalue shown first
+    std::shared_ptr<const ViewSplats> splats;  ///< scans: a splat tree at initial_iso made before serving
 };
 
 /// Meshes a grid as mesh_grid() does.
@@ -108,6 +119,7 @@ struct ViewServerOptions {
 /// GET /                 the page; /app.js its script
 /// GET /api/info         JSON: the input, its histogram and suggested isovalue, the budget;
 ///                       for a label map its labels (value, name, colour, their runs of the mesh);
+///                       with a tree made before serving, splats (file, from_file, nodes, seconds, iso);
 ///                       for a lattice (kind "lattice") its box, placed and fitted subtrees
 ///                       (only /api/splats serves a lattice, without close-ups)
 /// GET /api/mesh         binary: positions (float32 x 3V), normals (float32 x 3V), indices

@@ -18,7 +18,7 @@ namespace vdbmesh::view {
 
 /// A tree made for the page and the seconds it took.
 struct StoredSplats {
-    SplatTree tree;
+    std::shared_ptr<const SplatTree> tree;
     double seconds = 0;
 };
 
@@ -42,7 +42,8 @@ std::string splat_buffers(const std::vector<SplatNode>& nodes);
 
 class SplatStore {
 public:
-    explicit SplatStore(std::shared_ptr<const ViewScan> scan) : scan_(std::move(scan)) {}
+    /// @a initial (when set): the tree at @a initial_iso made before serving, kept for good.
+    SplatStore(std::shared_ptr<const ViewScan> scan, std::shared_ptr<const ViewSplats> initial, double initial_iso);
     /// The tree of the scan's full grid at @a iso (read by region when not held), built now unless kept.
     /// @throw UsageError when the source is a mesh file (no grid to fit).
     std::shared_ptr<const StoredSplats> tree(double iso);
@@ -50,6 +51,8 @@ public:
 private:
     static constexpr std::size_t kKept = 2;
     std::shared_ptr<const ViewScan> scan_;
+    std::shared_ptr<const StoredSplats> initial_;
+    double initial_iso_ = 0;
     std::mutex mutex_;
     std::deque<std::pair<double, std::shared_ptr<const StoredSplats>>> kept_;  ///< newest first
 };

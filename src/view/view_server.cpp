@@ -84,7 +84,7 @@ std::string encode_mesh(const Mesh& mesh, const std::string& format) {
 class ViewServer::Impl {
 public:
     Impl(ViewSource source, const ViewServerOptions& options)
-        : options_(options), store_(std::move(source), options.mesher, options.triangle_budget), splats_(store_.source().scan) {
+        : options_(options), store_(std::move(source), options.mesher, options.triangle_budget), splats_(store_.source().scan, store_.source().splats, store_.source().initial_iso) {
         add_routes();
         bind();
     }
@@ -195,10 +195,10 @@ private:
             return;
         }
         const auto stored = splats_.tree(parsed.iso);
-        SplatSelection selection = select_splats(stored->tree, parsed.view);
+        SplatSelection selection = select_splats(*stored->tree, parsed.view);
         if (parsed.close_up_triangles) add_close_up(*stored, parsed, selection, response);
-        set_splat_headers(response, selection, selection.nodes.size(), stored->tree.nodes.size(), stored->seconds);
-        response.set_content(view::splat_buffers(stored->tree, selection), "application/octet-stream");
+        set_splat_headers(response, selection, selection.nodes.size(), stored->tree->nodes.size(), stored->seconds);
+        response.set_content(view::splat_buffers(*stored->tree, selection), "application/octet-stream");
     }
 
     static void set_splat_headers(httplib::Response& response, const SplatSelection& selection, std::size_t shown,
@@ -220,14 +220,14 @@ private:
                       httplib::Response& response) const {
         const GridRegionSource& regions = *store_.source().scan->regions;
         const auto grid = regions.description();
-        const auto close = view::find_close_up(stored.tree, selection, request.view, *grid, *request.close_up_triangles);
+        const auto close = view::find_close_up(*stored.tree, selection, request.view, *grid, *request.close_up_triangles);
         if (!close || regions.estimated_bytes(view::region_read_box(close->box)) > view::kRegionReadBytes) return;
         std::string box;
         for (auto bound : {close->box.min, close->box.max})
             for (std::int32_t v : bound) box += (box.empty() ? "" : ",") + std::to_string(v);
         response.set_header("X-Closeup-Box", box);
         response.set_header("X-Closeup-Triangles", std::to_string(close->estimated_triangles));
-        response.set_header("X-Closeup-Splats", std::to_string(view::move_inside_last(stored.tree, close->box, *grid, selection)));
+        response.set_header("X-Closeup-Splats", std::to_string(view::move_inside_last(*stored.tree, close->box, *grid, selection)));
     }
 
     void serve_download(const httplib::Request& request, httplib::Response& response) {
