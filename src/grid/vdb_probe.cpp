@@ -33,19 +33,6 @@ rlim_t memory_limit(std::uintmax_t file_bytes) {
     return physical > 0 ? std::min(wanted, physical) : wanted;
 }
 
-/// The address space this process holds now (a forked child starts with all of it).
-rlim_t address_space_now() {
-    unsigned long pages = 0;
-    if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
-        if (std::fscanf(statm, "%lu", &pages) != 1) pages = 0;
-        std::fclose(statm);
-    }
-    return static_cast<rlim_t>(pages) * static_cast<rlim_t>(::sysconf(_SC_PAGESIZE));
-}
-
-/// Seconds the child may take: generous for a sound file of any size.
-unsigned time_limit(std::uintmax_t file_bytes) { return 30 + static_cast<unsigned>(file_bytes >> 24); }
-
 /// Whether this is an AddressSanitizer build (the fuzz build): its shadow memory reserves
 /// terabytes of address space, so an address-space limit would fail every allocation; its
 /// own allocator refuses (aborts on) a request beyond its maximum instead.
@@ -75,24 +62,11 @@ void restore_default_signals() {
 }
 
 [[noreturn]] void read_in_child(const ChildReading& reading, rlim_t limit, unsigned seconds, int report) {
-    restore_default_signals();
-    const rlimit address_space{limit, limit}, no_core{0, 0};
-    if (!kAddressSanitizer) ::setrlimit(RLIMIT_AS, &address_space);
-    ::setrlimit(RLIMIT_CORE, &no_core);
+    enter_reading_child(limit);
     // A reader that loops, or a child that blocks (a lock held by another thread of the parent
     // at fork()), ends by SIGALRM instead of hanging the parent.
     ::alarm(seconds);
-    const int null = ::open("/dev/null", O_WRONLY);  // glibc's and OpenVDB's own complaints
-    if (null >= 0) ::dup2(null, STDERR_FILENO);
-    std::string failure;
-    try {
-        reading();
-    } catch (const std::bad_alloc&) {
-        failure = "reading it needs more than " + std::to_string(limit >> 20) +
-                  " MiB (OpenVDB's reader allocates without bound on a corrupt or truncated file)";
-    } catch (const std::exception& e) {
-        failure = std::string("not a readable .vdb file (") + e.what() + ")";
-    }
+    const std::string failure = failure_of(reading, limit);
     if (!failure.empty()) (void)!::write(report, failure.data(), failure.size());
     ::_exit(failure.empty() ? 0 : 1);
 }
@@ -160,6 +134,38 @@ std::uintmax_t file_bytes(const std::filesystem::path& path) {
 
 }  // namespace
 
+unsigned reading_seconds(std::uintmax_t bytes) { return 10 + static_cast<unsigned>(bytes >> 24); }
+
+std::uint64_t address_space_now() {
+    unsigned long pages = 0;
+    if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
+        if (std::fscanf(statm, "%lu", &pages) != 1) pages = 0;
+        std::fclose(statm);
+    }
+    return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+}
+
+void enter_reading_child(std::uint64_t address_space) {
+    restore_default_signals();
+    const rlimit limit{static_cast<rlim_t>(address_space), static_cast<rlim_t>(address_space)}, no_core{0, 0};
+    if (!kAddressSanitizer) ::setrlimit(RLIMIT_AS, &limit);
+    ::setrlimit(RLIMIT_CORE, &no_core);
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (null >= 0) ::dup2(null, STDERR_FILENO);
+}
+
+std::string failure_of(const ChildReading& reading, std::uint64_t address_space) {
+    try {
+        reading();
+    } catch (const std::bad_alloc&) {
+        return "reading it needs more than " + std::to_string(address_space >> 20) +
+               " MiB (OpenVDB's reader allocates without bound on a corrupt or truncated file)";
+    } catch (const std::exception& e) {
+        return std::string("not a readable .vdb file (") + e.what() + ")";
+    }
+    return {};
+}
+
 void probe_vdb_in_child(const std::filesystem::path& path) {
     openvdb::initialize();
     const std::uintmax_t bytes = file_bytes(path);
@@ -171,7 +177,7 @@ void probe_vdb_in_child(const std::filesystem::path& path) {
             file.getGrids();
             file.close();
         },
-        memory_limit(bytes), time_limit(bytes));
+        memory_limit(bytes), reading_seconds(bytes));
 }
 
 void probe_vdb_topology_in_child(const std::filesystem::path& path, const ChildReading& read_topology) {
@@ -179,13 +185,7 @@ void probe_vdb_topology_in_child(const std::filesystem::path& path, const ChildR
     const std::uintmax_t bytes = file_bytes(path);
     // The file is mapped whole (delayed loading): its size counts in the address space.
     const rlim_t limit = address_space_now() + static_cast<rlim_t>(bytes) + memory_limit(bytes / 16);
-    run_in_child(path, read_topology, limit, time_limit(bytes / 16));
-}
-
-void read_region_in_child(const std::filesystem::path& path, const ChildReading& read_values, std::uint64_t value_bytes) {
-    // The child starts with this process's address space (the mapped file, the topology).
-    const rlim_t limit = address_space_now() + std::max<rlim_t>(kTwoGiB, static_cast<rlim_t>(value_bytes) * 8);
-    run_in_child(path, read_values, limit, time_limit(value_bytes));
+    run_in_child(path, read_topology, limit, reading_seconds(bytes / 16));
 }
 
 }  // namespace vdbmesh::detail

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <string>
 
 namespace vdbmesh::detail {
 
@@ -25,9 +26,19 @@ void probe_vdb_in_child(const std::filesystem::path& path);
 /// 4 times a sixteenth of it, at least 2 GiB, at most the physical memory.
 void probe_vdb_topology_in_child(const std::filesystem::path& path, const ChildReading& read_topology);
 
-/// Runs @a read_values (loading @a value_bytes of leaf values of @a path into memory shared
-/// with this process) in a child as above, its limit this process's address space plus 8
-/// times @a value_bytes, at least 2 GiB.
-void read_region_in_child(const std::filesystem::path& path, const ChildReading& read_values, std::uint64_t value_bytes);
+/// Seconds a child may take to read @a bytes of a sound file: generous (a sound file reads at
+/// hundreds of MB/s), yet a reader that loops on a corrupt one is stopped within seconds.
+unsigned reading_seconds(std::uintmax_t bytes);
+
+/// The address space this process holds now (a forked child starts with all of it).
+std::uint64_t address_space_now();
+
+/// Prepares a freshly forked reading child: default signal handlers, no core file, at most
+/// @a address_space bytes of address space, stderr to /dev/null (glibc's and OpenVDB's own
+/// complaints).
+void enter_reading_child(std::uint64_t address_space);
+
+/// The text a reading child reports when @a reading throws, empty when it returns.
+std::string failure_of(const ChildReading& reading, std::uint64_t address_space);
 
 }  // namespace vdbmesh::detail

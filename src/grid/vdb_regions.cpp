@@ -2,19 +2,21 @@
 // loading (leaf buffers stay in the mapped file); read(box) copies the tiles that meet the box
 // from that topology and loads the values of only the leaves that meet it. OpenVDB's reader
 // can crash on a corrupt file, so every step that decodes the file runs first, or only, in a
-// forked child (vdb_probe.h): the topology in a child, then here; the leaf values only in a
-// child, which copies them into memory shared with this process, where they arrive as plain
-// floats. The file is read once, plus its topology twice. read_vdb() loads every leaf the same
+// forked child (vdb_probe.h): the topology in a child, then here; the leaf values only in
+// children (leaf_loading_children.h), which copy them into memory shared with this process,
+// where they arrive as plain floats. The file is read once, plus its topology twice. read_vdb() loads every leaf the same
 // way, in place (detail::read_first_float_grid()).
 
-#include <sys/mman.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstring>
+#include <mutex>
 #include <string>
 #include <tuple>
 #include <utility>
 
+#include "leaf_loading_children.h"
 #include "region_walk.h"
 #include "vdb_file.h"
 #include "vdb_probe.h"
@@ -33,50 +35,13 @@ using detail::region_walk::TreeRegion;
 using detail::region_walk::walk_region;
 using detail::region_walk::node_weights;
 
-/// Leaves whose values one child loads: 64 MiB of floats.
-constexpr std::size_t kLeavesPerChild = (std::size_t{64} << 20) / (Leaf::SIZE * sizeof(float));
+/// Children decoding leaves at once: one per thread this process may use, at most four
+/// (16 MiB of shared memory each).
+unsigned loading_children() { return static_cast<unsigned>(std::clamp(tbb::this_task_arena::max_concurrency(), 1, 4)); }
 
-/// Memory of this process shared with the children it forks afterwards.
-class SharedFloats {
-public:
-    explicit SharedFloats(std::size_t count) : bytes_(std::max<std::size_t>(count, 1) * sizeof(float)) {
-        void* memory = ::mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
-        if (memory == MAP_FAILED) throw std::bad_alloc();
-        data_ = static_cast<float*>(memory);
-    }
-    ~SharedFloats() { ::munmap(data_, bytes_); }
-    SharedFloats(const SharedFloats&) = delete;
-    SharedFloats& operator=(const SharedFloats&) = delete;
-    float* data() const { return data_; }
-
-private:
-    std::size_t bytes_;
-    float* data_ = nullptr;
-};
-
-/// Calls @a take(i, values) for each leaf i of @a leaves with its 512 values, loaded from the
-/// file by a child per kLeavesPerChild leaves into memory shared with this process (one area,
-/// reused).
-template <class LeafPtr, class Take>
-void load_leaf_values(const std::filesystem::path& path, const std::vector<LeafPtr>& leaves, const Take& take) {
-    if (leaves.empty()) return;
-    const SharedFloats values(std::min(kLeavesPerChild, leaves.size()) * Leaf::SIZE);
-    for (std::size_t first = 0; first < leaves.size(); first += kLeavesPerChild) {
-        const std::size_t count = std::min(kLeavesPerChild, leaves.size() - first);
-        detail::read_region_in_child(
-            path,
-            [&] {
-                for (std::size_t i = 0; i < count; ++i)  // buffer().data() loads from the file
-                    std::memcpy(values.data() + i * Leaf::SIZE, leaves[first + i]->buffer().data(), Leaf::SIZE * sizeof(float));
-            },
-            count * Leaf::SIZE * sizeof(float));
-        for (std::size_t i = 0; i < count; ++i) take(first + i, values.data() + i * Leaf::SIZE);
-    }
-}
-
-/// Adds to @a out a copy of each leaf of @a leaves, its values loaded by a child.
-void add_loaded_leaves(const std::filesystem::path& path, const std::vector<const Leaf*>& leaves, Tree& out) {
-    load_leaf_values(path, leaves, [&](std::size_t i, const float* values) {
+/// Adds to @a out a copy of each leaf of @a leaves, its values loaded by @a children.
+void add_loaded_leaves(detail::LeafLoadingChildren& children, const std::vector<const Leaf*>& leaves, Tree& out) {
+    children.load(leaves, [&](std::size_t i, const float* values) {
         auto* leaf = new Leaf(leaves[i]->origin(), out.background());
         leaf->setValueMask(leaves[i]->getValueMask());
         std::memcpy(leaf->buffer().data(), values, Leaf::SIZE * sizeof(float));
@@ -110,8 +75,8 @@ openvdb::FloatGrid::Ptr read_topology(const std::filesystem::path& path) {
 
 class VdbRegionSource final : public GridRegionSource {
 public:
-    VdbRegionSource(std::filesystem::path path, openvdb::FloatGrid::Ptr topology)
-        : path_(std::move(path)), topology_(std::move(topology)), description_(topology_->copyWithNewTree()) {}
+    VdbRegionSource(const std::filesystem::path& path, openvdb::FloatGrid::Ptr topology)
+        : topology_(std::move(topology)), description_(topology_->copyWithNewTree()), children_(path, loading_children()) {}
 
     std::shared_ptr<const openvdb::FloatGrid> description() const override { return description_; }
 
@@ -123,7 +88,8 @@ public:
         grid->setTransform(topology_->transform().copy());
         TreeRegion region{to_bbox(box), &grid->tree(), {}};
         walk_region(topology_->tree(), region);
-        add_loaded_leaves(path_, region.leaves, grid->tree());
+        const std::lock_guard<std::mutex> one_reader(reading_);
+        add_loaded_leaves(children_, region.leaves, grid->tree());
         return grid;
     }
 
@@ -134,9 +100,10 @@ public:
     }
 
 private:
-    std::filesystem::path path_;
     openvdb::FloatGrid::Ptr topology_;  // leaf buffers on disk; never loaded in this process
     std::shared_ptr<const openvdb::FloatGrid> description_;
+    mutable std::mutex reading_;
+    mutable detail::LeafLoadingChildren children_;
 };
 
 /// The topology of @a path's first float grid, its leaf buffers on disk, read first by a child.
@@ -168,7 +135,8 @@ openvdb::FloatGrid::Ptr read_first_float_grid(const std::filesystem::path& path)
     // Every leaf's values loaded in place: the buffer on disk swapped for the loaded one.
     std::vector<Leaf*> leaves;
     for (auto leaf = grid->tree().beginLeaf(); leaf; ++leaf) leaves.push_back(&*leaf);
-    load_leaf_values(path, leaves, [&](std::size_t i, const float* values) {
+    detail::LeafLoadingChildren children(path, loading_children());
+    children.load({leaves.begin(), leaves.end()}, [&](std::size_t i, const float* values) {
         Leaf::Buffer loaded;  // allocated, in memory
         std::memcpy(loaded.data(), values, Leaf::SIZE * sizeof(float));
         leaves[i]->swap(loaded);
