@@ -67,8 +67,11 @@ ViewSource load_source(const ViewCommandOptions& options) {
         std::shared_ptr<const GridRegionSource> regions = open_vdb_regions(input);
         stored_iso = stored_isovalue(*regions->description());
         if (!options.splat_file.empty()) {
+            // The page shows the splats at once; the histogram and coarse grid follow.
             source.splats = view_splat_file(options.splat_file, input, *regions, options.iso, stored_iso, options.common.quiet);
-            stored_iso = source.splats->tree->iso;
+            source.initial_iso = source.splats->tree->iso;
+            source.prepare_scan = [regions] { return std::make_shared<const ViewScan>(prepare_grid_regions(regions)); };
+            return source;
         }
         source.scan = std::make_shared<const ViewScan>(prepare_grid_regions(std::move(regions)));
     } else {

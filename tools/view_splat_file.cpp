@@ -1,7 +1,9 @@
 #include "view_splat_file.h"
 
 #include <chrono>
+#include <algorithm>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "vdbmesh/error.h"
@@ -35,6 +37,19 @@ std::shared_ptr<const SplatTree> read_belonging(const std::filesystem::path& fil
     return tree;
 }
 
+/// The box of @a tree's childless discs (what the page frames before it has a mesh).
+void set_box(ViewSplats& splats) {
+    splats.box_min.fill(std::numeric_limits<double>::max());
+    splats.box_max.fill(std::numeric_limits<double>::lowest());
+    for (const SplatNode& node : splats.tree->nodes) {
+        if (node.child_count != 0) continue;
+        for (int a = 0; a < 3; ++a) {
+            splats.box_min[a] = std::min(splats.box_min[a], double(node.centre[a]) - node.radius);
+            splats.box_max[a] = std::max(splats.box_max[a], double(node.centre[a]) + node.radius);
+        }
+    }
+}
+
 }  // namespace
 
 std::shared_ptr<const ViewSplats> view_splat_file(const std::filesystem::path& file, const std::filesystem::path& vdb,
@@ -59,6 +74,7 @@ std::shared_ptr<const ViewSplats> view_splat_file(const std::filesystem::path& f
         splats->tree = std::make_shared<const SplatTree>(std::move(tree));
     }
     splats->seconds = seconds_since(start);
+    set_box(*splats);
     if (!quiet)
         std::cerr << "vdbmesh view: " << (splats->from_file ? "read " : "wrote ") << file.string() << ": "
                   << splats->tree->nodes.size() << " splats, " << std::filesystem::file_size(file) << " bytes, "

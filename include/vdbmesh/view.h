@@ -85,6 +85,7 @@ struct ViewSplats {
     double seconds = 0;     ///< the fit's, or the file's reading
     std::string file;       ///< the splat file's name
     bool from_file = false; ///< read from the file (else fitted now and written to it)
+    std::array<double, 3> box_min{}, box_max{};  ///< world units: the childless discs' box, what the page frames first
 };
 
 /// What the page shows: a scan, a mesh, a label map's meshes, or a lattice's splats.
@@ -96,6 +97,10 @@ struct ViewSource {
     std::shared_ptr<const ViewLattice> lattice;  ///< set for a lattice (then neither scan nor mesh)
     double initial_iso = 0;            ///< scans: the isovalue shown first
     std::shared_ptr<const ViewSplats> splats;  ///< scans: a splat tree at initial_iso made before serving
+    /// Set with @a splats (and @a scan null): prepares the scan (its histogram and coarse grid,
+    /// a pass over every leaf of a huge .vdb) in the background while the page already shows
+    /// the splats. Until it is done GET /api/info says "preparing" and /api/mesh answers 503.
+    std::function<std::shared_ptr<const ViewScan>()> prepare_scan;
 };
 
 /// Meshes a grid as mesh_grid() does.
@@ -117,7 +122,8 @@ struct ViewServerOptions {
 
 /// The HTTP server of `vdbmesh view`, bound on construction.
 /// GET /                 the page; /app.js its script
-/// GET /api/info         JSON: the input, its histogram and suggested isovalue, the budget;
+/// GET /api/info         JSON: the input, its histogram and suggested isovalue (once prepared:
+///                       "preparing" true until then, "prepare_error" if it failed), the budget;
 ///                       for a label map its labels (value, name, colour, their runs of the mesh);
 ///                       with a tree made before serving, splats (file, from_file, nodes, seconds, iso);
 ///                       for a lattice (kind "lattice") its box, placed and fitted subtrees

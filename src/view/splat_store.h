@@ -13,6 +13,7 @@
 #include "vdbmesh/splats.h"
 #include "vdbmesh/view.h"
 #include "view/mesh_request.h"
+#include "view/mesh_store.h"
 
 namespace vdbmesh::view {
 
@@ -45,8 +46,11 @@ public:
     /// @a initial (when set): the tree at @a initial_iso made before serving, kept for good.
     SplatStore(std::shared_ptr<const ViewScan> scan, std::shared_ptr<const ViewSplats> initial, double initial_iso);
     /// The tree of the scan's full grid at @a iso (read by region when not held), built now unless kept.
-    /// @throw UsageError when the source is a mesh file (no grid to fit).
+    /// @throw UsageError when the source is a mesh file (no grid to fit), ScanPreparing before
+    /// set_scan() when the tree is not the initial one.
     std::shared_ptr<const StoredSplats> tree(double iso);
+    /// The scan prepared in the background (ViewSource::prepare_scan).
+    void set_scan(std::shared_ptr<const ViewScan> scan) { std::atomic_store(&scan_, std::move(scan)); }
 
 private:
     static constexpr std::size_t kKept = 2;

@@ -43,6 +43,8 @@ Handler guarded(Handler handler) {
             handler(request, response);
         } catch (const UsageError& e) {
             send_error(response, 400, e.what());
+        } catch (const view::ScanPreparing& e) {
+            send_error(response, 503, e.what());
         } catch (const view::Superseded& e) {
             send_error(response, 409, e.what());
         } catch (const view::FullMeshOverBudget& e) {
@@ -87,6 +89,11 @@ public:
         : options_(options), store_(std::move(source), options.mesher, options.triangle_budget), splats_(store_.source().scan, store_.source().splats, store_.source().initial_iso) {
         add_routes();
         bind();
+        if (store_.source().prepare_scan) preparing_ = std::thread([this] { prepare_scan(); });
+    }
+
+    ~Impl() {
+        if (preparing_.joinable()) preparing_.join();
     }
 
     int port() const { return port_; }
@@ -135,13 +142,35 @@ private:
         }
     }
 
+    /// Runs ViewSource::prepare_scan (in its thread) and hands the scan to the stores.
+    void prepare_scan() {
+        try {
+            const auto scan = store_.source().prepare_scan();
+            splats_.set_scan(scan);
+            store_.set_scan(scan);
+        } catch (const std::exception& e) {
+            const std::lock_guard<std::mutex> lock(prepare_error_mutex_);
+            prepare_error_ = e.what();
+        }
+    }
+
+    nlohmann::json info() {
+        ViewSource now = store_.source();
+        now.scan = store_.scan();
+        nlohmann::json j = view::info_json(now, options_.triangle_budget);
+        if (now.prepare_scan && !now.scan) j["preparing"] = true;
+        const std::lock_guard<std::mutex> lock(prepare_error_mutex_);
+        if (!prepare_error_.empty()) j["prepare_error"] = prepare_error_;
+        return j;
+    }
+
     void add_routes() {
         server_.set_keep_alive_timeout(1);
         server_.Get("/", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
         server_.Get("/index.html", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
         server_.Get("/app.js", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
         server_.Get("/api/info", guarded([this](const auto&, auto& response) {
-            response.set_content(detail::json_text(view::info_json(store_.source(), options_.triangle_budget)), "application/json");
+            response.set_content(detail::json_text(info()), "application/json");
         }));
         server_.Get("/api/mesh", guarded([this](const auto& request, auto& response) { serve_mesh(request, response); }));
         server_.Get("/api/figures", guarded([this](const auto& request, auto& response) { serve_figures(request, response); }));
@@ -218,7 +247,9 @@ private:
     /// when the close-up would read more than a close-up may.
     void add_close_up(const view::StoredSplats& stored, const view::SplatRequest& request, SplatSelection& selection,
                       httplib::Response& response) const {
-        const GridRegionSource& regions = *store_.source().scan->regions;
+        const auto scan = store_.scan();
+        if (!scan) return;  // the close-up's mesh waits for the scan's preparation
+        const GridRegionSource& regions = *scan->regions;
         const auto grid = regions.description();
         const auto close = view::find_close_up(*stored.tree, selection, request.view, *grid, *request.close_up_triangles);
         if (!close || regions.estimated_bytes(view::region_read_box(close->box)) > view::kRegionReadBytes) return;
@@ -246,6 +277,9 @@ private:
     std::mutex run_mutex_;
     bool stopping_ = false, running_ = false;
     std::atomic<bool> finished_{false};
+    std::thread preparing_;  ///< runs ViewSource::prepare_scan
+    std::mutex prepare_error_mutex_;
+    std::string prepare_error_;
 };
 
 ViewServer::ViewServer(ViewSource source, const ViewServerOptions& options)

@@ -5,7 +5,9 @@
 #include <httplib.h>
 
 #include <nlohmann/json.hpp>
+#include <chrono>
 #include <fstream>
+#include <future>
 #include <iterator>
 #include <thread>
 
@@ -148,6 +150,56 @@ TEST(ViewSplatFile, TheServerShowsTheTreeMadeBeforeServing) {
     EXPECT_EQ(response->get_header_value("X-Tree-Nodes"), std::to_string(source.splats->tree->nodes.size()));
     EXPECT_EQ(response->get_header_value("X-Seconds"), std::to_string(source.splats->seconds));
     EXPECT_EQ(response->body.size(), 28 * select_splats(*source.splats->tree, camera).nodes.size());
+    server.stop();
+    serving.join();
+}
+
+TEST(ViewSplatFile, TheSplatsAreServedWhileTheScanIsPrepared) {
+    const test::ScratchDir dir;
+    write_sphere(dir / "scan.vdb", 40);
+    auto regions = std::shared_ptr<const GridRegionSource>(open_vdb_regions(dir / "scan.vdb"));
+    ViewSource source;
+    source.name = "scan.vdb";
+    source.splats = cli::view_splat_file(dir / "scan.splat", dir / "scan.vdb", *regions, std::nullopt, kIso, true);
+    source.initial_iso = kIso;
+    std::promise<void> release;
+    source.prepare_scan = [regions, held = release.get_future().share()] {
+        held.wait();  // the pass over the grid, held until the test has asked its questions
+        return std::make_shared<const ViewScan>(prepare_grid_regions(regions));
+    };
+    ViewServer server(source, {});
+    std::thread serving([&] { server.run(); });
+    httplib::Client client("127.0.0.1", server.port());
+    auto info = nlohmann::json::parse(client.Get("/api/info")->body);
+    EXPECT_EQ(info["kind"], "scan");
+    EXPECT_EQ(info["preparing"], true);
+    EXPECT_FALSE(info.contains("scan"));
+    for (int a = 0; a < 3; ++a) EXPECT_LT(info["splats"]["box_min"][a].get<double>(), info["splats"]["box_max"][a].get<double>());
+    const SplatView camera = test::camera_at({20, 20, 2000}, openvdb::Vec3d(20, 20, 20));
+    std::string query = "/api/splats?vp=";
+    for (std::size_t i = 0; i < camera.view_projection.size(); ++i) query += (i ? "," : "") + std::to_string(camera.view_projection[i]);
+    query += "&eye=20,20,2000&focal=" + std::to_string(camera.focal_pixels);
+    const auto splats = client.Get(query.c_str());
+    ASSERT_TRUE(splats);
+    EXPECT_EQ(splats->status, 200) << splats->body;
+    EXPECT_EQ(splats->get_header_value("X-Tree-Nodes"), std::to_string(source.splats->tree->nodes.size()));
+    // What needs the prepared scan answers 503 meanwhile: a mesh, the splats of another isovalue.
+    EXPECT_EQ(client.Get("/api/mesh?level=coarse")->status, 503);
+    EXPECT_EQ(client.Get((query + "&iso=0.3").c_str())->status, 503);
+
+    release.set_value();
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (info.contains("preparing") && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        info = nlohmann::json::parse(client.Get("/api/info")->body);
+    }
+    ASSERT_FALSE(info.contains("preparing"));
+    EXPECT_EQ(info["scan"]["initial_iso"], kIso);
+    EXPECT_GT(info["scan"]["histogram"].size(), 0u);
+    const auto coarse = client.Get("/api/mesh?level=coarse");
+    ASSERT_TRUE(coarse);
+    EXPECT_EQ(coarse->status, 200) << coarse->body;
+    EXPECT_GT(std::stoull(coarse->get_header_value("X-Triangles")), 100u);
     server.stop();
     serving.join();
 }

@@ -16,7 +16,7 @@ const $ = (id) => document.getElementById(id);
 const radio = (name) => document.querySelector(`input[name=${name}]:checked`).value;
 const state = (window.vdbmeshView = {
   level: '', triangles: 0, meshes: 0, busy: false, timings: [], error: '', figures: null, overBudget: 0, labels: 0, drawnTriangles: 0,
-  splatMode: false, cameraMovedAt: 0, splats: 0, splatLevel: null, splatCutLevel: null, splatComplete: false, splatViews: 0, splatBusy: false,
+  preparing: false, splatMode: false, cameraMovedAt: 0, splats: 0, splatLevel: null, splatCutLevel: null, splatComplete: false, splatViews: 0, splatBusy: false,
   detail: 'mesh', closeUpTriangles: 0, closeUpBox: null, frameMs: null, frameSamples: 0, moving: false,
 });
 
@@ -244,12 +244,36 @@ function setUpLattice(lattice) {
   setSplatMode(true);
 }
 
+/// A .vdb whose splat tree was made before serving (`view --splats FILE`): the splats at once,
+/// framed by their box, while the server prepares the histogram and coarse grid; the iso
+/// slider and the coarse mesh come when it is done (splat mode stays on).
+async function startWithSplats(splats) {
+  scene3d.fitTo(new THREE.Box3(new THREE.Vector3(...splats.box_min), new THREE.Vector3(...splats.box_max)));
+  scene3d.setView('home');
+  fitted = true;
+  $('splat-controls').classList.remove('hidden');
+  Object.assign($('splats'), { checked: true, disabled: true });  // no mesh to switch to yet
+  setSplatMode(true);
+  state.preparing = Boolean(info.preparing);
+  if (info.preparing) $('figures').textContent = 'histogram and coarse mesh: being prepared by the server (a pass over the grid)…';
+  while (info.preparing && !info.prepare_error) {
+    await new Promise((resolve) => setTimeout(resolve, 1000));
+    info = await fetchJson('/api/info');
+  }
+  state.preparing = false;
+  if (info.prepare_error) throw new Error(info.prepare_error);
+  $('splats').disabled = false;
+  setUpScan(info.scan);
+  await remesh();
+}
+
 async function start() {
   info = await fetchJson('/api/info');
   document.title = `${info.name} · vdbmesh view`;
   $('title').textContent = info.name;
-  Object.assign(remesher, { isScan: Boolean(info.scan), budget: info.triangle_budget });
+  Object.assign(remesher, { isScan: info.kind === 'scan', budget: info.triangle_budget });
   setUpPanel();
+  if (info.splats && !info.scan) return startWithSplats(info.splats);
   if (info.scan) setUpScan(info.scan);
   if (info.scan) $('splat-controls').classList.remove('hidden');
   if (info.labels) {
