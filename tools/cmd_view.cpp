@@ -70,7 +70,9 @@ ViewSource load_source(const ViewCommandOptions& options) {
             // The page shows the splats at once; the histogram and coarse grid follow.
             source.splats = view_splat_file(options.splat_file, input, *regions, options.iso, stored_iso, options.common.quiet);
             source.initial_iso = source.splats->tree->iso;
-            source.prepare_scan = [regions] { return std::make_shared<const ViewScan>(prepare_grid_regions(regions)); };
+            source.prepare_scan = [regions](const std::atomic<bool>& stop) {
+                return std::make_shared<const ViewScan>(prepare_grid_regions(regions, &stop));
+            };
             return source;
         }
         source.scan = std::make_shared<const ViewScan>(prepare_grid_regions(std::move(regions)));

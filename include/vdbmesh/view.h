@@ -4,6 +4,7 @@
 /// the local HTTP server that serves the page, meshes as binary buffers and their figures.
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -58,8 +59,9 @@ ViewScan prepare_grid(std::shared_ptr<openvdb::FloatGrid> grid);
 
 /// prepare_grid() of a grid that is never held whole (a huge .vdb): its statistics, histogram
 /// and coarse grid read in slabs about one node thick, one at a time. Without a stored scan box
-/// the box is that of the source's nodes.
-ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions);
+/// the box is that of the source's nodes. With @a stop, gives up (Error) at the first read
+/// after it is set.
+ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions, const std::atomic<bool>* stop = nullptr);
 
 /// One label of a label map shown label by label: its closed mesh is a run of the
 /// source's mesh (its triangles and its vertices one after another).
@@ -100,7 +102,10 @@ struct ViewSource {
     /// Set with @a splats (and @a scan null): prepares the scan (its histogram and coarse grid,
     /// a pass over every leaf of a huge .vdb) in the background while the page already shows
     /// the splats. Until it is done GET /api/info says "preparing" and /api/mesh answers 503.
-    std::function<std::shared_ptr<const ViewScan>()> prepare_scan;
+    /// It starts when the page asks (GET /api/info?prepare=1, once its first splats are drawn),
+    /// or 20 s after the server was made; the server sets @a stop when it is destroyed: the
+    /// preparation should then give up soon.
+    std::function<std::shared_ptr<const ViewScan>(const std::atomic<bool>& stop)> prepare_scan;
 };
 
 /// Meshes a grid as mesh_grid() does.
@@ -123,7 +128,8 @@ struct ViewServerOptions {
 /// The HTTP server of `vdbmesh view`, bound on construction.
 /// GET /                 the page; /app.js its script
 /// GET /api/info         JSON: the input, its histogram and suggested isovalue (once prepared:
-///                       "preparing" true until then, "prepare_error" if it failed), the budget;
+///                       "preparing" true until then, "prepare_error" if it failed; prepare=1
+///                       starts the preparation: ViewSource::prepare_scan), the budget;
 ///                       for a label map its labels (value, name, colour, their runs of the mesh);
 ///                       with a tree made before serving, splats (file, from_file, nodes, seconds, iso);
 ///                       for a lattice (kind "lattice") its box, placed and fitted subtrees

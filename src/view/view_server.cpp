@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -93,6 +94,7 @@ public:
     }
 
     ~Impl() {
+        start_preparing(/*stop=*/true);
         if (preparing_.joinable()) preparing_.join();
     }
 
@@ -142,10 +144,25 @@ private:
         }
     }
 
-    /// Runs ViewSource::prepare_scan (in its thread) and hands the scan to the stores.
+    /// Lets the preparation start (the page has drawn its first splats), or stop.
+    void start_preparing(bool stop = false) {
+        const std::lock_guard<std::mutex> lock(prepare_mutex_);
+        if (stop) stop_preparing_ = true;
+        else start_preparing_ = true;
+        prepare_wake_.notify_all();
+    }
+
+    /// Runs ViewSource::prepare_scan (in its thread) and hands the scan to the stores. It waits
+    /// for the page's word that its first picture is drawn (GET /api/info?prepare=1), at most
+    /// kPrepareDelay: the pass over the grid takes every core, and would hold the page back.
     void prepare_scan() {
+        {
+            std::unique_lock<std::mutex> lock(prepare_mutex_);
+            prepare_wake_.wait_for(lock, kPrepareDelay, [this] { return start_preparing_ || stop_preparing_; });
+        }
+        if (stop_preparing_) return;
         try {
-            const auto scan = store_.source().prepare_scan();
+            const auto scan = store_.source().prepare_scan(stop_preparing_);
             splats_.set_scan(scan);
             store_.set_scan(scan);
         } catch (const std::exception& e) {
@@ -169,7 +186,8 @@ private:
         server_.Get("/", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
         server_.Get("/index.html", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
         server_.Get("/app.js", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
-        server_.Get("/api/info", guarded([this](const auto&, auto& response) {
+        server_.Get("/api/info", guarded([this](const auto& request, auto& response) {
+            if (request.has_param("prepare")) start_preparing();
             response.set_content(detail::json_text(info()), "application/json");
         }));
         server_.Get("/api/mesh", guarded([this](const auto& request, auto& response) { serve_mesh(request, response); }));
@@ -278,6 +296,11 @@ private:
     bool stopping_ = false, running_ = false;
     std::atomic<bool> finished_{false};
     std::thread preparing_;  ///< runs ViewSource::prepare_scan
+    static constexpr std::chrono::seconds kPrepareDelay{20};
+    std::mutex prepare_mutex_;
+    std::condition_variable prepare_wake_;
+    bool start_preparing_ = false;
+    std::atomic<bool> stop_preparing_{false};
     std::mutex prepare_error_mutex_;
     std::string prepare_error_;
 };

@@ -163,9 +163,9 @@ TEST(ViewSplatFile, TheSplatsAreServedWhileTheScanIsPrepared) {
     source.splats = cli::view_splat_file(dir / "scan.splat", dir / "scan.vdb", *regions, std::nullopt, kIso, true);
     source.initial_iso = kIso;
     std::promise<void> release;
-    source.prepare_scan = [regions, held = release.get_future().share()] {
+    source.prepare_scan = [regions, held = release.get_future().share()](const std::atomic<bool>& stop) {
         held.wait();  // the pass over the grid, held until the test has asked its questions
-        return std::make_shared<const ViewScan>(prepare_grid_regions(regions));
+        return std::make_shared<const ViewScan>(prepare_grid_regions(regions, &stop));
     };
     ViewServer server(source, {});
     std::thread serving([&] { server.run(); });
@@ -188,6 +188,7 @@ TEST(ViewSplatFile, TheSplatsAreServedWhileTheScanIsPrepared) {
     EXPECT_EQ(client.Get((query + "&iso=0.3").c_str())->status, 503);
 
     release.set_value();
+    info = nlohmann::json::parse(client.Get("/api/info?prepare=1")->body);  // the page's word: its first splats are drawn
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
     while (info.contains("preparing") && std::chrono::steady_clock::now() < deadline) {
         std::this_thread::sleep_for(std::chrono::milliseconds(20));

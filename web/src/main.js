@@ -255,11 +255,20 @@ async function startWithSplats(splats) {
   Object.assign($('splats'), { checked: true, disabled: true });  // no mesh to switch to yet
   setSplatMode(true);
   state.preparing = Boolean(info.preparing);
-  if (info.preparing) $('figures').textContent = 'histogram and coarse mesh: being prepared by the server (a pass over the grid)…';
+  if (!info.preparing) return setUpPreparedScan();
+  $('figures').textContent = 'histogram and coarse mesh: being prepared by the server (a pass over the grid)…';
+  const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+  // The server's pass takes every core: it starts once the first splats are drawn.
+  while (state.splatViews === 0 && !state.error) await sleep(100);
+  info = await fetchJson('/api/info?prepare=1');
   while (info.preparing && !info.prepare_error) {
-    await new Promise((resolve) => setTimeout(resolve, 1000));
+    await sleep(1000);
     info = await fetchJson('/api/info');
   }
+  return setUpPreparedScan();
+}
+
+async function setUpPreparedScan() {
   state.preparing = false;
   if (info.prepare_error) throw new Error(info.prepare_error);
   $('splats').disabled = false;
