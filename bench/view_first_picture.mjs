@@ -59,6 +59,9 @@ try {
       .slice(0, 6).map((e) => [`${new URL(e.name).pathname} ${e.startTime.toFixed(0)}`, e.responseEnd - e.startTime]),
   ].map(([k, v]) => [k, Number((v / 1000).toFixed(2))])));
   report.page_opened_s = Number(((pageOpened - started) / 1000).toFixed(2));
+  // The page's own clock: when its first splats were drawn (the polling above can lag while
+  // SwiftShader holds the page's thread).
+  if (state.firstSplatsMs) report.first_splats_by_page_s = Number((report.page_opened_s + state.firstSplatsMs / 1000).toFixed(2));
   if (own.includes('--splats')) {
     await page.locator('#splats').click();
     await page.waitForFunction(() => window.vdbmeshView.splatViews > 0 || window.vdbmeshView.error, null, { polling: 100 });
