@@ -2,6 +2,7 @@
 // isovalue moves), a mesh file or a label map's labels (--labels), until Ctrl-C.
 
 #include <filesystem>
+#include <future>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
@@ -64,11 +65,16 @@ ViewSource load_source(const ViewCommandOptions& options) {
         options.read.refuse_for("the grid " + input);
         // Read by region: the server holds the coarse grid, the splat trees and the meshes
         // asked for, never the whole grid.
+        // A splat file is read while the grid's topology is opened (each takes seconds on a huge scan).
+        std::future<SplatTree> splat_file;
+        if (!options.splat_file.empty() && std::filesystem::exists(options.splat_file))
+            splat_file = std::async(std::launch::async, [file = options.splat_file] { return read_splat_file(file); });
         std::shared_ptr<const GridRegionSource> regions = open_vdb_regions(input);
         stored_iso = stored_isovalue(*regions->description());
         if (!options.splat_file.empty()) {
             // The page shows the splats at once; the histogram and coarse grid follow.
-            source.splats = view_splat_file(options.splat_file, input, *regions, options.iso, stored_iso, options.common.quiet);
+            source.splats = view_splat_file(options.splat_file, input, *regions, options.iso, stored_iso, options.common.quiet,
+                                            std::move(splat_file));
             source.initial_iso = source.splats->tree->iso;
             source.prepare_scan = [regions](const std::atomic<bool>& stop) {
                 return std::make_shared<const ViewScan>(prepare_grid_regions(regions, &stop));

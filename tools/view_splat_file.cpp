@@ -25,8 +25,9 @@ std::string number_text(double value) {
 
 /// The tree in @a file, refused unless it was fitted to the grid of @a id (at @a asked_iso when given).
 std::shared_ptr<const SplatTree> read_belonging(const std::filesystem::path& file, const std::filesystem::path& vdb,
-                                               const SplatGridId& id, std::optional<double> asked_iso) {
-    auto tree = std::make_shared<SplatTree>(read_splat_file(file));
+                                               const SplatGridId& id, std::optional<double> asked_iso,
+                                               std::future<SplatTree> read_ahead) {
+    auto tree = std::make_shared<SplatTree>(read_ahead.valid() ? read_ahead.get() : read_splat_file(file));
     const std::string difference = splat_grid_difference(tree->grid, id);
     if (!difference.empty())
         throw Error(file.string() + ": fitted to another grid than " + vdb.string() + " (" + difference +
@@ -54,13 +55,14 @@ void set_box(ViewSplats& splats) {
 
 std::shared_ptr<const ViewSplats> view_splat_file(const std::filesystem::path& file, const std::filesystem::path& vdb,
                                                   const GridRegionSource& regions, std::optional<double> asked_iso,
-                                                  std::optional<double> stored_iso, bool quiet) {
+                                                  std::optional<double> stored_iso, bool quiet,
+                                                  std::future<SplatTree> read_ahead) {
     const auto start = std::chrono::steady_clock::now();
     const SplatGridId id = splat_grid_id(vdb, regions);
     auto splats = std::make_shared<ViewSplats>();
     splats->file = file.string();
     if (std::filesystem::exists(file)) {
-        splats->tree = read_belonging(file, vdb, id, asked_iso);
+        splats->tree = read_belonging(file, vdb, id, asked_iso, std::move(read_ahead));
         splats->from_file = true;
     } else {
         const std::optional<double> iso = asked_iso ? asked_iso : stored_iso;

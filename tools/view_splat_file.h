@@ -3,9 +3,11 @@
 // many times.
 
 #include <filesystem>
+#include <future>
 #include <memory>
 #include <optional>
 
+#include "vdbmesh/splats.h"
 #include "vdbmesh/view.h"
 
 namespace vdbmesh::cli {
@@ -15,8 +17,10 @@ namespace vdbmesh::cli {
 /// the stored one) and written to @a file through a temporary file.
 /// @throw Error when @a file was fitted to another grid or is not a splat file (nothing is
 /// written), UsageError when @a asked_iso differs from the file's or no isovalue is known.
+/// @a read_ahead: read_splat_file(@a file) begun earlier (while the grid was opened), if any.
 std::shared_ptr<const ViewSplats> view_splat_file(const std::filesystem::path& file, const std::filesystem::path& vdb,
                                                   const GridRegionSource& regions, std::optional<double> asked_iso,
-                                                  std::optional<double> stored_iso, bool quiet);
+                                                  std::optional<double> stored_iso, bool quiet,
+                                                  std::future<SplatTree> read_ahead = {});
 
 }  // namespace vdbmesh::cli
