@@ -63,12 +63,12 @@ public:
     /// Meshes with @a mesher, mesh_grid() when empty; a grid read by region only within
     /// @a triangle_budget.
     MeshStore(ViewSource source, GridMesher mesher, std::size_t triangle_budget);
-    /// The source as given (its scan as it was then: see scan()).
+    /// The source as given (never changed; its scan null when prepared later: see scan()).
     const ViewSource& source() const { return source_; }
-    /// The scan: null while ViewSource::prepare_scan runs.
-    std::shared_ptr<const ViewScan> scan() const { return std::atomic_load(&source_.scan); }
+    /// The scan: the source's, else the one prepare_scan made (null until then).
+    std::shared_ptr<const ViewScan> scan() const { return source_.scan ? source_.scan : std::atomic_load(&prepared_); }
     /// The scan prepare_scan made.
-    void set_scan(std::shared_ptr<const ViewScan> scan) { std::atomic_store(&source_.scan, std::move(scan)); }
+    void set_scan(std::shared_ptr<const ViewScan> scan) { std::atomic_store(&prepared_, std::move(scan)); }
     /// The mesh of @a request, made now unless kept. A coarse request is the page's first
     /// of a new setting: full meshes asked for before it stop at the mesher's next progress
     /// report (Superseded), so that the new one does not wait for them.
@@ -86,6 +86,7 @@ private:
     std::size_t estimated_full_triangles(const ViewScan& scan, const MeshRequest& request) const;
 
     ViewSource source_;
+    std::shared_ptr<const ViewScan> prepared_;  ///< set once by set_scan(), read atomically
     GridMesher mesher_;
     std::size_t triangle_budget_;
     std::atomic<std::uint64_t> coarse_requests_{0};
