@@ -45,12 +45,23 @@ const browser = await chromium.launch({
 try {
   const page = await browser.newPage({ viewport: { width: 1200, height: 700 } });  // the panel takes 300
   page.setDefaultTimeout(3600 * 1000);
+  const pageOpened = Date.now();
   await page.goto(address);
   await page.waitForFunction(() => window.vdbmeshView.meshes > 0 || window.vdbmeshView.splatViews > 0 || window.vdbmeshView.error, null, { polling: 50 });
   const state = await page.evaluate(() => ({ ...window.vdbmeshView }));
   const picture = state.splatViews > 0 ? `${state.splats} splats, finest level ${state.splatLevel}` : `${state.level} mesh, ${state.triangles} triangles`;
   Object.assign(report, { first_picture_s: seconds(), first_picture: picture, error: state.error || undefined });
   if (state.splatViews > 0) report.splat_figures = await page.locator('#splat-figures').textContent();
+  // Where the time after serving went: the page's requests, in seconds from the navigation.
+  report.page_s = await page.evaluate(() => Object.fromEntries([
+    ['dom_ready', performance.timing.domContentLoadedEventEnd - performance.timing.navigationStart],
+    ...performance.getEntriesByType('resource').filter((e) => e.name.includes('/api/') || e.name.endsWith('.js'))
+      .slice(0, 6).map((e) => [`${new URL(e.name).pathname} ${e.startTime.toFixed(0)}`, e.responseEnd - e.startTime]),
+  ].map(([k, v]) => [k, Number((v / 1000).toFixed(2))])));
+  report.page_opened_s = Number(((pageOpened - started) / 1000).toFixed(2));
+  // The page's own clock: when its first splats were drawn (the polling above can lag while
+  // SwiftShader holds the page's thread).
+  if (state.firstSplatsMs) report.first_splats_by_page_s = Number((report.page_opened_s + state.firstSplatsMs / 1000).toFixed(2));
   if (own.includes('--splats')) {
     await page.locator('#splats').click();
     await page.waitForFunction(() => window.vdbmeshView.splatViews > 0 || window.vdbmeshView.error, null, { polling: 100 });

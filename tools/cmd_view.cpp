@@ -2,6 +2,7 @@
 // isovalue moves), a mesh file or a label map's labels (--labels), until Ctrl-C.
 
 #include <filesystem>
+#include <future>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
@@ -15,11 +16,13 @@
 #include "load_grid.h"
 #include "report_json.h"
 #include "serve_view.h"
+#include "view_splat_file.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/grid_region.h"
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_io.h"
+#include "vdbmesh/splats.h"
 #include "vdbmesh/view.h"
 
 namespace vdbmesh::cli {
@@ -29,6 +32,7 @@ namespace {
 struct ViewCommandOptions {
     std::vector<std::string> inputs;  ///< the input, then the further parts of a split raw scan
     std::optional<double> iso;
+    std::string splat_file;  ///< --splats: where the splat tree is kept
     ViewServerOptions server;
     bool no_open = false;
     LabelFlags label;  ///< --labels: the input is a label map, shown label by label
@@ -41,9 +45,12 @@ ViewSource load_source(const ViewCommandOptions& options) {
     const std::string& input = options.inputs.front();
     if (options.label.labels) {
         if (options.iso) throw UsageError("--iso: not with --labels (a label map is meshed label by label)");
+        if (!options.splat_file.empty()) throw UsageError("--splats: not with --labels (only a .vdb scan's splat tree is kept)");
         return label_view_source(options.inputs, options.read, options.label);
     }
     if (!options.label.names.empty()) throw UsageError("--label-names: only with --labels");
+    const bool vdb = lowercase_extension(input) == ".vdb";
+    if (!options.splat_file.empty() && !vdb) throw UsageError("--splats: only with a .vdb input, got " + input);
     ViewSource source;
     source.name = std::filesystem::path(input).filename().string();
     if (is_mesh_file(input)) {
@@ -54,12 +61,26 @@ ViewSource load_source(const ViewCommandOptions& options) {
         return source;
     }
     std::optional<double> stored_iso;
-    if (lowercase_extension(input) == ".vdb") {
+    if (vdb) {
         options.read.refuse_for("the grid " + input);
         // Read by region: the server holds the coarse grid, the splat trees and the meshes
         // asked for, never the whole grid.
+        // A splat file is read while the grid's topology is opened (each takes seconds on a huge scan).
+        std::future<SplatTree> splat_file;
+        if (!options.splat_file.empty() && std::filesystem::exists(options.splat_file))
+            splat_file = std::async(std::launch::async, [file = options.splat_file] { return read_splat_file(file); });
         std::shared_ptr<const GridRegionSource> regions = open_vdb_regions(input);
         stored_iso = stored_isovalue(*regions->description());
+        if (!options.splat_file.empty()) {
+            // The page shows the splats at once; the histogram and coarse grid follow.
+            source.splats = view_splat_file(options.splat_file, input, *regions, options.iso, stored_iso, options.common.quiet,
+                                            std::move(splat_file));
+            source.initial_iso = source.splats->tree->iso;
+            source.prepare_scan = [regions](const std::atomic<bool>& stop) {
+                return std::make_shared<const ViewScan>(prepare_grid_regions(regions, &stop));
+            };
+            return source;
+        }
         source.scan = std::make_shared<const ViewScan>(prepare_grid_regions(std::move(regions)));
     } else {
         source.scan = std::make_shared<const ViewScan>(prepare_scan([&] { return open_scan(options.inputs, options.read); }));
@@ -89,6 +110,10 @@ void add_view_command(CLI::App& command, CommandResult& result) {
                        "A scan, a .vdb grid or a mesh (.stl, .ply, .obj); extra files: the parts of a split raw scan")
         ->required();
     command.add_option("--iso", options->iso, "Isovalue shown first (default: the stored one, else Otsu's)");
+    command.add_option("--splats", options->splat_file,
+                       "A .vdb's splat tree kept in FILE: read when it was fitted to this grid, else fitted (at --iso, "
+                       "else the stored isovalue) and written; the page shows it at once")
+        ->type_name("FILE");
     command.add_option("--port", options->server.port, "Port (0: any free one)")
         ->check(CLI::Range(0, 65535))
         ->capture_default_str();

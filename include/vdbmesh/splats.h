@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "vdbmesh/mesher.h"
@@ -42,12 +43,37 @@ struct SplatNode {
     std::uint8_t level = 0;
 };
 
+/// What identifies the .vdb a tree was fitted to, read without reading its voxels (which
+/// takes a pass over the whole file: a minute for a huge scan): its size, the checksum its
+/// metadata states (vdbmesh's own files: over the tree's values, transform and metadata, as
+/// written), its modification time when it states none, and a hash of its topology (every
+/// 128^3 node's origin and active voxel count) with its transform and background.
+struct SplatGridId {
+    std::uint64_t file_bytes = 0;
+    std::string checksum;         ///< vdbmesh_checksum as stated; empty: none stated
+    std::int64_t modified = 0;    ///< the file's modification time (ns since its clock's epoch) when no checksum is stated, else 0
+    std::uint64_t topology = 0;   ///< FNV-1a over the nodes, the transform's matrix and the background
+    bool operator==(const SplatGridId& other) const {
+        return file_bytes == other.file_bytes && checksum == other.checksum && modified == other.modified &&
+               topology == other.topology;
+    }
+    bool operator!=(const SplatGridId& other) const { return !(*this == other); }
+};
+
+/// The identity of the .vdb at @a path opened as @a source (open_vdb_regions(path)).
+SplatGridId splat_grid_id(const std::filesystem::path& path, const GridRegionSource& source);
+
+/// What differs between the grid a tree was fitted to and another, in words ("the grid it was
+/// fitted to states checksum 9b3a206e27fd98fa, this one 14c5f29f3f13a4be"); empty when the same.
+std::string splat_grid_difference(const SplatGridId& fitted, const SplatGridId& grid);
+
 /// A splat hierarchy: nodes in breadth-first order, nodes[0] the root (empty tree: no nodes).
 struct SplatTree {
     std::vector<SplatNode> nodes;
     double iso = 0;
     Inside inside = Inside::above;
     double tolerance = 0;  ///< SplatOptions::coplanar_tolerance it was built with
+    SplatGridId grid;      ///< the .vdb it was fitted to, when the caller set it (kept in its file)
 
     /// Nodes without children (what the finest view shows).
     std::size_t leaf_count() const;
@@ -106,8 +132,9 @@ SplatSelection select_splats(const SplatTree& tree, const SplatView& view);
 
 /// Writes @a tree quantised (12 bytes a node: centres in 16 bits over the tree's bounding
 /// box, radii rounded up so that discs still cover what they covered, octahedral normals in
-/// 16 bits, cones widened by the normals' rounding), through a temporary file renamed over
-/// @a path. Throws Error when it cannot be written.
+/// 16 bits, cones widened by the normals' rounding; then 2 bytes a childless node: its
+/// weight), with the tree's SplatGridId, through a temporary file renamed over @a path.
+/// Throws Error when it cannot be written.
 void write_splat_file(const SplatTree& tree, const std::filesystem::path& path);
 
 /// Reads a file of write_splat_file(). Throws FormatError naming the file and the field.

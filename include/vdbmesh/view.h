@@ -4,6 +4,7 @@
 /// the local HTTP server that serves the page, meshes as binary buffers and their figures.
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -20,6 +21,7 @@ namespace vdbmesh {
 
 class GridRegionSource;
 struct SharedSplatTree;
+struct SplatTree;
 
 /// Counts of samples in equal bins over [min, max].
 struct ValueHistogram {
@@ -57,8 +59,9 @@ ViewScan prepare_grid(std::shared_ptr<openvdb::FloatGrid> grid);
 
 /// prepare_grid() of a grid that is never held whole (a huge .vdb): its statistics, histogram
 /// and coarse grid read in slabs about one node thick, one at a time. Without a stored scan box
-/// the box is that of the source's nodes.
-ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions);
+/// the box is that of the source's nodes. With @a stop, gives up (Error) at the first read
+/// after it is set.
+ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions, const std::atomic<bool>* stop = nullptr);
 
 /// One label of a label map shown label by label: its closed mesh is a run of the
 /// source's mesh (its triangles and its vertices one after another).
@@ -77,6 +80,16 @@ struct ViewLattice {
     std::array<double, 3> box_min{}, box_max{};  ///< world units: what the page frames first
 };
 
+/// The splat tree of a scan at its initial isovalue, made before serving (`view --splats FILE`:
+/// read from its file, or fitted and written there): the page shows it at once.
+struct ViewSplats {
+    std::shared_ptr<const SplatTree> tree;
+    double seconds = 0;     ///< the fit's, or the file's reading
+    std::string file;       ///< the splat file's name
+    bool from_file = false; ///< read from the file (else fitted now and written to it)
+    std::array<double, 3> box_min{}, box_max{};  ///< world units: the childless discs' box, what the page frames first
+};
+
 /// What the page shows: a scan, a mesh, a label map's meshes, or a lattice's splats.
 struct ViewSource {
     std::string name;                  ///< the input's file name, shown as the title
@@ -85,6 +98,14 @@ struct ViewSource {
     std::vector<ViewLabel> labels;     ///< set for label maps: the runs of @a mesh, ascending values
     std::shared_ptr<const ViewLattice> lattice;  ///< set for a lattice (then neither scan nor mesh)
     double initial_iso = 0;            ///< scans: the isovalue shown first
+    std::shared_ptr<const ViewSplats> splats;  ///< scans: a splat tree at initial_iso made before serving
+    /// Set with @a splats (and @a scan null): prepares the scan (its histogram and coarse grid,
+    /// a pass over every leaf of a huge .vdb) in the background while the page already shows
+    /// the splats. Until it is done GET /api/info says "preparing" and /api/mesh answers 503.
+    /// It starts when the page asks (GET /api/info?prepare=1, once its first splats are drawn),
+    /// or 20 s after the server was made; the server sets @a stop when it is destroyed: the
+    /// preparation should then give up soon.
+    std::function<std::shared_ptr<const ViewScan>(const std::atomic<bool>& stop)> prepare_scan;
 };
 
 /// Meshes a grid as mesh_grid() does.
@@ -106,8 +127,11 @@ struct ViewServerOptions {
 
 /// The HTTP server of `vdbmesh view`, bound on construction.
 /// GET /                 the page; /app.js its script
-/// GET /api/info         JSON: the input, its histogram and suggested isovalue, the budget;
+/// GET /api/info         JSON: the input, its histogram and suggested isovalue (once prepared:
+///                       "preparing" true until then, "prepare_error" if it failed; prepare=1
+///                       starts the preparation: ViewSource::prepare_scan), the budget;
 ///                       for a label map its labels (value, name, colour, their runs of the mesh);
+///                       with a tree made before serving, splats (file, from_file, nodes, seconds, iso);
 ///                       for a lattice (kind "lattice") its box, placed and fitted subtrees
 ///                       (only /api/splats serves a lattice, without close-ups)
 /// GET /api/mesh         binary: positions (float32 x 3V), normals (float32 x 3V), indices

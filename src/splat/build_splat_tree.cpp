@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <future>
 #include <optional>
 #include <tuple>
 #include <utility>
@@ -193,6 +194,18 @@ std::vector<openvdb::Coord> candidate_nodes(const GridRegionSource& source) {
     return nodes;
 }
 
+/// What a node's cells read: their closed cubes and one sample beyond for gradients (the
+/// samples of node - 1 to node + 129 on each axis), which holds the leaves just above whose
+/// cells below lie in the node.
+IndexBox node_region(const openvdb::Coord& node) {
+    IndexBox box;
+    for (int a = 0; a < 3; ++a) {
+        box.min[a] = node[a] - 1;
+        box.max[a] = node[a] + kNodeVoxels + 2;
+    }
+    return box;
+}
+
 }  // namespace
 }  // namespace splat
 
@@ -206,18 +219,19 @@ SplatTree build_splat_tree(const openvdb::FloatGrid& grid, const SplatOptions& o
 SplatTree build_splat_tree(const GridRegionSource& source, const SplatOptions& options) {
     const auto description = source.description();
     const splat::SampleRule rule = splat::sample_rule(*description, options);
-    // One node at a time (its cells fitted in parallel): a region holds the node's cells,
-    // their closed cubes and one sample beyond for gradients, and the leaves just above whose
-    // cells below lie in the node.
+    // One node at a time (its cells fitted in parallel), the next node's region read
+    // meanwhile (reading waits on the file and the decoding children, fitting on the cores).
     splat::Levels levels(kSplatRootLevel + 1);
-    for (const openvdb::Coord& node : splat::candidate_nodes(source)) {
-        const openvdb::CoordBBox cells_box(node, node.offsetBy(kNodeVoxels - 1));
-        IndexBox box;
-        for (int a = 0; a < 3; ++a) {
-            box.min[a] = node[a] - 1;
-            box.max[a] = node[a] + kNodeVoxels + splat::kCell + 2;
-        }
-        const auto region = source.read(box);
+    const std::vector<openvdb::Coord> nodes = splat::candidate_nodes(source);
+    const auto read_async = [&source](const openvdb::Coord& node) {
+        return std::async(std::launch::async, [&source, node] { return source.read(splat::node_region(node)); });
+    };
+    std::future<std::shared_ptr<openvdb::FloatGrid>> next;
+    if (!nodes.empty()) next = read_async(nodes.front());
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        const auto region = next.get();
+        if (i + 1 < nodes.size()) next = read_async(nodes[i + 1]);
+        const openvdb::CoordBBox cells_box(nodes[i], nodes[i].offsetBy(kNodeVoxels - 1));
         splat::append_cells(levels, *region, splat::candidate_cells(*region, cells_box), rule, options.coplanar_tolerance);
     }
     return splat::assemble(levels, description->transform(), options);

@@ -1,14 +1,19 @@
-// The splat tree's file: a header, then 12 bytes a node in breadth-first order (little-endian).
+// The splat tree's file: a header, 12 bytes a node in breadth-first order, then the weights of
+// the childless nodes (little-endian).
 //
-//   header  "VDBSPLT1", u32 node count, u32 the root's child count, f32 x 3 box minimum,
-//           f32 box extent, f64 isovalue, u8 inside (0 above, 1 below), f32 tolerance
+//   header  "VDBSPLT2", u32 node count, u32 the root's child count, f32 x 3 box minimum,
+//           f32 box extent, f64 isovalue, u8 inside (0 above, 1 below), f32 tolerance;
+//           the grid fitted (SplatGridId): u64 file bytes, u64 topology hash, i64 modified,
+//           u8 checksum length, the checksum's characters
 //   node    u16 x 3 centre (65535 steps over the box's extent), u16 radius (steps of twice
 //           that, rounded up and widened by the centre's rounding), u8 x 2 octahedral normal,
 //           u8 cone (steps of pi / 255, rounded up and widened by the normals' rounding),
 //           u8 child count (the root's is in the header)
+//   weight  u16 per childless node, in node order (at most 1944 edges cross an 8^3 cube, the
+//           largest childless node): an inner node's weight is the sum of its children's
 //
 // The levels follow from the order (the root's children are level 11, each child one below
-// its parent); weights are not kept.
+// its parent).
 
 #include <algorithm>
 #include <cmath>
@@ -23,8 +28,10 @@
 namespace vdbmesh {
 namespace {
 
-constexpr char kMagic[8] = {'V', 'D', 'B', 'S', 'P', 'L', 'T', '1'};
-constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 12 + 4 + 8 + 1 + 4;
+constexpr char kMagic[8] = {'V', 'D', 'B', 'S', 'P', 'L', 'T', '2'};
+/// Up to the checksum's characters.
+constexpr std::size_t kHeaderBytes = 8 + 4 + 4 + 12 + 4 + 8 + 1 + 4 + 8 + 8 + 8 + 1;
+constexpr std::size_t kWeightBytes = 2;
 constexpr std::size_t kNodeBytes = 12;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kSteps = 65535;
@@ -109,6 +116,33 @@ void link_children(std::vector<SplatNode>& nodes, std::uint32_t root_children, c
         throw FormatError(file, "child counts", "a total of " + std::to_string(nodes.size() - 1), std::to_string(next - 1));
 }
 
+std::size_t childless_count(const std::vector<SplatNode>& nodes) {
+    return std::size_t(std::count_if(nodes.begin(), nodes.end(), [](const SplatNode& n) { return n.child_count == 0; }));
+}
+
+/// Reads the childless nodes' weights at @a at and sums them up the tree (children follow
+/// their parents in breadth-first order, so a backward walk meets children first).
+void read_weights(std::vector<SplatNode>& nodes, const std::string& in, std::size_t at) {
+    for (SplatNode& n : nodes)
+        if (n.child_count == 0) n.weight = get<std::uint16_t>(in, at);
+    for (std::size_t i = nodes.size(); i-- > 0;) {
+        SplatNode& n = nodes[i];
+        if (n.child_count == 0) continue;
+        std::uint64_t sum = 0;
+        for (std::uint32_t c = n.first_child; c < n.first_child + n.child_count; ++c) sum += nodes[c].weight;
+        n.weight = std::uint32_t(std::min<std::uint64_t>(sum, UINT32_MAX));
+    }
+}
+
+void put_grid_id(std::string& out, const SplatGridId& id) {
+    put(out, id.file_bytes);
+    put(out, id.topology);
+    put(out, id.modified);
+    const std::string checksum = id.checksum.substr(0, 255);
+    put(out, static_cast<std::uint8_t>(checksum.size()));
+    out += checksum;
+}
+
 }  // namespace
 
 namespace detail {
@@ -151,7 +185,10 @@ void write_splat_file(const SplatTree& tree, const std::filesystem::path& path) 
     put(out, tree.iso);
     put(out, static_cast<std::uint8_t>(tree.inside == Inside::below));
     put(out, static_cast<float>(tree.tolerance));
+    put_grid_id(out, tree.grid);
     for (const SplatNode& n : tree.nodes) put_node(out, n, box);
+    for (const SplatNode& n : tree.nodes)
+        if (n.child_count == 0) put(out, static_cast<std::uint16_t>(std::min<std::uint32_t>(n.weight, UINT16_MAX)));
     AtomicFile file(path);
     std::ofstream stream(file.temp_path(), std::ios::binary);
     stream.write(out.data(), std::streamsize(out.size()));
@@ -164,13 +201,15 @@ SplatTree read_splat_file(const std::filesystem::path& path) {
     const std::string file = path.string();
     const std::string in = read_all(path);
     if (in.size() < kHeaderBytes || std::memcmp(in.data(), kMagic, sizeof(kMagic)) != 0)
-        throw FormatError(file, "header", "a splat file starting with VDBSPLT1", in.size() < kHeaderBytes ? "a shorter file" : "other bytes");
+        throw FormatError(file, "header", "a splat file starting with VDBSPLT2", in.size() < kHeaderBytes ? "a shorter file" : "other bytes");
     std::size_t at = sizeof(kMagic);
     const auto count = get<std::uint32_t>(in, at);
     const auto root_children = get<std::uint32_t>(in, at);
-    if (in.size() != kHeaderBytes + kNodeBytes * std::uint64_t(count))
-        throw FormatError(file, "size", std::to_string(kHeaderBytes + kNodeBytes * std::uint64_t(count)) + " bytes for " +
-                          std::to_string(count) + " nodes", std::to_string(in.size()));
+    const std::size_t checksum_chars = std::uint8_t(in[kHeaderBytes - 1]);
+    const std::uint64_t nodes_end = kHeaderBytes + checksum_chars + kNodeBytes * std::uint64_t(count);
+    if (in.size() < nodes_end)
+        throw FormatError(file, "size", "at least " + std::to_string(nodes_end) + " bytes for " + std::to_string(count) + " nodes",
+                          std::to_string(in.size()));
     QuantBox box;
     for (float& m : box.min) m = get<float>(in, at);
     box.extent = get<float>(in, at);
@@ -180,6 +219,12 @@ SplatTree read_splat_file(const std::filesystem::path& path) {
     if (inside > 1) throw FormatError(file, "inside", "0 or 1", std::to_string(inside));
     tree.inside = inside ? Inside::below : Inside::above;
     tree.tolerance = get<float>(in, at);
+    tree.grid.file_bytes = get<std::uint64_t>(in, at);
+    tree.grid.topology = get<std::uint64_t>(in, at);
+    tree.grid.modified = get<std::int64_t>(in, at);
+    at += 1;
+    tree.grid.checksum = in.substr(at, checksum_chars);
+    at += checksum_chars;
     if (!(box.extent > 0)) throw FormatError(file, "box extent", "> 0", std::to_string(box.extent));
     tree.nodes.resize(count);
     const double step = box.step();
@@ -194,6 +239,11 @@ SplatTree read_splat_file(const std::filesystem::path& path) {
         n.child_count = get<std::uint8_t>(in, at);
     }
     if (count != 0) link_children(tree.nodes, root_children, file);
+    const std::uint64_t expected = nodes_end + kWeightBytes * std::uint64_t(childless_count(tree.nodes));
+    if (in.size() != expected)
+        throw FormatError(file, "size", std::to_string(expected) + " bytes for " + std::to_string(count) + " nodes and the weights of " +
+                          std::to_string(childless_count(tree.nodes)) + " childless ones", std::to_string(in.size()));
+    read_weights(tree.nodes, in, at);
     return tree;
 }
 

@@ -22,17 +22,24 @@ MeshResult whole_by_region(const GridRegionSource& regions, const MeshOptions& o
 MeshStore::MeshStore(ViewSource source, GridMesher mesher, std::size_t triangle_budget)
     : source_(std::move(source)), mesher_(mesher ? std::move(mesher) : GridMesher(mesh_grid)), triangle_budget_(triangle_budget) {}
 
-std::size_t MeshStore::estimated_full_triangles(const MeshRequest& request) const {
+std::size_t MeshStore::estimated_full_triangles(const ViewScan& scan, const MeshRequest& request) const {
     MeshOptions options = request.options;
     options.method = MeshMethod::mc;
-    const std::size_t coarse = mesher_(*source_.scan->coarse, options).mesh.triangles.size();
-    const auto factor = std::size_t(source_.scan->coarse_factor);
+    const std::size_t coarse = mesher_(*scan.coarse, options).mesh.triangles.size();
+    const auto factor = std::size_t(scan.coarse_factor);
     return coarse * factor * factor;
 }
 
+std::shared_ptr<const ViewScan> MeshStore::prepared_scan() const {
+    auto prepared = scan();
+    if (!prepared) throw ScanPreparing();
+    return prepared;
+}
+
 std::shared_ptr<StoredMesh> MeshStore::mesh(const MeshRequest& request) {
-    if (request.level == MeshLevel::full && source_.scan && !source_.scan->grid) {
-        const std::size_t estimate = estimated_full_triangles(request);
+    if (!source_.mesh && !scan()) throw ScanPreparing();
+    if (const auto prepared = scan(); request.level == MeshLevel::full && prepared && !prepared->grid) {
+        const std::size_t estimate = estimated_full_triangles(*prepared, request);
         if (estimate > triangle_budget_) throw FullMeshOverBudget(estimate);
     }
     const std::string key = source_.mesh ? "file" : request.key();
@@ -53,9 +60,10 @@ std::shared_ptr<StoredMesh> MeshStore::make(const MeshRequest& request, std::uin
         stored->mesh = source_.mesh;
         return stored;
     }
+    const auto scan = prepared_scan();
     if (request.level == MeshLevel::region) {
         const auto start = std::chrono::steady_clock::now();
-        stored->mesh = std::make_shared<const Mesh>(region_mesh(*source_.scan->regions, request.box, request.options));
+        stored->mesh = std::make_shared<const Mesh>(region_mesh(*scan->regions, request.box, request.options));
         stored->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return stored;
     }
@@ -69,8 +77,8 @@ std::shared_ptr<StoredMesh> MeshStore::make(const MeshRequest& request, std::uin
         give_up_when_superseded(0);
         options.progress = give_up_when_superseded;
     }
-    MeshResult result = coarse || source_.scan->grid ? mesher_(coarse ? *source_.scan->coarse : *source_.scan->grid, options)
-                                                     : whole_by_region(*source_.scan->regions, options);
+    MeshResult result = coarse || scan->grid ? mesher_(coarse ? *scan->coarse : *scan->grid, options)
+                                             : whole_by_region(*scan->regions, options);
     stored->mesh = std::make_shared<const Mesh>(std::move(result.mesh));
     stored->seconds = result.report.total_seconds();
     return stored;

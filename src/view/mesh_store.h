@@ -38,6 +38,12 @@ public:
     Superseded() : std::runtime_error("superseded: a newer isovalue or method was asked for") {}
 };
 
+/// Thrown while the scan is still being prepared in the background (ViewSource::prepare_scan).
+class ScanPreparing : public std::runtime_error {
+public:
+    ScanPreparing() : std::runtime_error("the scan's histogram and coarse grid are being prepared: the splats are shown meanwhile") {}
+};
+
 /// Thrown instead of making the full mesh of a grid read by region (a model too large to hold)
 /// whose estimated triangles exceed the budget: the page shows splats and close-ups instead.
 class FullMeshOverBudget : public std::runtime_error {
@@ -57,7 +63,12 @@ public:
     /// Meshes with @a mesher, mesh_grid() when empty; a grid read by region only within
     /// @a triangle_budget.
     MeshStore(ViewSource source, GridMesher mesher, std::size_t triangle_budget);
+    /// The source as given (never changed; its scan null when prepared later: see scan()).
     const ViewSource& source() const { return source_; }
+    /// The scan: the source's, else the one prepare_scan made (null until then).
+    std::shared_ptr<const ViewScan> scan() const { return source_.scan ? source_.scan : std::atomic_load(&prepared_); }
+    /// The scan prepare_scan made.
+    void set_scan(std::shared_ptr<const ViewScan> scan) { std::atomic_store(&prepared_, std::move(scan)); }
     /// The mesh of @a request, made now unless kept. A coarse request is the page's first
     /// of a new setting: full meshes asked for before it stop at the mesher's next progress
     /// report (Superseded), so that the new one does not wait for them.
@@ -67,12 +78,15 @@ public:
 private:
     static constexpr std::size_t kKept = 4;
     std::shared_ptr<StoredMesh> make(const MeshRequest& request, std::uint64_t coarse_seen) const;
+    /// The scan, or ScanPreparing.
+    std::shared_ptr<const ViewScan> prepared_scan() const;
     /// The triangles of the full mesh of a grid read by region, estimated without making it:
     /// the coarse grid's Marching Cubes triangles times the coarse factor squared (a surface's
     /// triangles grow as the square of the resolution).
-    std::size_t estimated_full_triangles(const MeshRequest& request) const;
+    std::size_t estimated_full_triangles(const ViewScan& scan, const MeshRequest& request) const;
 
     ViewSource source_;
+    std::shared_ptr<const ViewScan> prepared_;  ///< set once by set_scan(), read atomically
     GridMesher mesher_;
     std::size_t triangle_budget_;
     std::atomic<std::uint64_t> coarse_requests_{0};

@@ -62,8 +62,17 @@ std::string splat_buffers(const std::vector<SplatNode>& nodes) {
     return out;
 }
 
+SplatStore::SplatStore(std::shared_ptr<const ViewScan> scan, std::shared_ptr<const ViewSplats> initial, double initial_iso)
+    : scan_(std::move(scan)), initial_iso_(initial_iso) {
+    if (!initial) return;
+    initial_ = std::make_shared<const StoredSplats>(StoredSplats{initial->tree, initial->seconds});
+}
+
 std::shared_ptr<const StoredSplats> SplatStore::tree(double iso) {
-    if (!scan_) throw UsageError("splats: the input is a mesh, not a scan or grid");
+    if (initial_ && iso == initial_iso_) return initial_;
+    const auto scan = std::atomic_load(&scan_);
+    if (!scan && initial_) throw ScanPreparing();
+    if (!scan) throw UsageError("splats: the input is a mesh, not a scan or grid");
     const std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& [kept_iso, stored] : kept_)
         if (kept_iso == iso) return stored;
@@ -72,7 +81,8 @@ std::shared_ptr<const StoredSplats> SplatStore::tree(double iso) {
     SplatOptions options;
     options.iso = iso;
     // The same tree either way; a grid read by region is read one node at a time.
-    stored->tree = scan_->grid ? build_splat_tree(*scan_->grid, options) : build_splat_tree(*scan_->regions, options);
+    stored->tree = std::make_shared<const SplatTree>(scan->grid ? build_splat_tree(*scan->grid, options)
+                                                                : build_splat_tree(*scan->regions, options));
     stored->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     kept_.emplace_front(iso, stored);
     if (kept_.size() > kKept) kept_.pop_back();

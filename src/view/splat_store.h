@@ -13,12 +13,13 @@
 #include "vdbmesh/splats.h"
 #include "vdbmesh/view.h"
 #include "view/mesh_request.h"
+#include "view/mesh_store.h"
 
 namespace vdbmesh::view {
 
 /// A tree made for the page and the seconds it took.
 struct StoredSplats {
-    SplatTree tree;
+    std::shared_ptr<const SplatTree> tree;
     double seconds = 0;
 };
 
@@ -42,14 +43,20 @@ std::string splat_buffers(const std::vector<SplatNode>& nodes);
 
 class SplatStore {
 public:
-    explicit SplatStore(std::shared_ptr<const ViewScan> scan) : scan_(std::move(scan)) {}
+    /// @a initial (when set): the tree at @a initial_iso made before serving, kept for good.
+    SplatStore(std::shared_ptr<const ViewScan> scan, std::shared_ptr<const ViewSplats> initial, double initial_iso);
     /// The tree of the scan's full grid at @a iso (read by region when not held), built now unless kept.
-    /// @throw UsageError when the source is a mesh file (no grid to fit).
+    /// @throw UsageError when the source is a mesh file (no grid to fit), ScanPreparing before
+    /// set_scan() when the tree is not the initial one.
     std::shared_ptr<const StoredSplats> tree(double iso);
+    /// The scan prepared in the background (ViewSource::prepare_scan).
+    void set_scan(std::shared_ptr<const ViewScan> scan) { std::atomic_store(&scan_, std::move(scan)); }
 
 private:
     static constexpr std::size_t kKept = 2;
     std::shared_ptr<const ViewScan> scan_;
+    std::shared_ptr<const StoredSplats> initial_;
+    double initial_iso_ = 0;
     std::mutex mutex_;
     std::deque<std::pair<double, std::shared_ptr<const StoredSplats>>> kept_;  ///< newest first
 };

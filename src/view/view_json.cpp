@@ -1,6 +1,7 @@
 #include "view/view_json.h"
 
 #include "vdbmesh/shared_splats.h"
+#include "vdbmesh/splats.h"
 
 namespace vdbmesh::view {
 
@@ -23,9 +24,14 @@ nlohmann::json scan_json(const ViewScan& scan, double initial_iso) {
 nlohmann::json info_json(const ViewSource& source, std::size_t triangle_budget) {
     nlohmann::json j;
     j["name"] = source.name;
-    j["kind"] = source.lattice ? "lattice" : source.scan ? "scan" : source.labels.empty() ? "mesh" : "labels";
+    j["kind"] = source.lattice ? "lattice" : source.scan || source.prepare_scan ? "scan" : source.labels.empty() ? "mesh" : "labels";
     j["triangle_budget"] = triangle_budget;
     if (source.scan) j["scan"] = scan_json(*source.scan, source.initial_iso);
+    if (source.splats)
+        j["splats"] = {{"file", source.splats->file}, {"from_file", source.splats->from_file},
+                       {"nodes", source.splats->tree->nodes.size()}, {"seconds", source.splats->seconds},
+                       {"iso", source.splats->tree->iso}, {"box_min", source.splats->box_min},
+                       {"box_max", source.splats->box_max}};
     if (source.lattice) {
         const SharedSplatTree& splats = *source.lattice->splats;
         j["lattice"] = {{"box_min", source.lattice->box_min}, {"box_max", source.lattice->box_max},

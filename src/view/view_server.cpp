@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -43,6 +44,8 @@ Handler guarded(Handler handler) {
             handler(request, response);
         } catch (const UsageError& e) {
             send_error(response, 400, e.what());
+        } catch (const view::ScanPreparing& e) {
+            send_error(response, 503, e.what());
         } catch (const view::Superseded& e) {
             send_error(response, 409, e.what());
         } catch (const view::FullMeshOverBudget& e) {
@@ -84,9 +87,15 @@ std::string encode_mesh(const Mesh& mesh, const std::string& format) {
 class ViewServer::Impl {
 public:
     Impl(ViewSource source, const ViewServerOptions& options)
-        : options_(options), store_(std::move(source), options.mesher, options.triangle_budget), splats_(store_.source().scan) {
+        : options_(options), store_(std::move(source), options.mesher, options.triangle_budget), splats_(store_.source().scan, store_.source().splats, store_.source().initial_iso) {
         add_routes();
         bind();
+        if (store_.source().prepare_scan) preparing_ = std::thread([this] { prepare_scan(); });
+    }
+
+    ~Impl() {
+        start_preparing(/*stop=*/true);
+        if (preparing_.joinable()) preparing_.join();
     }
 
     int port() const { return port_; }
@@ -135,13 +144,51 @@ private:
         }
     }
 
+    /// Lets the preparation start (the page has drawn its first splats), or stop.
+    void start_preparing(bool stop = false) {
+        const std::lock_guard<std::mutex> lock(prepare_mutex_);
+        if (stop) stop_preparing_ = true;
+        else start_preparing_ = true;
+        prepare_wake_.notify_all();
+    }
+
+    /// Runs ViewSource::prepare_scan (in its thread) and hands the scan to the stores. It waits
+    /// for the page's word that its first picture is drawn (GET /api/info?prepare=1), at most
+    /// kPrepareDelay: the pass over the grid takes every core, and would hold the page back.
+    void prepare_scan() {
+        {
+            std::unique_lock<std::mutex> lock(prepare_mutex_);
+            prepare_wake_.wait_for(lock, kPrepareDelay, [this] { return start_preparing_ || stop_preparing_; });
+        }
+        if (stop_preparing_) return;
+        try {
+            const auto scan = store_.source().prepare_scan(stop_preparing_);
+            splats_.set_scan(scan);
+            store_.set_scan(scan);
+        } catch (const std::exception& e) {
+            const std::lock_guard<std::mutex> lock(prepare_error_mutex_);
+            prepare_error_ = e.what();
+        }
+    }
+
+    nlohmann::json info() {
+        ViewSource now = store_.source();
+        now.scan = store_.scan();
+        nlohmann::json j = view::info_json(now, options_.triangle_budget);
+        if (now.prepare_scan && !now.scan) j["preparing"] = true;
+        const std::lock_guard<std::mutex> lock(prepare_error_mutex_);
+        if (!prepare_error_.empty()) j["prepare_error"] = prepare_error_;
+        return j;
+    }
+
     void add_routes() {
         server_.set_keep_alive_timeout(1);
         server_.Get("/", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
         server_.Get("/index.html", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
         server_.Get("/app.js", guarded([this](const auto& request, auto& response) { serve_asset(request, response); }));
-        server_.Get("/api/info", guarded([this](const auto&, auto& response) {
-            response.set_content(detail::json_text(view::info_json(store_.source(), options_.triangle_budget)), "application/json");
+        server_.Get("/api/info", guarded([this](const auto& request, auto& response) {
+            if (request.has_param("prepare")) start_preparing();
+            response.set_content(detail::json_text(info()), "application/json");
         }));
         server_.Get("/api/mesh", guarded([this](const auto& request, auto& response) { serve_mesh(request, response); }));
         server_.Get("/api/figures", guarded([this](const auto& request, auto& response) { serve_figures(request, response); }));
@@ -195,10 +242,10 @@ private:
             return;
         }
         const auto stored = splats_.tree(parsed.iso);
-        SplatSelection selection = select_splats(stored->tree, parsed.view);
+        SplatSelection selection = select_splats(*stored->tree, parsed.view);
         if (parsed.close_up_triangles) add_close_up(*stored, parsed, selection, response);
-        set_splat_headers(response, selection, selection.nodes.size(), stored->tree.nodes.size(), stored->seconds);
-        response.set_content(view::splat_buffers(stored->tree, selection), "application/octet-stream");
+        set_splat_headers(response, selection, selection.nodes.size(), stored->tree->nodes.size(), stored->seconds);
+        response.set_content(view::splat_buffers(*stored->tree, selection), "application/octet-stream");
     }
 
     static void set_splat_headers(httplib::Response& response, const SplatSelection& selection, std::size_t shown,
@@ -218,16 +265,18 @@ private:
     /// when the close-up would read more than a close-up may.
     void add_close_up(const view::StoredSplats& stored, const view::SplatRequest& request, SplatSelection& selection,
                       httplib::Response& response) const {
-        const GridRegionSource& regions = *store_.source().scan->regions;
+        const auto scan = store_.scan();
+        if (!scan) return;  // the close-up's mesh waits for the scan's preparation
+        const GridRegionSource& regions = *scan->regions;
         const auto grid = regions.description();
-        const auto close = view::find_close_up(stored.tree, selection, request.view, *grid, *request.close_up_triangles);
+        const auto close = view::find_close_up(*stored.tree, selection, request.view, *grid, *request.close_up_triangles);
         if (!close || regions.estimated_bytes(view::region_read_box(close->box)) > view::kRegionReadBytes) return;
         std::string box;
         for (auto bound : {close->box.min, close->box.max})
             for (std::int32_t v : bound) box += (box.empty() ? "" : ",") + std::to_string(v);
         response.set_header("X-Closeup-Box", box);
         response.set_header("X-Closeup-Triangles", std::to_string(close->estimated_triangles));
-        response.set_header("X-Closeup-Splats", std::to_string(view::move_inside_last(stored.tree, close->box, *grid, selection)));
+        response.set_header("X-Closeup-Splats", std::to_string(view::move_inside_last(*stored.tree, close->box, *grid, selection)));
     }
 
     void serve_download(const httplib::Request& request, httplib::Response& response) {
@@ -246,6 +295,14 @@ private:
     std::mutex run_mutex_;
     bool stopping_ = false, running_ = false;
     std::atomic<bool> finished_{false};
+    std::thread preparing_;  ///< runs ViewSource::prepare_scan
+    static constexpr std::chrono::seconds kPrepareDelay{20};
+    std::mutex prepare_mutex_;
+    std::condition_variable prepare_wake_;
+    bool start_preparing_ = false;
+    std::atomic<bool> stop_preparing_{false};
+    std::mutex prepare_error_mutex_;
+    std::string prepare_error_;
 };
 
 ViewServer::ViewServer(ViewSource source, const ViewServerOptions& options)

@@ -186,10 +186,14 @@ TEST(SplatFile, RoundTripWithinItsQuantisation) {
     const auto grid = sphere_grid();
     const SplatTree tree = build_splat_tree(*grid, sphere_options());
     test::ScratchDir dir;
-    write_splat_file(tree, dir / "sphere.splat");
-    EXPECT_EQ(std::filesystem::file_size(dir / "sphere.splat"), 45 + 12 * tree.nodes.size());
+    SplatTree with_grid = tree;
+    with_grid.grid = SplatGridId{123456789, "0123abcd", 0, 0xFEEDFACEull};
+    write_splat_file(with_grid, dir / "sphere.splat");
+    // The header (70 bytes and the checksum's 8), 12 bytes a node, 2 a childless node's weight.
+    EXPECT_EQ(std::filesystem::file_size(dir / "sphere.splat"), 70 + 8 + 12 * tree.nodes.size() + 2 * tree.leaf_count());
     const SplatTree read = read_splat_file(dir / "sphere.splat");
     ASSERT_EQ(read.nodes.size(), tree.nodes.size());
+    EXPECT_EQ(read.grid, with_grid.grid);
     EXPECT_EQ(read.iso, tree.iso);
     EXPECT_EQ(read.inside, tree.inside);
     EXPECT_FLOAT_EQ(read.tolerance, tree.tolerance);
@@ -200,6 +204,7 @@ TEST(SplatFile, RoundTripWithinItsQuantisation) {
         EXPECT_EQ(a.level, b.level);
         EXPECT_EQ(a.child_count, b.child_count);
         EXPECT_EQ(a.first_child, b.first_child);
+        EXPECT_EQ(a.weight, b.weight);  // kept exactly: the close-up's estimate of triangles
         EXPECT_LE((vec(a.centre) - vec(b.centre)).length(), step);
         EXPECT_GE(b.radius, a.radius);
         EXPECT_LE(b.radius, a.radius + 4 * step);

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <map>
 
 #include "splat_camera.h"
@@ -101,6 +104,23 @@ TEST(SplatRegions, ReadByRegionGivesTheWholeGridsTree) {
         EXPECT_EQ(a.first_child, b.first_child) << i;
         EXPECT_EQ(a.child_count, b.child_count) << i;
     }
+}
+
+TEST(SplatRegions, SameTreeForOneAndTwoThreadsReadByRegion) {
+    // The next node's region is read while a node's cells are fitted: the file's bytes must
+    // not depend on how the two interleave, nor on the threads fitting.
+    const test::ScratchDir dir;
+    write_vdb(*sphere_across_nodes(), dir / "sphere.vdb");
+    const auto regions = open_vdb_regions(dir / "sphere.vdb");
+    tbb::task_arena(1).execute([&] { write_splat_file(build_splat_tree(*regions, SplatOptions{}), dir / "one.splat"); });
+    tbb::task_arena(2).execute([&] { write_splat_file(build_splat_tree(*regions, SplatOptions{}), dir / "two.splat"); });
+    const auto bytes = [](const std::filesystem::path& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    };
+    const std::string one = bytes(dir / "one.splat");
+    EXPECT_GT(one.size(), 10000u);
+    EXPECT_EQ(one, bytes(dir / "two.splat"));
 }
 
 class SplatSelectionTest : public ::testing::Test {

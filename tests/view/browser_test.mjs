@@ -426,6 +426,40 @@ async function checkLattice(browser, options, decode, checks, timeout) {
   }
 }
 
+/// `view scan.vdb --splats FILE`: the first run fits and writes the file; the second opens in
+/// splat mode at once, then gets the iso slider and the coarse mesh from the background pass.
+async function checkSplatFile(browser, options, scratch, scan, decode, checks, timeout) {
+  const vdb = path.join(scratch, 'splat-file.vdb');
+  const splats = path.join(scratch, 'splat-file.splat');
+  execFileSync(options.vdbmesh, ['convert', scan, '--iso', '0.5', '-o', vdb, '--quiet']);
+  for (const run of ['fits', 'reads']) {
+    const viewer = await startViewer(options.vdbmesh, [vdb, '--splats', splats]);
+    try {
+      checks.expect(fs.existsSync(splats), `view --splats ${run} the splat file (${fs.existsSync(splats) ? fs.statSync(splats).size : 0} bytes)`);
+      if (run === 'fits') continue;
+      const page = await browser.newPage({ viewport: { width: 900, height: 700 } });
+      page.on('pageerror', (error) => checks.expect(false, `no error in the splat file's page: ${error.message}`));
+      page.setDefaultTimeout(timeout);
+      const driver = new PageDriver(page, options.out, decode);
+      await page.goto(viewer.address);
+      await page.waitForFunction(() => window.vdbmeshView.splatViews > 0 || window.vdbmeshView.error, null, { polling: 50 });
+      const first = await driver.state();
+      checks.expect(!first.error && first.splatMode && first.meshes === 0,
+        `the first picture is the splat file's splats (${first.splats} splats, meshes ${first.meshes}) ${first.error ?? ''}`);
+      const drawn = foreground(await driver.shot('splat-file'), BACKGROUND).share;
+      checks.expect(drawn > 0.05, `the splats cover ${(100 * drawn).toFixed(1)}% of the view (> 5%)`);
+      await page.waitForFunction(() => window.vdbmeshView.meshes > 0 || window.vdbmeshView.error, null, { polling: 100 });
+      const later = await driver.state();
+      const slider = await page.locator('#scan-controls').isVisible();
+      checks.expect(!later.error && !later.preparing && later.splatMode && slider && !(await page.locator('#splats').isDisabled()),
+        `then the background pass brings the iso slider and the coarse mesh (${later.level}, ${later.triangles} triangles), splats kept on`);
+      await page.close();
+    } finally {
+      checks.expect((await stopViewer(viewer.child)) === 0, `view --splats (${run}) stops cleanly on SIGINT (exit 0)`);
+    }
+  }
+}
+
 async function main() {
   const options = parseArguments(process.argv.slice(2));
   const chromiumPath = findChromium();
@@ -465,6 +499,7 @@ async function main() {
     await checkSplats(driver, checks, await driver.shot('solid-before-splats'), timeout);
     if (!options.scan || options.labelsMap) await checkLabels(browser, options, scratch, driver.decode, checks, timeout);
     if (!options.scan || options.latticeBox) await checkLattice(browser, options, driver.decode, checks, timeout);
+    if (!options.scan) await checkSplatFile(browser, options, scratch, scan, driver.decode, checks, timeout);
   } finally {
     await browser?.close();
     if (viewer) checks.expect((await stopViewer(viewer.child)) === 0, 'vdbmesh view stops cleanly on SIGINT (exit 0)');

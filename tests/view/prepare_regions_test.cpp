@@ -8,6 +8,7 @@
 
 #include "phantom_grid.h"
 #include "test_data.h"
+#include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/grid_region.h"
 #include "vdbmesh/phantom.h"
@@ -67,6 +68,24 @@ TEST(PrepareRegions, AStatedValueRangeSavesTheHistogramsPassOnlyWhenTrue) {
     }
     EXPECT_GT(true_reads, 0);
     EXPECT_LT(true_reads, false_reads);  // one pass, not two
+}
+
+TEST(PrepareRegions, AStoppedPreparationGivesUpBeforeItsNextRead) {
+    const auto grid = test::phantom_scan_grid(phantom_preset("sphere", {40, 40, 40}));
+    auto counting = std::make_shared<CountingRegions>(grid_regions_in_memory(grid));
+    std::atomic<bool> stop{false};
+    const ViewScan scan = prepare_grid_regions(counting, &stop);
+    EXPECT_EQ(scan.regions, counting);  // the source itself, not the stoppable wrapper
+    const int whole = counting->reads;
+    EXPECT_GT(whole, 0);
+    stop = true;  // a server closing while it prepares
+    try {
+        prepare_grid_regions(counting, &stop);
+        ADD_FAILURE() << "no error once stopped";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("stopped"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(counting->reads, whole);  // not one read more
 }
 
 }  // namespace

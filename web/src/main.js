@@ -16,7 +16,7 @@ const $ = (id) => document.getElementById(id);
 const radio = (name) => document.querySelector(`input[name=${name}]:checked`).value;
 const state = (window.vdbmeshView = {
   level: '', triangles: 0, meshes: 0, busy: false, timings: [], error: '', figures: null, overBudget: 0, labels: 0, drawnTriangles: 0,
-  splatMode: false, cameraMovedAt: 0, splats: 0, splatLevel: null, splatCutLevel: null, splatComplete: false, splatViews: 0, splatBusy: false,
+  preparing: false, firstSplatsMs: null, splatMode: false, cameraMovedAt: 0, splats: 0, splatLevel: null, splatCutLevel: null, splatComplete: false, splatViews: 0, splatBusy: false,
   detail: 'mesh', closeUpTriangles: 0, closeUpBox: null, frameMs: null, frameSamples: 0, moving: false,
 });
 
@@ -92,6 +92,7 @@ function showCloseUp(mesh) {
 /// the splats (how many, the coarsest level standing for its children, the finest level: cubes
 /// of 2^(level+1) voxels).
 function showSplats(shown) {
+  state.firstSplatsMs ??= performance.now();  // since the page's navigation began
   Object.assign(state, {
     splats: shown.splats, splatLevel: shown.level, splatCutLevel: shown.cutLevel, splatComplete: shown.complete, splatViews: state.splatViews + 1, splatBusy: false,
     detail: shown.closeUp ? 'triangles' : 'splats', closeUpTriangles: shown.closeUp?.triangles ?? 0, closeUpBox: shown.closeUp?.box ?? null,
@@ -244,12 +245,49 @@ function setUpLattice(lattice) {
   setSplatMode(true);
 }
 
+/// The splats of the first picture of a model whose tree is ready (the full budget's follow).
+const FIRST_SPLATS = 15000;
+
+/// A .vdb whose splat tree was made before serving (`view --splats FILE`): the splats at once,
+/// framed by their box, while the server prepares the histogram and coarse grid; the iso
+/// slider and the coarse mesh come when it is done (splat mode stays on).
+async function startWithSplats(splats) {
+  scene3d.fitTo(new THREE.Box3(new THREE.Vector3(...splats.box_min), new THREE.Vector3(...splats.box_max)));
+  scene3d.setView('home');
+  fitted = true;
+  $('splat-controls').classList.remove('hidden');
+  Object.assign($('splats'), { checked: true, disabled: true });  // no mesh to switch to yet
+  splatLayer.quickFirst(FIRST_SPLATS);
+  setSplatMode(true);
+  state.preparing = Boolean(info.preparing);
+  if (!info.preparing) return setUpPreparedScan();
+  $('figures').textContent = 'histogram and coarse mesh: being prepared by the server (a pass over the grid)…';
+  const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+  // The server's pass takes every core: it starts once the full budget's splats are drawn.
+  while (state.splatViews < 2 && !state.error) await sleep(100);
+  info = await fetchJson('/api/info?prepare=1');
+  while (info.preparing && !info.prepare_error) {
+    await sleep(1000);
+    info = await fetchJson('/api/info');
+  }
+  return setUpPreparedScan();
+}
+
+async function setUpPreparedScan() {
+  state.preparing = false;
+  if (info.prepare_error) throw new Error(info.prepare_error);
+  $('splats').disabled = false;
+  setUpScan(info.scan);
+  await remesh();
+}
+
 async function start() {
   info = await fetchJson('/api/info');
   document.title = `${info.name} · vdbmesh view`;
   $('title').textContent = info.name;
-  Object.assign(remesher, { isScan: Boolean(info.scan), budget: info.triangle_budget });
+  Object.assign(remesher, { isScan: info.kind === 'scan', budget: info.triangle_budget });
   setUpPanel();
+  if (info.splats && !info.scan) return startWithSplats(info.splats);
   if (info.scan) setUpScan(info.scan);
   if (info.scan) $('splat-controls').classList.remove('hidden');
   if (info.labels) {

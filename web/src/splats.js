@@ -65,7 +65,7 @@ export class SplatLayer {
     this.settle = setTimeout(() => this.refresh(), SETTLE_MS);
   }
 
-  query() {
+  query(budget) {
     const camera = this.scene3d.camera;
     camera.updateMatrixWorld();
     const viewProjection = new THREE.Matrix4().multiplyMatrices(camera.projectionMatrix, camera.matrixWorldInverse);
@@ -74,20 +74,23 @@ export class SplatLayer {
     const params = {
       vp: viewProjection.elements.map((v) => v.toPrecision(9)).join(','),
       eye: camera.position.toArray().map((v) => v.toPrecision(9)).join(','),
-      focal: focal.toPrecision(9), pixel: PIXEL_SIZE, budget: SPLAT_BUDGET, closeup: CLOSE_UP_TRIANGLES,
+      focal: focal.toPrecision(9), pixel: PIXEL_SIZE, budget, closeup: CLOSE_UP_TRIANGLES,
     };
     if (this.iso !== undefined) params.iso = this.iso;
     return new URLSearchParams(params).toString();
   }
 
-  /// Asks for the current view's splats; a newer request aborts an older one.
+  /// Asks for the current view's splats; a newer request aborts an older one. The first after
+  /// quickFirst(n) asks for n splats only, then the full budget's follow.
   async refresh() {
     this.abort?.abort();
     const abort = (this.abort = new AbortController());
     this.handlers.onAsk();
     const started = performance.now();
+    const budget = this.firstBudget ?? SPLAT_BUDGET;
+    this.firstBudget = undefined;
     try {
-      const response = await fetch(`/api/splats?${this.query()}`, { signal: abort.signal });
+      const response = await fetch(`/api/splats?${this.query(budget)}`, { signal: abort.signal });
       if (!response.ok) throw new Error((await response.json()).error ?? response.statusText);
       const count = Number(response.headers.get('X-Splats'));
       const buffer = await response.arrayBuffer();
@@ -110,10 +113,17 @@ export class SplatLayer {
         treeNodes: Number(response.headers.get('X-Tree-Nodes')), seconds: Number(response.headers.get('X-Seconds')),
         ms: performance.now() - started, closeUp: closeUp && { box, triangles: closeUp.triangles, seconds: closeUp.seconds },
       });
+      if (budget < SPLAT_BUDGET) this.refresh();
     } catch (error) {
       if (error.name === 'AbortError') return;
       this.handlers.onError(error);
     }
+  }
+
+  /// The next view asks for @a budget splats (a quick first picture: fewer to select, send
+  /// and draw), the one after it for the full budget.
+  quickFirst(budget) {
+    this.firstBudget = budget;
   }
 
   /// While @a moving, every k-th disc of those drawn, k times larger in area, so that at most
