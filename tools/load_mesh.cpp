@@ -21,6 +21,10 @@ void add_mesh_input_options(CLI::App& command, MeshInputOptions& options) {
         command.add_option("--iso", options.iso, "Isovalue for a scan or .vdb input (default for a .vdb: the stored one)"),
         command.add_option("--inside", options.inside, "Scan or .vdb input: which side of the isovalue is the object: above|below")
             ->transform(CLI::CheckedTransformer(kSides, CLI::ignore_case)),
+        command.add_option("--error", options.error,
+                           "Scan or .vdb input: the dc mesher's tolerated error in voxels (0: no simplification; above 0 with --memory)")
+            ->check(kFiniteNonNegative)
+            ->capture_default_str(),
         command.add_flag("--refine", options.refine,
                          "Scan or .vdb input: move the vertices onto the isosurface of the triquadratic interpolant "
                          "(sub-voxel accuracy on smooth solids)"),
@@ -28,24 +32,68 @@ void add_mesh_input_options(CLI::App& command, MeshInputOptions& options) {
     add_read_flags(command, options.read);
 }
 
+bool is_mesh_input(const std::vector<std::string>& inputs, const MeshInputOptions& options) {
+    if (!is_mesh_file(inputs.front())) return false;
+    if (inputs.size() > 1) throw UsageError("a mesh input takes no further input files");
+    for (const CLI::Option* option : options.grid_only) refuse_unless(option, false, "for a scan or .vdb input, got the mesh " + inputs.front());
+    options.read.refuse_for("the mesh " + inputs.front());
+    return true;
+}
+
 Mesh load_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& options, const std::string& purpose) {
-    if (is_mesh_file(inputs.front())) {
-        if (inputs.size() > 1) throw UsageError("a mesh input takes no further input files");
-        for (const CLI::Option* option : options.grid_only)
-            refuse_unless(option, false, "for a scan or .vdb input, got the mesh " + inputs.front());
-        options.read.refuse_for("the mesh " + inputs.front());
-        return read_mesh(inputs.front());
-    }
+    if (is_mesh_input(inputs, options)) return read_mesh(inputs.front());
     ConvertOptions convert;
     convert.band = 1;
     const GridInput loaded = load_grid(inputs, options.iso, options.read, purpose, convert, options.iso_option, options.inside);
     MeshOptions mesh;
     mesh.iso = loaded.iso;
     mesh.inside = loaded.inside;
+    mesh.error = options.error;
     Mesh result = mesh_grid(*loaded.grid, mesh).mesh;
     if (result.triangles.empty()) throw no_surface_error(inputs.front(), *loaded.grid, {loaded.iso, loaded.iso}, "");
     if (options.refine) refine_to_isosurface(result, *loaded.grid, loaded.iso);
     return result;
+}
+
+namespace {
+
+/// Hands the bricked mesh on as a file of it would be read.
+class RecordsSink final : public MeshStreamSink {
+public:
+    explicit RecordsSink(MeshRecordVisitor& visitor) : visitor_(visitor) {}
+    void begin(std::uint64_t vertex_count, std::uint64_t triangle_count) override {
+        triangles = triangle_count;
+        visitor_.announced(vertex_count, triangle_count);
+    }
+    void vertex(const std::array<float, 3>& position) override { visitor_.vertex(position); }
+    void triangle(const std::array<std::uint32_t, 3>& t, const std::array<std::array<float, 3>, 3>&) override { visitor_.triangle(t); }
+    std::uint64_t triangles = 0;
+
+private:
+    MeshRecordVisitor& visitor_;
+};
+
+}  // namespace
+
+void stream_grid_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& options, const std::string& purpose,
+                      std::uint64_t memory_bytes, MeshRecordVisitor& visitor) {
+    if (!(options.error > 0)) {
+        throw UsageError("--memory: a scan or .vdb is meshed by bricks, which the dc mesher does at an --error above 0 only; give "
+                         "--error (such as 0.25)");
+    }
+    if (options.refine) throw UsageError("--memory: --refine moves the vertices of the whole mesh, which --memory never holds; leave it out");
+    ConvertOptions convert;
+    convert.band = 1;
+    const GridRegionsInput opened = open_grid_regions(inputs, options.iso, options.read, purpose, convert, options.iso_option, options.inside);
+    MeshOptions mesh;
+    mesh.iso = opened.iso;
+    mesh.inside = opened.inside;
+    mesh.error = options.error;
+    BrickOptions bricks;
+    bricks.memory_bytes = memory_bytes;
+    RecordsSink sink(visitor);
+    mesh_bricks_to_stream(*opened.source, mesh, bricks, sink);
+    if (sink.triangles == 0) throw no_surface_error(inputs.front(), *opened.source->description(), {opened.iso, opened.iso}, "");
 }
 
 }  // namespace vdbmesh::cli

@@ -1,0 +1,118 @@
+// --memory beyond mesh and check (issue 28 item 2): `measure` and `section` within SIZE give
+// what they give without it, on a phantom and a real scan (meshed by bricks at the same
+// --error) and on mesh files; a limit too small is exit 2 naming the smallest that works, with
+// nothing written.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "cli.h"
+#include "test_data.h"
+#include "vdbmesh/mesh_io.h"
+
+namespace vdbmesh::cli {
+namespace {
+
+struct Output {
+    int status;
+    std::string out, err;
+};
+
+Output run_capturing(const std::vector<std::string>& args) {
+    testing::internal::CaptureStdout();
+    testing::internal::CaptureStderr();
+    const int status = run(args);
+    std::string out = testing::internal::GetCapturedStdout();
+    return {status, out, testing::internal::GetCapturedStderr()};
+}
+
+std::vector<std::string> concat(std::vector<std::string> a, const std::vector<std::string>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+}
+
+/// The limit a refusal names ("the smallest limit that works is 71M"), in bytes; 0 when none.
+std::uint64_t named_smallest(const std::string& message) {
+    std::smatch match;
+    if (!std::regex_search(message, match, std::regex("smallest limit that (could )?works? is ([0-9]+)M"))) return 0;
+    return std::stoull(match[2]) << 20;
+}
+
+/// Every figure of `measure --json` with and without --memory: the same but the components'
+/// area and volume, summed in another order (tests/analysis/measure_stream_test.cpp: to 1e-9
+/// of the whole's).
+void expect_same_measure(const nlohmann::json& whole, const nlohmann::json& bounded) {
+    for (const auto& [key, value] : whole.items()) {
+        if (key != "components") EXPECT_EQ(bounded[key], value) << key;
+    }
+    ASSERT_EQ(bounded["components"].size(), whole["components"].size());
+    const double volume = std::abs(whole["volume"].get<double>()), area = whole["area"];
+    for (std::size_t i = 0; i < whole["components"].size(); ++i) {
+        const auto &w = whole["components"][i], &b = bounded["components"][i];
+        EXPECT_EQ(b["triangles"], w["triangles"]) << i;
+        EXPECT_NEAR(b["volume"].get<double>(), w["volume"].get<double>(), 1e-9 * volume) << i;
+        EXPECT_NEAR(b["area"].get<double>(), w["area"].get<double>(), 1e-9 * area) << i;
+    }
+}
+
+/// measure --json of @a args with and without --memory @a memory, compared.
+void expect_bounded_measure_is_whole(const std::vector<std::string>& args, const std::string& memory) {
+    const Output whole = run_capturing(concat({"measure"}, concat(args, {"--json", "-q"})));
+    ASSERT_EQ(whole.status, kSuccess) << whole.err;
+    const Output bounded = run_capturing(concat({"measure"}, concat(args, {"--json", "-q", "--memory", memory})));
+    ASSERT_EQ(bounded.status, kSuccess) << bounded.err;
+    expect_same_measure(nlohmann::json::parse(whole.out), nlohmann::json::parse(bounded.out));
+}
+
+std::filesystem::path write_torus_phantom(const test::ScratchDir& dir) {
+    const std::filesystem::path path = dir / "torus.nii";
+    EXPECT_EQ(run({"phantom", "torus", "--size", "64", "-o", path.string(), "-q"}), kSuccess);
+    return path;
+}
+
+TEST(MeasureMemoryTest, PhantomScanMeshedByBricksGivesTheWholeMeasure) {
+    const test::ScratchDir dir;
+    const std::filesystem::path torus = write_torus_phantom(dir);
+    expect_bounded_measure_is_whole({torus.string(), "--iso", "0.5", "--error", "0.25"}, "128M");
+}
+
+TEST(MeasureMemoryTest, RealScanMeshedByBricksGivesTheWholeMeasure) {
+    VDBMESH_SHARED_DATA(head, "raw_vtk_headsq/headsq_64x64x93_int16le.raw");
+    expect_bounded_measure_is_whole({head.string(), "--raw-dims", "64,64,93", "--raw-type", "i16", "--spacing", "3.2,3.2,1.5", "--iso",
+                                     "1000.5", "--error", "0.25"},
+                                    "128M");
+}
+
+TEST(MeasureMemoryTest, RealMeshFileGivesTheWholeMeasure) {
+    VDBMESH_SHARED_DATA(zipper, "pointcloud_stanford_bunny_scans/reconstruction/bun_zipper.ply");
+    expect_bounded_measure_is_whole({zipper.string()}, "128M");
+}
+
+TEST(MeasureMemoryTest, LimitTooSmallIsUsageErrorNamingTheSmallest) {
+    VDBMESH_SHARED_DATA(zipper, "pointcloud_stanford_bunny_scans/reconstruction/bun_zipper.ply");
+    const Output refused = run_capturing({"measure", zipper.string(), "--memory", "1M", "--json"});
+    EXPECT_EQ(refused.status, kUsageError);
+    EXPECT_TRUE(refused.out.empty()) << refused.out;
+    const std::uint64_t smallest = named_smallest(refused.err);
+    ASSERT_GT(smallest, 0u) << refused.err;
+    EXPECT_EQ(run_capturing({"measure", zipper.string(), "--memory", std::to_string((smallest >> 20) - 1) + "M", "-q"}).status, kUsageError);
+    EXPECT_EQ(run_capturing({"measure", zipper.string(), "--memory", std::to_string(smallest >> 20) + "M", "-q"}).status, kSuccess);
+}
+
+TEST(MeasureMemoryTest, ScanLimitsAndOptionsTheBricksCannotTakeAreRefused) {
+    const test::ScratchDir dir;
+    const std::string torus = write_torus_phantom(dir).string();
+    const Output tiny = run_capturing({"measure", torus, "--iso", "0.5", "--error", "0.25", "--memory", "1M"});
+    EXPECT_EQ(tiny.status, kUsageError);
+    EXPECT_GT(named_smallest(tiny.err), 0u) << tiny.err;
+    EXPECT_EQ(run_capturing({"measure", torus, "--iso", "0.5", "--memory", "128M"}).status, kUsageError);  // --error 0
+    EXPECT_EQ(run_capturing({"measure", torus, "--iso", "0.5", "--error", "0.25", "--refine", "--memory", "128M"}).status, kUsageError);
+}
+
+}  // namespace
+}  // namespace vdbmesh::cli
