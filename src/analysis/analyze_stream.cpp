@@ -26,10 +26,8 @@ namespace vdbmesh {
 namespace {
 
 constexpr std::uint64_t kMiB = std::uint64_t(1) << 20;
-/// The process besides the plan: 41 MB for the program and its libraries (peak of `vdbmesh
-/// --help`), up to 9 MiB of the mapped file's window (mapped_file.cpp), the heap's and the
-/// threads' own; set from the peak of a 33 M triangle PLY checked in 256M (bench/README.md).
-constexpr std::uint64_t kBaselineBytes = 64 * kMiB;
+/// The process besides the plan (stream_extras.h).
+constexpr std::uint64_t kBaselineBytes = detail::kStreamBaselineBytes;
 /// The least a sort is given.
 constexpr std::uint64_t kMinSortBytes = kMiB;
 constexpr int kIndexedSorts = 2, kStlSorts = 3;

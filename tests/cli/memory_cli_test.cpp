@@ -114,5 +114,47 @@ TEST(MeasureMemoryTest, ScanLimitsAndOptionsTheBricksCannotTakeAreRefused) {
     EXPECT_EQ(run_capturing({"measure", torus, "--iso", "0.5", "--error", "0.25", "--refine", "--memory", "128M"}).status, kUsageError);
 }
 
+/// section --json of @a args with and without --memory @a memory: the same bytes (edges named by
+/// vertex numbers both ways: SectionStream).
+void expect_bounded_section_is_whole(const std::vector<std::string>& args, const std::string& memory) {
+    const Output whole = run_capturing(concat({"section"}, concat(args, {"--json", "-q"})));
+    ASSERT_EQ(whole.status, kSuccess) << whole.err;
+    const Output bounded = run_capturing(concat({"section"}, concat(args, {"--json", "-q", "--memory", memory})));
+    ASSERT_EQ(bounded.status, kSuccess) << bounded.err;
+    EXPECT_EQ(bounded.out, whole.out);
+    EXPECT_GT(nlohmann::json::parse(whole.out)["sections"][0]["area"].get<double>(), 0);
+}
+
+TEST(SectionMemoryTest, PhantomScanMeshedByBricksGivesTheWholeSections) {
+    const test::ScratchDir dir;
+    const std::filesystem::path torus = write_torus_phantom(dir);
+    expect_bounded_section_is_whole({torus.string(), "--iso", "0.5", "--error", "0.25", "--plane", "z=32", "--planes", "x=20:40:5"}, "128M");
+}
+
+TEST(SectionMemoryTest, RealScanMeshedByBricksGivesTheWholeSections) {
+    VDBMESH_SHARED_DATA(head, "raw_vtk_headsq/headsq_64x64x93_int16le.raw");
+    expect_bounded_section_is_whole({head.string(), "--raw-dims", "64,64,93", "--raw-type", "i16", "--spacing", "3.2,3.2,1.5", "--iso",
+                                     "1000.5", "--error", "0.25", "--planes", "z=20:120:25"},
+                                    "128M");
+}
+
+TEST(SectionMemoryTest, LimitTooSmallIsUsageErrorWithNothingWritten) {
+    VDBMESH_SHARED_DATA(zipper, "pointcloud_stanford_bunny_scans/reconstruction/bun_zipper.ply");
+    const test::ScratchDir dir;
+    const std::string svg = (dir / "cut.svg").string();
+    const Output refused = run_capturing({"section", zipper.string(), "--plane", "y=0.1", "--svg", svg, "--memory", "1M"});
+    EXPECT_EQ(refused.status, kUsageError);
+    EXPECT_FALSE(std::filesystem::exists(svg));
+    const std::uint64_t smallest = named_smallest(refused.err);
+    ASSERT_GT(smallest, 0u) << refused.err;
+    const std::string at_smallest = std::to_string(smallest >> 20) + "M";
+    EXPECT_EQ(run_capturing({"section", zipper.string(), "--plane", "y=0.1", "--svg", svg, "--memory", at_smallest}).status, kSuccess);
+    EXPECT_TRUE(std::filesystem::exists(svg));
+    const std::string torus = write_torus_phantom(dir).string();
+    const Output scan = run_capturing({"section", torus, "--iso", "0.5", "--error", "0.25", "--plane", "z=32", "--memory", "1M"});
+    EXPECT_EQ(scan.status, kUsageError);
+    EXPECT_GT(named_smallest(scan.err), 0u) << scan.err;
+}
+
 }  // namespace
 }  // namespace vdbmesh::cli
