@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <regex>
 #include <string>
 #include <vector>
@@ -154,6 +156,66 @@ TEST(SectionMemoryTest, LimitTooSmallIsUsageErrorWithNothingWritten) {
     const Output scan = run_capturing({"section", torus, "--iso", "0.5", "--error", "0.25", "--plane", "z=32", "--memory", "1M"});
     EXPECT_EQ(scan.status, kUsageError);
     EXPECT_GT(named_smallest(scan.err), 0u) << scan.err;
+}
+
+std::string file_bytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// A command that needs the whole grid or mesh: under the estimate, exit 2 naming it, the output
+/// not written; at the named limit it runs, writing what it writes without --memory.
+void expect_refused_then_run_at_the_estimate(const std::vector<std::string>& args, const std::filesystem::path& output) {
+    const Output refused = run_capturing(concat(args, {"--memory", "1M", "-q"}));
+    EXPECT_EQ(refused.status, kUsageError) << refused.err;
+    EXPECT_NE(refused.err.find("--memory: expected at least"), std::string::npos) << refused.err;
+    EXPECT_FALSE(std::filesystem::exists(output));
+    const std::uint64_t smallest = named_smallest(refused.err);
+    ASSERT_GT(smallest, 0u) << refused.err;
+    const Output bounded = run_capturing(concat(args, {"--memory", std::to_string(smallest >> 20) + "M", "-q"}));
+    EXPECT_EQ(bounded.status, kSuccess) << bounded.err;
+    if (output.empty()) return;
+    const std::string bounded_bytes = file_bytes(output);
+    EXPECT_FALSE(bounded_bytes.empty());
+    const Output whole = run_capturing(concat(args, {"-q"}));  // over it (the outputs are replaced atomically)
+    EXPECT_EQ(whole.status, kSuccess) << whole.err;
+    EXPECT_TRUE(file_bytes(output) == bounded_bytes) << "--memory changed " << output;
+}
+
+TEST(MemoryEstimateTest, ConvertRefusesUnderTheSurveyedGrid) {
+    VDBMESH_SHARED_DATA(head, "raw_vtk_headsq/headsq_64x64x93_int16le.raw");
+    const test::ScratchDir dir;
+    expect_refused_then_run_at_the_estimate(
+        {"convert", head.string(), "--raw-dims", "64,64,93", "--raw-type", "i16", "--iso", "1000.5", "-o", (dir / "head.vdb").string()},
+        dir / "head.vdb");
+}
+
+TEST(MemoryEstimateTest, LatticeAndProcessRefuseUnderTheirLeaves) {
+    const test::ScratchDir dir;
+    const std::filesystem::path lattice = dir / "gyroid.vdb", grown = dir / "grown.vdb";
+    expect_refused_then_run_at_the_estimate(
+        {"lattice", "gyroid", "--period", "2", "--thickness", "0.5", "--box", "4", "--voxel", "0.1", "-o", lattice.string()}, lattice);
+    expect_refused_then_run_at_the_estimate({"process", lattice.string(), "--deposit", "0.2", "-o", grown.string()}, grown);
+}
+
+TEST(MemoryEstimateTest, CompareRefusesUnderTheGridAndItsMeshes) {
+    expect_refused_then_run_at_the_estimate(
+        {"compare", "--phantom", "sphere", "--size", "32", "--error", "0.25", "--adaptivity", "0.25", "--no-budget", "--samples", "1000"}, {});
+}
+
+TEST(MemoryEstimateTest, ReconstructRefusesUnderThePointsAndVoxels) {
+    const test::ScratchDir dir;
+    // 2000 points on a unit sphere, with their normals (a spiral).
+    std::string text;
+    for (int i = 0; i < 2000; ++i) {
+        const double z = 1 - (2 * i + 1) / 2000.0, r = std::sqrt(1 - z * z), phi = i * 2.399963229728653;
+        const double x = r * std::cos(phi), y = r * std::sin(phi);
+        text += std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(z) + " " + std::to_string(x) + " " + std::to_string(y) +
+                " " + std::to_string(z) + "\n";
+    }
+    std::ofstream(dir / "sphere.xyz") << text;
+    expect_refused_then_run_at_the_estimate({"reconstruct", (dir / "sphere.xyz").string(), "-o", (dir / "sphere.ply").string()},
+                                            dir / "sphere.ply");
 }
 
 }  // namespace
