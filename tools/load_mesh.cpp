@@ -40,16 +40,30 @@ bool is_mesh_input(const std::vector<std::string>& inputs, const MeshInputOption
     return true;
 }
 
-Mesh load_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& options, const std::string& purpose) {
-    if (is_mesh_input(inputs, options)) return read_mesh(inputs.front());
+namespace {
+
+/// The grid's conversion: band 1 (what the dc mesher reads).
+ConvertOptions band_one() {
     ConvertOptions convert;
     convert.band = 1;
-    const GridInput loaded = load_grid(inputs, options.iso, options.read, purpose, convert, options.iso_option, options.inside);
+    return convert;
+}
+
+/// The dc mesher at --error for the isovalue and side the input gave.
+MeshOptions mesher_options(const MeshInputOptions& options, double iso, Inside inside) {
     MeshOptions mesh;
-    mesh.iso = loaded.iso;
-    mesh.inside = loaded.inside;
+    mesh.iso = iso;
+    mesh.inside = inside;
     mesh.error = options.error;
-    Mesh result = mesh_grid(*loaded.grid, mesh).mesh;
+    return mesh;
+}
+
+}  // namespace
+
+Mesh load_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& options, const std::string& purpose) {
+    if (is_mesh_input(inputs, options)) return read_mesh(inputs.front());
+    const GridInput loaded = load_grid(inputs, options.iso, options.read, purpose, band_one(), options.iso_option, options.inside);
+    Mesh result = mesh_grid(*loaded.grid, mesher_options(options, loaded.iso, loaded.inside)).mesh;
     if (result.triangles.empty()) throw no_surface_error(inputs.front(), *loaded.grid, {loaded.iso, loaded.iso}, "");
     if (options.refine) refine_to_isosurface(result, *loaded.grid, loaded.iso);
     return result;
@@ -82,17 +96,12 @@ void stream_grid_mesh(const std::vector<std::string>& inputs, const MeshInputOpt
                          "--error (such as 0.25)");
     }
     if (options.refine) throw UsageError("--memory: --refine moves the vertices of the whole mesh, which --memory never holds; leave it out");
-    ConvertOptions convert;
-    convert.band = 1;
-    const GridRegionsInput opened = open_grid_regions(inputs, options.iso, options.read, purpose, convert, options.iso_option, options.inside);
-    MeshOptions mesh;
-    mesh.iso = opened.iso;
-    mesh.inside = opened.inside;
-    mesh.error = options.error;
+    const GridRegionsInput opened =
+        open_grid_regions(inputs, options.iso, options.read, purpose, band_one(), options.iso_option, options.inside);
     BrickOptions bricks;
     bricks.memory_bytes = memory_bytes;
     RecordsSink sink(visitor);
-    mesh_bricks_to_stream(*opened.source, mesh, bricks, sink);
+    mesh_bricks_to_stream(*opened.source, mesher_options(options, opened.iso, opened.inside), bricks, sink);
     if (sink.triangles == 0) throw no_surface_error(inputs.front(), *opened.source->description(), {opened.iso, opened.iso}, "");
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "test_data.h"
+#include "solids_apart.h"
 #include "test_meshes.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/measure.h"
@@ -64,29 +65,12 @@ void expect_same_measure(const MeshMeasure& whole, const MeshMeasure& stream) {
     expect_same_components(whole, stream);
 }
 
-/// A torus, a cube and a cavity (an inverted cube inside the cube), apart: three components of
-/// three volumes, one negative.
-Mesh three_components() {
-    Mesh mesh = test::torus(40, 24);
-    const auto append = [&](Mesh part, bool inverted) {
-        const auto base = std::uint32_t(mesh.vertices.size());
-        mesh.vertices.insert(mesh.vertices.end(), part.vertices.begin(), part.vertices.end());
-        for (auto t : part.triangles) {
-            if (inverted) std::swap(t[1], t[2]);
-            mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
-        }
-    };
-    append(test::cube({10, 0, 0}, 4), false);
-    append(test::cube({11, 1, 1}, 1), true);
-    return mesh;
-}
-
 TEST(MeasureStreamTest, EveryFormatGivesTheWholeMeasure) {
     const test::ScratchDir dir;
     for (const bool ascii : {false, true}) {
         for (const char* extension : {".ply", ".stl", ".obj"}) {
             const std::filesystem::path file = dir / (std::string(ascii ? "ascii" : "binary") + extension);
-            write_mesh(three_components(), file, {ascii, false});
+            write_mesh(test::torus_and_box_with_cavity(), file, {ascii, false});
             SCOPED_TRACE(file.filename().string());
             const MeshMeasure stream = measure_mesh_stream(file, {kPlenty, kTinyRuns});
             expect_same_measure(measure_mesh(read_mesh(file)), stream);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "test_data.h"
+#include "solids_apart.h"
 #include "test_meshes.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/mesh_io.h"
@@ -18,22 +19,6 @@ namespace vdbmesh {
 namespace {
 
 constexpr std::uint64_t kPlenty = std::uint64_t(256) << 20;
-
-/// A torus and, apart from it, a box with a cavity: loops, holes and nesting.
-Mesh solids() {
-    Mesh mesh = test::torus(40, 24);
-    const auto append = [&](Mesh part, bool inverted) {
-        const auto base = std::uint32_t(mesh.vertices.size());
-        mesh.vertices.insert(mesh.vertices.end(), part.vertices.begin(), part.vertices.end());
-        for (auto t : part.triangles) {
-            if (inverted) std::swap(t[1], t[2]);
-            mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
-        }
-    };
-    append(test::cube({10, -2, -2}, 4), false);
-    append(test::cube({11, -1, -1}, 1), true);
-    return mesh;
-}
 
 std::vector<Plane> some_planes() {
     return {axis_plane(2, 0.25), axis_plane(2, 0), axis_plane(0, 11.5), axis_plane(1, 0.1), make_plane({1, 2, 3}, 0.7)};
@@ -66,7 +51,7 @@ TEST(SectionStreamTest, EveryFormatGivesTheWholeSections) {
     for (const bool ascii : {false, true}) {
         for (const char* extension : {".ply", ".obj", ".stl"}) {
             const std::filesystem::path file = dir / (std::string(ascii ? "ascii" : "binary") + extension);
-            write_mesh(solids(), file, {ascii, false});
+            write_mesh(test::torus_and_box_with_cavity(), file, {ascii, false});
             SCOPED_TRACE(file.filename().string());
             const Mesh mesh = read_mesh(file);
             std::vector<Section> whole;
