@@ -94,15 +94,9 @@ MeshMeasure bounded_measure(const MeasureOptions& o) {
     Progress progress("measuring", o.common.quiet);
     const StreamCheckOptions options{bytes, 0, [&](double share) { progress(share); }};
     if (is_mesh_input(o.inputs, o.input)) return measure_mesh_stream(o.inputs.front(), options);
-    // Refused before the meshing: the least the stream needs for a mesh of no vertices (the
-    // mesher refuses a limit under one brick itself, before it starts).
-    if (bytes < MeshMeasureStream::least_bytes()) {
-        const std::uint64_t least = (MeshMeasureStream::least_bytes() + (1 << 20) - 1) >> 20;
-        throw UsageError("--memory: " + std::to_string(bytes >> 20) + "M is too small to measure the mesh of " + o.inputs.front() +
-                         " as a stream: at least " + std::to_string(least) + "M and 12.25 bytes for each of its vertices; the smallest "
-                         "limit that could work is " + std::to_string(least) + "M");
-    }
-    MeshMeasureStream stream(o.inputs.front(), options);
+    const StreamCheckOptions share{grid_stream_share(bytes, MeshMeasureStream::least_bytes(), "measure", o.inputs.front()), 0,
+                                   options.progress};
+    MeshMeasureStream stream(o.inputs.front(), share);
     stream_grid_mesh(o.inputs, o.input, "measure", bytes, stream);
     return stream.finish();
 }

@@ -123,14 +123,7 @@ std::vector<Section> bounded_sections(const SectionOptions& o, const std::vector
     std::vector<Plane> planes;
     for (const NamedPlane& p : named) planes.push_back(p.plane);
     if (is_mesh_input(o.inputs, o.input)) return section_mesh_stream(o.inputs.front(), planes, bytes);
-    // Refused before the meshing (the mesher refuses a limit under one brick itself).
-    if (bytes < SectionStream::least_bytes()) {
-        const std::string least = std::to_string((SectionStream::least_bytes() + (1 << 20) - 1) >> 20) + "M";
-        throw UsageError("--memory: " + std::to_string(bytes >> 20) + "M is too small to section the mesh of " + o.inputs.front() +
-                         " as a stream: at least " + least + " and 12 bytes for each of its vertices; the smallest limit that could work is " +
-                         least);
-    }
-    SectionStream stream(o.inputs.front(), std::move(planes), bytes);
+    SectionStream stream(o.inputs.front(), std::move(planes), grid_stream_share(bytes, SectionStream::least_bytes(), "section", o.inputs.front()));
     stream_grid_mesh(o.inputs, o.input, "section", bytes, stream);
     return stream.finish();
 }

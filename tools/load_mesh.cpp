@@ -6,6 +6,7 @@
 
 #include "load_grid.h"
 #include "option_checks.h"
+#include "work_limits.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid_filter.h"
 #include "vdbmesh/mesh_io.h"
@@ -77,7 +78,12 @@ public:
     explicit RecordsSink(MeshRecordVisitor& visitor) : visitor_(visitor) {}
     void begin(std::uint64_t vertex_count, std::uint64_t triangle_count) override {
         triangles = triangle_count;
-        visitor_.announced(vertex_count, triangle_count);
+        try {
+            visitor_.announced(vertex_count, triangle_count);
+        } catch (const UsageError& e) {
+            throw UsageError(std::string(e.what()) + " (of half the limit beside the program: a mesh made by bricks is handed over " +
+                             "while the mesher reads its spill back, which holds the other half; --memory twice that less 64M)");
+        }
     }
     void vertex(const std::array<float, 3>& position) override { visitor_.vertex(position); }
     void triangle(const std::array<std::uint32_t, 3>& t, const std::array<std::array<float, 3>, 3>&) override { visitor_.triangle(t); }
@@ -88,6 +94,20 @@ private:
 };
 
 }  // namespace
+
+std::uint64_t grid_stream_share(std::uint64_t memory_bytes, std::uint64_t least_stream_bytes, const std::string& verb,
+                                const std::string& input) {
+    // The program is counted once: the rest is halved.
+    const auto program = std::uint64_t(kProgramBytes);
+    const std::uint64_t share = memory_bytes < program ? memory_bytes : program + (memory_bytes - program) / 2;
+    if (share >= least_stream_bytes) return share;
+    constexpr std::uint64_t kMiB = std::uint64_t(1) << 20;
+    const std::string least = std::to_string((2 * least_stream_bytes - program + kMiB - 1) / kMiB) + "M";
+    throw UsageError("--memory: " + std::to_string(memory_bytes / kMiB) + "M is too small to " + verb + " the mesh of " + input +
+                     " as it is made by bricks: half the limit beside the program goes to the stream, which needs at least " +
+                     std::to_string((least_stream_bytes + kMiB - 1) / kMiB) + "M and about 12 bytes for each of the mesh's vertices; "
+                     "the smallest limit that could work is " + least);
+}
 
 void stream_grid_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& options, const std::string& purpose,
                       std::uint64_t memory_bytes, MeshRecordVisitor& visitor) {

@@ -40,10 +40,19 @@ bool is_mesh_input(const std::vector<std::string>& inputs, const MeshInputOption
 /// is missing.
 Mesh load_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& options, const std::string& purpose);
 
+/// With --memory @a memory_bytes and a scan or .vdb input: what the stream of its bricked mesh
+/// may hold: the program (kProgramBytes) and half the rest (the stream is fed while the mesher
+/// reads its spill back, which holds about as much: the k = 3 bunny measured with the whole
+/// limit each peaked at 1.48 GiB for --memory 1G). @throw UsageError, before any work, when
+/// that share is under @a least_stream_bytes (naming the smallest limit that could work).
+std::uint64_t grid_stream_share(std::uint64_t memory_bytes, std::uint64_t least_stream_bytes, const std::string& verb,
+                                const std::string& input);
+
 /// With --memory and a scan or .vdb input (not is_mesh_file()): the surface meshed by bricks
 /// within @a memory_bytes (the .vdb or scan read by region, as `mesh --memory` reads it) and
 /// handed to @a visitor as a file of it would be read: announced(), the vertices, the
 /// triangles. The same mesh as load_mesh() at the same --error (above 0: the bricks' mesher).
+/// @a visitor plans for grid_stream_share() of @a memory_bytes; the mesher, for all of it.
 /// @throw UsageError for --error 0 or --refine (the whole mesh) and a limit under one brick.
 void stream_grid_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& options, const std::string& purpose,
                       std::uint64_t memory_bytes, MeshRecordVisitor& visitor);
