@@ -57,6 +57,7 @@ struct CompareCommandOptions {
     ReadFlags read;
     CommonOptions common;
     WorkLimit work_limit;
+    MemoryLimit memory;
 };
 
 /// The grid to compare on, and what the report says about where it came from.
@@ -233,6 +234,18 @@ Plot make_plot(const std::string& title, const std::vector<MeshComparison>& mesh
     return plot;
 }
 
+/// --memory, once the grid is made and before any mesh: the meshers need the whole grid, so the
+/// need is the grid, the meshing at its peak and the surface samples of both sides. Meshing
+/// peaks at about 150 bytes a triangle (issue 28's table), 180 here as compare keeps a few
+/// meshes (the bunny k = 1 .vdb at --error 0.25 --adaptivity 0.25: 664 MB, estimated 650); the
+/// densest mesh, Marching Cubes', has about 0.65 triangles an active voxel of a band-1 grid
+/// (the bunny's 3.02 M for 4.64 M).
+void refuse_beyond_grid_estimate(const CompareCommandOptions& o, const openvdb::FloatGrid& grid) {
+    const double triangles = 0.65 * double(grid.activeVoxelCount());
+    refuse_beyond_memory(o.memory, "--memory", "the grid and its meshes (volumeToMesh and the others need the whole grid)",
+                         double(grid.memUsage()) + 180 * triangles + 2 * 24.0 * double(o.samples));
+}
+
 int run_compare(const CompareCommandOptions& o) {
     const ThreadLimit limit(o.common);
     CompareOptions options;
@@ -268,6 +281,7 @@ int run_compare(const CompareCommandOptions& o) {
     refuse_beyond_work(o.work_limit, "--samples", 2.0 * double(o.samples) * double(mesh_count),
                        "distance queries (samples both ways on " + std::to_string(mesh_count) + " meshes)", 1e-6);
     const LoadedGrid loaded = load_input(o);
+    refuse_beyond_grid_estimate(o, *loaded.grid);
     options.iso = loaded.iso;
     options.inside = loaded.inside;
     if (loaded.phantom) {
@@ -330,6 +344,7 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
     add_read_flags(command, o.read);
     add_common_options(command, o.common);
     add_work_limit_option(command, o.work_limit);
+    add_memory_option(command, o.memory, "the grid once converted (the conversion itself is not bounded)");
     command.callback([options, &result] { result.status = run_compare(*options); });
 }
 

@@ -13,7 +13,9 @@
 #include "option_checks.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/scan_regions.h"
 #include "vdbmesh/volume_stats.h"
+#include "work_limits.h"
 
 namespace vdbmesh::cli {
 namespace {
@@ -23,6 +25,7 @@ struct ConvertCommandOptions {
     std::string iso, iso_range, output;
     int band = 1;
     ReadFlags read;
+    MemoryLimit memory;
     CommonOptions common;
 };
 
@@ -49,6 +52,19 @@ void set_isovalue(const ConvertCommandOptions& o, const ReadOptions& read, Conve
     }
 }
 
+/// --memory: the grid is written whole (a .vdb cannot be written in parts), so the need is the
+/// grid's and the converter's windows while it reads; the scan is surveyed first (one more pass
+/// over the file, holding one band) to count the active voxels of each 128^3 node.
+void refuse_beyond_estimate(const ConvertCommandOptions& o, const ReadOptions& read, const ConvertOptions& options) {
+    Progress progress("surveying for --memory", o.common.quiet);
+    ConvertOptions survey = options;
+    survey.progress = [&](double f) { progress(f); };
+    const std::string first = o.inputs.front();
+    const auto source = open_scan_regions([first, read] { return std::unique_ptr<SliceReader>(open_volume(first, read)); }, survey);
+    refuse_beyond_memory(o.memory, "--memory", "the grid of " + first + " (a .vdb is written whole) and the converter's windows",
+                         whole_grid_bytes(*source, true));
+}
+
 int run_convert(const ConvertCommandOptions& o) {
     const ThreadLimit limit(o.common);
     const ReadOptions read = o.read.to_read_options({o.inputs.begin() + 1, o.inputs.end()});
@@ -61,6 +77,7 @@ int run_convert(const ConvertCommandOptions& o) {
     ConvertOptions options;
     options.band = o.band;
     set_isovalue(o, read, options);
+    if (o.memory.given()) refuse_beyond_estimate(o, read, options);
     auto reader = open_volume(o.inputs.front(), read);
     if (!o.common.quiet)
         for (const std::string& warning : reader->header().warnings) std::cerr << "vdbmesh: warning: " << warning << "\n";
@@ -89,6 +106,7 @@ void add_convert_command(CLI::App& command, CommandResult& result) {
         ->capture_default_str();
     output_file(command.add_option("-o,--output", o.output, "Output .vdb file (written atomically)"))->required();
     add_read_flags(command, o.read);
+    add_memory_option(command, o.memory, "a survey of the scan (one more pass over it)");
     add_common_options(command, o.common);
     command.callback([options, &result] { result.status = run_convert(*options); });
 }

@@ -59,6 +59,7 @@ struct LatticeCommandOptions {
     bool ascii = false;
     CommonOptions common;
     WorkLimit work_limit;
+    MemoryLimit memory;
 };
 
 std::array<double, 3> parse_triple(const std::string& flag, const std::string& text) {
@@ -88,7 +89,13 @@ double distinct_along(double side_voxels, double band, double dim, double period
 /// crosses (6.2 / period of surface per unit volume: a gyroid sheet's two sides) times its
 /// width, and at least the box grown by the band less a cell's diagonal (every point of the
 /// box lies within that of the surface): a band wider than the box fills the widened box.
-void refuse_unbounded_lattice(const WorkLimit& limit, const LatticeOptions& lattice) {
+/// With --memory: the distinct leaves stored (sizeof(SharedLeaf) each), a pointer for each
+/// leaf of the band, and what the output expands: a .vdb every band leaf as a float leaf, a flat
+/// mesh the surface's leaves' triangles (Marching Cubes: about 2 a surface voxel on the 8 x 8
+/// faces of a leaf, 128 each, at about 40 bytes with their vertices); a measure or an instanced
+/// glTF little more than the tree. The --clip solid is not counted.
+void refuse_unbounded_lattice(const WorkLimit& limit, const LatticeOptions& lattice, const MemoryLimit& memory = {},
+                              const std::string& extension = "") {
     const double band = std::ceil(lattice.band), leaf = 8 * lattice.voxel, ratio = lattice.period / lattice.voxel;
     const double period_voxels = std::abs(ratio - std::round(ratio)) < 1e-9 * std::max(1.0, ratio) && ratio < 1e9 ? std::round(ratio) : 0;
     const double grown = band * lattice.voxel - std::sqrt(3.0) * lattice.period;  // <= 0: no leaf is sure to be in the band
@@ -109,8 +116,14 @@ void refuse_unbounded_lattice(const WorkLimit& limit, const LatticeOptions& latt
     std::ostringstream units;
     units.precision(3);
     units << "leaf positions in --box and the band around it, " << evaluated << " of them evaluated,";
-    refuse_beyond_work(limit, 2 * band > widest ? "--band" : "--voxel", classified, units.str(),
-                       (0.5e-6 * classified + 9e-6 * evaluated) / classified);
+    const std::string option = 2 * band > widest ? "--band" : "--voxel";
+    refuse_beyond_work(limit, option, classified, units.str(), (0.5e-6 * classified + 9e-6 * evaluated) / classified);
+    if (!memory.given()) return;
+    double output = 0;
+    if (extension == ".vdb") output = band_leaves * kFloatLeafBytes;
+    if (extension == ".stl" || extension == ".ply" || extension == ".obj") output = std::min(surface_leaves, band_leaves) * 128 * 40;
+    refuse_beyond_memory(memory, option, "the lattice's distinct leaves, its band's leaves and the output expanded",
+                         evaluated * double(sizeof(SharedLeaf)) + 8 * band_leaves + output);
 }
 
 /// Serves the page showing @a tree by its splat hierarchy until Ctrl-C.
@@ -160,7 +173,7 @@ int run_lattice(const LatticeCommandOptions& o) {
     if (!o.box.empty()) lattice.box = parse_triple("--box", o.box);
     if (!o.box_min.empty()) lattice.box_min = parse_triple("--box-min", o.box_min);
     if (o.clip.empty() || !o.box.empty()) check_lattice_options(lattice);  // with --clip alone: once its box is known
-    if (!o.box.empty()) refuse_unbounded_lattice(o.work_limit, lattice);
+    if (!o.box.empty()) refuse_unbounded_lattice(o.work_limit, lattice, o.memory, extension);
     const ThreadLimit limit(o.common);
     Progress progress("lattice", o.common.quiet);
 
@@ -184,7 +197,7 @@ int run_lattice(const LatticeCommandOptions& o) {
                 lattice.box[a] = hi[a] - lo[a] + 2 * o.voxel;
             }
             check_lattice_options(lattice);
-            refuse_unbounded_lattice(o.work_limit, lattice);
+            refuse_unbounded_lattice(o.work_limit, lattice, o.memory, extension);
         }
         clip = clip_level_set(solid, o.voxel, o.band);
     }
@@ -272,6 +285,7 @@ void add_lattice_command(CLI::App& command, CommandResult& result) {
     add_read_flags(command, o->clip_input.read);
     add_common_options(command, o->common);
     add_work_limit_option(command, o->work_limit);
+    add_memory_option(command, o->memory, "the lattice's leaves and the output (not counting a --clip solid)");
     command.callback([o, &result] { result.status = run_lattice(*o); });
 }
 

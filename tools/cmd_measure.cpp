@@ -1,7 +1,9 @@
-// `vdbmesh measure INPUT [--iso V] [--json]`: area, volume, centroid, inertia, principal
-// moments and axes, bounding box, genus and components of a mesh file, or of the surface of a
-// scan meshed in memory (include/vdbmesh/measure.h). With --labels: per label of a label map
-// (label_measure_command.h).
+// `vdbmesh measure INPUT [--iso V] [--memory SIZE] [--json]`: area, volume, centroid, inertia,
+// principal moments and axes, bounding box, genus and components of a mesh file, or of the
+// surface of a scan meshed in memory (include/vdbmesh/measure.h). With --labels: per label of a
+// label map (label_measure_command.h). With --memory (issue 28): within SIZE whatever the
+// input's size, a mesh read as a stream (MeshMeasureStream), a scan or .vdb meshed by bricks
+// straight into that stream (stream_grid_mesh(): no temporary mesh file).
 
 #include <algorithm>
 #include <iomanip>
@@ -27,6 +29,7 @@ constexpr std::size_t kListedComponents = 10;  ///< components listed in the tex
 struct MeasureOptions {
     std::vector<std::string> inputs;
     MeshInputOptions input;
+    std::string memory;  ///< --memory SIZE, empty when not given
     bool json = false;
     CommonOptions common;
     LabelMeasureRequest labels;  ///< with --labels (inputs, json, read and common options copied in)
@@ -60,11 +63,11 @@ std::ostream& operator<<(std::ostream& out, const std::array<double, 3>& v) {
     return out << v[0] << "  " << v[1] << "  " << v[2];
 }
 
-void print_measure(const std::string& input, const MeshMeasure& m, std::ostream& out) {
+void print_measure(const std::string& input, const MeshMeasure& m, bool bounded, std::ostream& out) {
     const MeshAnalysis& r = m.report;
     out << std::setprecision(9) << input << ": " << r.triangles << " triangles, "
         << (r.is_clean() ? "clean" : r.closed ? "closed but not clean (see vdbmesh check)" : "NOT closed: volume is not meaningful")
-        << "\n";
+        << (bounded ? " (--memory: self-intersections not checked)" : "") << "\n";
     out << "area               " << r.area << "\n"
         << "volume             " << r.volume << "\n"
         << "centroid           " << r.centroid << "\n"
@@ -85,20 +88,34 @@ void print_measure(const std::string& input, const MeshMeasure& m, std::ostream&
     }
 }
 
+/// measure --memory: the mesh as a stream, never held.
+MeshMeasure bounded_measure(const MeasureOptions& o) {
+    const std::uint64_t bytes = parse_memory_size("--memory", o.memory);
+    Progress progress("measuring", o.common.quiet);
+    const StreamCheckOptions options{bytes, 0, [&](double share) { progress(share); }};
+    if (is_mesh_input(o.inputs, o.input)) return measure_mesh_stream(o.inputs.front(), options);
+    const StreamCheckOptions share{grid_stream_share(bytes, MeshMeasureStream::least_bytes(), "measure", o.inputs.front()), 0,
+                                   options.progress};
+    MeshMeasureStream stream(o.inputs.front(), share);
+    stream_grid_mesh(o.inputs, o.input, "measure", bytes, stream);
+    return stream.finish();
+}
+
 void run_measure(MeasureOptions& o) {
     if (o.labels.label.labels) {
         LabelMeasureRequest& request = o.labels;
         request.inputs = o.inputs, request.json = o.json, request.read = o.input.read, request.common = o.common;
         if (request.json && request.csv) throw UsageError("--csv and --json: expected one of them");
+        if (!o.memory.empty()) throw UsageError("--memory: not with --labels (each label's mesh is made and measured in memory)");
         return run_label_measure(request);
     }
     if (o.labels.csv) throw UsageError("--csv: only with --labels");
     const ThreadLimit limit(o.common);
-    const MeshMeasure measure = measure_mesh(load_mesh(o.inputs, o.input, "measure"));
+    const MeshMeasure measure = o.memory.empty() ? measure_mesh(load_mesh(o.inputs, o.input, "measure")) : bounded_measure(o);
     if (o.json) {
         std::cout << detail::json_text(measure_json(measure)) << "\n";
     } else {
-        print_measure(o.inputs.front(), measure, std::cout);
+        print_measure(o.inputs.front(), measure, !o.memory.empty(), std::cout);
     }
 }
 
@@ -110,6 +127,10 @@ void add_measure_command(CLI::App& command, CommandResult& result) {
                        "A mesh (.stl, .ply, .obj), or a .vdb or scan meshed in memory (extra files: the parts of a split raw scan)")
         ->required();
     add_mesh_input_options(command, options->input);
+    command.add_option("--memory", options->memory,
+                       "Measure within SIZE (K, M, G) whatever the input's size: a mesh read as a stream, a scan or .vdb meshed by "
+                       "bricks (--error above 0); sums sorted and spooled through temporary files in $TMPDIR; self-intersections "
+                       "not checked (\"clean\" counts the rest)");
     command.add_flag("--json", options->json, "One JSON object instead of a table");
     add_label_flags(command, options->labels.label, "A label map: measure each label's mesh (all, or a list like 3,5,10-12)");
     command.add_flag("--csv", options->labels.csv, "--labels: CSV instead of a table");

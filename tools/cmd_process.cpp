@@ -33,6 +33,7 @@ struct ProcessCommandOptions {
     bool json = false;
     CommonOptions common;
     WorkLimit work_limit;
+    MemoryLimit memory;
 };
 
 struct Etch {
@@ -75,9 +76,11 @@ openvdb::FloatGrid::Ptr read_level_set(const std::string& path) {
 /// Refuses steps whose leaf visits (each pass maps every leaf, about 1 ms each: a deposit of 10
 /// on a 2-wide lattice, 5400 visits in 4.7 s) or leaves exceed the limits. A deposit of D grows
 /// the box by 2 D and the surface's leaves with its square, in passes of at most 7 voxels
-/// (shared_deposit); an etch passes at most 8 voxels at a time (shared_etch).
-void refuse_unbounded_steps(const WorkLimit& limit, const openvdb::FloatGrid& input, const std::vector<std::string>& order,
-                            const std::vector<double>& deposits, const std::vector<Etch>& etches) {
+/// (shared_deposit); an etch passes at most 8 voxels at a time (shared_etch). Memory: @a held
+/// (the grids read), the grown leaves twice (a step's input and output trees), and with --memory
+/// the result's float grid too, built while the last tree lives.
+void refuse_unbounded_steps(const WorkLimit& limit, const MemoryLimit& memory, double held, const openvdb::FloatGrid& input,
+                            const std::vector<std::string>& order, const std::vector<double>& deposits, const std::vector<Etch>& etches) {
     const double voxel = input.voxelSize()[0];
     const openvdb::CoordBBox box = input.evalActiveVoxelBoundingBox();
     double extent = voxel * double(std::max(1, (box.dim()[0] + box.dim()[1] + box.dim()[2]) / 3));
@@ -94,6 +97,9 @@ void refuse_unbounded_steps(const WorkLimit& limit, const openvdb::FloatGrid& in
         const std::string option = deposit ? "--deposit" : "--etch";
         refuse_beyond_work(limit, option, visits, "leaf visits in passes over the grown surface", 1e-3);
         refuse_beyond_memory(option, "the grown level set's leaves, twice", 2.0 * sizeof(SharedLeaf) * leaves);
+        const double result = kFloatLeafBytes * leaves;
+        refuse_beyond_memory(memory, option, "the grids read, the grown level set's leaves twice and the result",
+                             held + 2.0 * sizeof(SharedLeaf) * leaves + result);
     }
 }
 
@@ -118,7 +124,10 @@ int run_process(const ProcessCommandOptions& o, const std::vector<std::string>& 
                              std::to_string(stop->voxelSize()[0]));
         }
     }
-    refuse_unbounded_steps(o.work_limit, *input, order, o.deposits, etches);
+    // --memory: the grids are read whole first (every step needs every leaf), then the steps are
+    // estimated with them, before any step runs.
+    const double held = double(input->memUsage()) + (stop ? double(stop->memUsage()) : 0);
+    refuse_unbounded_steps(o.work_limit, o.memory, held, *input, order, o.deposits, etches);
     SharedTree tree = build_shared_tree(*input);
     nlohmann::ordered_json steps = nlohmann::ordered_json::array();
     std::size_t next_deposit = 0, next_etch = 0;
@@ -165,6 +174,7 @@ void add_process_command(CLI::App& command, CommandResult& result) {
     command.add_flag("--json", o->json, "Print the figures as one JSON object on stdout");
     add_common_options(command, o->common);
     add_work_limit_option(command, o->work_limit);
+    add_memory_option(command, o->memory, "the level sets read and the steps");
     command.callback([o, &result, &command, deposit, etch] {
         std::vector<std::string> order;
         for (const CLI::Option* opt : command.parse_order()) {

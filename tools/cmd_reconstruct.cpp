@@ -32,19 +32,26 @@ struct ReconstructCommandOptions {
     bool ascii = false;
     CommonOptions common;
     WorkLimit work_limit;
+    MemoryLimit memory;
 };
 
 /// Refuses a --voxel whose surface would take more memory or work than a run may plan for. The
 /// surface's voxels are bounded by the area of the points' box over voxel^2; each took about
 /// 2 us and 700 bytes (a sphere of radius 10 at --voxel 0.025: 6.4 s, 1.36 GB, for 3.8e6).
-void refuse_unbounded_sampling(const WorkLimit& limit, const PointCloud& points, double voxel) {
-    if (!(voxel > 0)) return;  // the default: the longest side / 256
+/// With --memory the default voxel is estimated too, with the points held (positions and
+/// normals, in doubles, twice: the cloud read and the one reconstructed from).
+void refuse_unbounded_sampling(const WorkLimit& limit, const MemoryLimit& memory, const PointCloud& points, double voxel) {
+    if (!(voxel > 0) && !memory.given()) return;  // the default: the longest side / 256
     Vec3d lo = points.points.front(), hi = lo;
     for (const Vec3d& p : points.points)
         for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
     const Vec3d side{hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
-    const double surface_voxels = 2 * (side[0] * side[1] + side[1] * side[2] + side[2] * side[0]) / (voxel * voxel);
-    refuse_beyond_memory("--voxel", "the surface's voxels", 700 * surface_voxels);
+    const double planned_voxel = voxel > 0 ? voxel : std::max({side[0], side[1], side[2]}) / 256;
+    const double surface_voxels = 2 * (side[0] * side[1] + side[1] * side[2] + side[2] * side[0]) / (planned_voxel * planned_voxel);
+    const double point_bytes = 2 * 48.0 * double(points.points.size());
+    refuse_beyond_memory(memory, "--voxel", "the points and the surface's voxels (700 bytes each)",
+                         (memory.given() ? point_bytes : 0) + 700 * surface_voxels);
+    if (!(voxel > 0)) return;
     refuse_beyond_work(limit, "--voxel", surface_voxels, "surface voxels", 2e-6);
 }
 
@@ -59,7 +66,7 @@ int run_reconstruct(ReconstructCommandOptions& o) {
     Progress progress("reconstructing", o.common.quiet);
     o.rec.progress = [&](double f) { progress(f); };
     PointCloud points = read_points(o.input);
-    refuse_unbounded_sampling(o.work_limit, points, o.rec.sample.voxel);
+    refuse_unbounded_sampling(o.work_limit, o.memory, points, o.rec.sample.voxel);
     Reconstruction rec;
     try {
         rec = reconstruct(std::move(points), o.rec);
@@ -129,6 +136,7 @@ void add_reconstruct_command(CLI::App& command, CommandResult& result) {
     command.add_flag("--json", o->json, "Figures as one JSON object on stdout");
     add_common_options(command, o->common);
     add_work_limit_option(command, o->work_limit);
+    add_memory_option(command, o->memory, "the points read and the voxel (they are read whole first)");
     command.callback([o, &result] { result.status = run_reconstruct(*o); });
 }
 

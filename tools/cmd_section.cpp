@@ -1,6 +1,8 @@
 // `vdbmesh section INPUT --plane z=42.5 [--planes z=0:100:5] [--normal NX,NY,NZ --offset D]
-// [--svg FILE] [--json]`: cross-sections of a closed mesh, or of a scan's surface meshed in
-// memory (include/vdbmesh/section.h).
+// [--svg FILE] [--memory SIZE] [--json]`: cross-sections of a closed mesh, or of a scan's
+// surface meshed in memory (include/vdbmesh/section.h). With --memory (issue 28): within SIZE
+// whatever the input's size, a mesh read as a stream and cut triangle by triangle
+// (SectionStream), a scan or .vdb meshed by bricks straight into that stream.
 
 #include <algorithm>
 #include <cctype>
@@ -34,6 +36,7 @@ struct SectionOptions {
     std::string normal;
     double offset = 0;
     std::string svg;
+    std::string memory;  ///< --memory SIZE, empty when not given
     bool json = false;
     CommonOptions common;
 };
@@ -114,18 +117,34 @@ void print_section(const std::string& label, const Section& s, std::ostream& out
         << ", second moments " << s.second_moments[0] << " " << s.second_moments[1] << " " << s.second_moments[2] << "\n";
 }
 
+/// section --memory: the mesh as a stream, never held.
+std::vector<Section> bounded_sections(const SectionOptions& o, const std::vector<NamedPlane>& named) {
+    const std::uint64_t bytes = parse_memory_size("--memory", o.memory);
+    std::vector<Plane> planes;
+    for (const NamedPlane& p : named) planes.push_back(p.plane);
+    if (is_mesh_input(o.inputs, o.input)) return section_mesh_stream(o.inputs.front(), planes, bytes);
+    SectionStream stream(o.inputs.front(), std::move(planes), grid_stream_share(bytes, SectionStream::least_bytes(), "section", o.inputs.front()));
+    stream_grid_mesh(o.inputs, o.input, "section", bytes, stream);
+    return stream.finish();
+}
+
+std::vector<Section> whole_sections(const SectionOptions& o, const std::vector<NamedPlane>& planes) {
+    const Mesh mesh = load_mesh(o.inputs, o.input, "section");
+    std::vector<Section> sections;
+    for (const NamedPlane& p : planes) sections.push_back(section_mesh(mesh, p.plane));
+    return sections;
+}
+
 void run_section(const SectionOptions& o) {
     const ThreadLimit limit(o.common);
     const std::vector<NamedPlane> planes = parse_planes(o);
-    const Mesh mesh = load_mesh(o.inputs, o.input, "section");
-    std::vector<Section> sections;
+    const std::vector<Section> sections = o.memory.empty() ? whole_sections(o, planes) : bounded_sections(o, planes);
     std::vector<std::string> labels;
     nlohmann::ordered_json report;
     report["sections"] = nlohmann::ordered_json::array();
-    for (const NamedPlane& p : planes) {
-        sections.push_back(section_mesh(mesh, p.plane));
-        labels.push_back(p.label);
-        report["sections"].push_back(section_json(p.label, sections.back()));
+    for (std::size_t i = 0; i < planes.size(); ++i) {
+        labels.push_back(planes[i].label);
+        report["sections"].push_back(section_json(planes[i].label, sections[i]));
     }
     if (!o.svg.empty()) write_text_file(o.svg, section_svg(sections, labels));
     if (o.json) {
@@ -150,6 +169,9 @@ void add_section_command(CLI::App& command, CommandResult& result) {
         ->capture_default_str();
     output_file(command.add_option("--svg", options->svg, "Draw the sections to scale into this SVG file"));
     command.add_flag("--json", options->json, "One JSON object {\"sections\": [...]} instead of text");
+    command.add_option("--memory", options->memory,
+                       "Section within SIZE (K, M, G) whatever the input's size: a mesh read as a stream and cut triangle by triangle, "
+                       "a scan or .vdb meshed by bricks (--error above 0)");
     add_mesh_input_options(command, options->input);
     add_common_options(command, options->common);
     command.callback([options, &result] {

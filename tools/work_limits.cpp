@@ -1,9 +1,12 @@
 #include "work_limits.h"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "common_options.h"
 #include "vdbmesh/error.h"
+#include "vdbmesh/grid_region.h"
 
 namespace vdbmesh::cli {
 
@@ -47,6 +50,37 @@ void refuse_beyond_memory(const std::string& option, const std::string& what, do
     if (bytes <= kMemoryLimitBytes) return;
     throw UsageError(option + ": expected at most " + number_text(kMemoryLimitBytes / kGiB) + " GiB of memory for " + what +
                      ", got an estimate of " + number_text(bytes / kGiB) + " GiB");
+}
+
+double MemoryLimit::bytes() const { return given() ? double(parse_memory_size("--memory", text)) : kMemoryLimitBytes; }
+
+void add_memory_option(CLI::App& command, MemoryLimit& limit, const std::string& what) {
+    command.add_option("--memory", limit.text,
+                       "Refuse to start when the memory needed, estimated before starting from " + what +
+                           ", exceeds SIZE (K, M, G: powers of 1024); the run then stays within about SIZE");
+}
+
+void refuse_beyond_memory(const MemoryLimit& limit, const std::string& option, const std::string& what, double bytes) {
+    if (!limit.given()) return refuse_beyond_memory(option, what, bytes);
+    const double needed = bytes + kProgramBytes, given = limit.bytes();
+    if (needed <= given) return;
+    constexpr double kMiB = 1024.0 * 1024;
+    throw UsageError("--memory: expected at least " + std::to_string(std::uint64_t(std::ceil(needed / kMiB))) + "M for " + what +
+                     " and the program, got " + limit.text + "; the smallest limit that could work is " +
+                     std::to_string(std::uint64_t(std::ceil(needed / kMiB))) + "M");
+}
+
+double whole_grid_bytes(const GridRegionSource& source, bool reading) {
+    const std::vector<NodeWeight> nodes = source.nodes();
+    if (nodes.empty()) return 0;
+    IndexBox box{nodes.front().origin, nodes.front().origin};
+    for (const NodeWeight& node : nodes) {
+        for (int a = 0; a < 3; ++a) {
+            box.min[a] = std::min(box.min[a], node.origin[a]);
+            box.max[a] = std::max(box.max[a], node.origin[a] + kNodeVoxels);
+        }
+    }
+    return double(reading ? source.estimated_bytes(box) : source.grid_bytes(box));
 }
 
 }  // namespace vdbmesh::cli

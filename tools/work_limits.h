@@ -8,13 +8,25 @@
 // 2 minutes of one core unless the run's --work-limit says more, 16 GiB of memory.
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <string>
+
+namespace vdbmesh {
+class GridRegionSource;
+}
 
 namespace vdbmesh::cli {
 
-/// The memory a run may plan for, in bytes. `vdbmesh mesh --memory` (issue 28) is to set it per
-/// run; until then every command uses this default.
+/// The memory a run may plan for, in bytes, unless its --memory says otherwise (issue 28).
 inline constexpr double kMemoryLimitBytes = 16.0 * 1024 * 1024 * 1024;
+
+/// A float leaf of an OpenVDB tree in memory: its 512 values (a buffer of their own) and the
+/// node (masks, origin, the buffer's pointer), about 100 bytes.
+inline constexpr double kFloatLeafBytes = 512 * 4 + 100;
+
+/// The process besides what a command holds (the program, its libraries, the heap's and the
+/// threads' own): what every --memory estimate adds (as analyze_stream.cpp plans it).
+inline constexpr double kProgramBytes = 64.0 * 1024 * 1024;
 
 /// The work a run may plan for unless --work-limit says more: 2 minutes of one core (1 on two).
 /// A command that would take longer on an ordinary laptop is more likely a mistyped number
@@ -43,5 +55,28 @@ void refuse_beyond_work(const WorkLimit& limit, const std::string& option, doubl
 /// Throws UsageError naming @a option, the estimate and kMemoryLimitBytes in GiB when @a bytes
 /// (of @a what) exceed it.
 void refuse_beyond_memory(const std::string& option, const std::string& what, double bytes);
+
+/// --memory SIZE of a command that cannot bound its work to any size (it needs the whole grid
+/// or mesh) and estimates its need before starting instead: a limit under the estimate is
+/// refused, one above it held to by the estimate's margin.
+struct MemoryLimit {
+    std::string text;  ///< as given; empty: kMemoryLimitBytes, the default plan
+    bool given() const { return !text.empty(); }
+    /// The limit in bytes (parse_memory_size()).
+    double bytes() const;
+};
+
+/// --memory SIZE; @a what says what the estimate covers.
+void add_memory_option(CLI::App& command, MemoryLimit& limit, const std::string& what);
+
+/// With --memory given: throws UsageError "--memory: expected at least X for WHAT, got Y" when
+/// the estimate @a bytes (with kProgramBytes added) exceeds it; without it,
+/// refuse_beyond_memory(@a option, @a what, @a bytes).
+void refuse_beyond_memory(const MemoryLimit& limit, const std::string& option, const std::string& what, double bytes);
+
+/// The whole grid of @a source: the bytes read() of its every node would hold (its
+/// grid_bytes(); with @a reading, estimated_bytes(), what the source holds while reading too),
+/// from the tree's topology (a .vdb's, a scan's survey) without reading a voxel.
+double whole_grid_bytes(const GridRegionSource& source, bool reading = false);
 
 }  // namespace vdbmesh::cli

@@ -5,9 +5,14 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "vdbmesh/mesh.h"
+#include "vdbmesh/mesh_io.h"
 
 namespace vdbmesh {
 
@@ -57,5 +62,40 @@ struct Section {
 /// @throw Error when the mesh is not closed and consistently oriented along the cut (a crossing
 /// edge that does not belong to exactly one triangle on each side), or has a missing vertex.
 Section section_mesh(const Mesh& mesh, const Plane& plane);
+
+/// @brief section_mesh() for each of several planes, of a mesh given record by record and never
+/// held (`section --memory`, issue 28): each triangle is cut by every plane as it comes and
+/// only the segments are kept (a plane's cut is small beside the mesh). Held: 64 MiB for the
+/// program, 12 bytes a vertex of a PLY or OBJ file (its positions; an STL's facets carry
+/// theirs), 96 bytes a segment. The same sections, bit for bit, as section_mesh() on the mesh
+/// read whole, but for an STL stream, whose edges are named by their ends' positions (the
+/// crossing points and the loops' first points may differ to rounding). Feed it as
+/// read_mesh_records() does (or a bricked mesher's stream), then finish().
+class SectionStream final : public MeshRecordVisitor {
+public:
+    /// @a name (the file) for messages; @a memory_bytes the limit.
+    SectionStream(std::string name, std::vector<Plane> planes, std::uint64_t memory_bytes);
+    ~SectionStream() override;
+    /// For an OBJ file: the vertices it holds, before any record (they are not announced).
+    /// @throw UsageError naming the smallest limit that works when the positions do not fit.
+    void plan_vertices(std::uint64_t vertices);
+    void announced(std::uint64_t vertices, std::uint64_t faces) override;
+    void vertex(const std::array<float, 3>& position) override;
+    void triangle(const std::array<std::uint32_t, 3>& triangle) override;
+    void facet(const std::array<std::array<float, 3>, 3>& corners) override;
+    /// The sections, one a plane in the order given.
+    /// @throw Error as section_mesh() for a mesh not closed where a plane cuts it.
+    std::vector<Section> finish();
+    /// The least limit of any stream: the program and 1 MiB of segments.
+    static std::uint64_t least_bytes();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// @brief SectionStream over the file @a path (read_mesh_records(); an OBJ file is read twice,
+/// first to count its vertices).
+std::vector<Section> section_mesh_stream(const std::filesystem::path& path, const std::vector<Plane>& planes, std::uint64_t memory_bytes);
 
 }  // namespace vdbmesh

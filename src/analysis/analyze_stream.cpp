@@ -14,6 +14,7 @@
 #include "analysis/block_reduce.h"
 #include "analysis/moments.h"
 #include "analysis/report_parts.h"
+#include "analysis/stream_extras.h"
 #include "analysis/stream_topology.h"
 #include "analysis/stream_weld.h"
 #include "vdbmesh/analysis.h"
@@ -25,10 +26,8 @@ namespace vdbmesh {
 namespace {
 
 constexpr std::uint64_t kMiB = std::uint64_t(1) << 20;
-/// The process besides the plan: 41 MB for the program and its libraries (peak of `vdbmesh
-/// --help`), up to 9 MiB of the mapped file's window (mapped_file.cpp), the heap's and the
-/// threads' own; set from the peak of a 33 M triangle PLY checked in 256M (bench/README.md).
-constexpr std::uint64_t kBaselineBytes = 64 * kMiB;
+/// The process besides the plan (stream_extras.h).
+constexpr std::uint64_t kBaselineBytes = detail::kStreamBaselineBytes;
 /// The least a sort is given.
 constexpr std::uint64_t kMinSortBytes = kMiB;
 constexpr int kIndexedSorts = 2, kStlSorts = 3;
@@ -38,15 +37,16 @@ constexpr double kPositionBytesPerVertex = 12;
 using Position = std::array<float, 3>;
 
 /// The memory plan for one limit: what is left for each of @a sorts sorts once @a per_vertex
-/// bytes for each of @a vertices vertices are held; a usage error naming the smallest limit
-/// that works when that is less than kMinSortBytes.
-std::uint64_t sort_bytes(const std::filesystem::path& path, std::uint64_t limit, int sorts, double per_vertex, std::uint64_t vertices) {
-    const std::uint64_t held = kBaselineBytes + std::uint64_t(std::ceil(per_vertex * double(vertices)));
+/// bytes for each of @a vertices vertices (and @a extra bytes) are held; a usage error naming
+/// the smallest limit that works when that is less than kMinSortBytes.
+std::uint64_t sort_bytes(const std::string& verb, const std::string& name, std::uint64_t limit, int sorts, double per_vertex, std::uint64_t vertices,
+                         std::uint64_t extra) {
+    const std::uint64_t held = kBaselineBytes + extra + std::uint64_t(std::ceil(per_vertex * double(vertices)));
     const std::uint64_t needed = held + std::uint64_t(sorts) * kMinSortBytes;
     if (limit < needed) {
         std::ostringstream text;
-        text << "--memory: " << limit / kMiB << "M is too small to check " << path.string() << ", which needs "
-             << kBaselineBytes / kMiB << " MiB for the program, ";
+        text << "--memory: " << limit / kMiB << "M is too small to " << verb << " " << name << ", which needs "
+             << (kBaselineBytes + extra) / kMiB << " MiB for the program, ";
         if (vertices > 0) text << per_vertex << " bytes for each of its " << vertices << " vertices, ";
         text << "and at least " << kMinSortBytes / kMiB << " MiB for each of " << sorts
              << " sorts; the smallest limit that works is " << (needed + kMiB - 1) / kMiB << "M";
@@ -102,15 +102,19 @@ private:
 };
 
 /// The one pass over the records.
-class StreamChecker final : public MeshRecordVisitor {
+class StreamChecker final : public detail::StreamCheckRecords {
 public:
-    StreamChecker(const std::filesystem::path& path, const StreamCheckOptions& options) : path_(path), options_(options) {}
+    StreamChecker(std::string name, StreamCheckOptions options, detail::StreamExtras* extras)
+        : name_(std::move(name)), options_(std::move(options)), extras_(extras) {}
 
-    /// A PLY or OBJ file of @a vertices vertices: the plan, before any record.
+    /// A PLY or OBJ file of @a vertices vertices: the plan, before any record. Held per vertex:
+    /// the positions while reading, then the topology's union-finds (and the components kept).
     void plan_indexed(std::uint64_t vertices) {
-        const std::uint64_t bytes = sort_bytes(path_, options_.memory_bytes, kIndexedSorts, kPositionBytesPerVertex, vertices);
+        const double per_vertex = std::max(kPositionBytesPerVertex, topology_bytes_per_vertex());
+        const std::uint64_t bytes = sort_bytes(verb(), name_, options_.memory_bytes, kIndexedSorts, per_vertex, vertices, extra_bytes());
         positions_.reserve(vertices);
         topology_.emplace(run_records(options_, bytes, sizeof(detail::StreamTopology::EdgeUse)));
+        if (extras_) topology_->keep_components();
     }
     void announced(std::uint64_t vertices, std::uint64_t faces) override {
         if (!topology_ && !weld_ && vertices > 0) plan_indexed(vertices);
@@ -118,27 +122,31 @@ public:
     }
     void vertex(const Position& position) override {
         if (positions_.size() == positions_.capacity()) {  // an OBJ file that grew since its vertices were counted
-            throw FormatError(path_.string(), "vertices", std::to_string(positions_.size()) + " (as counted first)", "more");
+            throw FormatError(name_, "vertices", std::to_string(positions_.size()) + " (as counted first)", "more");
         }
         positions_.push_back(position);
     }
     void triangle(const std::array<std::uint32_t, 3>& t) override {
-        faces_.add(t, {positions_[t[0]], positions_[t[1]], positions_[t[2]]});
+        const std::array<Position, 3> corners{positions_[t[0]], positions_[t[1]], positions_[t[2]]};
+        faces_.add(t, corners);
         topology_->add(t);
+        if (extras_) extras_->corners(corners), extras_->vertices(t);
         report_reading();
     }
     void facet(const std::array<Position, 3>& corners) override {
         if (!weld_) {
-            const std::uint64_t bytes = sort_bytes(path_, options_.memory_bytes, kStlSorts, 0, 0);
+            const std::uint64_t bytes = sort_bytes(verb(), name_, options_.memory_bytes, kStlSorts, 0, 0, extra_bytes());
             weld_.emplace(run_records(options_, bytes, sizeof(std::array<std::uint32_t, 5>)));
         }
         const auto same = [&](int i, int j) { return std::memcmp(corners[i].data(), corners[j].data(), sizeof(Position)) == 0; };
         faces_.add({0, same(1, 0) ? 0u : 1u, same(2, 0) ? 0u : (same(2, 1) ? 1u : 2u)}, corners);
         weld_->add(corners);
+        if (extras_) extras_->corners(corners);
         report_reading();
     }
 
-    StreamCheck finish() {
+    StreamCheck finish() override {
+        if (!topology_ && !weld_) plan_indexed(0);  // no record at all
         StreamCheck result;
         MeshAnalysis& report = result.analysis;
         std::uint64_t vertices = positions_.size();
@@ -146,9 +154,14 @@ public:
         if (weld_) {
             vertices = weld_->number_vertices();
             show_progress(kReadShare + kWeldShare / 2);
-            const std::uint64_t bytes = sort_bytes(path_, options_.memory_bytes, kStlSorts, detail::kTopologyBytesPerVertex, vertices);
+            const std::uint64_t bytes =
+                sort_bytes(verb(), name_, options_.memory_bytes, kStlSorts, topology_bytes_per_vertex(), vertices, extra_bytes());
             topology_.emplace(run_records(options_, bytes, sizeof(detail::StreamTopology::EdgeUse)));
-            weld_->triangles([&](const std::array<std::uint32_t, 3>& t) { topology_->add(t); });
+            if (extras_) topology_->keep_components();
+            weld_->triangles([&](const std::array<std::uint32_t, 3>& t) {
+                topology_->add(t);
+                if (extras_) extras_->vertices(t);
+            });
             result.sorted_runs += weld_->runs();
             show_progress(kReadShare + kWeldShare);
         }
@@ -157,6 +170,7 @@ public:
         result.sorted_runs += topology_->runs();
         const double counted = weld_ ? kReadShare + kWeldShare : kReadShare;
         detail::add_topology(topology_->finish(vertices, [&](double share) { show_progress(counted + (1 - counted) * share); }), report);
+        if (extras_) extras_->components(topology_->take_components());
         return result;
     }
 
@@ -174,8 +188,15 @@ private:
         if (announced_faces_ > 0 && read % 65536 == 0) show_progress(kReadShare * std::min(1.0, double(read) / double(announced_faces_)));
     }
 
-    const std::filesystem::path& path_;
-    const StreamCheckOptions& options_;
+    double topology_bytes_per_vertex() const {
+        return detail::kTopologyBytesPerVertex + (extras_ ? detail::StreamTopology::kComponentBytesPerVertex : 0);
+    }
+    std::uint64_t extra_bytes() const { return extras_ ? extras_->held_bytes() : 0; }
+    const char* verb() const { return extras_ ? "measure" : "check"; }
+
+    std::string name_;
+    StreamCheckOptions options_;
+    detail::StreamExtras* extras_;
     std::vector<Position> positions_;
     FaceSums faces_;
     std::optional<detail::StreamTopology> topology_;
@@ -193,13 +214,28 @@ struct VertexCounter final : MeshRecordVisitor {
 
 }  // namespace
 
+namespace detail {
+
+std::unique_ptr<StreamCheckRecords> make_stream_checker(const std::string& name, const StreamCheckOptions& options, StreamExtras* extras) {
+    return std::make_unique<StreamChecker>(name, options, extras);
+}
+
+std::optional<std::uint64_t> obj_vertex_count(const std::filesystem::path& path) {
+    if (to_lower(path.extension().string()) != ".obj") return std::nullopt;
+    VertexCounter counter;
+    read_mesh_records(path, counter);
+    return counter.vertices;
+}
+
+std::uint64_t least_stream_bytes(std::uint64_t extra_bytes) { return kBaselineBytes + extra_bytes + kIndexedSorts * kMinSortBytes; }
+
+void plan_vertices(StreamCheckRecords& checker, std::uint64_t vertices) { static_cast<StreamChecker&>(checker).plan_indexed(vertices); }
+
+}  // namespace detail
+
 StreamCheck analyze_mesh_stream(const std::filesystem::path& path, const StreamCheckOptions& options) {
-    StreamChecker checker(path, options);
-    if (detail::to_lower(path.extension().string()) == ".obj") {
-        VertexCounter counter;
-        read_mesh_records(path, counter);
-        checker.plan_indexed(counter.vertices);
-    }
+    StreamChecker checker(path.string(), options, nullptr);
+    if (const std::optional<std::uint64_t> vertices = detail::obj_vertex_count(path)) checker.plan_indexed(*vertices);
     read_mesh_records(path, checker);
     return checker.finish();
 }

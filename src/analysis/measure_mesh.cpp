@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "analysis/measure_parts.h"
 #include "vdbmesh/measure.h"
 
 namespace vdbmesh {
@@ -27,6 +28,10 @@ Vec canonical_sign(Vec axis) {
     return axis;
 }
 
+}  // namespace
+
+namespace detail {
+
 void set_principal_frame(const Mat& inertia, MeshMeasure& measure) {
     Eigen::Matrix3d tensor;
     for (int i = 0; i < 3; ++i) {
@@ -42,6 +47,17 @@ void set_principal_frame(const Mat& inertia, MeshMeasure& measure) {
     const Vec& b = measure.principal_axes[1];
     measure.principal_axes[2] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
+
+void sort_components(std::vector<ComponentMeasure>& components) {
+    std::stable_sort(components.begin(), components.end(), [](const ComponentMeasure& a, const ComponentMeasure& b) {
+        if (std::abs(a.volume) != std::abs(b.volume)) return std::abs(a.volume) > std::abs(b.volume);
+        return a.area > b.area;
+    });
+}
+
+}  // namespace detail
+
+namespace {
 
 void set_bounding_box(const Mesh& mesh, MeshMeasure& measure) {
     if (mesh.triangles.empty()) return;
@@ -63,10 +79,7 @@ std::vector<ComponentMeasure> measure_components(const Mesh& mesh) {
         const MeshIntegrals integrals = mesh_integrals(component);
         components.push_back({component.triangles.size(), integrals.area, integrals.volume});
     }
-    std::stable_sort(components.begin(), components.end(), [](const ComponentMeasure& a, const ComponentMeasure& b) {
-        if (std::abs(a.volume) != std::abs(b.volume)) return std::abs(a.volume) > std::abs(b.volume);
-        return a.area > b.area;
-    });
+    detail::sort_components(components);
     return components;
 }
 
@@ -75,7 +88,7 @@ std::vector<ComponentMeasure> measure_components(const Mesh& mesh) {
 MeshMeasure measure_mesh(const Mesh& mesh) {
     MeshMeasure measure;
     measure.report = analyze_mesh(mesh);
-    set_principal_frame(measure.report.inertia, measure);
+    detail::set_principal_frame(measure.report.inertia, measure);
     set_bounding_box(mesh, measure);
     measure.components = measure_components(mesh);
     return measure;

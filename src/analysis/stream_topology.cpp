@@ -71,6 +71,10 @@ void StreamTopology::count_edges(std::size_t vertices, Topology& topology, const
         topology.components += used[v] && components.find(v) == v;
         topology.boundary_loops += on_boundary[v] && boundary.find(v) == v;
     }
+    if (keep_components_) {
+        components_.resize(vertices);
+        for (std::uint32_t v = 0; v < vertices; ++v) components_[v] = components.find(v);
+    }
 }
 
 void StreamTopology::count_fans(Topology& topology, const std::function<void()>& step) {

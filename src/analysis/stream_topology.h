@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "analysis/external_sort.h"
@@ -30,6 +31,13 @@ public:
     Topology finish(std::size_t vertices, const std::function<void(double)>& progress);
     /// Sorted runs written to temporary files so far.
     std::size_t runs() const { return edges_.runs() + corners_.runs(); }
+    /// Asks finish() to keep each vertex's component, for take_components() (the bounded
+    /// measure's per-component sums): kComponentBytesPerVertex more while the edges are counted.
+    void keep_components() { keep_components_ = true; }
+    /// After finish() with keep_components(): each vertex's component named by its smallest
+    /// vertex (the union-find's root); unused vertices name themselves.
+    std::vector<std::uint32_t> take_components() { return std::move(components_); }
+    static constexpr double kComponentBytesPerVertex = 4;
 
     /// Uses of the edge between vertices a < b: how many run a -> b and b -> a. Added one use
     /// at a time, counted together in each sorted run (CombineEdgeUses) up to kMostUses, as
@@ -61,6 +69,8 @@ private:
 
     ExternalSorter<EdgeUse, CombineEdgeUses> edges_;
     ExternalSorter<CornerUse> corners_;
+    bool keep_components_ = false;
+    std::vector<std::uint32_t> components_;
 };
 
 }  // namespace vdbmesh::detail
