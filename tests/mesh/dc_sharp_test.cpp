@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <openvdb/openvdb.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <array>
@@ -209,6 +210,18 @@ TEST(DcSharpTest, SmoothSurfacesGiveTheSameMesh) {
             EXPECT_EQ(plain.triangles, sharp.triangles) << name << " at " << error;
         }
     }
+}
+
+// The same bytes for any thread count, as without --sharp.
+TEST(DcSharpTest, OneAndTwoThreadsGiveTheSameMesh) {
+    const auto grid = test::phantom_scan_grid(preset("rotated-cube"));
+    Mesh meshes[2];
+    for (int threads : {1, 2}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+        meshes[threads - 1] = mesh_grid(*grid, dc_at(0.1, true)).mesh;
+    }
+    EXPECT_EQ(meshes[0].vertices, meshes[1].vertices);
+    EXPECT_EQ(meshes[0].triangles, meshes[1].triangles);
 }
 
 /// The triangles of @a mesh whose corners all lie more than @a away voxels from every edge of
