@@ -1,8 +1,9 @@
-// `vdbmesh compare IN [--iso V] [--error LIST] [--adaptivity LIST] [--no-budget] [--decimate LIST] [--json FILE] [--plot FILE.svg]`
+// `vdbmesh compare IN [--iso V] [--error LIST] [--adaptivity LIST] [--no-budget] [--sharp] [--decimate LIST] [--json FILE] [--plot FILE.svg]`
 // `vdbmesh compare --phantom SHAPE [--size N] [--blur W] ...`
 // Converts once, then meshes the same grid in this process with DC (the default mesher) at each
 // --error, Marching Cubes, volumeToMesh at each --adaptivity, the triangle budget at each
-// volumeToMesh mesh's count (as `vdbmesh mesh --triangles`; not with --no-budget), and DC at
+// volumeToMesh mesh's count (as `vdbmesh mesh --triangles`; not with --no-budget), DC --sharp at
+// each --error above 0 (on a phantom, or with --sharp), and DC at
 // error 0 decimated to each --decimate fraction (as `vdbmesh mesh --decimate`), and measures each mesh (compare_meshers(),
 // include/vdbmesh/compare.h): time, `vdbmesh check`'s figures, two-sided distance to the true
 // isosurface in voxels and normal deviation. The true surface of a scan or .vdb is the
@@ -11,9 +12,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <iterator>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -50,6 +53,7 @@ struct CompareCommandOptions {
     std::string errors = "0,0.1,0.25,0.5", adaptivities = "0,0.1,0.25,1";
     std::string decimate;
     bool no_budget = false;
+    bool sharp = false;  ///< --sharp: DC --sharp rows at each positive --error (always on a phantom)
     std::optional<std::string> dmc_errors;  ///< refused: DMC was retired (docs/dmc.md)
     Inside inside = Inside::above;
     std::size_t samples = 100000;
@@ -150,6 +154,7 @@ nlohmann::ordered_json mesh_json(const MeshComparison& m) {
     nlohmann::ordered_json j;
     j["method"] = method_name(m.method);
     j["error"] = m.error ? nlohmann::ordered_json(*m.error) : nullptr;
+    j["sharp"] = m.sharp;
     j["adaptivity"] = m.adaptivity ? nlohmann::ordered_json(*m.adaptivity) : nullptr;
     j["decimate"] = m.decimate ? nlohmann::ordered_json(*m.decimate) : nullptr;
     j["triangle_budget"] = m.budget ? nlohmann::ordered_json(*m.budget) : nullptr;
@@ -174,15 +179,15 @@ nlohmann::ordered_json mesh_json(const MeshComparison& m) {
 }
 
 /// The setting of @a m: each value after its name in @a names (decimate, error, adaptivity,
-/// triangle budget).
-std::string setting_text(const MeshComparison& m, const std::array<const char*, 4>& names) {
+/// triangle budget, error with --sharp).
+std::string setting_text(const MeshComparison& m, const std::array<const char*, 5>& names) {
     std::ostringstream text;
     if (m.budget)
         text << names[3] << *m.budget;
     else if (m.decimate)
         text << names[0] << *m.decimate;
     else if (m.error)
-        text << names[1] << *m.error;
+        text << names[m.sharp ? 4 : 1] << *m.error;
     if (m.adaptivity) text << names[2] << *m.adaptivity;
     return text.str();
 }
@@ -200,7 +205,7 @@ void print_table(const nlohmann::ordered_json& report, const std::vector<MeshCom
     out << std::fixed;
     for (const auto& m : meshes) {
         const DistanceReport& d = m.accuracy.distance;
-        out << std::left << std::setw(9) << method_name(m.method) << std::setw(12) << setting_text(m, {"dec ", "error ", "adapt ", "<= "}) << std::right
+        out << std::left << std::setw(9) << method_name(m.method) << std::setw(12) << setting_text(m, {"dec ", "error ", "adapt ", "<= ", "sharp "}) << std::right
             << std::setprecision(3) << std::setw(9) << m.seconds << std::setw(11) << m.analysis.triangles << std::setw(11)
             << m.analysis.vertices << std::setprecision(4) << std::setw(11) << d.hausdorff << std::setw(9) << d.mean
             << std::setprecision(2) << std::setw(9) << m.accuracy.normals.mean_deg << std::setw(8)
@@ -219,14 +224,14 @@ Plot make_plot(const std::string& title, const std::vector<MeshComparison>& mesh
     plot.x_label = "triangles (log scale)";
     plot.y_label = "two-sided Hausdorff distance (voxels)";
     for (MeshMethod method : {MeshMethod::dc, MeshMethod::mc, MeshMethod::openvdb}) {
-        for (const char* kind : {"", " + decimate", " budget"}) {
+        for (const char* kind : {"", " + decimate", " budget", " sharp"}) {
             PlotSeries series;
             series.name = method == MeshMethod::openvdb ? "volumeToMesh" : method == MeshMethod::dc ? "DC" : "MC";
             series.name += kind;
             for (const auto& m : meshes) {
-                const char* of = m.budget ? " budget" : m.decimate ? " + decimate" : "";
+                const char* of = m.budget ? " budget" : m.decimate ? " + decimate" : m.sharp ? " sharp" : "";
                 if (m.method != method || std::string(of) != kind) continue;
-                series.points.push_back({double(m.analysis.triangles), m.accuracy.distance.hausdorff, setting_text(m, {"d=", "e=", "a=", "<="})});
+                series.points.push_back({double(m.analysis.triangles), m.accuracy.distance.hausdorff, setting_text(m, {"d=", "e=", "a=", "<=", "s="})});
             }
             if (!series.points.empty()) plot.series.push_back(series);
         }
@@ -275,7 +280,9 @@ int run_compare(const CompareCommandOptions& o) {
     }
     options.accuracy.samples = o.samples;
     options.budget_rows = !o.no_budget;
-    const std::size_t mesh_count = options.errors.size() + options.adaptivities.size() * (o.no_budget ? 1 : 2) +
+    if (o.sharp || !o.phantom.empty())
+        std::copy_if(options.errors.begin(), options.errors.end(), std::back_inserter(options.sharp_errors), [](double e) { return e > 0; });
+    const std::size_t mesh_count = options.errors.size() + options.sharp_errors.size() + options.adaptivities.size() * (o.no_budget ? 1 : 2) +
                                options.decimate_fractions.size() + 1;  // and Marching Cubes
     refuse_beyond_memory("--samples", "the surface samples (24 bytes each)", 24.0 * double(o.samples));
     refuse_beyond_work(o.work_limit, "--samples", 2.0 * double(o.samples) * double(mesh_count),
@@ -330,6 +337,8 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
         ->capture_default_str();
     command.add_flag("--no-budget", o.no_budget,
                      "No triangle-budget rows (by default, one per --adaptivity: the budget at that volumeToMesh mesh's triangles)");
+    command.add_flag("--sharp", o.sharp,
+                     "Also DC --sharp (mesh --sharp) at each --error above 0, one mesh each; always on a --phantom");
     command.add_option("--decimate", o.decimate,
                        "Shares of triangles in (0, 1] to keep of the error-0 mesh (as mesh --decimate), one mesh each");
     const std::map<std::string, Inside> sides = {{"above", Inside::above}, {"below", Inside::below}};

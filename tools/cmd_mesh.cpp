@@ -113,6 +113,7 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
     j["method"] = lowercase(options.method);
     j["iso"] = options.iso.value_or(options.mesh.iso);  // as asked: mesh.iso is its negative for a scan's object below
     j["error"] = dc ? nlohmann::ordered_json(options.mesh.error) : nlohmann::ordered_json(nullptr);
+    j["sharp"] = options.mesh.sharp;
     j["adaptivity"] = openvdb ? nlohmann::ordered_json(options.mesh.adaptivity) : nlohmann::ordered_json(nullptr);
     j["triangle_budget"] = options.triangles ? nlohmann::ordered_json(*options.triangles) : nlohmann::ordered_json(nullptr);
     j["processing"] = processing_json(options.processing, processing);
@@ -333,12 +334,14 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     auto* triangles = command.add_option("--triangles", options->triangles,
                           "dc: at most N triangles, the closest such mesh (DC, then the guaranteed decimator); not with --error")
         ->check(kTriangleCount);
+    auto* sharp = command.add_flag("--sharp", options->mesh.sharp,
+                      "dc, --error above 0: vertices on sharp edges and corners, up to a voxel beyond the error there (docs/dmc.md)");
     auto* memory = command.add_option("--memory", options->memory,
                        "Mesh brick by brick within about SIZE bytes (K, M, G suffixes; dc at --error > 0): the same mesh");
     add_read_flags(command, options->read);
     // What shapes one surface means nothing to a label map, meshed per label: refused with --labels.
     std::vector<const CLI::Option*> one_surface = add_processing_options(command, options->processing);
-    one_surface.insert(one_surface.end(), {iso, method, error, adaptivity, inside, open_boundary, normals, verify, memory, triangles});
+    one_surface.insert(one_surface.end(), {iso, method, error, adaptivity, inside, open_boundary, normals, verify, memory, triangles, sharp});
     add_common_options(command, options->common);
     add_label_flags(command, options->labels.label, "Mesh a label map: all, or a list like 3,5,10-12; one closed mesh per label, walls shared");
     const CLI::Option* format = command.add_option("--format", options->labels.format, "--labels into a folder: the files' format")
@@ -347,7 +350,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     const CLI::Option* smooth_iterations = command.add_option("--smooth-iterations", options->labels.smooth_iterations, "--labels: constrained smoothing passes (0: voxel faces)")
         ->check(CLI::Range(0, 1000))
         ->capture_default_str();
-    command.callback([options, &result, one_surface, error, adaptivity, format, smooth_iterations, triangles] {
+    command.callback([options, &result, one_surface, error, adaptivity, format, smooth_iterations, triangles, sharp] {
         const std::string method = lowercase(options->method);
         const bool labels = bool(options->labels.label.labels);
         refuse_unless(format, labels, "with --labels, got none");
@@ -356,6 +359,9 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
             refuse_unless(option, !labels, "without --labels (a label map is meshed per label), got --labels");
         refuse_unless(error, method == "dc" || method == "dmc", "with --method dc or dmc, got --method " + method);
         refuse_unless(adaptivity, method == "openvdb", "with --method openvdb, got --method " + method);
+        refuse_unless(sharp, method == "dc" || method == "dmc", "with --method dc, got --method " + method);
+        refuse_unless(sharp, options->mesh.error > 0, "with --error above 0 (at 0 no cell merges), got --error 0");
+        refuse_unless(sharp, !options->triangles, "without --triangles (the budget's decimator keeps no feature), got --triangles");
         refuse_budget_conflicts(*options, triangles, error);
         result.status = run_mesh(*options);
     });

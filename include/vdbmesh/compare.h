@@ -95,6 +95,9 @@ struct CompareOptions {
     double iso = 0;
     Inside inside = Inside::above;
     std::vector<double> errors{0, 0.1, 0.25, 0.5};         ///< the default mesher (intersection-free DC), one mesh each
+    /// DC with MeshOptions::sharp (`--sharp`) at each of these errors (> 0), one mesh each,
+    /// after every other row.
+    std::vector<double> sharp_errors;
     std::vector<double> adaptivities{0, 0.1, 0.25, 1};     ///< volumeToMesh, one mesh each
     /// Shares of triangles to keep: the default mesher's error-0 mesh decimated by
     /// decimate_mesh() (as `vdbmesh mesh --decimate`), one mesh each.
@@ -112,6 +115,7 @@ struct CompareOptions {
 struct MeshComparison {
     MeshMethod method = MeshMethod::dc;
     std::optional<double> error;       ///< DC
+    bool sharp = false;                ///< DC with MeshOptions::sharp
     std::optional<double> adaptivity;  ///< volumeToMesh
     std::optional<double> decimate;    ///< the share of triangles kept by decimate_mesh()
     std::optional<std::size_t> budget; ///< mesh_to_budget()'s budget (its time is seconds, its report mesher)

@@ -37,6 +37,9 @@ struct MeshOptions {
     double adaptivity = 0.0;    ///< openvdb: volumeToMesh adaptivity in [0, 1]
     Inside inside = Inside::above;
     bool open_boundary = false; ///< leave the surface open where it meets the scan's box
+    /// dc, error > 0: vertices on sharp edges and corners, up to a voxel beyond the error from
+    /// the trilinear isosurface there; elsewhere the same mesh (docs/dmc.md, "Sharp features")
+    bool sharp = false;
     std::function<void(double)> progress;  ///< fraction done (0..1), may be empty
 };
 

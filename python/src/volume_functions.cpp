@@ -7,6 +7,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <cctype>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -22,6 +23,7 @@
 #include "mesh_arrays.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/mesh_budget.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/side_grid.h"
 
@@ -85,6 +87,26 @@ MeshOptions mesh_options(const std::string& method, double error, double adaptiv
     options.open_boundary = open_boundary;
     options.progress = signal_checking_progress();
     return options;
+}
+
+/// The mesh of @a grid with at most @a triangles triangles (mesh_to_budget(), as `vdbmesh mesh
+/// --triangles`), or the mesher's at options.error when no budget is given. Refused as
+/// `vdbmesh mesh` refuses them (UsageError, a ValueError in Python): a budget above the error-0
+/// mesh's triangles, and one below where the guaranteed decimation has to stop.
+Mesh mesh_within(const openvdb::FloatGrid& grid, const MeshOptions& options, std::optional<std::uint64_t> triangles) {
+    if (!triangles) return mesh_grid(grid, options).mesh;
+    BudgetReport budget;
+    Mesh mesh = mesh_to_budget(grid, options, std::size_t(*triangles), &budget).mesh;
+    if (mesh.triangles.empty()) return mesh;  // (no surface: mesh() raises vdbmesh.Error)
+    const std::string asked = "triangles=" + std::to_string(*triangles) + ": ";
+    if (budget.error == 0 && budget.meshed_triangles < *triangles)
+        throw UsageError(asked + "the most accurate mesh there is (error=0) has " + std::to_string(budget.meshed_triangles) +
+                         " triangles; expected a budget of at most that many");
+    if (mesh.triangles.size() > *triangles)
+        throw UsageError(asked + "the decimation keeping the mesh closed, manifold and free of self-intersections stops at " +
+                         std::to_string(mesh.triangles.size()) +
+                         " triangles (each further collapse would break a guarantee); expected a budget of at least that many");
+    return mesh;
 }
 
 /// Converting at @a iso, checking for Ctrl-C as the conversion goes.
@@ -205,7 +227,8 @@ py::tuple read_volume(const std::filesystem::path& path) {
 }
 
 py::tuple mesh_array(const py::array& array, double level, const std::string& method, double error, double adaptivity,
-                     const std::string& inside, bool open_boundary, const Affine& array_to_world) {
+                     const std::string& inside, bool open_boundary, const Affine& array_to_world,
+                     std::optional<std::uint64_t> triangles) {
     MeshOptions options = mesh_options(method, error, adaptivity, open_boundary);
     const StridedVolume volume = strided_volume(array);
     Mesh mesh;
@@ -213,18 +236,19 @@ py::tuple mesh_array(const py::array& array, double level, const std::string& me
         py::gil_scoped_release released;
         const auto reader = [&] { return std::make_unique<ArraySliceReader>(volume, array_to_world, kArrayName); };
         const Inside side = inside == "auto" ? inside_away_from_border(volume, level) : parse_inside(inside);
-        mesh = mesh_grid(*side_grid(reader, level, side, options).first, options).mesh;
+        mesh = mesh_within(*side_grid(reader, level, side, options).first, options, triangles);
     }
     return to_arrays(std::move(mesh));
 }
 
 py::tuple mesh_file(const std::filesystem::path& path, std::optional<double> level, const std::string& method,
-                    double error, double adaptivity, const std::string& inside, bool open_boundary) {
+                    double error, double adaptivity, const std::string& inside, bool open_boundary,
+                    std::optional<std::uint64_t> triangles) {
     MeshOptions options = mesh_options(method, error, adaptivity, open_boundary);
     Mesh mesh;
     {
         py::gil_scoped_release released;
-        mesh = mesh_grid(*file_grid(path, level, inside, options), options).mesh;
+        mesh = mesh_within(*file_grid(path, level, inside, options), options, triangles);
     }
     return to_arrays(std::move(mesh));
 }
@@ -240,9 +264,9 @@ void array_to_vdb(const py::array& array, double iso, const std::filesystem::pat
 void bind_volume_functions(py::module_& module) {
     module.def("read_volume", &read_volume, py::arg("path"));
     module.def("mesh_array", &mesh_array, py::arg("array"), py::arg("level"), py::arg("method"), py::arg("error"),
-               py::arg("adaptivity"), py::arg("inside"), py::arg("open_boundary"), py::arg("array_to_world"));
+               py::arg("adaptivity"), py::arg("inside"), py::arg("open_boundary"), py::arg("array_to_world"), py::arg("triangles"));
     module.def("mesh_file", &mesh_file, py::arg("path"), py::arg("level"), py::arg("method"), py::arg("error"),
-               py::arg("adaptivity"), py::arg("inside"), py::arg("open_boundary"));
+               py::arg("adaptivity"), py::arg("inside"), py::arg("open_boundary"), py::arg("triangles"));
     module.def("array_to_vdb", &array_to_vdb, py::arg("array"), py::arg("iso"), py::arg("path"),
                py::arg("array_to_world"));
 }

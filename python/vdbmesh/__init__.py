@@ -23,6 +23,7 @@ missing input FileNotFoundError.
 """
 
 import errno
+import operator
 import os
 import warnings
 
@@ -48,7 +49,7 @@ def read_volume(path):
 
 
 def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacing=None, affine=None, adaptivity=0.0,
-         *, level=None, closed=True):
+         *, level=None, closed=True, triangles=None):
     """Meshes the isosurface at ``iso`` (or ``level``, its alias) of a volume: a 3D array, or the
     path of a scan or .vdb file (which carries its own geometry: then give neither spacing nor
     affine). The closed, guaranteed call; ``marching_cubes`` is scikit-image's drop-in.
@@ -67,6 +68,14 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
     below for a level set, else the side away from its background).
     closed: the surface is closed where the object meets the border of the volume; False
     leaves it open there (method "mc").
+    triangles: at most this many triangles (a whole number from 1 to 2**32 - 1), the closest
+    such mesh, as ``vdbmesh mesh --triangles N``, keeping every guarantee of "dc": below DC's
+    lightest mesh (error 2), that mesh decimated by the guaranteed decimator to exactly
+    ``triangles`` (one fewer for an odd number: a closed mesh has an even count); else the DC
+    mesh of the smallest error (0, then 0.1 to 1) that fits. Method "dc" only, without ``error``
+    (the budget picks it).
+    A budget above the error-0 mesh's triangles, or below where the decimation must stop to keep
+    the guarantees, raises ValueError; a number that is not whole (a float, a bool) TypeError.
     NaN samples count as outside the object (as scikit-image counts them: not above the level);
     the surface passes next to them.
     Arrays of int64, uint64 and float16 are cast (numpy's safe casts); other types raise.
@@ -81,12 +90,14 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
         warnings.warn("dmc was retired: it runs dc, see docs/dmc.md", DeprecationWarning, stacklevel=2)
         method = "dc"
     _check_applicable(method, error, adaptivity, closed)
+    triangles = _triangle_budget(triangles, method, error)
     _arrays.check_inside(inside)
     if isinstance(volume_or_path, (str, os.PathLike)):
         if spacing is not None or affine is not None:
             raise ValueError("spacing, affine: only for arrays; a file carries its own geometry")
         vertices, faces = _vdbmesh.mesh_file(_existing_path(volume_or_path), None if level is None else float(level),
-                                             method, float(error), float(adaptivity), inside, not closed)
+                                             method, float(error), float(adaptivity), inside, not closed,
+                                             triangles)
     else:
         array = _arrays.volume_array(volume_or_path)
         data_range = _arrays.data_range(array)
@@ -94,7 +105,7 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
         array = _arrays.nan_at_level(array, level)
         array_to_world, unit = _array_to_world(spacing, affine)
         vertices, faces = _vdbmesh.mesh_array(array, level, method, float(error), float(adaptivity), inside, not closed,
-                                              array_to_world)
+                                              array_to_world, triangles)
         if unit != 1:
             vertices *= unit
     if len(faces) == 0:
@@ -177,6 +188,26 @@ def _check_applicable(method, error, adaptivity, closed):
         raise ValueError(f'adaptivity: only for method "openvdb", got method {method!r}')
     if not closed and method != "mc":
         raise ValueError(f'closed=False: only for method "mc" (method {method!r} closes the surface)')
+
+
+# The most triangles a budget may ask: a mesh's indices are 32-bit (as `vdbmesh mesh --triangles`).
+_MAX_TRIANGLES = 2**32 - 1
+
+
+def _triangle_budget(triangles, method, error):
+    """The budget as an int, or None; refuses what `vdbmesh mesh --triangles` refuses."""
+    if triangles is None:
+        return None
+    if isinstance(triangles, bool) or not hasattr(type(triangles), "__index__"):
+        raise TypeError(f"triangles: expected a whole number, got {type(triangles).__name__} {triangles!r}")
+    count = operator.index(triangles)
+    if not 1 <= count <= _MAX_TRIANGLES:
+        raise ValueError(f"triangles: expected a whole number of triangles from 1 to {_MAX_TRIANGLES}, got {count}")
+    if method != "dc":
+        raise ValueError(f'triangles: only for method "dc", got method {method!r}')
+    if error != 0:
+        raise ValueError(f"triangles: not with error (the budget picks the error), got error={error!r}")
+    return count
 
 
 # Voxels smaller than this (cube root of the determinant) are meshed in a unit a power of two

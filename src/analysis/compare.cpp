@@ -206,6 +206,7 @@ Mesh mesh_of(const openvdb::FloatGrid& grid, const CompareOptions& options, Mesh
     mesh_options.iso = options.iso;
     mesh_options.inside = options.inside;
     mesh_options.error = run.error.value_or(0.0);
+    mesh_options.sharp = run.sharp;
     mesh_options.adaptivity = run.adaptivity.value_or(0.0);
     if (run.budget == std::optional<std::size_t>(0)) return {};  // (volumeToMesh found no surface: nothing to meet)
     if (!run.decimate) {
@@ -326,6 +327,10 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
         }
     }
     for (double fraction : options.decimate_fractions) add_run(MeshMethod::dc, 0.0, std::nullopt, fraction);
+    for (double error : options.sharp_errors) {  // last: the rows before keep their places
+        add_run(MeshMethod::dc, error, std::nullopt);
+        runs.back().sharp = true;
+    }
     budget_of.resize(runs.size());
 
     const TrueSurface truth(grid, options.iso, options.inside, options.accuracy);

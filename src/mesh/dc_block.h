@@ -82,6 +82,9 @@ struct IfcCell {
     std::uint8_t level;
     openvdb::Coord min;
     Point3d vertex;  ///< strictly inside the cell
+    /// Whether the vertex is a `--sharp` feature point (is_sharp_feature()), held to the error
+    /// plus kSharpReach (its polygons too, dc_polygons.cpp).
+    bool feature = false;
 };
 
 /// The leaves of a block's octree: per unit cell its leaf's level and merged cell, and the
@@ -213,8 +216,10 @@ inline double ifc_crossing_margin(double error) { return std::min(error, 0.25); 
 /// Builds the cells of one block: merges where the QEF vertex stays within @a error (voxels)
 /// of every surface sample in the cell and the topology tests pass. Keeps too what the
 /// contour reads of the samples (IfcBlockCells::sampled, inside_rows, crossings), on the
-/// same walk over the crossed edges.
-void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells);
+/// same walk over the crossed edges. With @a sharp (`--sharp`), a cell holding a sharp edge or
+/// corner (is_sharp_feature()) first offers its QEF minimiser, clamped into the cell, to the
+/// same tests at the error plus kSharpReach, and keeps today's vertex when they refuse it.
+void build_ifc_cells(const IfcSamples& samples, double iso, double error, bool sharp, IfcBlockCells& cells);
 
 /// Merges on across blocks, bottom-up under each lower internal node (cells of 16 to 128
 /// voxels, in parallel per node), where every child is a leaf, the surface inside is one

@@ -204,10 +204,11 @@ enum class CellState : std::uint8_t {
 class BlockOctree {
 public:
     /// The octree of the block of @a samples into @a out.
-    void build(const IfcSamples& samples, double iso, double error, IfcBlockCells& out) {
+    void build(const IfcSamples& samples, double iso, double error, bool sharp, IfcBlockCells& out) {
         s_ = &samples;
         iso_ = iso;
         error_ = error;
+        sharp_ = sharp;
         out.sampled = true;
         out.inside_rows = samples.inside_rows;
         collect_hermite(out.crossings);
@@ -395,15 +396,34 @@ private:
         const int index = cell_index(level, i, j, k);
         // Cheapest and most often failing first.
         if (!simple_[level][index]) return false;
-        return ifc_place_vertex(s_->origin.offsetBy(min[0], min[1], min[2]), size, s_->scan_box, qef_[level][index].minimiser(),
-                                [&](const Point3d& vertex) {
-                                    if (!within_error(vertex, min, size) || !fan_near_surface(vertex, min, size) ||
-                                        !surface_near_fan(vertex, min, size)) {
-                                        return false;
-                                    }
-                                    vertex_[level][index] = vertex;
-                                    return true;
-                                });
+        const openvdb::Coord origin = s_->origin.offsetBy(min[0], min[1], min[2]);
+        const Qef3& qef = qef_[level][index];
+        feature_[level][index] = sharp_ && is_sharp_feature(qef) && place_feature_vertex(origin, min, size, qef, vertex_[level][index]);
+        if (feature_[level][index]) return true;
+        return ifc_place_vertex(origin, size, s_->scan_box, qef.minimiser(), [&](const Point3d& vertex) {
+            if (!accurate(vertex, min, size, 0.0)) return false;
+            vertex_[level][index] = vertex;
+            return true;
+        });
+    }
+
+    /// Whether @a vertex passes the merge's accuracy tests, each at its tolerance plus @a slack.
+    bool accurate(const Point3d& vertex, const std::array<int, 3>& min, int size, double slack) const {
+        return within_error(vertex, min, size, slack) && fan_near_surface(vertex, min, size, slack) &&
+               surface_near_fan(vertex, min, size, slack);
+    }
+
+    /// `--sharp`: the QEF minimiser of a feature cell (the edge's or corner's point), clamped
+    /// into the cell kIfcInteriorMargin from its faces, into @a vertex if it passes the
+    /// accuracy tests kSharpReach beyond the error.
+    bool place_feature_vertex(const openvdb::Coord& origin, const std::array<int, 3>& min, int size, const Qef3& qef,
+                              Point3d& vertex) const {
+        std::array<IfcVertexBox, 3> boxes;
+        ifc_vertex_boxes(origin, size, s_->scan_box, boxes);
+        const Point3d candidate = boxes.back().clamp(qef.minimiser());
+        if (!accurate(candidate, min, size, kSharpReach)) return false;
+        vertex = candidate;
+        return true;
     }
 
     /// Bit 2 * axis + side for each face of the whole block the surface only clips (ifc_chord_spans_face()).
@@ -435,10 +455,11 @@ private:
         }
     }
 
-    bool within_error(const Point3d& v, const std::array<int, 3>& min, int size) const {
+    bool within_error(const Point3d& v, const std::array<int, 3>& min, int size, double slack) const {
+        const double tolerance = error_ + slack;
         return all_crossings(min, size, [&](const Hermite& h) {
             const double d = h.normal[0] * (v[0] - h.point[0]) + h.normal[1] * (v[1] - h.point[1]) + h.normal[2] * (v[2] - h.point[2]);
-            return std::abs(d) <= error_;
+            return std::abs(d) <= tolerance;
         });
     }
 
@@ -453,19 +474,20 @@ private:
     /// interpolant. The tangent planes alone let a vertex sit off a curved or thin surface. The
     /// quarter points catch a vertex whose spokes leave the surface steeply near it (CThead at
     /// --error 1, 1,000,000 samples: Hausdorff 1.48 -> 1.07 voxels, for 66 more triangles).
-    bool fan_near_surface(const Point3d& v, const std::array<int, 3>& min, int size) const {
-        if (surface_distance(v) > error_) return false;
+    bool fan_near_surface(const Point3d& v, const std::array<int, 3>& min, int size, double slack) const {
+        const double tolerance = error_ + slack;
+        if (surface_distance(v) > tolerance) return false;
         bool near = true;
         for_each_cell_edge(min, size, [&](std::array<int, 3> p, int axis) {
             const int first = edge_index(p[0], p[1], p[2], axis);
             for (int k = 0, i = first; k < size && near; ++k, i += kEdgeStride[axis]) {
                 if (slot_[i] == kNoSlot) continue;
                 const Point3d& crossing = hermite_[slot_[i]].point;
-                near = surface_distance(along_spoke(v, crossing, 0.5)) <= error_;
+                near = surface_distance(along_spoke(v, crossing, 0.5)) <= tolerance;
                 // The crossing lies on the surface, so a quarter point within the error of it
                 // is near; the estimate is asked only of the others.
-                if (near && 0.75 * 0.75 * squared_distance(v, crossing) > error_ * error_) {
-                    near = surface_distance(along_spoke(v, crossing, 0.25)) <= error_;
+                if (near && 0.75 * 0.75 * squared_distance(v, crossing) > tolerance * tolerance) {
+                    near = surface_distance(along_spoke(v, crossing, 0.25)) <= tolerance;
                 }
             }
         });
@@ -474,7 +496,7 @@ private:
 
     /// Whether every crossing of the cell's grid edges (the Marching Cubes surface's vertices)
     /// lies within twice the error of the fan the cell will be.
-    bool surface_near_fan(const Point3d& v, const std::array<int, 3>& min, int size) const {
+    bool surface_near_fan(const Point3d& v, const std::array<int, 3>& min, int size, double slack) const {
         IfcFan fan(v);
         for (int axis = 0; axis < 3; ++axis) {
             for (int side = 0; side < 2; ++side) {
@@ -496,7 +518,8 @@ private:
             for (int a = 0; a < 3; ++a) on_faces += p[a] == lo[a] || p[a] == hi[a];
             return on_faces >= 2;
         };
-        return all_crossings(min, size, [&](const Hermite& h) { return on_cell_edge(h.point) || fan.near(h.point, 2 * error_); });
+        const double tolerance = 2 * error_ + slack;
+        return all_crossings(min, size, [&](const Hermite& h) { return on_cell_edge(h.point) || fan.near(h.point, tolerance); });
     }
 
     /// The crossings on the perimeter of the cell's face normal to @a axis on @a side (0: low,
@@ -557,7 +580,7 @@ private:
                         if (state == CellState::surface) {
                             id = std::uint8_t(out.cells.size());
                             out.cells.push_back({std::uint8_t(level), s_->origin.offsetBy(i * size, j * size, k * size),
-                                                 vertex_[level][cell_index(level, i, j, k)]});
+                                                 vertex_[level][cell_index(level, i, j, k)], feature_[level][cell_index(level, i, j, k)]});
                         }
                         for (int x = i * size; x < (i + 1) * size; ++x) {
                             for (int y = j * size; y < (j + 1) * size; ++y) {
@@ -589,6 +612,7 @@ private:
     const IfcSamples* s_ = nullptr;
     double iso_ = 0;
     double error_ = 0;
+    bool sharp_ = false;  ///< `--sharp`: feature cells offer their feature point first (can_merge())
     /// Per grid edge of the block (edge_index()): its crossing's index in hermite_ and
     /// crossings_, or kNoSlot. The Hermite data itself is kept packed, in scan order, so the
     /// tests walk a few KB rather than a sparse 105 KB table.
@@ -602,15 +626,16 @@ private:
     std::array<std::vector<Qef3>, kIfcMaxLevel + 1> qef_;
     std::array<std::array<bool, kIfcBlock * kIfcBlock * kIfcBlock>, kIfcMaxLevel + 1> simple_{};
     std::array<std::array<Point3d, 64>, kIfcMaxLevel + 1> vertex_{};
+    std::array<std::array<bool, 64>, kIfcMaxLevel + 1> feature_{};  ///< whether vertex_ is a feature point
 };
 
 }  // namespace
 
-void build_ifc_cells(const IfcSamples& samples, double iso, double error, IfcBlockCells& cells) {
+void build_ifc_cells(const IfcSamples& samples, double iso, double error, bool sharp, IfcBlockCells& cells) {
     // About 120 KB of Hermite data and the per-level arrays: once per thread, on the heap
     // (not a worker's stack), reused from block to block.
     thread_local const std::unique_ptr<BlockOctree> octree = std::make_unique<BlockOctree>();
-    octree->build(samples, iso, error, cells);
+    octree->build(samples, iso, error, sharp, cells);
 }
 
 }  // namespace vdbmesh::detail

@@ -125,6 +125,7 @@ struct CellView {
     int size = 1;
     int level = 0;
     const Point3d* vertex = nullptr;  ///< merged cells
+    bool feature = false;             ///< a `--sharp` feature point (IfcCell::feature)
     bool merged() const { return vertex != nullptr; }
     bool operator==(const CellView& o) const { return min == o.min && size == o.size; }
     std::uint64_t key() const { return make_key(kCellKind, unsigned(level), min); }
@@ -220,7 +221,10 @@ private:
         view.level = cells.level[u];
         view.size = 1 << view.level;
         view.min = openvdb::Coord(unit.x() & ~(view.size - 1), unit.y() & ~(view.size - 1), unit.z() & ~(view.size - 1));
-        if (cells.cell[u] != IfcBlockCells::kNoCell) view.vertex = &cells.cells[cells.cell[u]].vertex;
+        if (cells.cell[u] != IfcBlockCells::kNoCell) {
+            view.vertex = &cells.cells[cells.cell[u]].vertex;
+            view.feature = cells.cells[cells.cell[u]].feature;
+        }
         return view;
     }
 
@@ -398,9 +402,13 @@ private:
     /// corner @a s. The merges' accuracy tests take a crossing on a cell's edge as a vertex of
     /// the cell's fan; the polygon drops it, so it is held to the error here (without this, the
     /// CThead at --error 1 lost the tip of a thin wall, 1.72 voxels short; with it, 14 more
-    /// triangles).
+    /// triangles). Round a `--sharp` feature point the crossing lies on the rounded trilinear
+    /// isosurface, which the feature leaves by up to kSharpReach more (dc_qef.h).
     bool polygon_near(const Ring& ring, int s, const Point3d& crossing) const {
-        const double limit = error_ * error_;
+        bool feature = false;
+        for (int i = 0; i < ring.count; ++i) feature |= ring.cell[i].feature;
+        const double reach = error_ + (feature ? kSharpReach : 0.0);
+        const double limit = reach * reach;
         for (int j = 1; j + 1 < ring.count; ++j) {
             const Point3d q = closest_point_on_triangle(crossing, *ring.cell[s].vertex, *ring.cell[(s + j) % ring.count].vertex,
                                                         *ring.cell[(s + j + 1) % ring.count].vertex);

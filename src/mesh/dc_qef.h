@@ -22,6 +22,11 @@ public:
     /// on the surface's middle). Requires count() > 0.
     Point3d minimiser() const;
 
+    /// How many directions the planes pin down: the eigenvalues of A^T A above @a share of the
+    /// largest (0 without planes). Two on a sharp edge, three at a corner, one on a flat or
+    /// gently curved surface (`--sharp`: is_sharp_feature()).
+    int conditioned_directions(double share) const;
+
 private:
     std::array<double, 6> ata_{};  ///< xx, xy, xz, yy, yz, zz
     std::array<double, 3> atb_{};
@@ -29,6 +34,23 @@ private:
     double btb_ = 0;
     int count_ = 0;
 };
+
+/// `--sharp` (MeshOptions::sharp, docs/dmc.md "Sharp features"): a cell whose QEF pins down two
+/// or three directions, each eigenvalue of A^T A above this share of the largest, holds an edge
+/// or a corner. Two faces meeting at 90 degrees give equal eigenvalues, so the share only has to
+/// tell an edge whose one face the cell barely clips (a few of its crossings against many) and
+/// curved surfaces: normals spread evenly over an angle a give about a^2 / 12, so 0.1 takes a
+/// spread of 63 degrees or more within one cell.
+inline constexpr double kSharpFeatureShare = 0.1;
+
+/// `--sharp`: how far (voxels) beyond the error a feature cell's vertex may leave the trilinear
+/// isosurface and the tangent planes of its crossings, where the bound of DC without it rounds the
+/// edges and corners (the exact corners of the phantoms lie 0.64-0.71 voxel from the trilinear
+/// isosurface: RoundedCornerTest).
+inline constexpr double kSharpReach = 1.0;
+
+/// Whether @a qef holds a sharp edge or corner (kSharpFeatureShare).
+inline bool is_sharp_feature(const Qef3& qef) { return qef.conditioned_directions(kSharpFeatureShare) >= 2; }
 
 // Inline: the octree adds a plane per crossing and sums every cell's children, in loops the
 // compiler can then unroll.

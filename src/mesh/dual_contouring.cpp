@@ -155,7 +155,7 @@ IfcCellGrid build_ifc_cell_grid(const openvdb::FloatGrid& grid, const SampleClas
     cells.blocks.resize(cells.origins.size());
     auto may_hold_surface = [&](std::size_t b, auto& accessor) { return block_may_hold_surface(accessor, classifier, cells.origins[b]); };
     for_each_surface_block(grid, classifier, cells.origins, may_hold_surface, [&](const IfcSamples& samples, std::size_t b) {
-        build_ifc_cells(samples, options.iso, options.error, cells.block_for_writing(b));
+        build_ifc_cells(samples, options.iso, options.error, options.sharp, cells.block_for_writing(b));
     });
     clock.lap(report, "octree");
     merge_ifc_coarse_cells(grid, classifier, options.error, cells);

@@ -25,7 +25,7 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
     const nlohmann::json report = nlohmann::json::parse(in);
     EXPECT_EQ(report["grid"]["truth"], "exact phantom surface");
     EXPECT_GT(report["grid"]["active_voxels"].get<long>(), 0);
-    ASSERT_EQ(report["meshes"].size(), 7u);  // 2 DC, MC, 2 volumeToMesh, 2 budgets at their counts
+    ASSERT_EQ(report["meshes"].size(), 8u);  // 2 DC, MC, 2 volumeToMesh, 2 budgets at their counts, DC --sharp at 0.25
     for (const char* key : {"method", "error", "adaptivity", "triangle_budget", "seconds", "triangles", "vertices", "hausdorff_voxels",
                             "mean_distance_voxels", "self_intersecting_pairs", "closed", "manifold", "normal_mean_deg",
                             "normal_p95_deg", "boundary_edges", "genus", "area", "volume", "min_angle_deg", "phases",
@@ -53,6 +53,12 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
         EXPECT_TRUE(budget["clean"].get<bool>());
     }
     EXPECT_NE(table.find("<= "), std::string::npos) << table;
+    // On a phantom, DC --sharp at each error above 0, last (issue 29, item 5).
+    EXPECT_EQ(report["meshes"][7]["error"], 0.25);
+    EXPECT_EQ(report["meshes"][7]["sharp"], true);
+    EXPECT_FALSE(report["meshes"][1]["sharp"].get<bool>());
+    EXPECT_TRUE(report["meshes"][7]["clean"].get<bool>());
+    EXPECT_NE(table.find("sharp 0.25"), std::string::npos) << table;
 
     std::ifstream plot(svg);
     const std::string text((std::istreambuf_iterator<char>(plot)), std::istreambuf_iterator<char>());

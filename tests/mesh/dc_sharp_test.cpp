@@ -1,0 +1,329 @@
+// `--sharp` (MeshOptions::sharp, issue 29 item 3) against the exact surfaces of the phantoms of
+// include/vdbmesh/phantom.h, converted like scans: the guarantees judged by CGAL, the accuracy
+// by this file's own points on the exact surfaces (faces, edges and corners included: points
+// projected from a mesh onto a cube's faces would miss its corners, where a rounded mesh is
+// farthest), measured with mesh_distance() (two-sided Hausdorff, voxels).
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <openvdb/openvdb.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "cgal_judge.h"
+#include "cli.h"
+#include "mesh_checks.h"
+#include "phantom_grid.h"
+#include "shared_scan.h"
+#include "test_data.h"
+#include "vdbmesh/analysis.h"
+#include "vdbmesh/grid.h"
+#include "vdbmesh/mesh_io.h"
+#include "vdbmesh/mesher.h"
+#include "vdbmesh/phantom.h"
+
+namespace vdbmesh {
+namespace {
+
+using Points = std::vector<std::array<double, 3>>;
+using Vec3 = openvdb::Vec3d;
+const double kPi = std::acos(-1.0);
+
+PhantomSpec preset(const char* name) { return phantom_preset(name, {128, 128, 128}); }
+
+/// world = Rz * Ry * Rx * shape about the centre, as PhantomSpec::rotation_degrees (built from
+/// OpenVDB's axis rotations, not the phantom's own code; OpenVDB's are for row vectors, hence
+/// the transposes).
+Vec3 placed(const PhantomSpec& spec, const Vec3& local) {
+    const auto& d = spec.rotation_degrees;
+    const auto about = [](openvdb::math::Axis axis, double degrees) {
+        return openvdb::math::rotation<openvdb::Mat3d>(axis, degrees * kPi / 180).transpose();
+    };
+    const openvdb::Mat3d r = about(openvdb::math::Z_AXIS, d[2]) * about(openvdb::math::Y_AXIS, d[1]) * about(openvdb::math::X_AXIS, d[0]);
+    const auto c = spec.centre_or_default();
+    return r * local + Vec3(c[0], c[1], c[2]);
+}
+
+/// Points on the six faces of a cube of edge @a side about the origin (shape coordinates), a
+/// grid of @a n + 1 by n + 1 on each, so its edges and corners are among them; @a keep decides.
+template <class Keep>
+void cube_face_points(double side, int n, Keep&& keep, std::vector<Vec3>& out) {
+    for (int axis = 0; axis < 3; ++axis) {
+        for (double sign : {-1.0, 1.0}) {
+            for (int i = 0; i <= n; ++i) {
+                for (int j = 0; j <= n; ++j) {
+                    Vec3 p;
+                    p[axis] = sign * side / 2;
+                    p[(axis + 1) % 3] = side * (double(i) / n - 0.5);
+                    p[(axis + 2) % 3] = side * (double(j) / n - 0.5);
+                    if (keep(p)) out.push_back(p);
+                }
+            }
+        }
+    }
+}
+
+/// Points on the exact surface of @a spec, about half a voxel apart, every edge and corner
+/// included: cubes, cube minus sphere (the ball's part inside the cube and the six circles where
+/// it meets the faces) and the cylinder (side, caps and both rims).
+Points exact_surface_points(const PhantomSpec& spec) {
+    std::vector<Vec3> local;
+    const auto all = [](const Vec3&) { return true; };
+    switch (spec.shape) {
+        case PhantomShape::cube: cube_face_points(spec.side, int(2 * spec.side), all, local); break;
+        case PhantomShape::cube_minus_sphere: {
+            const double r = spec.hole_radius, half = spec.side / 2;
+            cube_face_points(spec.side, int(2 * spec.side), [&](const Vec3& p) { return p.length() >= r; }, local);
+            const int n = int(4 * kPi * r * r);  // about one point per quarter voxel^2
+            const double golden = kPi * (3.0 - std::sqrt(5.0));
+            for (int i = 0; i < n; ++i) {
+                const double z = 1.0 - 2.0 * (i + 0.5) / n, s = std::sqrt(1.0 - z * z);
+                const Vec3 p = r * Vec3(s * std::cos(golden * i), s * std::sin(golden * i), z);
+                if (std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])}) <= half) local.push_back(p);
+            }
+            const double rim = std::sqrt(r * r - half * half);  // the circles on the faces
+            for (int axis = 0; axis < 3; ++axis) {
+                for (double sign : {-1.0, 1.0}) {
+                    for (int k = 0; k < int(4 * kPi * rim); ++k) {
+                        const double t = 2 * kPi * k / int(4 * kPi * rim);
+                        Vec3 p;
+                        p[axis] = sign * half;
+                        p[(axis + 1) % 3] = rim * std::cos(t);
+                        p[(axis + 2) % 3] = rim * std::sin(t);
+                        local.push_back(p);
+                    }
+                }
+            }
+            break;
+        }
+        case PhantomShape::cylinder: {
+            const double r = spec.radius, h = spec.height / 2;
+            const int around = int(4 * kPi * r);
+            for (int k = 0; k < around; ++k) {
+                const double t = 2 * kPi * k / around;
+                for (int j = 0; j <= int(4 * h); ++j) local.emplace_back(r * std::cos(t), r * std::sin(t), -h + 2 * h * j / int(4 * h));
+            }
+            for (int i = -int(2 * r); i <= int(2 * r); ++i) {
+                for (int j = -int(2 * r); j <= int(2 * r); ++j) {
+                    const double x = i / 2.0, y = j / 2.0;
+                    if (x * x + y * y > r * r) continue;
+                    local.emplace_back(x, y, -h);
+                    local.emplace_back(x, y, h);
+                }
+            }
+            break;
+        }
+        default: ADD_FAILURE() << "no exact points for this shape";
+    }
+    Points points;
+    for (const Vec3& p : local) {
+        const Vec3 w = placed(spec, p);
+        EXPECT_NEAR(phantom_signed_distance(spec, w[0], w[1], w[2]), 0.0, 1e-9);  // on the exact surface
+        points.push_back({w[0], w[1], w[2]});
+    }
+    return points;
+}
+
+MeshOptions dc_at(double error, bool sharp) {
+    MeshOptions options;
+    options.iso = 0.5;
+    options.error = error;
+    options.sharp = sharp;
+    return options;
+}
+
+struct SharpRun {
+    Mesh mesh;
+    DistanceReport distance;
+};
+
+SharpRun mesh_and_measure(const openvdb::FloatGrid& grid, const PhantomSpec& spec, const Points& exact, const MeshOptions& options) {
+    SharpRun run;
+    run.mesh = mesh_grid(grid, options).mesh;
+    run.distance = mesh_distance(
+        run.mesh, [&](double x, double y, double z) { return phantom_signed_distance(spec, x, y, z); }, 200000, exact);
+    return run;
+}
+
+void expect_clean(const Mesh& mesh) {
+    const test::CgalVerdict verdict = test::judge_with_cgal(mesh);
+    EXPECT_TRUE(verdict.clean()) << verdict.describe();
+}
+
+/// `--sharp --error 0.1` on a phantom with sharp edges: clean, and no farther from the exact
+/// surface than DC without it. Returns the runs (error 0, error 0.1, --sharp) for the figures.
+std::array<SharpRun, 3> expect_sharp_no_worse(const char* name) {
+    const PhantomSpec spec = preset(name);
+    const auto grid = test::phantom_scan_grid(spec);
+    const Points exact = exact_surface_points(spec);
+    std::array<SharpRun, 3> runs = {mesh_and_measure(*grid, spec, exact, dc_at(0.0, false)),
+                                    mesh_and_measure(*grid, spec, exact, dc_at(0.1, false)),
+                                    mesh_and_measure(*grid, spec, exact, dc_at(0.1, true))};
+    std::printf("[ figures  ] %s: error 0: %zu triangles, Hausdorff %.3f; error 0.1: %zu, %.3f; --sharp: %zu, %.3f\n", name,
+                runs[0].mesh.triangles.size(), runs[0].distance.hausdorff, runs[1].mesh.triangles.size(), runs[1].distance.hausdorff,
+                runs[2].mesh.triangles.size(), runs[2].distance.hausdorff);
+    EXPECT_LE(runs[2].distance.hausdorff, runs[1].distance.hausdorff);
+    EXPECT_LE(runs[2].mesh.triangles.size(), runs[1].mesh.triangles.size());
+    expect_clean(runs[2].mesh);
+    return runs;
+}
+
+// Issue 29 asks `--sharp --error 0.1` within 0.2 voxel of the exact cube with 10x fewer
+// triangles than at error 0: NOT met (docs/dmc.md, "Sharp features"). The edges come within 0.2
+// on the axis-aligned cube, its corners do not: each corner's QEF point lies about 0.4 voxel
+// inside along the cube's diagonal, pulled by the crossings near the corner, which lie on the
+// rounded trilinear isosurface with its normals. Measured (this test, 128^3): axis-aligned
+// error 0 76,796 triangles, Hausdorff 0.577; error 0.1 8,348, 0.577; --sharp 3,228, 0.413.
+// Tilted: 72,188, 0.758; 14,428, 0.758; 10,152, 0.689. What is held here: clean, closer than
+// without --sharp, the axis-aligned cube more than 0.1 voxel closer and 10x lighter than error 0.
+TEST(DcSharpTest, CubesAreCleanAndCloserToTheExactCubeThanWithoutSharp) {
+    const auto aligned = expect_sharp_no_worse("cube");
+    EXPECT_LE(aligned[2].distance.hausdorff, aligned[1].distance.hausdorff - 0.1);
+    EXPECT_LE(10 * aligned[2].mesh.triangles.size(), aligned[0].mesh.triangles.size());
+    expect_sharp_no_worse("rotated-cube");
+}
+
+// Measured (128^3): cube minus sphere error 0 80,608 triangles, Hausdorff 0.830; error 0.1
+// 37,010, 0.871; --sharp 29,082, 0.871. Cylinder: 96,892, 0.476; 10,052, 0.476; 6,776, 0.436.
+TEST(DcSharpTest, CubeMinusSphereAndCylinderAreCleanAndNoFartherFromTheirExactSurfaces) {
+    expect_sharp_no_worse("cube-minus-sphere");
+    expect_sharp_no_worse("cylinder");
+}
+
+// Away from features the mesh is the one without --sharp: on smooth phantoms no cell holds an
+// edge or a corner, so the whole mesh is the same, vertex for vertex.
+TEST(DcSharpTest, SmoothSurfacesGiveTheSameMesh) {
+    for (const char* name : {"sphere", "torus"}) {
+        const auto grid = test::phantom_scan_grid(preset(name));
+        for (double error : {0.1, 0.25, 1.0}) {
+            const Mesh plain = mesh_grid(*grid, dc_at(error, false)).mesh;
+            const Mesh sharp = mesh_grid(*grid, dc_at(error, true)).mesh;
+            EXPECT_EQ(plain.vertices, sharp.vertices) << name << " at " << error;
+            EXPECT_EQ(plain.triangles, sharp.triangles) << name << " at " << error;
+        }
+    }
+}
+
+// The same bytes for any thread count, as without --sharp.
+TEST(DcSharpTest, OneAndTwoThreadsGiveTheSameMesh) {
+    const auto grid = test::phantom_scan_grid(preset("rotated-cube"));
+    Mesh meshes[2];
+    for (int threads : {1, 2}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+        meshes[threads - 1] = mesh_grid(*grid, dc_at(0.1, true)).mesh;
+    }
+    EXPECT_EQ(meshes[0].vertices, meshes[1].vertices);
+    EXPECT_EQ(meshes[0].triangles, meshes[1].triangles);
+}
+
+/// The triangles of @a mesh whose corners all lie more than @a away voxels from every edge of
+/// the cube of @a spec, as corner positions (orientation kept, starting at the least corner).
+std::set<std::array<std::array<float, 3>, 3>> triangles_away_from_edges(const Mesh& mesh, const PhantomSpec& spec, double away) {
+    const auto c = spec.centre_or_default();
+    const Vec3 centre(c[0], c[1], c[2]);
+    const auto far_from_edges = [&](const std::array<float, 3>& v) {
+        // In the cube's own axes (the inverse rotation, by placing the offset's image back).
+        const Vec3 w(v[0], v[1], v[2]);
+        const Vec3 x = placed(spec, Vec3(1, 0, 0)) - centre, y = placed(spec, Vec3(0, 1, 0)) - centre, z = placed(spec, Vec3(0, 0, 1)) - centre;
+        const Vec3 d = w - centre;
+        std::array<double, 3> gaps = {spec.side / 2 - std::abs(d.dot(x)), spec.side / 2 - std::abs(d.dot(y)), spec.side / 2 - std::abs(d.dot(z))};
+        std::sort(gaps.begin(), gaps.end());
+        return gaps[1] > away;  // a point near an edge is near two faces
+    };
+    std::set<std::array<std::array<float, 3>, 3>> kept;
+    for (const auto& t : mesh.triangles) {
+        std::array<std::array<float, 3>, 3> corners;
+        bool far = true;
+        for (int k = 0; k < 3; ++k) {
+            const std::array<float, 3>& v = mesh.vertices[t[k]];
+            far &= far_from_edges(v);
+            corners[k] = {v[0], v[1], v[2]};
+        }
+        if (!far) continue;
+        std::rotate(corners.begin(), std::min_element(corners.begin(), corners.end()), corners.end());
+        kept.insert(corners);
+    }
+    return kept;
+}
+
+// On the cubes, the triangles farther than two blocks (16 voxels) from the edges are the same.
+// Nearer, the merge across blocks may differ too: an edge's block is now one feature cell, a
+// leaf the coarse merge can take (measured: within 8 and 12 voxels the tilted cube's triangles
+// differ, 390 against 384 and 119 against 118).
+TEST(DcSharpTest, CubesAwayFromTheirEdgesGiveTheSameTriangles) {
+    constexpr double kAway = 16.0;
+    for (const char* name : {"cube", "rotated-cube"}) {
+        const PhantomSpec spec = preset(name);
+        const auto grid = test::phantom_scan_grid(spec);
+        const Mesh plain = mesh_grid(*grid, dc_at(0.1, false)).mesh;
+        const Mesh sharp = mesh_grid(*grid, dc_at(0.1, true)).mesh;
+        const auto a = triangles_away_from_edges(plain, spec, kAway), b = triangles_away_from_edges(sharp, spec, kAway);
+        EXPECT_GT(a.size(), 0u);
+        EXPECT_EQ(a, b) << name << ": " << a.size() << " and " << b.size() << " triangles away from the edges";
+    }
+}
+
+// On real scans `--sharp` is judged by the guarantees alone (issue 29): CGAL on the walnut at
+// 0.25 and 1 (5 s; the CThead as well took 11 s), every staged scan with VDBMESH_FULL=1.
+TEST(DcSharpTest, RealScansAreCleanWithSharp) {
+    tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
+    std::vector<test::SharedScan> scans;
+    if (std::getenv("VDBMESH_FULL")) scans = test::shared_scans();
+    else scans = {test::shared_scan("WalnutOpenQVis")};
+    for (const test::SharedScan& scan : scans) {
+        openvdb::FloatGrid::Ptr grid;
+        ASSERT_NO_FATAL_FAILURE(test::convert_shared_scan(scan, grid));
+        if (!grid) return;  // skipped: the shared data is missing
+        for (double error : {0.25, 1.0}) {
+            MeshOptions options = dc_at(error, true);
+            options.iso = scan.iso;
+            const Mesh mesh = mesh_grid(*grid, options).mesh;
+            const test::CgalVerdict verdict = test::judge_with_cgal(mesh);
+            EXPECT_TRUE(verdict.clean()) << scan.name << " --sharp --error " << error << ": " << verdict.describe();
+            std::printf("[ figures  ] %s --sharp --error %g: %zu triangles, clean %d\n", scan.name.c_str(), error, mesh.triangles.size(),
+                        int(verdict.clean()));
+        }
+    }
+}
+
+// `vdbmesh mesh --sharp`: the library's mesh, "sharp" in --json; refused (usage, nothing
+// written) where it would change nothing or could not be kept.
+TEST(DcSharpTest, TheCommandLineMeshesWithSharpAndRefusesWhereItDoesNotApply) {
+    test::ScratchDir scratch;
+    const auto grid = test::make_ball(6, {0.5, 0.25, 0.1});
+    grid->insertMeta(kMetaIsovalue, openvdb::DoubleMetadata(0.0));
+    const auto input = scratch / "ball.vdb", output = scratch / "ball.ply";
+    write_vdb(*grid, input);
+    testing::internal::CaptureStdout();
+    const int status = cli::run({"mesh", input.string(), "--error", "0.25", "--sharp", "-o", output.string(), "--json"});
+    const std::string json = testing::internal::GetCapturedStdout();
+    ASSERT_EQ(status, cli::kSuccess);
+    EXPECT_EQ(nlohmann::json::parse(json)["sharp"], true);
+    MeshOptions options = dc_at(0.25, true);
+    options.iso = 0.0;
+    EXPECT_EQ(read_mesh(output).triangles.size(), mesh_grid(*grid, options).mesh.triangles.size());
+    const std::vector<std::vector<std::string>> refused = {
+        {"--sharp", "--method", "mc"}, {"--sharp"}, {"--sharp", "--error", "0"}, {"--sharp", "--triangles", "100"}};
+    for (const auto& flags : refused) {
+        const auto none = scratch / "refused.ply";
+        std::vector<std::string> args = {"mesh", input.string(), "-o", none.string()};
+        args.insert(args.end(), flags.begin(), flags.end());
+        testing::internal::CaptureStderr();
+        EXPECT_EQ(cli::run(args), cli::kUsageError) << args.back();
+        EXPECT_NE(testing::internal::GetCapturedStderr().find("--sharp: only"), std::string::npos);
+        EXPECT_FALSE(std::filesystem::exists(none));
+    }
+}
+
+}  // namespace
+}  // namespace vdbmesh
