@@ -8,10 +8,10 @@
 
 #include <cstdlib>
 #include <optional>
-#include <regex>
 #include <string>
 
 #include "test_data.h"
+#include "smallest_limit.h"
 #include "test_meshes.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
@@ -157,18 +157,10 @@ TEST(AnalyzeStreamTest, RealScanMeshGivesTheWholeChecksFigures) {
 TEST(AnalyzeStreamTest, LimitTooSmallIsRefusedWithTheSmallestThatWorks) {
     const test::ScratchDir dir;
     write_mesh(test::torus(40, 24), dir / "torus.ply");
-    std::string message;
-    try {
-        analyze_mesh_stream(dir / "torus.ply", {std::uint64_t(1) << 20, 0});
-        FAIL() << "1M accepted";
-    } catch (const UsageError& e) {
-        message = e.what();
-    }
-    std::smatch match;
-    ASSERT_TRUE(std::regex_search(message, match, std::regex("smallest limit that works is ([0-9]+)M"))) << message;
-    const std::uint64_t smallest = std::stoull(match[1]) << 20;
-    EXPECT_THROW(analyze_mesh_stream(dir / "torus.ply", {smallest - (std::uint64_t(1) << 20), 0}), UsageError);
-    EXPECT_TRUE(analyze_mesh_stream(dir / "torus.ply", {smallest, 0}).analysis.is_clean());
+    const auto analyze = [&](std::uint64_t limit) { return analyze_mesh_stream(dir / "torus.ply", {limit, 0}); };
+    const std::uint64_t smallest = test::smallest_limit_named(analyze);
+    ASSERT_NE(smallest, 0u);
+    EXPECT_TRUE(analyze(smallest).analysis.is_clean());
 }
 
 TEST(AnalyzeStreamTest, BadFileIsTheReadersFormatError) {
