@@ -107,6 +107,12 @@ struct ReadOptions {
     bool allow_outside_data = false;
 };
 
+/// A rectangle of every z-slice: columns [min_x, min_x + width), rows [min_y, min_y + height).
+struct SliceRectangle {
+    std::int64_t min_x = 0, min_y = 0, width = 0, height = 0;
+    std::int64_t voxels() const { return width * height; }
+};
+
 /// Samples of a volume handed out z-slice by z-slice as floats (what convert_to_grid()
 /// consumes): a scan on disk (VolumeReader) or an array in memory (the Python module).
 class SliceReader {
@@ -116,6 +122,11 @@ public:
     /// Reads the next @a slices z-slices into @a out, which holds slice_voxels() * slices
     /// floats (x fastest). Throws FormatError on truncated data or a NaN/infinite sample.
     virtual void read_slices(std::int64_t slices, float* out) = 0;
+    /// Reads the next @a slices z-slices keeping only @a part of each (which lies in the slice)
+    /// into @a out, which holds part.voxels() * slices floats (x fastest): what a scan read by
+    /// region needs of a column of bricks. The samples outside @a part need not be decoded nor
+    /// checked. This default reads whole slices, one at a time, and copies the part.
+    virtual void read_slice_part(std::int64_t slices, const SliceRectangle& part, float* out);
     /// Index of the next slice read_slices() returns.
     virtual std::int64_t next_slice() const = 0;
 };
@@ -132,6 +143,7 @@ public:
     /// Where the samples are read from (the files a header names, in order).
     const std::vector<DataSegment>& segments() const { return source_.segments; }
     void read_slices(std::int64_t slices, float* out) override;
+    void read_slice_part(std::int64_t slices, const SliceRectangle& part, float* out) override;
     std::int64_t next_slice() const override { return next_slice_; }
 
 private:

@@ -153,9 +153,15 @@ Converter::Converter(SliceReader& source, const ConvertOptions& options)
       square_hi_(kLeafDim + 2 * pad_, static_cast<std::size_t>(block_y_count_) * block_x_count_, 0),
       blocks_(static_cast<std::size_t>(block_x_count_) * block_y_count_) {}
 
-std::size_t Converter::window_bytes() const {
-    return samples_.bytes() + cells_.bytes() + distances_.bytes() + block_distances_.bytes() + square_lo_.bytes() +
-           square_hi_.bytes() + static_cast<std::size_t>(kLeafDim + 2 * pad_) * static_cast<std::size_t>(header_.slice_voxels()) * sizeof(float);
+std::size_t Converter::window_bytes(std::int64_t width, std::int64_t height, int band) {
+    // What the constructor allocates (the windows), and the read buffer of advance_samples().
+    const std::int64_t pad = band + 1;
+    const auto frame = static_cast<std::size_t>((width + 2 * pad) * (height + 2 * pad));
+    const auto blocks = static_cast<std::size_t>((floor_div(width + band, kLeafDim) - floor_div(-pad, kLeafDim) + 1) *
+                                                 (floor_div(height + band, kLeafDim) - floor_div(-pad, kLeafDim) + 1));
+    const std::size_t sample_slices = kLeafDim + 2 * pad, distance_slices = kLeafDim + 2 * band;
+    return sample_slices * frame * sizeof(float) + (distance_slices + 1) * frame + distance_slices * frame + distance_slices * blocks +
+           2 * sample_slices * blocks * sizeof(float) + sample_slices * static_cast<std::size_t>(width * height) * sizeof(float);
 }
 
 void Converter::skip_to(std::int64_t slice) {
@@ -434,12 +440,10 @@ openvdb::math::Transform::Ptr make_transform(const VolumeHeader& header) {
 
 }  // namespace
 
-openvdb::FloatGrid::Ptr Converter::assemble(std::vector<ConvertedRow>& rows, const ScanValues& values) const {
-    const float background_value = background(values);
+void Converter::fill_outside(ConvertedRow& row, float background_value) const {
     std::vector<Leaf*> border_leaves;  // leaves reaching outside the scan
-    for (const ConvertedRow& row : rows)
-        for (const auto& leaf : row.leaves)
-            if (!block_in_scan(leaf->origin().x(), leaf->origin().y(), leaf->origin().z())) border_leaves.push_back(leaf.get());
+    for (const auto& leaf : row.leaves)
+        if (!block_in_scan(leaf->origin().x(), leaf->origin().y(), leaf->origin().z())) border_leaves.push_back(leaf.get());
     tbb::parallel_for(std::size_t{0}, border_leaves.size(), [&](std::size_t b) {
         Leaf& leaf = *border_leaves[b];
         for (openvdb::Index n = 0; n < Leaf::SIZE; ++n) {
@@ -447,12 +451,22 @@ openvdb::FloatGrid::Ptr Converter::assemble(std::vector<ConvertedRow>& rows, con
             if (!in_scan(xyz.x(), xyz.y(), xyz.z())) leaf.setValueOnly(n, background_value);
         }
     });
+}
+
+openvdb::FloatTree::Ptr tree_of_rows(std::vector<ConvertedRow>& rows, float background_value) {
     auto tree = std::make_shared<openvdb::FloatTree>(background_value);
     for (ConvertedRow& row : rows)
         for (auto& leaf : row.leaves) tree->addLeaf(leaf.release());
     for (const ConvertedRow& row : rows)
         for (const auto& [origin, value] : row.tiles) tree->addTile(1, origin, value, false);
     rows.clear();
+    return tree;
+}
+
+openvdb::FloatGrid::Ptr Converter::assemble(std::vector<ConvertedRow>& rows, const ScanValues& values) const {
+    const float background_value = background(values);
+    for (ConvertedRow& row : rows) fill_outside(row, background_value);
+    const openvdb::FloatTree::Ptr tree = tree_of_rows(rows, background_value);
 
     auto grid = openvdb::FloatGrid::create(tree);
     grid->setTransform(make_transform(header_));

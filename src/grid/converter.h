@@ -80,6 +80,9 @@ struct ScanValues {
 /// Throws UsageError on bad options, FormatError on dims a grid cannot hold (convert_to_grid()'s checks).
 void check_convert_options(const VolumeHeader& header, const ConvertOptions& options);
 
+/// A tree of @a rows (their leaves moved into it, @a rows emptied) over @a background_value.
+openvdb::FloatTree::Ptr tree_of_rows(std::vector<ConvertedRow>& rows, float background_value);
+
 /// The conversion of convert_to_grid(), row by row: a row is the 8-slice layer of blocks
 /// (leaves) whose origin has z = z0. Each block depends only on the samples within band + 1
 /// slices of its row, so a row is the same whether the conversion started at the scan's first
@@ -101,8 +104,15 @@ public:
     /// The grid of @a rows (their leaves moved into it): the background, and the metadata,
     /// from the whole scan's @a values.
     openvdb::FloatGrid::Ptr assemble(std::vector<ConvertedRow>& rows, const ScanValues& values) const;
+    /// The background of a grid of this scan whose samples range over @a values.
+    float background(const ScanValues& values) const;
+    /// Sets the voxels of @a row's leaves that lie outside the scan to @a background_value (what
+    /// assemble() does to every row).
+    void fill_outside(ConvertedRow& row, float background_value) const;
     /// The bytes of the slice windows this converter holds.
-    std::size_t window_bytes() const;
+    std::size_t window_bytes() const { return window_bytes(dims_[0], dims_[1], band_); }
+    /// The bytes of the slice windows of a converter of a scan @a width x @a height samples across.
+    static std::size_t window_bytes(std::int64_t width, std::int64_t height, int band);
 
 private:
     std::int64_t frame_index(int x, int y) const { return (x + pad_) + width_ * static_cast<std::int64_t>(y + pad_); }
@@ -132,7 +142,6 @@ private:
                (floor_div(x0, kLeafDim) - block_x_first_);
     }
     BlockResult make_block(int x0, int y0, int z0) const;
-    float background(const ScanValues& values) const;
     /// Skips the source's slices before @a slice (reading them): a first row after the scan's first.
     void skip_to(std::int64_t slice);
 

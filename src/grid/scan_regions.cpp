@@ -1,15 +1,21 @@
 // A scan read by region, straight from its file: convert_to_grid()'s conversion made row by
-// row (converter.h), a band of rows at a time.
+// row (converter.h), a band of rows of one part of the slices at a time.
 //
 // Opening surveys the whole scan once: every row is made and dropped, keeping the sample range
-// (the background and the metadata depend on it) and each node's count of active voxels
-// (nodes()). That costs a conversion's time and its slice windows, never the grid.
-// read(box) then needs the rows of leaves that meet the box in z (the whole x and y extent:
-// the band); the band last made is kept, so the bricks of one z-layer, visited one after the
-// other, share it. A band that follows the last goes on with the same converter (rows both
-// share are copied from the last band); a band that lies before it (reads out of z order)
-// reopens the scan and skips to it. Each row is made from samples within band + 1 slices of
-// it, so it equals the whole conversion's row, and so the band equals the whole grid there.
+// (the background and the metadata depend on it), each node's count of active voxels (nodes())
+// and each row's count of leaves per node column (the estimates). That costs a conversion's time
+// and its slice windows, never the grid.
+// read(box) then needs the rows of leaves that meet the box in z, over the box's x-y rectangle
+// widened by a halo (the part): the band. A voxel's state depends only on the cells within
+// band of it in x and y (an in-plane distance saturating at band + 1), and a leaf's values are
+// its own samples; at a part's edge that is not the scan's, the virtual ring marks the cells of
+// the part's last column, band + 1 inside the edge. So with a halo of band + 1 the part's
+// conversion gives every leaf meeting the box as the whole conversion does. The band last made is kept, so the bricks of
+// one column, visited bottom to top, share one conversion of their part: the scan is read once
+// per column, only the part decoded. A band that follows the last (the same part, higher rows)
+// goes on with the same converter (rows both share are copied from the last band); any other
+// reopens the scan and skips to it. Each row is made from samples within band + 1 slices of it
+// in z, so it equals the whole conversion's row there.
 
 #include <tbb/task_arena.h>
 
@@ -34,20 +40,83 @@ using detail::kLeafDim;
 using detail::region_walk::Leaf;
 using detail::region_walk::TreeRegion;
 
-/// A scan being converted from some row on: its reader and the converter reading it.
+constexpr std::uint64_t kLeafBytes = sizeof(Leaf) + Leaf::SIZE * sizeof(float);
+
+bool operator==(const SliceRectangle& a, const SliceRectangle& b) {
+    return a.min_x == b.min_x && a.min_y == b.min_y && a.width == b.width && a.height == b.height;
+}
+
+/// A rectangle of a scan's slices seen as a scan of its own, its corner at (0, 0).
+class SlicePartReader final : public SliceReader {
+public:
+    SlicePartReader(std::unique_ptr<SliceReader> scan, const SliceRectangle& part)
+        : scan_(std::move(scan)), part_(part), header_(scan_->header()) {
+        header_.dims[0] = part.width;
+        header_.dims[1] = part.height;
+    }
+    const VolumeHeader& header() const override { return header_; }
+    void read_slices(std::int64_t slices, float* out) override { scan_->read_slice_part(slices, part_, out); }
+    std::int64_t next_slice() const override { return scan_->next_slice(); }
+
+private:
+    std::unique_ptr<SliceReader> scan_;
+    SliceRectangle part_;
+    VolumeHeader header_;
+};
+
+/// A part of the scan being converted from some row on: its reader and the converter reading
+/// it, which makes leaves with the part's corner at (0, 0).
 struct Conversion {
     std::unique_ptr<SliceReader> reader;
     std::unique_ptr<Converter> converter;
+    SliceRectangle part;
     int next_row = 0;  ///< the row make_row() makes next
+};
+
+/// The leaves of the whole conversion per row and node column, summed over rectangles of node
+/// columns in constant time (a table of sums per row).
+class LeafCounts {
+public:
+    /// Columns of nodes from @a first_column on, @a columns_x x @a columns_y of them.
+    LeafCounts(int first_column, int columns_x, int columns_y) : first_(first_column), nx_(columns_x), ny_(columns_y) {}
+
+    void add_row(int z0, const std::vector<std::unique_ptr<Leaf>>& leaves) {
+        if (leaves.empty()) return;
+        std::vector<std::uint64_t> sums(std::size_t(nx_ + 1) * (ny_ + 1), 0);
+        for (const auto& leaf : leaves) ++sums[index(column(leaf->origin().x()) + 1, column(leaf->origin().y()) + 1)];
+        for (int y = 1; y <= ny_; ++y)
+            for (int x = 1; x <= nx_; ++x) sums[index(x, y)] += sums[index(x - 1, y)] + sums[index(x, y - 1)] - sums[index(x - 1, y - 1)];
+        rows_.emplace(z0, std::move(sums));
+    }
+
+    /// The leaves of rows [first, last] in the node columns meeting voxels [min_x, end_x) x [min_y, end_y).
+    std::uint64_t leaves(int first, int last, std::int64_t min_x, std::int64_t end_x, std::int64_t min_y, std::int64_t end_y) const {
+        const int x0 = std::max(column(min_x), 0), x1 = std::min(column(end_x - 1) + 1, nx_);
+        const int y0 = std::max(column(min_y), 0), y1 = std::min(column(end_y - 1) + 1, ny_);
+        if (x0 >= x1 || y0 >= y1) return 0;
+        std::uint64_t count = 0;
+        for (auto row = rows_.lower_bound(first); row != rows_.end() && row->first <= last; ++row) {
+            const std::vector<std::uint64_t>& sums = row->second;
+            count += sums[index(x1, y1)] - sums[index(x0, y1)] - sums[index(x1, y0)] + sums[index(x0, y0)];
+        }
+        return count;
+    }
+
+private:
+    int column(std::int64_t voxel) const { return detail::floor_div(voxel, kNodeVoxels) - first_; }
+    std::size_t index(int x, int y) const { return std::size_t(y) * (nx_ + 1) + x; }
+
+    int first_, nx_, ny_;
+    std::map<int, std::vector<std::uint64_t>> rows_;  ///< per row with leaves (z0): the sums
 };
 
 /// What the survey of the whole scan found.
 struct Survey {
     detail::ScanValues values;
-    std::vector<NodeWeight> nodes;      ///< z-major
-    std::map<int, std::uint64_t> leaves;  ///< per row (z0) with leaves: how many
+    float background = 0;
+    std::vector<NodeWeight> nodes;  ///< z-major
+    std::unique_ptr<LeafCounts> leaves;
     std::shared_ptr<const openvdb::FloatGrid> description;
-    std::size_t window_bytes = 0;
 };
 
 class ScanRegionSource final : public GridRegionSource {
@@ -63,44 +132,40 @@ public:
     std::shared_ptr<openvdb::FloatGrid> read(const IndexBox& box) const override {
         openvdb::FloatGrid::Ptr grid = survey_.description->deepCopy();
         const auto [first, last] = rows_of(box);
-        if (first > last) return grid;
-        const std::shared_ptr<const openvdb::FloatGrid> band = band_of_rows(first, last);
+        const SliceRectangle part = part_of(box);
+        if (first > last || part.width <= 0 || part.height <= 0) return grid;
+        const std::shared_ptr<const openvdb::FloatTree> band = band_of(first, last, part);
         TreeRegion region{detail::region_walk::to_bbox(box), &grid->tree(), {}};
-        detail::region_walk::walk_region(band->tree(), region);
+        detail::region_walk::walk_region(*band, region);
         for (const Leaf* leaf : region.leaves) grid->tree().addLeaf(new Leaf(*leaf));
         return grid;
     }
 
     std::uint64_t estimated_bytes(const IndexBox& box) const override {
-        // The band (kept, the rows across the scan's whole x and y), the box's part of it, and
-        // the converter's windows.
-        return band_bytes(box) + grid_bytes(box) + survey_.window_bytes;
+        // The band (kept), the box's part of it, and the part's converter windows with the
+        // readers' buffers (a whole slice of floats at most).
+        const SliceRectangle part = part_of(box);
+        if (part.width <= 0 || part.height <= 0) return 0;
+        const std::uint64_t windows = Converter::window_bytes(part.width, part.height, options_.band) +
+                                      2 * std::uint64_t(whole_.width * whole_.height) * sizeof(float);
+        return band_bytes(box) + grid_bytes(box) + windows;
     }
 
-    /// The band's leaves, times the share of the active voxels of the node layers the box
-    /// meets that lie in nodes meeting the box (the survey counts leaves per row, active voxels
-    /// per node); at least one node's worth of the band when the box holds active voxels.
+    /// The leaves of the rows the box meets in the node columns it meets.
     std::uint64_t grid_bytes(const IndexBox& box) const override {
-        std::uint64_t inside = 0, across = 0;
-        for (const NodeWeight& node : survey_.nodes) {
-            if (node.origin[2] + kNodeVoxels <= box.min[2] || node.origin[2] >= box.max[2]) continue;
-            across += node.active_voxels;
-            const bool meets = node.origin[0] < box.max[0] && node.origin[0] + kNodeVoxels > box.min[0] && node.origin[1] < box.max[1] &&
-                               node.origin[1] + kNodeVoxels > box.min[1];
-            if (meets) inside += node.active_voxels;
-        }
-        if (across == 0) return 0;
-        return std::uint64_t(double(band_bytes(box)) * double(inside) / double(across));
+        const auto [first, last] = rows_of(box);
+        return kLeafBytes * survey_.leaves->leaves(first, last, box.min[0], box.max[0], box.min[1], box.max[1]);
     }
 
 private:
-    /// The leaves of the rows the box meets, across the scan's whole x and y: the band a read
-    /// of it makes.
+    /// The leaves a read of @a box makes: its rows over its part and the virtual ring the part's
+    /// conversion adds round it (band + 1), counted by whole node columns.
     std::uint64_t band_bytes(const IndexBox& box) const {
         const auto [first, last] = rows_of(box);
-        std::uint64_t leaves = 0;
-        for (auto row = survey_.leaves.lower_bound(first); row != survey_.leaves.end() && row->first <= last; ++row) leaves += row->second;
-        return leaves * (sizeof(Leaf) + Leaf::SIZE * sizeof(float));
+        const SliceRectangle part = part_of(box);
+        const int pad = options_.band + 1;
+        return kLeafBytes * survey_.leaves->leaves(first, last, part.min_x - pad, part.min_x + part.width + pad, part.min_y - pad,
+                                                   part.min_y + part.height + pad);
     }
 
     /// The rows of the whole conversion that meet @a box in z: [first, last], empty when first > last.
@@ -110,50 +175,74 @@ private:
         return {first, last};
     }
 
-    Conversion start_at(int row) const {
+    /// The samples a read of @a box converts: the box's x-y rectangle widened by band + 1 (see
+    /// the top of the file), in whole leaves so that the part's blocks are the scan's, within the
+    /// scan's slices; empty when the box lies beyond every leaf the scan makes.
+    SliceRectangle part_of(const IndexBox& box) const {
+        const int halo = detail::floor_div(options_.band + 1 + kLeafDim - 1, kLeafDim) * kLeafDim;
+        auto span = [&](std::int32_t min, std::int32_t max, std::int64_t min_scan, std::int64_t end_scan) {
+            const std::int64_t first = std::max(min_scan, std::int64_t{detail::floor_div(min, kLeafDim)} * kLeafDim - halo);
+            const std::int64_t end = std::min(end_scan, std::int64_t{detail::floor_div(std::int64_t{max} + kLeafDim - 1, kLeafDim)} * kLeafDim + halo);
+            return std::make_pair(first, end - first);
+        };
+        const auto [min_x, width] = span(box.min[0], box.max[0], whole_.min_x, whole_.min_x + whole_.width);
+        const auto [min_y, height] = span(box.min[1], box.max[1], whole_.min_y, whole_.min_y + whole_.height);
+        return {min_x, min_y, width, height};
+    }
+
+    Conversion start_at(int row, const SliceRectangle& part) const {
         Conversion conversion;
-        conversion.reader = open_();
+        conversion.reader = std::make_unique<SlicePartReader>(open_(), part);
         conversion.converter = std::make_unique<Converter>(*conversion.reader, options_);
+        conversion.part = part;
         conversion.next_row = row;
         return conversion;
     }
 
     void survey(const std::function<void(double)>& progress) {
-        Conversion whole = start_at(0);
+        Conversion whole{open_(), nullptr, {}, 0};
+        const VolumeHeader& header = whole.reader->header();
+        whole_ = {0, 0, header.dims[0], header.dims[1]};
+        whole.converter = std::make_unique<Converter>(*whole.reader, options_);
         first_row_ = whole.converter->first_row();
         last_row_ = whole.converter->last_row();
+        // Node columns of every leaf the conversion can make: the scan and its virtual ring.
+        const int pad = options_.band + 1;
+        const int first_column = detail::floor_div(-pad, kNodeVoxels);
+        auto columns = [&](std::int64_t dim) { return detail::floor_div(dim + pad, kNodeVoxels) - first_column + 1; };
+        survey_.leaves = std::make_unique<LeafCounts>(first_column, columns(header.dims[0]), columns(header.dims[1]));
         std::map<std::tuple<int, int, int>, std::uint64_t> active;  // per node (z, y, x)
-        const double slices = static_cast<double>(whole.reader->header().dims[2]);
+        const double slices = static_cast<double>(header.dims[2]);
         for (int z0 = first_row_; z0 <= last_row_; z0 += kLeafDim) {
             const ConvertedRow row = whole.converter->make_row(z0);
             for (const auto& leaf : row.leaves)
                 active[{z0 & ~(kNodeVoxels - 1), leaf->origin().y() & ~(kNodeVoxels - 1), leaf->origin().x() & ~(kNodeVoxels - 1)}] +=
                     leaf->onVoxelCount();
-            if (!row.leaves.empty()) survey_.leaves[z0] = row.leaves.size();
+            survey_.leaves->add_row(z0, row.leaves);
             if (progress) progress(std::clamp((z0 + kLeafDim) / slices, 0.0, 1.0));
         }
         for (const auto& [zyx, count] : active) survey_.nodes.push_back({{std::get<2>(zyx), std::get<1>(zyx), std::get<0>(zyx)}, count});
         survey_.values = whole.converter->values();
+        survey_.background = whole.converter->background(survey_.values);
         std::vector<ConvertedRow> no_rows;
         survey_.description = whole.converter->assemble(no_rows, survey_.values);
-        survey_.window_bytes = whole.converter->window_bytes();
     }
 
-    /// The band of rows [first, last] (at least), made or kept.
-    std::shared_ptr<const openvdb::FloatGrid> band_of_rows(int first, int last) const {
+    /// The band of rows [first, last] (at least) of @a part, made or kept.
+    std::shared_ptr<const openvdb::FloatTree> band_of(int first, int last, const SliceRectangle& part) const {
         std::lock_guard<std::mutex> lock(mutex_);
-        if (band_ && band_first_ <= first && last <= band_last_) return band_;
+        if (band_ && conversion_.part == part && band_first_ <= first && last <= band_last_) return band_;
         // The conversion runs TBB-parallel under the lock: isolated, so that this thread never
         // takes up another read() of the caller's while it waits (which would wait on the lock).
-        tbb::this_task_arena::isolate([&] { make_band(first, last); });
+        tbb::this_task_arena::isolate([&] { make_band(first, last, part); });
         return band_;
     }
 
-    void make_band(int first, int last) const {
+    void make_band(int first, int last, const SliceRectangle& part) const {
         std::vector<ConvertedRow> rows;
-        const bool follows = conversion_.converter && conversion_.next_row <= last &&
+        const bool follows = conversion_.converter && conversion_.part == part && conversion_.next_row <= last &&
                              (conversion_.next_row <= first || (band_ && band_first_ <= first));
-        if (!follows) conversion_ = start_at(first);
+        if (!follows) conversion_ = start_at(first, part);
         if (conversion_.next_row < first) {
             // Ahead of the conversion: a fresh converter on the same reader skips the slices
             // between, unless the reader already holds some of the first row's window.
@@ -165,18 +254,27 @@ private:
         } else if (conversion_.next_row > first) {
             rows.push_back(rows_of_band(first, conversion_.next_row - kLeafDim));
         }
-        for (; conversion_.next_row <= last; conversion_.next_row += kLeafDim)
-            rows.push_back(conversion_.converter->make_row(conversion_.next_row));
-        band_.reset();  // before the new band is assembled: one band at a time
-        band_ = conversion_.converter->assemble(rows, survey_.values);
+        for (; conversion_.next_row <= last; conversion_.next_row += kLeafDim) rows.push_back(made_row(conversion_.next_row));
+        band_.reset();  // before the new band is built: one band at a time
+        band_ = detail::tree_of_rows(rows, survey_.background);
         band_first_ = first;
         band_last_ = last;
+    }
+
+    /// Row @a z0 of the conversion's part, in the scan's coordinates.
+    ConvertedRow made_row(int z0) const {
+        ConvertedRow row = conversion_.converter->make_row(z0);
+        conversion_.converter->fill_outside(row, survey_.background);
+        const openvdb::Coord corner(static_cast<int>(conversion_.part.min_x), static_cast<int>(conversion_.part.min_y), 0);
+        for (auto& leaf : row.leaves) leaf->setOrigin(leaf->origin() + corner);
+        for (auto& tile : row.tiles) tile.first += corner;
+        return row;
     }
 
     /// Copies of the leaves and tiles of the kept band in rows [first, last].
     ConvertedRow rows_of_band(int first, int last) const {
         ConvertedRow copy;
-        const auto& tree = band_->tree();
+        const openvdb::FloatTree& tree = *band_;
         for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf)
             if (leaf->origin().z() >= first && leaf->origin().z() <= last) copy.leaves.push_back(std::make_unique<Leaf>(*leaf));
         auto tile = tree.cbeginValueAll();
@@ -191,11 +289,12 @@ private:
     OpenSlices open_;
     ConvertOptions options_;
     Survey survey_;
+    SliceRectangle whole_;  ///< the scan's slices
     int first_row_ = 0, last_row_ = 0;
 
     mutable std::mutex mutex_;  // guards what follows
     mutable Conversion conversion_;
-    mutable std::shared_ptr<const openvdb::FloatGrid> band_;
+    mutable std::shared_ptr<const openvdb::FloatTree> band_;
     mutable int band_first_ = 0, band_last_ = 0;
 };
 

@@ -17,4 +17,7 @@ VolumeSource read_dicom_series(const std::filesystem::path& folder);    // dicom
 /// of samples (20 x 20 x 20 u8)", with " in N files" when @a files > 1 (volume_reader.cpp).
 std::string describe_sample_bytes(const VolumeHeader& header, std::size_t files);
 
+/// Throws Error (internal) unless @a part lies within a slice of @a header (slice_reader.cpp).
+void check_slice_part(const VolumeHeader& header, const SliceRectangle& part);
+
 }  // namespace vdbmesh::detail

@@ -48,6 +48,14 @@ public:
     /// Reads up to @a size bytes into @a out; returns 0 at the end of the stream.
     /// Throws FormatError on corrupt or cut-off compressed data.
     virtual std::size_t read(unsigned char* out, std::size_t size) = 0;
+    /// Passes over up to @a size bytes as read() would; returns how many, 0 at the end.
+    virtual std::size_t skip(std::size_t size) {
+        scratch_.resize(std::min(size, kBufferBytes));
+        return read(scratch_.data(), scratch_.size());
+    }
+
+private:
+    std::vector<unsigned char> scratch_;
 };
 
 /// Plain or gzip bytes through gzread (transparent for data without the gzip magic).
@@ -82,18 +90,31 @@ private:
 /// Plain bytes, read as they are (even when they happen to start with the gzip magic).
 class PlainInput final : public SegmentInput {
 public:
-    PlainInput(std::filesystem::path path, int fd) : path_(std::move(path)), fd_(fd) {}
+    /// @a fd at @a offset of a file of @a size bytes.
+    PlainInput(std::filesystem::path path, int fd, std::uint64_t offset, std::uint64_t size)
+        : path_(std::move(path)), fd_(fd), position_(offset), size_(size) {}
     ~PlainInput() override { ::close(fd_); }
 
     std::size_t read(unsigned char* out, std::size_t size) override {
         const ssize_t got = ::read(fd_, out, std::min(size, kMaxChunk));
         if (got < 0) throw Error(path_.string() + ": read failed: " + std::strerror(errno));
+        position_ += static_cast<std::uint64_t>(got);
         return static_cast<std::size_t>(got);
+    }
+
+    /// Seeks: a column of bricks reads only the rows of its part of each slice.
+    std::size_t skip(std::size_t size) override {
+        const std::uint64_t step = std::min<std::uint64_t>(size, size_ > position_ ? size_ - position_ : 0);
+        if (step > 0 && ::lseek(fd_, static_cast<off_t>(step), SEEK_CUR) < 0)
+            throw Error(path_.string() + ": seek failed: " + std::strerror(errno));
+        position_ += step;
+        return static_cast<std::size_t>(step);
     }
 
 private:
     std::filesystem::path path_;
     int fd_;
+    std::uint64_t position_, size_;
 };
 
 /// A zlib-wrapped deflate stream, inflated by hand; nothing may follow it in the file.
@@ -169,17 +190,20 @@ std::unique_ptr<SegmentInput> open_input(const DataSegment& segment) {
                           std::to_string(segment.file_offset));
     }
     if (segment.compression == Compression::zlib) return std::make_unique<ZlibInput>(segment.path, fd);
-    if (segment.compression == Compression::none) return std::make_unique<PlainInput>(segment.path, fd);
+    // Detected as plain (no gzip magic where the data starts) reads what gzread would read in
+    // its transparent mode, and can seek.
+    unsigned char magic[2] = {0, 0};
+    const bool plain = segment.compression == Compression::none ||
+                       ::pread(fd, magic, 2, static_cast<off_t>(segment.file_offset)) < 2 || magic[0] != 0x1f || magic[1] != 0x8b;
+    if (plain) return std::make_unique<PlainInput>(segment.path, fd, segment.file_offset, static_cast<std::uint64_t>(info.st_size));
     return std::make_unique<GzipInput>(segment.path, fd);
 }
 
-/// Reads and discards the rest of @a input; returns how many bytes there were.
+/// Passes over the rest of @a input (at most @a limit bytes); returns how many bytes there were.
 std::uint64_t count_rest(SegmentInput& input, std::uint64_t limit = ~std::uint64_t{0}) {
-    std::vector<unsigned char> scratch(kBufferBytes);
     std::uint64_t total = 0;
     while (total < limit) {
-        const std::size_t got = input.read(scratch.data(), static_cast<std::size_t>(
-                                                               std::min<std::uint64_t>(scratch.size(), limit - total)));
+        const std::size_t got = input.skip(static_cast<std::size_t>(std::min<std::uint64_t>(kMaxChunk, limit - total)));
         if (got == 0) break;
         total += got;
     }
@@ -198,27 +222,9 @@ public:
           expected_(detail::describe_sample_bytes(source.header, source.segments.size())) {}
 
     /// Fills @a out with exactly @a size bytes, or throws FormatError (truncated data).
-    void read(unsigned char* out, std::size_t size) {
-        while (size > 0) {
-            if (!input_) open_next();
-            const DataSegment& segment = segments_[index_ - 1];
-            const std::uint64_t left = segment.bytes == DataSegment::kToEnd ? size : segment.bytes - read_in_segment_;
-            if (left == 0) {
-                close_segment();
-                continue;
-            }
-            const std::size_t got = input_->read(out, static_cast<std::size_t>(std::min<std::uint64_t>(size, left)));
-            if (got == 0) {
-                if (segment.bytes != DataSegment::kToEnd) throw_truncated_segment(segment);
-                input_.reset();  // a kToEnd segment ends where its stream does
-                continue;
-            }
-            out += got;
-            size -= got;
-            read_in_segment_ += got;
-            read_total_ += got;
-        }
-    }
+    void read(unsigned char* out, std::size_t size) { advance(out, size); }
+    /// Passes over exactly @a size bytes, or throws FormatError (truncated data).
+    void skip(std::size_t size) { advance(nullptr, size); }
 
     /// After the last sample: throws FormatError "trailing data" when any stream holds more.
     void finish() {
@@ -230,6 +236,30 @@ public:
     }
 
 private:
+    /// Reads @a size bytes into @a out, or passes over them when @a out is null.
+    void advance(unsigned char* out, std::size_t size) {
+        while (size > 0) {
+            if (!input_) open_next();
+            const DataSegment& segment = segments_[index_ - 1];
+            const std::uint64_t left = segment.bytes == DataSegment::kToEnd ? size : segment.bytes - read_in_segment_;
+            if (left == 0) {
+                close_segment();
+                continue;
+            }
+            const auto want = static_cast<std::size_t>(std::min<std::uint64_t>(size, left));
+            const std::size_t got = out ? input_->read(out, want) : input_->skip(want);
+            if (got == 0) {
+                if (segment.bytes != DataSegment::kToEnd) throw_truncated_segment(segment);
+                input_.reset();  // a kToEnd segment ends where its stream does
+                continue;
+            }
+            if (out) out += got;
+            size -= got;
+            read_in_segment_ += got;
+            read_total_ += got;
+        }
+    }
+
     void open_next() {
         if (index_ >= segments_.size()) throw_truncated_total();
         const DataSegment& segment = segments_[index_++];
@@ -317,14 +347,15 @@ bool host_is_little() {
     return first == 1;
 }
 
-/// Throws FormatError at the first NaN or infinity: a float sample, or an integer one that
-/// the value scale pushed out of float range.
-void check_finite(const VolumeHeader& h, const float* values, std::size_t count, std::int64_t first_slice) {
+/// Throws FormatError at the first NaN or infinity among @a values, the samples of @a part of
+/// consecutive slices from @a first_slice: a float sample, or an integer one that the value
+/// scale pushed out of float range.
+void check_finite(const VolumeHeader& h, const SliceRectangle& part, const float* values, std::size_t count, std::int64_t first_slice) {
     const float* bad = std::find_if(values, values + count, [](float v) { return !std::isfinite(v); });
     if (bad == values + count) return;
     const std::int64_t index = bad - values;
-    const std::int64_t x = index % h.dims[0], y = (index / h.dims[0]) % h.dims[1];
-    const std::int64_t z = first_slice + index / h.slice_voxels();
+    const std::int64_t x = part.min_x + index % part.width, y = part.min_y + (index / part.width) % part.height;
+    const std::int64_t z = first_slice + index / part.voxels();
     throw FormatError(h.path.string(),
                       "sample (" + std::to_string(x) + ", " + std::to_string(y) + ", " + std::to_string(z) + ")",
                       "a finite number", std::isnan(*bad) ? "NaN" : "infinity");
@@ -346,9 +377,33 @@ void VolumeReader::read_slices(std::int64_t slices, float* out) {
     stream_->read(buffer_.data(), buffer_.size());
     const bool swap = (h.byte_order == ByteOrder::little) != host_is_little();
     decode(buffer_.data(), count, h.type, swap, h.value_scale, h.value_offset, out);
-    check_finite(h, out, count, next_slice_);
+    check_finite(h, {0, 0, h.dims[0], h.dims[1]}, out, count, next_slice_);
     next_slice_ += slices;
     if (next_slice_ == h.dims[2]) stream_->finish();
+}
+
+void VolumeReader::read_slice_part(std::int64_t slices, const SliceRectangle& part, float* out) {
+    const VolumeHeader& h = source_.header;
+    if (slices < 0 || next_slice_ + slices > h.dims[2]) throw Error("internal: read_slice_part past the last slice");
+    detail::check_slice_part(h, part);
+    // The rows of the part are read whole, the rows around them passed over (a plain file
+    // seeks; a compressed one decompresses them), and only the part's columns decoded.
+    const auto row_bytes = static_cast<std::size_t>(h.dims[0]) * sample_size(h.type);
+    buffer_.resize(static_cast<std::size_t>(part.height) * row_bytes);
+    const bool swap = (h.byte_order == ByteOrder::little) != host_is_little();
+    for (std::int64_t s = 0; s < slices; ++s) {
+        stream_->skip(static_cast<std::size_t>(part.min_y) * row_bytes);
+        stream_->read(buffer_.data(), buffer_.size());
+        stream_->skip(static_cast<std::size_t>(h.dims[1] - part.min_y - part.height) * row_bytes);
+        float* slice = out + static_cast<std::size_t>(s * part.voxels());
+        for (std::int64_t y = 0; y < part.height; ++y) {
+            const std::size_t first = static_cast<std::size_t>(y) * row_bytes + static_cast<std::size_t>(part.min_x) * sample_size(h.type);
+            decode(buffer_.data() + first, static_cast<std::size_t>(part.width), h.type, swap, h.value_scale, h.value_offset,
+                   slice + y * part.width);
+        }
+        check_finite(h, part, slice, static_cast<std::size_t>(part.voxels()), next_slice_);
+        if (++next_slice_ == h.dims[2]) stream_->finish();
+    }
 }
 
 std::unique_ptr<VolumeReader> open_volume(const std::filesystem::path& path, const ReadOptions& options) {

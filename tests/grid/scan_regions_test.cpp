@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <cmath>
+#include <string>
 #include <vector>
 
 #include "grid_test_util.h"
@@ -92,6 +95,39 @@ TEST(ScanRegionsTest, ASmallRawScanByBoxesAndABoxOutsideIt) {
     EXPECT_EQ(far->tree().leafCount(), 0u);
     EXPECT_EQ(far->background(), whole->background());
     for (const IndexBox& box : {IndexBox{{-3, -3, -3}, {25, 35, 17}}, IndexBox{{5, 5, 16}, {12, 40, 45}}, kEverything}) expect_same_inside(*whole, *source->read(box), box);
+}
+
+TEST(ScanRegionsTest, ColumnsOfASmallScanEqualTheWholeForEveryBand) {
+    // Columns narrower than the scan convert only their part of each slice: a ball cut by the
+    // scan's x = 0 and y = max faces (the virtual ring), a thin wall, and noise cross the parts'
+    // edges. Columns 16 and 24 voxels wide with rings of 8, read bottom to top, at bands whose
+    // halos are one and two leaves (at band 8 a halo of one leaf changes voxels in the boxes:
+    // the ball's inside cut by a part's edge).
+    test::ScratchDir dir;
+    const test::DenseVolume volume = test::make_volume({70, 61, 43}, [](int x, int y, int z) {
+        const float ball = 20.0f - std::sqrt(float(x * x + (y - 58) * (y - 58) + (z - 20) * (z - 20)));
+        const float wall = std::abs(x - 41) < 1 ? 5.0f : -5.0f;
+        const float noise = (x > 50 && z < 30) ? float((x * y + z) % 7) - 3.0f : -5.0f;
+        return std::max({ball, wall, noise});
+    });
+    const auto path = dir / "small.raw";
+    test::write_and_open(volume, path);
+    OpenSlices open = [&] { return std::unique_ptr<SliceReader>(test::write_and_open(volume, path)); };
+    for (const int band : {1, 3, 8}) {
+        SCOPED_TRACE("band " + std::to_string(band));
+        ConvertOptions options;
+        options.iso = 0.5;
+        options.band = band;
+        const openvdb::FloatGrid::Ptr whole = convert_to_grid(*open(), options);
+        const auto source = open_scan_regions(open, options);
+        for (const int width : {16, 24})
+            for (int y = -8; y < 70; y += width)
+                for (int x = -8; x < 78; x += width)
+                    for (int z = -16; z < 60; z += 16) {
+                        const IndexBox box{{x - 8, y - 8, z}, {x + width + 8, y + width + 8, z + 16}};
+                        expect_same_inside(*whole, *source->read(box), box);
+                    }
+    }
 }
 
 }  // namespace

@@ -349,5 +349,101 @@ TEST(VolumeReaderTest, DoubleOutOfFloatRangeThrows) {
     EXPECT_NE(message.find("sample (0, 1, 0)"), std::string::npos) << message;
 }
 
+/// A 5 x 4 x 3 volume of big-endian i16 samples (sample i is 3 i - 40) read with a value scale,
+/// its file plain or gzip (@a path's extension ".gz").
+VolumeSource i16_volume(const std::filesystem::path& path) {
+    Bytes bytes;
+    for (int i = 0; i < 60; ++i) {
+        const auto value = static_cast<std::uint16_t>(static_cast<std::int16_t>(3 * i - 40));
+        bytes.push_back(static_cast<unsigned char>(value >> 8));
+        bytes.push_back(static_cast<unsigned char>(value & 0xff));
+    }
+    test::write_bytes(path, path.extension() == ".gz" ? test::gzip_bytes(bytes) : bytes);
+    VolumeSource source;
+    source.header.format = "test";
+    source.header.path = path;
+    source.header.dims = {5, 4, 3};
+    source.header.type = SampleType::i16;
+    source.header.byte_order = ByteOrder::big;
+    source.header.value_scale = 0.5;
+    source.header.value_offset = 1;
+    source.segments = {segment(path)};  // Compression::detect
+    return source;
+}
+
+/// @a part of every slice of @a whole (read_all()'s samples of a volume @a dims across).
+std::vector<float> crop(const std::vector<float>& whole, const std::array<std::int64_t, 3>& dims, const SliceRectangle& part) {
+    std::vector<float> out;
+    for (std::int64_t z = 0; z < dims[2]; ++z)
+        for (std::int64_t y = part.min_y; y < part.min_y + part.height; ++y)
+            for (std::int64_t x = part.min_x; x < part.min_x + part.width; ++x) out.push_back(whole[(z * dims[1] + y) * dims[0] + x]);
+    return out;
+}
+
+/// Reads every slice's @a part with read_slice_part(), two slices then one.
+std::vector<float> read_parts(SliceReader& reader, const SliceRectangle& part) {
+    std::vector<float> out(static_cast<std::size_t>(part.voxels() * 3));
+    reader.read_slice_part(2, part, out.data());
+    EXPECT_EQ(reader.next_slice(), 2);
+    reader.read_slice_part(1, part, out.data() + 2 * part.voxels());
+    return out;
+}
+
+/// A reader that has only read_slices(): it uses SliceReader's default read_slice_part().
+class WholeSlicesOnly final : public SliceReader {
+public:
+    explicit WholeSlicesOnly(VolumeSource source) : reader_(std::move(source)) {}
+    const VolumeHeader& header() const override { return reader_.header(); }
+    void read_slices(std::int64_t slices, float* out) override { reader_.read_slices(slices, out); }
+    std::int64_t next_slice() const override { return reader_.next_slice(); }
+
+private:
+    VolumeReader reader_;
+};
+
+TEST(VolumeReaderTest, SlicePartsAreTheirPartsOfTheWholeSlices) {
+    test::ScratchDir dir;
+    const std::vector<float> whole = test::read_all(i16_volume(dir / "v.raw"));
+    ASSERT_EQ(whole[7], 0.5f * (3 * 7 - 40) + 1);
+    // The rows around a part are passed over by seeking (plain) or by decompressing (gzip).
+    for (const SliceRectangle& part : {SliceRectangle{0, 0, 5, 4}, SliceRectangle{1, 2, 3, 2}, SliceRectangle{4, 0, 1, 4}})
+        for (const char* name : {"v.raw", "v.raw.gz"}) {
+            SCOPED_TRACE(name);
+            VolumeReader reader(i16_volume(dir / name));
+            EXPECT_EQ(read_parts(reader, part), crop(whole, {5, 4, 3}, part));
+            WholeSlicesOnly plain(i16_volume(dir / name));
+            EXPECT_EQ(read_parts(plain, part), crop(whole, {5, 4, 3}, part));
+        }
+    VolumeReader reader(i16_volume(dir / "v.raw"));
+    std::vector<float> out(64);
+    EXPECT_THROW(reader.read_slice_part(1, SliceRectangle{3, 0, 3, 1}, out.data()), Error);  // wider than the slice
+}
+
+TEST(VolumeReaderTest, SlicePartsCheckOnlyTheirSamplesAndNameTheScansVoxel) {
+    test::ScratchDir dir;
+    std::vector<float> values(3 * 3 * 2, 1.0f);
+    values[0] = std::numeric_limits<float>::quiet_NaN();              // (0, 0, 0): outside the part
+    values[9 + 3 * 2 + 2] = std::numeric_limits<float>::infinity();   // (2, 2, 1): inside it
+    Bytes bytes(values.size() * sizeof(float));
+    std::memcpy(bytes.data(), values.data(), bytes.size());
+    test::write_bytes(dir / "f.raw", bytes);
+    VolumeSource source;
+    source.header.format = "test";
+    source.header.path = dir / "f.raw";
+    source.header.dims = {3, 3, 2};
+    source.header.type = SampleType::f32;
+    source.segments = {segment(dir / "f.raw")};
+    VolumeReader reader(source);
+    std::vector<float> out(4);
+    reader.read_slice_part(1, SliceRectangle{1, 1, 2, 2}, out.data());
+    EXPECT_EQ(out, std::vector<float>(4, 1.0f));
+    try {
+        reader.read_slice_part(1, SliceRectangle{1, 1, 2, 2}, out.data());
+        ADD_FAILURE() << "no error for an infinite sample";
+    } catch (const FormatError& e) {
+        EXPECT_NE(std::string(e.what()).find("sample (2, 2, 1)"), std::string::npos) << e.what();
+    }
+}
+
 }  // namespace
 }  // namespace vdbmesh
