@@ -1,10 +1,14 @@
 #include "view_splat_file.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include <chrono>
 #include <algorithm>
 #include <iostream>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "vdbmesh/error.h"
 #include "vdbmesh/splats.h"
@@ -38,17 +42,34 @@ std::shared_ptr<const SplatTree> read_belonging(const std::filesystem::path& fil
     return tree;
 }
 
-/// The box of @a tree's childless discs (what the page frames before it has a mesh).
+/// The box of @a tree's childless discs (what the page frames before it has a mesh), in
+/// parallel: a huge tree has millions of nodes.
 void set_box(ViewSplats& splats) {
-    splats.box_min.fill(std::numeric_limits<double>::max());
-    splats.box_max.fill(std::numeric_limits<double>::lowest());
-    for (const SplatNode& node : splats.tree->nodes) {
-        if (node.child_count != 0) continue;
-        for (int a = 0; a < 3; ++a) {
-            splats.box_min[a] = std::min(splats.box_min[a], double(node.centre[a]) - node.radius);
-            splats.box_max[a] = std::max(splats.box_max[a], double(node.centre[a]) + node.radius);
+    using Box = std::pair<std::array<double, 3>, std::array<double, 3>>;
+    constexpr double kHuge = std::numeric_limits<double>::max();
+    const Box empty{{kHuge, kHuge, kHuge}, {-kHuge, -kHuge, -kHuge}};
+    const std::vector<SplatNode>& nodes = splats.tree->nodes;
+    const auto join = [](Box a, const Box& b) {
+        for (int i = 0; i < 3; ++i) {
+            a.first[i] = std::min(a.first[i], b.first[i]);
+            a.second[i] = std::max(a.second[i], b.second[i]);
         }
-    }
+        return a;
+    };
+    const Box box = tbb::parallel_reduce(tbb::blocked_range<std::size_t>(0, nodes.size(), 4096), empty,
+        [&](const auto& range, Box box) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                const SplatNode& node = nodes[i];
+                if (node.child_count != 0) continue;
+                for (int a = 0; a < 3; ++a) {
+                    box.first[a] = std::min(box.first[a], double(node.centre[a]) - node.radius);
+                    box.second[a] = std::max(box.second[a], double(node.centre[a]) + node.radius);
+                }
+            }
+            return box;
+        }, join);
+    splats.box_min = box.first;
+    splats.box_max = box.second;
 }
 
 }  // namespace

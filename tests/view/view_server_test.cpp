@@ -119,6 +119,13 @@ TEST_F(ViewServerTest, ServesThePageAndItsScript) {
     ASSERT_TRUE(script);
     EXPECT_EQ(script->status, 200);
     EXPECT_GT(script->body.size(), 100000u);  // three.js is in it
+    // Sent as it is to a browser accepting compression (compressing it took seconds, issue 30).
+    httplib::Client browser("127.0.0.1", server.port());
+    browser.set_decompress(false);
+    const auto plain = browser.Get("/app.js", {{"Accept-Encoding", "gzip, deflate, br"}});
+    ASSERT_TRUE(plain);
+    EXPECT_FALSE(plain->has_header("Content-Encoding")) << plain->get_header_value("Content-Encoding");
+    EXPECT_TRUE(plain->body == script->body) << plain->body.size() << " bytes, not the script's " << script->body.size();
     EXPECT_EQ(server.get("/missing")->status, 404);
 }
 
