@@ -201,8 +201,15 @@ private:
         response.set_content(asset->body.data(), asset->body.size(), asset->content_type);
     }
 
+    /// A splat file viewed alone (`view scan.splat`): no grid to mesh or to fit at another isovalue.
+    bool splats_alone() const {
+        const ViewSource& source = store_.source();
+        return source.splats && !source.scan && !source.prepare_scan;
+    }
+
     view::MeshRequest parse(const httplib::Request& request) const {
         if (store_.source().lattice) throw UsageError("a lattice is shown by its splats only (GET /api/splats)");
+        if (splats_alone()) throw UsageError(kNoGrid);
         return view::parse_mesh_request(params_of(request), store_.source().initial_iso);
     }
 
@@ -241,6 +248,8 @@ private:
             response.set_content(view::splat_buffers(selection.nodes), "application/octet-stream");
             return;
         }
+        if (splats_alone() && parsed.iso != store_.source().initial_iso)
+            throw UsageError("iso: the splat file holds the splats at " + std::to_string(store_.source().initial_iso) + " only; " + kNoGrid);
         const auto stored = splats_.tree(parsed.iso);
         SplatSelection selection = select_splats(*stored->tree, parsed.view);
         if (parsed.close_up_triangles) add_close_up(*stored, parsed, selection, response);
@@ -287,6 +296,9 @@ private:
         response.set_content(body, "application/octet-stream");
     }
 
+    static constexpr const char* kNoGrid =
+        "a splat file alone has no grid to mesh or fit: view the .vdb it was fitted to with --splats FILE for meshes, "
+        "the isovalue and close-ups";
     ViewServerOptions options_;
     view::MeshStore store_;
     view::SplatStore splats_;
