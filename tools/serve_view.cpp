@@ -20,10 +20,9 @@ void open_browser(const std::string& address) {
     if (std::system(command.c_str()) != 0) std::cerr << "vdbmesh view: could not open a browser\n";
 }
 
-/// Serves in a thread until SIGINT or SIGTERM, then stops the server and returns.
+/// Serves in a thread until SIGINT or SIGTERM (request_stop() installed), then stops the
+/// server and returns.
 void serve_until_interrupted(ViewServer& server) {
-    std::signal(SIGINT, request_stop);
-    std::signal(SIGTERM, request_stop);
     std::thread serving([&server] { server.run(); });
     while (!g_stop_requested) std::this_thread::sleep_for(std::chrono::milliseconds(100));
     server.stop();
@@ -34,6 +33,10 @@ void serve_until_interrupted(ViewServer& server) {
 
 void serve_view(ViewSource source, const ViewServerOptions& options, const std::string& input, bool no_open, bool quiet) {
     ViewServer server(std::move(source), options);
+    // Before the address is announced: a Ctrl-C right after it (a script that stops the server
+    // as soon as it serves) stops it cleanly instead of killing it.
+    std::signal(SIGINT, request_stop);
+    std::signal(SIGTERM, request_stop);
     std::cout << "vdbmesh view: serving " << input << " at " << server.address() << " (Ctrl-C to stop)" << std::endl;
     if (!no_open) open_browser(server.address());
     serve_until_interrupted(server);
