@@ -478,6 +478,9 @@ async function checkSplatsAlone(browser, options, splats, decode, checks, timeou
       `view FILE.splat alone shows its splats (${state.splats} splats, ${(100 * drawn).toFixed(1)}% of the view, meshes ${state.meshes}) ${state.error}`);
     checks.expect(said.includes('need the grid') && !(await page.locator('#scan-controls').isVisible()),
       `and says what needs the grid, with no iso slider ("${said.slice(0, 60)}…")`);
+    const figures = await page.locator('#splat-figures').textContent();
+    checks.expect(figures.includes(`finest level ${state.splatLevel}`) && (await page.locator('#detail').textContent()) === 'splats',
+      `its figures name the level shown (${figures})`);
     await page.close();
   } finally {
     checks.expect((await stopViewer(viewer.child)) === 0, 'view FILE.splat stops cleanly on SIGINT (exit 0)');
