@@ -146,7 +146,10 @@ void link_children(std::vector<SplatNode>& nodes, std::uint32_t root_children, c
                               std::to_string(nodes.size()) + " nodes", std::to_string(n.child_count));
         for (std::uint32_t c = 0; c < n.child_count; ++c) nodes[n.first_child + c].level = std::uint8_t(n.level - 1);
         if (n.child_count != 0) continue;
-        if (at + kWeightBytes > in.size()) throw size_error(std::size_t(std::count_if(nodes.begin(), nodes.end(), [](const SplatNode& m) { return m.child_count == 0; })));
+        if (at + kWeightBytes > in.size()) {
+            const auto childless = std::count_if(nodes.begin(), nodes.end(), [](const SplatNode& m) { return m.child_count == 0; });
+            throw size_error(std::size_t(childless));
+        }
         n.weight = get<std::uint16_t>(in, at);
     }
     if (next != nodes.size())

@@ -243,7 +243,8 @@ TEST(ViewSplatFile, ASplatFileAloneIsShownWithoutItsGrid) {
     EXPECT_GT(std::stoull(splats->get_header_value("X-Splats")), 0u);
     EXPECT_FALSE(splats->has_header("X-Closeup-Box"));
     // What needs the grid is refused, saying so: a mesh, a download, the splats of another isovalue.
-    for (const std::string& refused : {std::string("/api/mesh?level=coarse"), std::string("/api/download?format=stl"), query + "&iso=0.3"}) {
+    const std::vector<std::string> needing_the_grid{"/api/mesh?level=coarse", "/api/download?format=stl", query + "&iso=0.3"};
+    for (const std::string& refused : needing_the_grid) {
         const auto response = client.Get(refused.c_str());
         ASSERT_TRUE(response) << refused;
         EXPECT_EQ(response->status, 400) << refused;
@@ -258,8 +259,9 @@ TEST(ViewSplatFile, ASplatFileAloneRefusesWhatNeedsTheGrid) {
     write_sphere(dir / "scan.vdb", 40);
     splats_for(dir / "scan.splat", dir / "scan.vdb");
     const std::string splat = (dir / "scan.splat").string();
-    for (const auto& usage : std::vector<std::vector<std::string>>{{"--iso", "0.3"}, {"--labels", "all"}, {"--splats", (dir / "b.splat").string()},
-                                                                   {"--raw-dims", "4,4,4"}, {(dir / "scan.vdb").string()}}) {
+    const std::vector<std::vector<std::string>> usages{
+        {"--iso", "0.3"}, {"--labels", "all"}, {"--splats", (dir / "b.splat").string()}, {"--raw-dims", "4,4,4"}, {(dir / "scan.vdb").string()}};
+    for (const auto& usage : usages) {
         std::vector<std::string> arguments{"view", splat, "--no-open", "--quiet"};
         arguments.insert(arguments.end(), usage.begin(), usage.end());
         EXPECT_EQ(cli::run(arguments), cli::kUsageError) << usage.front();

@@ -21,7 +21,7 @@ const MOTION_SPLATS = MOTION_TRIANGLES / DISC_SEGMENTS;
 
 const DISC_VERTICES = DISC_SEGMENTS + 1;  // the centre, then the rim
 const DISC_INDICES = 3 * DISC_SEGMENTS;
-const RIM = Array.from({ length: DISC_SEGMENTS }, (_, k) => [Math.cos((2 * Math.PI * k) / DISC_SEGMENTS), Math.sin((2 * Math.PI * k) / DISC_SEGMENTS)]);
+const RIM = Array.from({ length: DISC_SEGMENTS }, (_, k) => (2 * Math.PI * k) / DISC_SEGMENTS).map((a) => [Math.cos(a), Math.sin(a)]);
 
 export class SplatLayer {
   /// @a handlers: onAsk() when a view is asked for, onShown(figures) when its answer is drawn
