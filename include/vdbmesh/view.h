@@ -165,6 +165,14 @@ class ViewServer {
 public:
     /// @throw Error when the address cannot be bound (a port in use).
     ViewServer(ViewSource source, const ViewServerOptions& options);
+    /// Binds at once and serves the page (/ and /app.js) while @a load makes the source in a
+    /// thread: for an input whose reading takes seconds (a huge .vdb's topology and its splat
+    /// file), so that the browser starts meanwhile. Every /api/ request waits for the source;
+    /// when @a load throws they answer with its error (a usage error 400, else 500).
+    /// @throw Error when the address cannot be bound.
+    ViewServer(std::function<ViewSource()> load, const ViewServerOptions& options);
+    /// Returns once the source is there; rethrows what @a load threw.
+    void wait_until_loaded() const;
     ~ViewServer();
     ViewServer(const ViewServer&) = delete;
     ViewServer& operator=(const ViewServer&) = delete;
