@@ -104,7 +104,9 @@ TEST(ViewSplatFile, AFileOfAnotherOrAlteredGridIsRefusedAndKept) {
     expect_refused(dir / "a.vdb");
 }
 
-TEST(ViewSplatFile, TheCommandRefusesBeforeServingAndWritesNothing) {
+// With an existing splat file the page is served while it is read: the refusal ends the command
+// (status 1) and answers the page's requests; nothing of the grid is served.
+TEST(ViewSplatFile, TheCommandRefusesAndWritesNothing) {
     const test::ScratchDir dir;
     write_sphere(dir / "a.vdb", 40);
     write_sphere(dir / "b.vdb", 48);
