@@ -8,7 +8,11 @@
 // With --lattice, the server is `vdbmesh lattice ARGUMENTS --view` (the arguments after --) and
 // the first picture is its first splats.
 //
-// node bench/view_first_picture.mjs --vdbmesh build/vdbmesh --web web FILE [--splats] [-- view arguments]
+// With --frame-time, once the first splats (or mesh) and the full budget's splats are drawn, drags
+// across the view as the browser test does and reports the page's frame time while rotating
+// (View > frame time: the median of the last 30 frames drawn while the camera moved).
+//
+// node bench/view_first_picture.mjs --vdbmesh build/vdbmesh --web web FILE [--splats] [--frame-time] [-- view arguments]
 // node bench/view_first_picture.mjs --vdbmesh build/vdbmesh --web web --lattice -- gyroid --period 64 --thickness 4 --box 4096 --voxel 1
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
@@ -20,6 +24,21 @@ const own = split < 0 ? argv : argv.slice(0, split);
 const option = (name) => own[own.indexOf(name) + 1];
 const file = own.filter((a, i) => !a.startsWith('--') && !['--vdbmesh', '--web'].includes(own[i - 1]))[0];
 const { chromium } = createRequire(path.resolve(option('--web'), 'package.json'))('playwright-core');
+
+/// Drags across the canvas (15 steps right, 15 back) and returns the page's frame time.
+async function rotate(page) {
+  await page.waitForFunction(() => window.vdbmeshView.splatViews > 1 || window.vdbmeshView.meshes > 0, null, { polling: 100 });
+  const box = await page.locator('#view canvas').boundingBox();
+  const y = box.y + box.height / 2;
+  await page.mouse.move(box.x + box.width * 0.3, y);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width * 0.7, y, { steps: 15 });
+  await page.mouse.move(box.x + box.width * 0.3, y, { steps: 15 });
+  await page.mouse.up();
+  await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))));
+  const state = await page.evaluate(() => ({ ...window.vdbmeshView }));
+  return { ms: state.frameMs, frames: state.frameSamples, triangles: state.frameTriangles, shown: await page.locator('#frame-time').textContent() };
+}
 
 const started = Date.now();
 const seconds = () => Number(((Date.now() - started) / 1000).toFixed(2));
@@ -62,6 +81,7 @@ try {
   // The page's own clock: when its first splats were drawn (the polling above can lag while
   // SwiftShader holds the page's thread).
   if (state.firstSplatsMs) report.first_splats_by_page_s = Number((report.page_opened_s + state.firstSplatsMs / 1000).toFixed(2));
+  if (own.includes('--frame-time')) report.frame_time = await rotate(page);
   if (own.includes('--splats')) {
     await page.locator('#splats').click();
     await page.waitForFunction(() => window.vdbmeshView.splatViews > 0 || window.vdbmeshView.error, null, { polling: 100 });

@@ -1,10 +1,14 @@
 #include "view_splat_file.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include <chrono>
 #include <algorithm>
 #include <iostream>
 #include <limits>
 #include <sstream>
+#include <utility>
 
 #include "vdbmesh/error.h"
 #include "vdbmesh/splats.h"
@@ -23,6 +27,14 @@ std::string number_text(double value) {
     return out.str();
 }
 
+/// UsageError unless @a asked_iso (when given) is @a tree's isovalue; @a instead: what else the user may do.
+void require_iso(const SplatTree& tree, const std::filesystem::path& file, std::optional<double> asked_iso,
+                 const std::string& instead) {
+    if (asked_iso && *asked_iso != tree.iso)
+        throw UsageError("--iso " + number_text(*asked_iso) + ": " + file.string() + " holds the splat tree at " +
+                         number_text(tree.iso) + "; leave --iso out" + instead);
+}
+
 /// The tree in @a file, refused unless it was fitted to the grid of @a id (at @a asked_iso when given).
 std::shared_ptr<const SplatTree> read_belonging(const std::filesystem::path& file, const std::filesystem::path& vdb,
                                                const SplatGridId& id, std::optional<double> asked_iso,
@@ -32,23 +44,38 @@ std::shared_ptr<const SplatTree> read_belonging(const std::filesystem::path& fil
     if (!difference.empty())
         throw Error(file.string() + ": fitted to another grid than " + vdb.string() + " (" + difference +
                     "); remove it to fit " + vdb.filename().string() + " again, or name another --splats file");
-    if (asked_iso && *asked_iso != tree->iso)
-        throw UsageError("--iso " + number_text(*asked_iso) + ": " + file.string() + " holds the splat tree at " +
-                         number_text(tree->iso) + "; leave --iso out, or name another --splats file");
+    require_iso(*tree, file, asked_iso, ", or name another --splats file");
     return tree;
 }
 
-/// The box of @a tree's childless discs (what the page frames before it has a mesh).
+/// The box of @a tree's childless discs (what the page frames before it has a mesh), in
+/// parallel: a huge tree has millions of nodes.
 void set_box(ViewSplats& splats) {
-    splats.box_min.fill(std::numeric_limits<double>::max());
-    splats.box_max.fill(std::numeric_limits<double>::lowest());
-    for (const SplatNode& node : splats.tree->nodes) {
-        if (node.child_count != 0) continue;
-        for (int a = 0; a < 3; ++a) {
-            splats.box_min[a] = std::min(splats.box_min[a], double(node.centre[a]) - node.radius);
-            splats.box_max[a] = std::max(splats.box_max[a], double(node.centre[a]) + node.radius);
+    using Box = std::pair<std::array<double, 3>, std::array<double, 3>>;
+    constexpr double kHuge = std::numeric_limits<double>::max();
+    const Box empty{{kHuge, kHuge, kHuge}, {-kHuge, -kHuge, -kHuge}};
+    const std::vector<SplatNode>& nodes = splats.tree->nodes;
+    const auto join = [](Box a, const Box& b) {
+        for (int i = 0; i < 3; ++i) {
+            a.first[i] = std::min(a.first[i], b.first[i]);
+            a.second[i] = std::max(a.second[i], b.second[i]);
         }
-    }
+        return a;
+    };
+    const Box box = tbb::parallel_reduce(tbb::blocked_range<std::size_t>(0, nodes.size(), 4096), empty,
+        [&](const auto& range, Box box) {
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                const SplatNode& node = nodes[i];
+                if (node.child_count != 0) continue;
+                for (int a = 0; a < 3; ++a) {
+                    box.first[a] = std::min(box.first[a], double(node.centre[a]) - node.radius);
+                    box.second[a] = std::max(box.second[a], double(node.centre[a]) + node.radius);
+                }
+            }
+            return box;
+        }, join);
+    splats.box_min = box.first;
+    splats.box_max = box.second;
 }
 
 }  // namespace
@@ -81,6 +108,24 @@ std::shared_ptr<const ViewSplats> view_splat_file(const std::filesystem::path& f
         std::cerr << "vdbmesh view: " << (splats->from_file ? "read " : "wrote ") << file.string() << ": "
                   << splats->tree->nodes.size() << " splats, " << std::filesystem::file_size(file) << " bytes, "
                   << (splats->from_file ? "read" : "fitted") << " in " << splats->seconds << " s\n";
+    return splats;
+}
+
+std::shared_ptr<const ViewSplats> view_splats_alone(const std::filesystem::path& file, std::optional<double> asked_iso,
+                                                    bool quiet) {
+    const auto start = std::chrono::steady_clock::now();
+    auto splats = std::make_shared<ViewSplats>();
+    splats->file = file.string();
+    splats->from_file = true;
+    splats->tree = std::make_shared<const SplatTree>(read_splat_file(file));
+    require_iso(*splats->tree, file, asked_iso, " (the splats alone are shown at their own isovalue)");
+    if (splats->tree->nodes.empty())
+        throw Error(file.string() + ": holds no splats (its grid has no surface at " + number_text(splats->tree->iso) + ")");
+    splats->seconds = seconds_since(start);
+    set_box(*splats);
+    if (!quiet)
+        std::cerr << "vdbmesh view: read " << file.string() << ": " << splats->tree->nodes.size() << " splats in "
+                  << splats->seconds << " s (the splats alone: meshes need the grid they were fitted to)\n";
     return splats;
 }
 

@@ -23,4 +23,11 @@ std::shared_ptr<const ViewSplats> view_splat_file(const std::filesystem::path& f
                                                   std::optional<double> stored_iso, bool quiet,
                                                   std::future<SplatTree> read_ahead = {});
 
+/// `vdbmesh view scan.splat`: the splat tree of @a file alone, without the grid it was fitted
+/// to (the page shows the splats; meshes, the isovalue and close-ups need the grid). Throws
+/// FormatError when @a file is not a splat file, UsageError when @a asked_iso differs from its
+/// isovalue.
+std::shared_ptr<const ViewSplats> view_splats_alone(const std::filesystem::path& file, std::optional<double> asked_iso,
+                                                    bool quiet);
+
 }  // namespace vdbmesh::cli

@@ -98,7 +98,10 @@ struct ViewSource {
     std::vector<ViewLabel> labels;     ///< set for label maps: the runs of @a mesh, ascending values
     std::shared_ptr<const ViewLattice> lattice;  ///< set for a lattice (then neither scan nor mesh)
     double initial_iso = 0;            ///< scans: the isovalue shown first
-    std::shared_ptr<const ViewSplats> splats;  ///< scans: a splat tree at initial_iso made before serving
+    /// Scans: a splat tree at initial_iso made before serving. Alone (scan, mesh and
+    /// prepare_scan unset: `view scan.splat`, kind "splats"), the page shows these splats
+    /// only; meshes, other isovalues and close-ups are refused (400: they need the grid).
+    std::shared_ptr<const ViewSplats> splats;
     /// Set with @a splats (and @a scan null): prepares the scan (its histogram and coarse grid,
     /// a pass over every leaf of a huge .vdb) in the background while the page already shows
     /// the splats. Until it is done GET /api/info says "preparing" and /api/mesh answers 503.
@@ -132,7 +135,8 @@ struct ViewServerOptions {
 ///                       starts the preparation: ViewSource::prepare_scan), the budget;
 ///                       for a label map its labels (value, name, colour, their runs of the mesh);
 ///                       with a tree made before serving, splats (file, from_file, nodes, seconds, iso);
-///                       for a lattice (kind "lattice") its box, placed and fitted subtrees
+///                       for a lattice (kind "lattice") its box, placed and fitted subtrees;
+///                       kind "splats" for a splat file alone (ViewSource::splats)
 ///                       (only /api/splats serves a lattice, without close-ups)
 /// GET /api/mesh         binary: positions (float32 x 3V), normals (float32 x 3V), indices
 ///                       (uint32 x 3T); headers X-Vertices, X-Triangles, X-Seconds.
@@ -161,6 +165,14 @@ class ViewServer {
 public:
     /// @throw Error when the address cannot be bound (a port in use).
     ViewServer(ViewSource source, const ViewServerOptions& options);
+    /// Binds at once and serves the page (/ and /app.js) while @a load makes the source in a
+    /// thread: for an input whose reading takes seconds (a huge .vdb's topology and its splat
+    /// file), so that the browser starts meanwhile. Every /api/ request waits for the source;
+    /// when @a load throws they answer with its error (a usage error 400, else 500).
+    /// @throw Error when the address cannot be bound.
+    ViewServer(std::function<ViewSource()> load, const ViewServerOptions& options);
+    /// Returns once the source is there; rethrows what @a load threw.
+    void wait_until_loaded() const;
     ~ViewServer();
     ViewServer(const ViewServer&) = delete;
     ViewServer& operator=(const ViewServer&) = delete;

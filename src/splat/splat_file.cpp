@@ -15,11 +15,12 @@
 // The levels follow from the order (the root's children are level 11, each child one below
 // its parent).
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 
 #include "vdbmesh/atomic_file.h"
 #include "vdbmesh/error.h"
@@ -88,18 +89,51 @@ void put_node(std::string& out, const SplatNode& n, const QuantBox& box) {
     put(out, static_cast<std::uint8_t>(std::min<std::uint32_t>(n.child_count, 255)));
 }
 
+/// The file's bytes in one read (a huge tree's file is a hundred megabytes or more).
 std::string read_all(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in) throw Error(path.string() + ": cannot open for reading");
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    std::string bytes(static_cast<std::size_t>(in.tellg()), '\0');
+    in.seekg(0);
+    if (!in.read(bytes.data(), std::streamsize(bytes.size()))) throw Error(path.string() + ": cannot read it");
+    return bytes;
+}
+
+/// The nodes' quantised fields (12 bytes each from @a at), decoded in parallel: each node's
+/// bytes are its own. Children, levels and weights follow (link_children()).
+void decode_nodes(std::vector<SplatNode>& nodes, const std::string& in, std::size_t at, const QuantBox& box) {
+    const double step = box.step();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nodes.size(), 4096), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            SplatNode& n = nodes[i];
+            std::size_t from = at + kNodeBytes * i;
+            for (int a = 0; a < 3; ++a) n.centre[a] = static_cast<float>(box.min[a] + get<std::uint16_t>(in, from) * step);
+            n.radius = static_cast<float>(get<std::uint16_t>(in, from) * 2 * step);
+            std::array<std::uint8_t, 2> code{};
+            code[0] = get<std::uint8_t>(in, from);
+            code[1] = get<std::uint8_t>(in, from);
+            n.normal = detail::decode_splat_normal(code);
+            n.cone = static_cast<float>(get<std::uint8_t>(in, from) * kPi / 255);
+            n.child_count = get<std::uint8_t>(in, from);
+        }
+    });
 }
 
 /// Sets each node's first child, child count (the root's from the header) and level from the
-/// breadth-first order; throws when the counts do not add up to the nodes.
-void link_children(std::vector<SplatNode>& nodes, std::uint32_t root_children, const std::string& file) {
+/// breadth-first order, and each childless node's weight from the weights after the nodes
+/// (at @a weights_at, in node order); throws when the counts do not add up to the nodes or the
+/// file's size to the weights. One pass: the nodes of a huge tree are hundreds of megabytes.
+void link_children(std::vector<SplatNode>& nodes, std::uint32_t root_children, const std::string& in,
+                   std::size_t weights_at, const std::string& file) {
     nodes[0].child_count = root_children;
     nodes[0].level = kSplatRootLevel;
     std::uint64_t next = 1;
+    std::size_t at = weights_at;
+    const auto size_error = [&](std::size_t childless) {
+        return FormatError(file, "size", std::to_string(weights_at + kWeightBytes * childless) + " bytes for " +
+                           std::to_string(nodes.size()) + " nodes and the weights of " + std::to_string(childless) +
+                           " childless ones", std::to_string(in.size()));
+    };
     for (std::size_t i = 0; i < nodes.size(); ++i) {
         SplatNode& n = nodes[i];
         if (i >= next) throw FormatError(file, "node " + std::to_string(i), "a child of an earlier node", "none");
@@ -111,20 +145,21 @@ void link_children(std::vector<SplatNode>& nodes, std::uint32_t root_children, c
             throw FormatError(file, "node " + std::to_string(i) + " child count", "children within the " +
                               std::to_string(nodes.size()) + " nodes", std::to_string(n.child_count));
         for (std::uint32_t c = 0; c < n.child_count; ++c) nodes[n.first_child + c].level = std::uint8_t(n.level - 1);
+        if (n.child_count != 0) continue;
+        if (at + kWeightBytes > in.size()) {
+            const auto childless = std::count_if(nodes.begin(), nodes.end(), [](const SplatNode& m) { return m.child_count == 0; });
+            throw size_error(std::size_t(childless));
+        }
+        n.weight = get<std::uint16_t>(in, at);
     }
     if (next != nodes.size())
         throw FormatError(file, "child counts", "a total of " + std::to_string(nodes.size() - 1), std::to_string(next - 1));
+    if (at != in.size()) throw size_error((at - weights_at) / kWeightBytes);
 }
 
-std::size_t childless_count(const std::vector<SplatNode>& nodes) {
-    return std::size_t(std::count_if(nodes.begin(), nodes.end(), [](const SplatNode& n) { return n.child_count == 0; }));
-}
-
-/// Reads the childless nodes' weights at @a at and sums them up the tree (children follow
-/// their parents in breadth-first order, so a backward walk meets children first).
-void read_weights(std::vector<SplatNode>& nodes, const std::string& in, std::size_t at) {
-    for (SplatNode& n : nodes)
-        if (n.child_count == 0) n.weight = get<std::uint16_t>(in, at);
+/// Sums the childless nodes' weights up the tree (children follow their parents in
+/// breadth-first order, so a backward walk meets children first).
+void sum_weights(std::vector<SplatNode>& nodes) {
     for (std::size_t i = nodes.size(); i-- > 0;) {
         SplatNode& n = nodes[i];
         if (n.child_count == 0) continue;
@@ -227,23 +262,13 @@ SplatTree read_splat_file(const std::filesystem::path& path) {
     at += checksum_chars;
     if (!(box.extent > 0)) throw FormatError(file, "box extent", "> 0", std::to_string(box.extent));
     tree.nodes.resize(count);
-    const double step = box.step();
-    for (SplatNode& n : tree.nodes) {
-        for (int a = 0; a < 3; ++a) n.centre[a] = static_cast<float>(box.min[a] + get<std::uint16_t>(in, at) * step);
-        n.radius = static_cast<float>(get<std::uint16_t>(in, at) * 2 * step);
-        std::array<std::uint8_t, 2> code{};
-        code[0] = get<std::uint8_t>(in, at);
-        code[1] = get<std::uint8_t>(in, at);
-        n.normal = detail::decode_splat_normal(code);
-        n.cone = static_cast<float>(get<std::uint8_t>(in, at) * kPi / 255);
-        n.child_count = get<std::uint8_t>(in, at);
+    decode_nodes(tree.nodes, in, at, box);
+    if (count != 0) {
+        link_children(tree.nodes, root_children, in, std::size_t(nodes_end), file);
+        sum_weights(tree.nodes);
+    } else if (in.size() != nodes_end) {
+        throw FormatError(file, "size", std::to_string(nodes_end) + " bytes for no nodes", std::to_string(in.size()));
     }
-    if (count != 0) link_children(tree.nodes, root_children, file);
-    const std::uint64_t expected = nodes_end + kWeightBytes * std::uint64_t(childless_count(tree.nodes));
-    if (in.size() != expected)
-        throw FormatError(file, "size", std::to_string(expected) + " bytes for " + std::to_string(count) + " nodes and the weights of " +
-                          std::to_string(childless_count(tree.nodes)) + " childless ones", std::to_string(in.size()));
-    read_weights(tree.nodes, in, at);
     return tree;
 }
 

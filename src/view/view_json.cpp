@@ -24,7 +24,11 @@ nlohmann::json scan_json(const ViewScan& scan, double initial_iso) {
 nlohmann::json info_json(const ViewSource& source, std::size_t triangle_budget) {
     nlohmann::json j;
     j["name"] = source.name;
-    j["kind"] = source.lattice ? "lattice" : source.scan || source.prepare_scan ? "scan" : source.labels.empty() ? "mesh" : "labels";
+    j["kind"] = source.lattice                           ? "lattice"
+                : source.scan || source.prepare_scan     ? "scan"
+                : source.splats                          ? "splats"
+                : source.labels.empty()                  ? "mesh"
+                                                         : "labels";
     j["triangle_budget"] = triangle_budget;
     if (source.scan) j["scan"] = scan_json(*source.scan, source.initial_iso);
     if (source.splats)

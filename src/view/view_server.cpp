@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -86,17 +87,33 @@ std::string encode_mesh(const Mesh& mesh, const std::string& format) {
 
 class ViewServer::Impl {
 public:
-    Impl(ViewSource source, const ViewServerOptions& options)
-        : options_(options), store_(std::move(source), options.mesher, options.triangle_budget), splats_(store_.source().scan, store_.source().splats, store_.source().initial_iso) {
+    Impl(ViewSource source, const ViewServerOptions& options) : options_(options) {
         add_routes();
         bind();
-        if (store_.source().prepare_scan) preparing_ = std::thread([this] { prepare_scan(); });
+        set_source(std::move(source));
+    }
+
+    Impl(std::function<ViewSource()> load, const ViewServerOptions& options) : options_(options) {
+        add_routes();
+        bind();
+        loading_ = std::thread([this, load = std::move(load)] {
+            try {
+                set_source(load());
+            } catch (...) {
+                const std::lock_guard<std::mutex> lock(load_mutex_);
+                load_error_ = std::current_exception();
+                loaded_wake_.notify_all();
+            }
+        });
     }
 
     ~Impl() {
+        if (loading_.joinable()) loading_.join();
         start_preparing(/*stop=*/true);
         if (preparing_.joinable()) preparing_.join();
     }
+
+    void wait_until_loaded() const { loaded(); }
 
     int port() const { return port_; }
     std::string address() const { return "http://" + options_.host + ":" + std::to_string(port_) + "/"; }
@@ -162,9 +179,9 @@ private:
         }
         if (stop_preparing_) return;
         try {
-            const auto scan = store_.source().prepare_scan(stop_preparing_);
-            splats_.set_scan(scan);
-            store_.set_scan(scan);
+            const auto scan = store().source().prepare_scan(stop_preparing_);
+            splats().set_scan(scan);
+            store().set_scan(scan);
         } catch (const std::exception& e) {
             const std::lock_guard<std::mutex> lock(prepare_error_mutex_);
             prepare_error_ = e.what();
@@ -172,8 +189,8 @@ private:
     }
 
     nlohmann::json info() {
-        ViewSource now = store_.source();
-        now.scan = store_.scan();
+        ViewSource now = store().source();
+        now.scan = store().scan();
         nlohmann::json j = view::info_json(now, options_.triangle_budget);
         if (now.prepare_scan && !now.scan) j["preparing"] = true;
         const std::lock_guard<std::mutex> lock(prepare_error_mutex_);
@@ -201,16 +218,23 @@ private:
         response.set_content(asset->body.data(), asset->body.size(), asset->content_type);
     }
 
-    view::MeshRequest parse(const httplib::Request& request) const {
-        if (store_.source().lattice) throw UsageError("a lattice is shown by its splats only (GET /api/splats)");
-        return view::parse_mesh_request(params_of(request), store_.source().initial_iso);
+    /// A splat file viewed alone (`view scan.splat`): no grid to mesh or to fit at another isovalue.
+    bool splats_alone() const {
+        const ViewSource& source = store().source();
+        return source.splats && !source.scan && !source.prepare_scan;
     }
 
-    std::shared_ptr<view::StoredMesh> requested_mesh(const httplib::Request& request) { return store_.mesh(parse(request)); }
+    view::MeshRequest parse(const httplib::Request& request) const {
+        if (store().source().lattice) throw UsageError("a lattice is shown by its splats only (GET /api/splats)");
+        if (splats_alone()) throw UsageError(kNoGrid);
+        return view::parse_mesh_request(params_of(request), store().source().initial_iso);
+    }
+
+    std::shared_ptr<view::StoredMesh> requested_mesh(const httplib::Request& request) { return store().mesh(parse(request)); }
 
     void serve_mesh(const httplib::Request& request, httplib::Response& response) {
         const view::MeshRequest parsed = parse(request);
-        const auto stored = store_.mesh(parsed);
+        const auto stored = store().mesh(parsed);
         response.set_header("X-Triangles", std::to_string(stored->mesh->triangles.size()));
         if (parsed.max_triangles && stored->mesh->triangles.size() > *parsed.max_triangles) {
             send_error(response, 413, "the mesh has more triangles than max_triangles");
@@ -234,14 +258,16 @@ private:
     }
 
     void serve_splats(const httplib::Request& request, httplib::Response& response) {
-        const view::SplatRequest parsed = view::parse_splat_request(params_of(request), store_.source().initial_iso);
-        if (const auto& lattice = store_.source().lattice) {
+        const view::SplatRequest parsed = view::parse_splat_request(params_of(request), store().source().initial_iso);
+        if (const auto& lattice = store().source().lattice) {
             const SharedSplatSelection selection = select_splats(*lattice->splats, parsed.view);
             set_splat_headers(response, selection.summary, selection.nodes.size(), lattice->splats->represented_nodes(), lattice->seconds);
             response.set_content(view::splat_buffers(selection.nodes), "application/octet-stream");
             return;
         }
-        const auto stored = splats_.tree(parsed.iso);
+        if (splats_alone() && parsed.iso != store().source().initial_iso)
+            throw UsageError("iso: the splat file holds the splats at " + std::to_string(store().source().initial_iso) + " only; " + kNoGrid);
+        const auto stored = splats().tree(parsed.iso);
         SplatSelection selection = select_splats(*stored->tree, parsed.view);
         if (parsed.close_up_triangles) add_close_up(*stored, parsed, selection, response);
         set_splat_headers(response, selection, selection.nodes.size(), stored->tree->nodes.size(), stored->seconds);
@@ -265,7 +291,7 @@ private:
     /// when the close-up would read more than a close-up may.
     void add_close_up(const view::StoredSplats& stored, const view::SplatRequest& request, SplatSelection& selection,
                       httplib::Response& response) const {
-        const auto scan = store_.scan();
+        const auto scan = store().scan();
         if (!scan) return;  // the close-up's mesh waits for the scan's preparation
         const GridRegionSource& regions = *scan->regions;
         const auto grid = regions.description();
@@ -287,9 +313,46 @@ private:
         response.set_content(body, "application/octet-stream");
     }
 
+    /// What serves the source, made once it is there.
+    struct Loaded {
+        Loaded(ViewSource source, const ViewServerOptions& options)
+            : store(std::move(source), options.mesher, options.triangle_budget),
+              splats(store.source().scan, store.source().splats, store.source().initial_iso) {}
+        view::MeshStore store;
+        view::SplatStore splats;
+    };
+
+    void set_source(ViewSource source) {
+        auto loaded = std::make_unique<Loaded>(std::move(source), options_);
+        const bool prepare = bool(loaded->store.source().prepare_scan);
+        {
+            const std::lock_guard<std::mutex> lock(load_mutex_);
+            loaded_ = std::move(loaded);
+            loaded_wake_.notify_all();
+        }
+        if (prepare) preparing_ = std::thread([this] { prepare_scan(); });
+    }
+
+    /// The stores, once the source is there (the page's API requests wait for it); rethrows
+    /// the loading's failure.
+    Loaded& loaded() const {
+        std::unique_lock<std::mutex> lock(load_mutex_);
+        loaded_wake_.wait(lock, [this] { return loaded_ || load_error_; });
+        if (load_error_) std::rethrow_exception(load_error_);
+        return *loaded_;
+    }
+    view::MeshStore& store() const { return loaded().store; }
+    view::SplatStore& splats() const { return loaded().splats; }
+
+    static constexpr const char* kNoGrid =
+        "a splat file alone has no grid to mesh or fit: view the .vdb it was fitted to with --splats FILE for meshes, "
+        "the isovalue and close-ups";
     ViewServerOptions options_;
-    view::MeshStore store_;
-    view::SplatStore splats_;
+    std::thread loading_;  ///< makes the source (the constructor taking a loader)
+    mutable std::mutex load_mutex_;
+    mutable std::condition_variable loaded_wake_;
+    std::unique_ptr<Loaded> loaded_;
+    std::exception_ptr load_error_;
     httplib::Server server_;
     int port_ = 0;
     std::mutex run_mutex_;
@@ -307,7 +370,10 @@ private:
 
 ViewServer::ViewServer(ViewSource source, const ViewServerOptions& options)
     : impl_(std::make_unique<Impl>(std::move(source), options)) {}
+ViewServer::ViewServer(std::function<ViewSource()> load, const ViewServerOptions& options)
+    : impl_(std::make_unique<Impl>(std::move(load), options)) {}
 ViewServer::~ViewServer() = default;
+void ViewServer::wait_until_loaded() const { impl_->wait_until_loaded(); }
 int ViewServer::port() const { return impl_->port(); }
 std::string ViewServer::address() const { return impl_->address(); }
 void ViewServer::run() { impl_->run(); }

@@ -428,6 +428,7 @@ async function checkLattice(browser, options, decode, checks, timeout) {
 
 /// `view scan.vdb --splats FILE`: the first run fits and writes the file; the second opens in
 /// splat mode at once, then gets the iso slider and the coarse mesh from the background pass.
+/// Then `view FILE` alone: the splats, no mesh, the page saying why.
 async function checkSplatFile(browser, options, scratch, scan, decode, checks, timeout) {
   const vdb = path.join(scratch, 'splat-file.vdb');
   const splats = path.join(scratch, 'splat-file.splat');
@@ -457,6 +458,32 @@ async function checkSplatFile(browser, options, scratch, scan, decode, checks, t
     } finally {
       checks.expect((await stopViewer(viewer.child)) === 0, `view --splats (${run}) stops cleanly on SIGINT (exit 0)`);
     }
+  }
+  await checkSplatsAlone(browser, options, splats, decode, checks, timeout);
+}
+
+async function checkSplatsAlone(browser, options, splats, decode, checks, timeout) {
+  const viewer = await startViewer(options.vdbmesh, [splats]);
+  try {
+    const page = await browser.newPage({ viewport: { width: 900, height: 700 } });
+    page.on('pageerror', (error) => checks.expect(false, `no error in the page of the splat file alone: ${error.message}`));
+    page.setDefaultTimeout(timeout);
+    const driver = new PageDriver(page, options.out, decode);
+    await page.goto(viewer.address);
+    await page.waitForFunction(() => window.vdbmeshView.splatViews > 1 || window.vdbmeshView.error, null, { polling: 50 });
+    const state = await driver.state();
+    const drawn = foreground(await driver.shot('splat-file-alone'), BACKGROUND).share;
+    const said = await page.locator('#figures').textContent();
+    checks.expect(!state.error && state.splatMode && state.meshes === 0 && drawn > 0.05,
+      `view FILE.splat alone shows its splats (${state.splats} splats, ${(100 * drawn).toFixed(1)}% of the view, meshes ${state.meshes}) ${state.error}`);
+    checks.expect(said.includes('need the grid') && !(await page.locator('#scan-controls').isVisible()),
+      `and says what needs the grid, with no iso slider ("${said.slice(0, 60)}…")`);
+    const figures = await page.locator('#splat-figures').textContent();
+    checks.expect(figures.includes(`finest level ${state.splatLevel}`) && (await page.locator('#detail').textContent()) === 'splats',
+      `its figures name the level shown (${figures})`);
+    await page.close();
+  } finally {
+    checks.expect((await stopViewer(viewer.child)) === 0, 'view FILE.splat stops cleanly on SIGINT (exit 0)');
   }
 }
 

@@ -1,5 +1,6 @@
 // `vdbmesh view scan.vdb --splats FILE`: the splat tree fitted once into its file, read back
 // on the next run, refused when the file belongs to another grid; and the server showing it.
+// `vdbmesh view scan.splat`: the file alone, its splats served, what needs the grid refused.
 
 #include <gtest/gtest.h>
 #include <httplib.h>
@@ -103,7 +104,9 @@ TEST(ViewSplatFile, AFileOfAnotherOrAlteredGridIsRefusedAndKept) {
     expect_refused(dir / "a.vdb");
 }
 
-TEST(ViewSplatFile, TheCommandRefusesBeforeServingAndWritesNothing) {
+// With an existing splat file the page is served while it is read: the refusal ends the command
+// (status 1) and answers the page's requests; nothing of the grid is served.
+TEST(ViewSplatFile, TheCommandRefusesAndWritesNothing) {
     const test::ScratchDir dir;
     write_sphere(dir / "a.vdb", 40);
     write_sphere(dir / "b.vdb", 48);
@@ -203,6 +206,73 @@ TEST(ViewSplatFile, TheSplatsAreServedWhileTheScanIsPrepared) {
     EXPECT_GT(std::stoull(coarse->get_header_value("X-Triangles")), 100u);
     server.stop();
     serving.join();
+}
+
+/// The query of GET /api/splats for test::camera_at(@a eye) looking at the sphere's centre.
+std::string splat_query(const std::array<double, 3>& eye) {
+    const SplatView camera = test::camera_at(eye, openvdb::Vec3d(20, 20, 20));
+    std::string query = "/api/splats?vp=";
+    for (std::size_t i = 0; i < camera.view_projection.size(); ++i) query += (i ? "," : "") + std::to_string(camera.view_projection[i]);
+    query += "&eye=" + std::to_string(eye[0]) + "," + std::to_string(eye[1]) + "," + std::to_string(eye[2]);
+    return query + "&focal=" + std::to_string(camera.focal_pixels) + "&closeup=480000";
+}
+
+TEST(ViewSplatFile, ASplatFileAloneIsShownWithoutItsGrid) {
+    const test::ScratchDir dir;
+    write_sphere(dir / "scan.vdb", 40);
+    const auto fitted = splats_for(dir / "scan.splat", dir / "scan.vdb");
+    std::filesystem::remove(dir / "scan.vdb");  // the splats alone, as when only the file was copied
+    ViewSource source;
+    source.name = "scan.splat";
+    source.splats = cli::view_splats_alone(dir / "scan.splat", std::nullopt, /*quiet=*/true);
+    source.initial_iso = source.splats->tree->iso;
+    EXPECT_EQ(source.splats->tree->nodes.size(), fitted->tree->nodes.size());
+    EXPECT_EQ(source.splats->tree->iso, kIso);
+    for (int a = 0; a < 3; ++a) EXPECT_LT(source.splats->box_min[a], source.splats->box_max[a]);
+    ViewServer server(source, {});
+    std::thread serving([&] { server.run(); });
+    httplib::Client client("127.0.0.1", server.port());
+    const auto info = nlohmann::json::parse(client.Get("/api/info")->body);
+    EXPECT_EQ(info["kind"], "splats");
+    EXPECT_FALSE(info.contains("scan"));
+    EXPECT_FALSE(info.contains("preparing"));
+    EXPECT_EQ(info["splats"]["nodes"], fitted->tree->nodes.size());
+    // Close enough for a close-up of a grid: none without the grid, the splats all the same.
+    const std::string query = splat_query({20, 20, 45});
+    const auto splats = client.Get(query.c_str());
+    ASSERT_TRUE(splats);
+    EXPECT_EQ(splats->status, 200) << splats->body;
+    EXPECT_GT(std::stoull(splats->get_header_value("X-Splats")), 0u);
+    EXPECT_FALSE(splats->has_header("X-Closeup-Box"));
+    // What needs the grid is refused, saying so: a mesh, a download, the splats of another isovalue.
+    const std::vector<std::string> needing_the_grid{"/api/mesh?level=coarse", "/api/download?format=stl", query + "&iso=0.3"};
+    for (const std::string& refused : needing_the_grid) {
+        const auto response = client.Get(refused.c_str());
+        ASSERT_TRUE(response) << refused;
+        EXPECT_EQ(response->status, 400) << refused;
+        EXPECT_NE(response->body.find("a splat file alone has no grid"), std::string::npos) << refused << ": " << response->body;
+    }
+    server.stop();
+    serving.join();
+}
+
+TEST(ViewSplatFile, ASplatFileAloneRefusesWhatNeedsTheGrid) {
+    const test::ScratchDir dir;
+    write_sphere(dir / "scan.vdb", 40);
+    splats_for(dir / "scan.splat", dir / "scan.vdb");
+    const std::string splat = (dir / "scan.splat").string();
+    const std::vector<std::vector<std::string>> usages{
+        {"--iso", "0.3"}, {"--labels", "all"}, {"--splats", (dir / "b.splat").string()}, {"--raw-dims", "4,4,4"}, {(dir / "scan.vdb").string()}};
+    for (const auto& usage : usages) {
+        std::vector<std::string> arguments{"view", splat, "--no-open", "--quiet"};
+        arguments.insert(arguments.end(), usage.begin(), usage.end());
+        EXPECT_EQ(cli::run(arguments), cli::kUsageError) << usage.front();
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir / "b.splat"));
+    std::filesystem::copy_file(dir / "scan.vdb", dir / "grid.splat");  // not a splat file
+    EXPECT_EQ(cli::run({"view", (dir / "grid.splat").string(), "--no-open", "--quiet"}), cli::kRuntimeError);
+    EXPECT_THROW(cli::view_splats_alone(dir / "grid.splat", std::nullopt, true), FormatError);
+    EXPECT_EQ(cli::run({"view", (dir / "missing.splat").string(), "--no-open", "--quiet"}), cli::kRuntimeError);
 }
 
 }  // namespace

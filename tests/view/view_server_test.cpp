@@ -119,6 +119,13 @@ TEST_F(ViewServerTest, ServesThePageAndItsScript) {
     ASSERT_TRUE(script);
     EXPECT_EQ(script->status, 200);
     EXPECT_GT(script->body.size(), 100000u);  // three.js is in it
+    // Sent as it is to a browser accepting compression (compressing it took seconds, issue 30).
+    httplib::Client browser("127.0.0.1", server.port());
+    browser.set_decompress(false);
+    const auto plain = browser.Get("/app.js", {{"Accept-Encoding", "gzip, deflate, br"}});
+    ASSERT_TRUE(plain);
+    EXPECT_FALSE(plain->has_header("Content-Encoding")) << plain->get_header_value("Content-Encoding");
+    EXPECT_TRUE(plain->body == script->body) << plain->body.size() << " bytes, not the script's " << script->body.size();
     EXPECT_EQ(server.get("/missing")->status, 404);
 }
 
@@ -381,6 +388,46 @@ TEST_F(ViewServerTest, APortInUseIsAnError) {
     ViewServerOptions options;
     options.port = first.port();
     EXPECT_THROW(ViewServer(scan_source(), options), Error);
+}
+
+TEST_F(ViewServerTest, ThePageIsServedWhileTheSourceIsMadeAndTheApiWaitsForIt) {
+    std::promise<void> release;
+    ViewServer server([held = release.get_future().share()] {
+        held.wait();  // the source's reading, held until the page has been asked for
+        return scan_source();
+    }, ViewServerOptions{});
+    std::thread serving([&] { server.run(); });
+    httplib::Client client("127.0.0.1", server.port());
+    EXPECT_EQ(client.Get("/")->status, 200);
+    EXPECT_EQ(client.Get("/app.js")->status, 200);
+    auto info = std::async(std::launch::async, [&] {
+        httplib::Client asking("127.0.0.1", server.port());
+        asking.set_read_timeout(60, 0);
+        return asking.Get("/api/info");
+    });
+    // Still held: the request waits (it would have been answered within milliseconds).
+    EXPECT_EQ(info.wait_for(std::chrono::milliseconds(300)), std::future_status::timeout);
+    release.set_value();
+    const auto answered = info.get();
+    ASSERT_TRUE(answered);
+    EXPECT_EQ(answered->status, 200);
+    EXPECT_EQ(nlohmann::json::parse(answered->body)["kind"], "scan");
+    EXPECT_NO_THROW(server.wait_until_loaded());
+    server.stop();
+    serving.join();
+}
+
+TEST(ViewServerLoadingTest, AFailedReadingIsTheApisAnswerAndTheCallersError) {
+    ViewServer server([]() -> ViewSource { throw FormatError("scan.splat", "header", "a splat file", "other bytes"); }, ViewServerOptions{});
+    std::thread serving([&] { server.run(); });
+    EXPECT_THROW(server.wait_until_loaded(), FormatError);
+    httplib::Client client("127.0.0.1", server.port());
+    const auto info = client.Get("/api/info");
+    ASSERT_TRUE(info);
+    EXPECT_EQ(info->status, 500);
+    EXPECT_NE(info->body.find("scan.splat: header"), std::string::npos) << info->body;
+    server.stop();
+    serving.join();
 }
 
 TEST(ViewCommandTest, AnUnreadableInputIsReportedBeforeServing) {

@@ -250,7 +250,8 @@ const FIRST_SPLATS = 15000;
 
 /// A .vdb whose splat tree was made before serving (`view --splats FILE`): the splats at once,
 /// framed by their box, while the server prepares the histogram and coarse grid; the iso
-/// slider and the coarse mesh come when it is done (splat mode stays on).
+/// slider and the coarse mesh come when it is done (splat mode stays on). A splat file alone
+/// (`view scan.splat`, kind "splats"): the splats only.
 async function startWithSplats(splats) {
   scene3d.fitTo(new THREE.Box3(new THREE.Vector3(...splats.box_min), new THREE.Vector3(...splats.box_max)));
   scene3d.setView('home');
@@ -259,6 +260,11 @@ async function startWithSplats(splats) {
   Object.assign($('splats'), { checked: true, disabled: true });  // no mesh to switch to yet
   splatLayer.quickFirst(FIRST_SPLATS);
   setSplatMode(true);
+  if (info.kind === 'splats') {
+    $('figures').textContent = `the splat file alone (${splats.nodes.toLocaleString('en-US')} splats at ${splats.iso}): ` +
+      'meshes, the isovalue and close-ups need the grid it was fitted to (vdbmesh view scan.vdb --splats FILE)';
+    return;
+  }
   state.preparing = Boolean(info.preparing);
   if (!info.preparing) return setUpPreparedScan();
   $('figures').textContent = 'histogram and coarse mesh: being prepared by the server (a pass over the grid)…';

@@ -5,7 +5,7 @@ import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 
 const BACKGROUND = 0x0f1115;
 const FRAME_SAMPLES = 30;  // the frame time shown is the median of this many frames
-const MOVING_PIXEL_RATIO = 0.5;  // of the device's, while the camera moves
+const MOVING_PIXEL_RATIO = 0.4;  // of the device's, while the camera moves
 const SETTLE_MS = 250;           // the camera counts as still after this long without a change
 
 const AXIS_VIEWS = {
@@ -122,8 +122,9 @@ export class Scene3D {
     this.renderer.shadowMap.needsUpdate = true;
   }
 
-  /// While the camera moves, frames are drawn at a fraction of the resolution and without
-  /// shadows (the user sees motion, not detail); once it has been still for SETTLE_MS, in full.
+  /// While the camera moves, frames are drawn at a fraction of the resolution, without
+  /// multisampling and without shadows (the user sees motion, not detail); once it has been
+  /// still for SETTLE_MS, in full.
   cameraMoved() {
     this.cameraChanged = true;
     this.dirty = true;
@@ -140,6 +141,29 @@ export class Scene3D {
     this.showShadows();
   }
 
+  /// A frame while the camera moves: the scene drawn at MOVING_PIXEL_RATIO into a target
+  /// without multisampling, then stretched over the canvas. SwiftShader's multisampling
+  /// (antialias) cost about 40 ms a frame of splats on the busy 2-core machine (issue 30:
+  /// 93 ms with it, 54 ms without, at half resolution); stills keep it.
+  renderMoving() {
+    const canvas = this.renderer.domElement;
+    const width = canvas.width, height = canvas.height;
+    if (!this.motionTarget) {
+      this.motionTarget = new THREE.WebGLRenderTarget(width, height, { samples: 0, stencilBuffer: true });
+      this.motionQuad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2),
+        new THREE.MeshBasicMaterial({ map: this.motionTarget.texture, depthTest: false, depthWrite: false }));
+      this.motionScene = new THREE.Scene().add(this.motionQuad);
+      this.motionCamera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1);
+    }
+    this.motionTarget.setSize(width, height);
+    this.renderer.setRenderTarget(this.motionTarget);
+    this.renderer.render(this.scene, this.camera);
+    this.renderer.setRenderTarget(null);
+    const triangles = this.renderer.info.render.triangles;
+    this.renderer.render(this.motionScene, this.motionCamera);
+    return triangles;
+  }
+
   /// Called on every animation frame. A frame drawn because the camera moved is timed from its
   /// start to the next animation frame, which the browser gives once that frame is drawn and
   /// composited: the frame time a user sees while rotating (rendering alone, even to
@@ -152,8 +176,13 @@ export class Scene3D {
     this.dirty = false;
     if (this.cameraChanged) this.timedFrameStart = now;
     this.cameraChanged = false;
-    this.renderer.render(this.scene, this.camera);
-    if (this.timedFrameStart !== undefined) this.movingTriangles = this.renderer.info.render.triangles;
+    let triangles;
+    if (this.moving) triangles = this.renderMoving();
+    else {
+      this.renderer.render(this.scene, this.camera);
+      triangles = this.renderer.info.render.triangles;
+    }
+    if (this.timedFrameStart !== undefined) this.movingTriangles = triangles;
     const waiting = this.waitingForRender ?? [];
     this.waitingForRender = [];
     if (waiting.length > 0) this.renderer.getContext().finish();

@@ -19,7 +19,9 @@ export const CLOSE_UP_TRIANGLES = DISC_SEGMENTS * SPLAT_BUDGET;
 /// While the camera moves, at most this many discs are drawn (every k-th, k times the area).
 const MOTION_SPLATS = MOTION_TRIANGLES / DISC_SEGMENTS;
 
-const Z = new THREE.Vector3(0, 0, 1);
+const DISC_VERTICES = DISC_SEGMENTS + 1;  // the centre, then the rim
+const DISC_INDICES = 3 * DISC_SEGMENTS;
+const RIM = Array.from({ length: DISC_SEGMENTS }, (_, k) => (2 * Math.PI * k) / DISC_SEGMENTS).map((a) => [Math.cos(a), Math.sin(a)]);
 
 export class SplatLayer {
   /// @a handlers: onAsk() when a view is asked for, onShown(figures) when its answer is drawn
@@ -32,7 +34,9 @@ export class SplatLayer {
     this.group.visible = false;
     scene3d.scene.add(this.group);
     this.material = new THREE.MeshStandardMaterial({ color: SPLAT_COLOUR, roughness: 0.6, metalness: 0.05, side: THREE.DoubleSide });
-    this.disc = new THREE.CircleGeometry(1, DISC_SEGMENTS);
+    // While moving: Lambert's shading, cheaper a fragment than the standard material's (SwiftShader
+    // drew the motion's discs in 126 ms a frame instead of 191 ms, issue 30).
+    this.motionMaterial = new THREE.MeshLambertMaterial({ color: SPLAT_COLOUR, side: THREE.DoubleSide });
     this.iso = undefined;
     scene3d.controls.addEventListener('change', () => this.cameraMoved());
   }
@@ -56,6 +60,7 @@ export class SplatLayer {
 
   setClipPlanes(planes) {
     this.material.clippingPlanes = planes;
+    this.motionMaterial.clippingPlanes = planes;
     this.scene3d.requestRender();
   }
 
@@ -102,14 +107,14 @@ export class SplatLayer {
         // The splats stay on screen (all of them) until the triangles that replace some arrive.
         const mesh = await fetchMesh({ ...this.handlers.meshParams(), iso: this.iso, level: 'region', box }, abort.signal);
         if (abort !== this.abort) return;
-        this.mesh.count = count - Number(response.headers.get('X-Closeup-Splats'));
+        this.setShownCount(count - Number(response.headers.get('X-Closeup-Splats')));
         closeUp = { box, triangles: mesh.triangles, seconds: mesh.seconds, mesh };
       }
       this.handlers.onCloseUp(closeUp?.mesh ?? null);
       await this.scene3d.nextRender();
       if (abort !== this.abort) return;
       this.handlers.onShown({
-        splats: this.mesh.count, level: Number(response.headers.get('X-Level')), cutLevel: Number(response.headers.get('X-Cut-Level')), complete: response.headers.get('X-Complete') === '1',
+        splats: this.count, level: Number(response.headers.get('X-Level')), cutLevel: Number(response.headers.get('X-Cut-Level')), complete: response.headers.get('X-Complete') === '1',
         treeNodes: Number(response.headers.get('X-Tree-Nodes')), seconds: Number(response.headers.get('X-Seconds')),
         ms: performance.now() - started, closeUp: closeUp && { box, triangles: closeUp.triangles, seconds: closeUp.seconds },
       });
@@ -126,49 +131,85 @@ export class SplatLayer {
     this.firstBudget = budget;
   }
 
+  /// The first @a count discs drawn (the close-up's triangles replace the others).
+  setShownCount(count) {
+    this.count = count;
+    this.mesh.geometry.setDrawRange(0, DISC_INDICES * count);
+  }
+
   /// While @a moving, every k-th disc of those drawn, k times larger in area, so that at most
   /// MOTION_SPLATS are drawn.
   setMoving(moving) {
-    this.motion?.dispose();
-    this.motion = null;
+    this.dropMotion();
     if (this.mesh) this.mesh.visible = true;
-    if (!moving || !this.mesh || this.mesh.count <= MOTION_SPLATS) return;
-    const stride = Math.ceil(this.mesh.count / MOTION_SPLATS);
-    this.motion = new THREE.InstancedMesh(this.disc, this.material, Math.ceil(this.mesh.count / stride));
-    const matrix = new THREE.Matrix4();
-    const grow = new THREE.Matrix4().makeScale(Math.sqrt(stride), Math.sqrt(stride), 1);  // in the disc's plane
-    for (let i = 0, j = 0; i < this.mesh.count; i += stride, ++j) {
-      this.mesh.getMatrixAt(i, matrix);
-      this.motion.setMatrixAt(j, matrix.multiply(grow));
-    }
-    this.motion.frustumCulled = false;
+    if (!moving || !this.mesh || this.count <= MOTION_SPLATS) return;
+    const stride = Math.ceil(this.count / MOTION_SPLATS);
+    this.motion = discMesh(this.values, this.count, stride, this.motionMaterial);
     this.mesh.visible = false;
     this.group.add(this.motion);
   }
 
-  /// One disc per splat: centred, turned from +z onto its normal, scaled to its radius.
-  show(values, count) {
-    this.mesh?.dispose();
-    this.motion?.dispose();
+  dropMotion() {
+    if (!this.motion) return;
+    this.group.remove(this.motion);
+    this.motion.geometry.dispose();
     this.motion = null;
+  }
+
+  /// One disc per splat: centred, in the plane of its normal, of its radius.
+  show(values, count) {
+    this.mesh?.geometry.dispose();
+    this.dropMotion();
     this.group.clear();
-    this.mesh = new THREE.InstancedMesh(this.disc, this.material, Math.max(count, 1));
-    this.mesh.count = count;
-    const matrix = new THREE.Matrix4();
-    const position = new THREE.Vector3(), normal = new THREE.Vector3(), scale = new THREE.Vector3();
-    const turn = new THREE.Quaternion();
-    for (let i = 0; i < count; ++i) {
-      const at = 7 * i;
-      position.set(values[at], values[at + 1], values[at + 2]);
-      normal.set(values[at + 3], values[at + 4], values[at + 5]);
-      turn.setFromUnitVectors(Z, normal);
-      scale.setScalar(values[at + 6]);
-      this.mesh.setMatrixAt(i, matrix.compose(position, turn, scale));
-    }
-    this.mesh.instanceMatrix.needsUpdate = true;
-    this.mesh.frustumCulled = false;  // the server culled; three's bounds would be the disc's
+    Object.assign(this, { values, count });
+    this.mesh = discMesh(values, count, 1, this.material);
     // No shadows: discs that overlap at slightly different tilts would shade each other's rims.
     this.group.add(this.mesh);
     this.scene3d.requestRender();
   }
+}
+
+/// Every @a stride-th of the @a count splats of @a values (centre, normal, radius: 7 floats
+/// each) as discs of DISC_SEGMENTS triangles, their area times @a stride, in one geometry: one
+/// draw call. (An instanced mesh of the same discs costs a software renderer about 30 µs a
+/// disc a frame, SwiftShader drawing instances one by one: 1.7 s a frame for 60,000.)
+function discMesh(values, count, stride, material) {
+  const discs = Math.ceil(count / stride);
+  const positions = new Float32Array(3 * DISC_VERTICES * discs);
+  const normals = new Float32Array(3 * DISC_VERTICES * discs);
+  const index = new Uint32Array(DISC_INDICES * discs);
+  const centre = new THREE.Vector3(), normal = new THREE.Vector3(), u = new THREE.Vector3(), v = new THREE.Vector3();
+  const grow = Math.sqrt(stride);
+  for (let i = 0, d = 0; i < count; i += stride, ++d) {
+    const at = 7 * i;
+    centre.set(values[at], values[at + 1], values[at + 2]);
+    normal.set(values[at + 3], values[at + 4], values[at + 5]);
+    const radius = values[at + 6] * grow;
+    // u, v: an orthonormal basis of the disc's plane.
+    u.set(Math.abs(normal.x) < 0.9 ? 1 : 0, Math.abs(normal.x) < 0.9 ? 0 : 1, 0).cross(normal).normalize();
+    v.crossVectors(normal, u);
+    const first = DISC_VERTICES * d;
+    for (let k = 0; k < DISC_VERTICES; ++k) {
+      const w = 3 * (first + k);
+      const [c, s] = k === 0 ? [0, 0] : RIM[k - 1];
+      positions[w] = centre.x + radius * (c * u.x + s * v.x);
+      positions[w + 1] = centre.y + radius * (c * u.y + s * v.y);
+      positions[w + 2] = centre.z + radius * (c * u.z + s * v.z);
+      normals[w] = normal.x;
+      normals[w + 1] = normal.y;
+      normals[w + 2] = normal.z;
+    }
+    for (let t = 0, w = DISC_INDICES * d; t < DISC_SEGMENTS; ++t, w += 3) {
+      index[w] = first;
+      index[w + 1] = first + 1 + t;
+      index[w + 2] = first + 1 + ((t + 1) % DISC_SEGMENTS);
+    }
+  }
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+  geometry.setAttribute('normal', new THREE.BufferAttribute(normals, 3));
+  geometry.setIndex(new THREE.BufferAttribute(index, 1));
+  const mesh = new THREE.Mesh(geometry, material);
+  mesh.frustumCulled = false;  // the server culled
+  return mesh;
 }
