@@ -20,10 +20,11 @@ using OpenSlices = std::function<std::unique_ptr<SliceReader>()>;
 /// description and nodes too), without the whole grid ever being held. Opening surveys the scan
 /// once (a conversion's time, its slice windows' memory): the sample range, which the
 /// background depends on, and the active voxels per node. read() makes the rows of leaves
-/// meeting its box in z over the scan's whole x and y (a band) and keeps the last band, so
-/// boxes read in non-decreasing z (bricks visited z-major) read the scan once; a box before the
-/// last band reopens the scan. read() may be called from several threads (one band is made at
-/// a time). Throws as convert_to_grid() does.
+/// meeting its box in z over the box's x-y rectangle widened by band + 1 (a band of a part of
+/// the slices: only the part's rows are read, only the part converted) and keeps the last
+/// band, so boxes of one x-y rectangle read in non-decreasing z (a column of bricks) read the
+/// scan once; any other box reopens the scan. read() may be called from several threads (one
+/// band is made at a time). Throws as convert_to_grid() does.
 std::unique_ptr<GridRegionSource> open_scan_regions(OpenSlices open, const ConvertOptions& options);
 
 }  // namespace vdbmesh

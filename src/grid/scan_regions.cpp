@@ -10,12 +10,13 @@
 // band of it in x and y (an in-plane distance saturating at band + 1), and a leaf's values are
 // its own samples; at a part's edge that is not the scan's, the virtual ring marks the cells of
 // the part's last column, band + 1 inside the edge. So with a halo of band + 1 the part's
-// conversion gives every leaf meeting the box as the whole conversion does. The band last made is kept, so the bricks of
-// one column, visited bottom to top, share one conversion of their part: the scan is read once
-// per column, only the part decoded. A band that follows the last (the same part, higher rows)
-// goes on with the same converter (rows both share are copied from the last band); any other
-// reopens the scan and skips to it. Each row is made from samples within band + 1 slices of it
-// in z, so it equals the whole conversion's row there.
+// conversion gives every leaf meeting the box as the whole conversion does.
+// The band last made is kept, so the bricks of one column, visited bottom to top, share one
+// conversion of their part: the scan is read once per column, only the part's rows read and
+// decoded. A band that follows the last (the same part, higher rows) goes on with the same
+// converter (rows both share are copied from the last band); any other reopens the scan and
+// skips to it. Each row is made from samples within band + 1 slices of it in z, so it equals
+// the whole conversion's row there.
 
 #include <tbb/task_arena.h>
 
