@@ -98,7 +98,7 @@ private:
 std::uint64_t grid_stream_share(std::uint64_t memory_bytes, std::uint64_t least_stream_bytes, const std::string& verb,
                                 const std::string& input) {
     // The program is counted once: the rest is halved.
-    const auto program = std::uint64_t(kProgramBytes);
+    const std::uint64_t program = kProgramBytes;
     const std::uint64_t share = memory_bytes < program ? memory_bytes : program + (memory_bytes - program) / 2;
     if (share >= least_stream_bytes) return share;
     constexpr std::uint64_t kMiB = std::uint64_t(1) << 20;

@@ -62,7 +62,7 @@ void add_memory_option(CLI::App& command, MemoryLimit& limit, const std::string&
 
 void refuse_beyond_memory(const MemoryLimit& limit, const std::string& option, const std::string& what, double bytes) {
     if (!limit.given()) return refuse_beyond_memory(option, what, bytes);
-    const double needed = bytes + kProgramBytes, given = limit.bytes();
+    const double needed = bytes + double(kProgramBytes), given = limit.bytes();
     if (needed <= given) return;
     constexpr double kMiB = 1024.0 * 1024;
     throw UsageError("--memory: expected at least " + std::to_string(std::uint64_t(std::ceil(needed / kMiB))) + "M for " + what +

@@ -11,6 +11,8 @@
 #include <cstdint>
 #include <string>
 
+#include "vdbmesh/program_memory.h"
+
 namespace vdbmesh {
 class GridRegionSource;
 }
@@ -23,10 +25,6 @@ inline constexpr double kMemoryLimitBytes = 16.0 * 1024 * 1024 * 1024;
 /// A float leaf of an OpenVDB tree in memory: its 512 values (a buffer of their own) and the
 /// node (masks, origin, the buffer's pointer), about 100 bytes.
 inline constexpr double kFloatLeafBytes = 512 * 4 + 100;
-
-/// The process besides what a command holds (the program, its libraries, the heap's and the
-/// threads' own): what every --memory estimate adds (as analyze_stream.cpp plans it).
-inline constexpr double kProgramBytes = 64.0 * 1024 * 1024;
 
 /// The work a run may plan for unless --work-limit says more: 2 minutes of one core (1 on two).
 /// A command that would take longer on an ordinary laptop is more likely a mistyped number
@@ -70,7 +68,7 @@ struct MemoryLimit {
 void add_memory_option(CLI::App& command, MemoryLimit& limit, const std::string& what);
 
 /// With --memory given: throws UsageError "--memory: expected at least X for WHAT, got Y" when
-/// the estimate @a bytes (with kProgramBytes added) exceeds it; without it,
+/// the estimate @a bytes (with vdbmesh::kProgramBytes added) exceeds it; without it,
 /// refuse_beyond_memory(@a option, @a what, @a bytes).
 void refuse_beyond_memory(const MemoryLimit& limit, const std::string& option, const std::string& what, double bytes);
 

@@ -27,7 +27,7 @@ namespace {
 
 constexpr std::uint64_t kMiB = std::uint64_t(1) << 20;
 /// The process besides the plan (stream_extras.h).
-constexpr std::uint64_t kBaselineBytes = detail::kStreamBaselineBytes;
+constexpr std::uint64_t kBaselineBytes = kProgramBytes;
 /// The least a sort is given.
 constexpr std::uint64_t kMinSortBytes = kMiB;
 constexpr int kIndexedSorts = 2, kStlSorts = 3;

@@ -24,7 +24,7 @@ struct SectionStream::Impl {
     std::string name;
     std::vector<Plane> planes;
     std::uint64_t memory_bytes = 0;
-    std::uint64_t held_bytes = detail::kStreamBaselineBytes;  ///< the program and the positions
+    std::uint64_t held_bytes = kProgramBytes;  ///< the program and the positions
     bool numbered = true;                                    ///< false for an STL stream
     std::vector<std::array<float, 3>> positions;
     std::vector<std::vector<detail::CutSegment>> segments;  ///< one list a plane
@@ -32,14 +32,14 @@ struct SectionStream::Impl {
 
     /// Refuses a limit that cannot hold @a vertices positions and the least room for segments.
     void plan(std::uint64_t vertices) {
-        held_bytes = detail::kStreamBaselineBytes + std::uint64_t(kPositionBytesPerVertex * double(vertices));
+        held_bytes = kProgramBytes + std::uint64_t(kPositionBytesPerVertex * double(vertices));
         if (memory_bytes >= held_bytes + kMinSegmentBytes) {
             positions.reserve(vertices);
             return;
         }
         std::ostringstream text;
         text << "--memory: " << memory_bytes / kMiB << "M is too small to section " << name << ", which needs "
-             << detail::kStreamBaselineBytes / kMiB << " MiB for the program, ";
+             << kProgramBytes / kMiB << " MiB for the program, ";
         if (vertices > 0) text << kPositionBytesPerVertex << " bytes for each of its " << vertices << " vertices, ";
         text << "and at least " << kMinSegmentBytes / kMiB << " MiB for the cuts; the smallest limit that works is "
              << (held_bytes + kMinSegmentBytes + kMiB - 1) / kMiB << "M";
@@ -96,7 +96,7 @@ std::vector<Section> SectionStream::finish() {
     return sections;
 }
 
-std::uint64_t SectionStream::least_bytes() { return detail::kStreamBaselineBytes + kMinSegmentBytes; }
+std::uint64_t SectionStream::least_bytes() { return kProgramBytes + kMinSegmentBytes; }
 
 std::vector<Section> section_mesh_stream(const std::filesystem::path& path, const std::vector<Plane>& planes, std::uint64_t memory_bytes) {
     SectionStream stream(path.string(), planes, memory_bytes);

@@ -13,14 +13,9 @@
 
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/mesh_io.h"
+#include "vdbmesh/program_memory.h"
 
 namespace vdbmesh::detail {
-
-/// The process besides what a bounded pass plans: 41 MB for the program and its libraries
-/// (peak of `vdbmesh --help`), up to 9 MiB of the mapped file's window (mapped_file.cpp), the
-/// heap's and the threads' own; set from the peak of a 33 M triangle PLY checked in 256M
-/// (bench/README.md).
-constexpr std::uint64_t kStreamBaselineBytes = std::uint64_t(64) << 20;
 
 /// Hears each triangle as the check reads it; see make_stream_checker().
 class StreamExtras {

@@ -17,6 +17,7 @@
 #include "mesh/dc_wavefront.h"
 #include "mesh/mesh_phases.h"
 #include "vdbmesh/error.h"
+#include "vdbmesh/program_memory.h"
 #include "vdbmesh/ranks.h"
 
 namespace vdbmesh::detail {
@@ -28,9 +29,6 @@ namespace {
 /// raw scan in one column: peak 1.37 GB where the grid held and the band and windows read
 /// account for 1.09 GB; bench/README.md, "Scale"), taken as 1 for an upper estimate.
 constexpr double kWorkPerGridByte = 1.0;
-/// What the process holds before it reads a grid (the program, its libraries, the thread
-/// pool): a first guess; the plans it gave were all above the measured peaks (bench/README.md, "Scale").
-constexpr std::uint64_t kBaseBytes = std::uint64_t(24) << 20;
 
 /// The column of bricks @a brick belongs to, owned part.
 IfcColumn column_of(const IfcBrick& brick, const BrickShape& shape) {
@@ -231,12 +229,12 @@ void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOpti
 namespace vdbmesh {
 
 std::uint64_t brick_peak_bytes(const GridRegionSource& source, const BrickShape& shape) {
-    std::uint64_t peak = detail::kBaseBytes;
+    std::uint64_t peak = kProgramBytes;
     for (const detail::IfcBrick& brick : detail::plan_ifc_bricks(source, shape)) {
         // The grid held, the mesher's cells on it, and the next layer being read.
         const detail::WavefrontBoxes boxes = detail::wavefront_boxes(brick, shape);
         const double held = double(source.grid_bytes(boxes.held)) * (1.0 + detail::kWorkPerGridByte);
-        peak = std::max(peak, detail::kBaseBytes + std::uint64_t(held) + source.estimated_bytes(boxes.read));
+        peak = std::max(peak, kProgramBytes + std::uint64_t(held) + source.estimated_bytes(boxes.read));
     }
     return peak;
 }

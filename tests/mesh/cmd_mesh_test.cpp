@@ -210,7 +210,7 @@ TEST(CmdMeshTest, MemoryLimitGivesTheSameBytesOrIsRefused) {
     };
     const auto whole = scratch / "whole.ply", bounded = scratch / "bounded.ply";
     ASSERT_EQ(run_with({"-o", whole.string(), "--error", "0.5"}), cli::kSuccess);
-    ASSERT_EQ(run_with({"-o", bounded.string(), "--error", "0.5", "--memory", "64M"}), cli::kSuccess);
+    ASSERT_EQ(run_with({"-o", bounded.string(), "--error", "0.5", "--memory", "80M"}), cli::kSuccess);
     auto bytes = [](const std::filesystem::path& path) {
         std::ifstream in(path, std::ios::binary);
         return std::string(std::istreambuf_iterator<char>(in), {});
@@ -219,7 +219,7 @@ TEST(CmdMeshTest, MemoryLimitGivesTheSameBytesOrIsRefused) {
     // STL writes each triangle's corners, which the spill then keeps too: the same bytes.
     const auto whole_stl = scratch / "whole.stl", bounded_stl = scratch / "bounded.stl";
     ASSERT_EQ(run_with({"-o", whole_stl.string(), "--error", "0.5"}), cli::kSuccess);
-    ASSERT_EQ(run_with({"-o", bounded_stl.string(), "--error", "0.5", "--memory", "64M"}), cli::kSuccess);
+    ASSERT_EQ(run_with({"-o", bounded_stl.string(), "--error", "0.5", "--memory", "80M"}), cli::kSuccess);
     EXPECT_EQ(bytes(bounded_stl), bytes(whole_stl));
     const auto refused = scratch / "refused.ply";
     testing::internal::CaptureStderr();
