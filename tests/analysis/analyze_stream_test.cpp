@@ -20,7 +20,6 @@
 namespace vdbmesh {
 namespace {
 
-constexpr std::uint64_t kPlenty = std::uint64_t(256) << 20;
 /// Records per run: small enough that the meshes below sort in dozens of runs.
 constexpr std::size_t kTinyRuns = 97;
 
@@ -95,7 +94,7 @@ StreamCheck check_both(const Mesh& mesh, const test::ScratchDir& dir, const std:
                        std::size_t run_records = kTinyRuns) {
     const std::filesystem::path file = dir / name;
     write_mesh(mesh, file, {ascii, false});
-    const StreamCheck stream = analyze_mesh_stream(file, {kPlenty, run_records});
+    const StreamCheck stream = analyze_mesh_stream(file, {test::kPlenty, run_records});
     SCOPED_TRACE(name);
     expect_same_figures(analyze_mesh(read_mesh(file)), stream.analysis);
     return stream;
@@ -141,14 +140,14 @@ TEST(AnalyzeStreamTest, IntegralsAgreeBitForBitAcrossTheSummingBlocks) {
 TEST(AnalyzeStreamTest, SameFiguresForAnyThreadCount) {
     const test::ScratchDir dir;
     write_mesh(test::torus(40, 24), dir / "torus.stl");
-    const StreamCheck many = analyze_mesh_stream(dir / "torus.stl", {kPlenty, kTinyRuns});
+    const StreamCheck many = analyze_mesh_stream(dir / "torus.stl", {test::kPlenty, kTinyRuns});
     const tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
-    expect_same_figures(many.analysis, analyze_mesh_stream(dir / "torus.stl", {kPlenty, kTinyRuns}).analysis);
+    expect_same_figures(many.analysis, analyze_mesh_stream(dir / "torus.stl", {test::kPlenty, kTinyRuns}).analysis);
 }
 
 TEST(AnalyzeStreamTest, RealScanMeshGivesTheWholeChecksFigures) {
     VDBMESH_SHARED_DATA(zipper, "pointcloud_stanford_bunny_scans/reconstruction/bun_zipper.ply");
-    const StreamCheck stream = analyze_mesh_stream(zipper, {kPlenty, 20000});
+    const StreamCheck stream = analyze_mesh_stream(zipper, {test::kPlenty, 20000});
     expect_same_figures(analyze_mesh(read_mesh(zipper)), stream.analysis);
     EXPECT_GT(stream.sorted_runs, 10u);
     EXPECT_GT(stream.analysis.boundary_loops, 0u);  // the zippered scan has holes
@@ -167,8 +166,8 @@ TEST(AnalyzeStreamTest, BadFileIsTheReadersFormatError) {
     const test::ScratchDir dir;
     write_mesh(test::cube(), dir / "cube.ply", {true, false});
     std::filesystem::resize_file(dir / "cube.ply", std::filesystem::file_size(dir / "cube.ply") - 10);
-    EXPECT_THROW(analyze_mesh_stream(dir / "cube.ply", {kPlenty, 0}), FormatError);
-    EXPECT_THROW(analyze_mesh_stream(dir / "missing.stl", {kPlenty, 0}), FormatError);
+    EXPECT_THROW(analyze_mesh_stream(dir / "cube.ply", {test::kPlenty, 0}), FormatError);
+    EXPECT_THROW(analyze_mesh_stream(dir / "missing.stl", {test::kPlenty, 0}), FormatError);
 }
 
 /// Sets an environment variable for the test's life.
@@ -193,18 +192,18 @@ TEST(AnalyzeStreamTest, TemporaryFilesGoToTmpdirAndLeaveNothing) {
     write_mesh(test::torus(40, 24), dir / "torus.stl");
     {
         const ScopedEnv tmpdir("TMPDIR", temp.path().string());
-        EXPECT_GT(analyze_mesh_stream(dir / "torus.stl", {kPlenty, kTinyRuns}).sorted_runs, 2u);
+        EXPECT_GT(analyze_mesh_stream(dir / "torus.stl", {test::kPlenty, kTinyRuns}).sorted_runs, 2u);
     }
     EXPECT_TRUE(std::filesystem::is_empty(temp.path()));
     const ScopedEnv tmpdir("TMPDIR", (temp / "missing").string());
     try {
-        analyze_mesh_stream(dir / "torus.stl", {kPlenty, kTinyRuns});
+        analyze_mesh_stream(dir / "torus.stl", {test::kPlenty, kTinyRuns});
         FAIL() << "no temporary file, yet no error";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find((temp / "missing").string()), std::string::npos) << e.what();
     }
     // Everything in one run needs no file.
-    EXPECT_EQ(analyze_mesh_stream(dir / "torus.stl", {kPlenty, 0}).sorted_runs, 0u);
+    EXPECT_EQ(analyze_mesh_stream(dir / "torus.stl", {test::kPlenty, 0}).sorted_runs, 0u);
 }
 
 }  // namespace

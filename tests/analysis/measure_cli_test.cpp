@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cli.h"
+#include "run_json.h"
 #include "test_data.h"
 #include "test_meshes.h"
 #include "vdbmesh/mesh_io.h"
@@ -61,13 +62,6 @@ std::filesystem::path write_skimage_ellipsoid(const ScratchDir& scratch, const s
         }
     });
     return path;
-}
-
-nlohmann::json run_json(const std::vector<std::string>& args, int& status) {
-    testing::internal::CaptureStdout();
-    status = cli::run(args);
-    const std::string out = testing::internal::GetCapturedStdout();
-    return status == cli::kSuccess ? nlohmann::json::parse(out) : nlohmann::json();
 }
 
 // skimage.draw.ellipsoid_stats(6, 10, 16) (scikit-image 0.19.3, computed once with

@@ -18,7 +18,6 @@
 namespace vdbmesh {
 namespace {
 
-constexpr std::uint64_t kPlenty = std::uint64_t(256) << 20;
 /// Records per sorted run: small enough that the meshes below sort in many runs.
 constexpr std::size_t kTinyRuns = 97;
 
@@ -72,7 +71,7 @@ TEST(MeasureStreamTest, EveryFormatGivesTheWholeMeasure) {
             const std::filesystem::path file = dir / (std::string(ascii ? "ascii" : "binary") + extension);
             write_mesh(test::torus_and_box_with_cavity(), file, {ascii, false});
             SCOPED_TRACE(file.filename().string());
-            const MeshMeasure stream = measure_mesh_stream(file, {kPlenty, kTinyRuns});
+            const MeshMeasure stream = measure_mesh_stream(file, {test::kPlenty, kTinyRuns});
             expect_same_measure(measure_mesh(read_mesh(file)), stream);
             ASSERT_EQ(stream.components.size(), 3u);
             EXPECT_LT(stream.components[2].volume, 0);  // the cavity
@@ -85,7 +84,7 @@ TEST(MeasureStreamTest, RealScanMeshGivesTheWholeMeasure) {
     // 69451 triangles: the per-triangle sums (16 bytes) outgrow their 1 MiB buffer and go
     // through the temporary file.
     VDBMESH_SHARED_DATA(zipper, "pointcloud_stanford_bunny_scans/reconstruction/bun_zipper.ply");
-    expect_same_measure(measure_mesh(read_mesh(zipper)), measure_mesh_stream(zipper, {kPlenty, 20000}));
+    expect_same_measure(measure_mesh(read_mesh(zipper)), measure_mesh_stream(zipper, {test::kPlenty, 20000}));
 }
 
 TEST(MeasureStreamTest, LimitTooSmallIsRefusedWithTheSmallestThatWorks) {

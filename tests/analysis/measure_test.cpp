@@ -14,7 +14,6 @@
 namespace vdbmesh::test {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 /// @a outer with @a inner added inside out (a cavity).
 Mesh with_cavity(Mesh outer, const Mesh& inner) {

@@ -10,21 +10,13 @@
 #include <sstream>
 
 #include "cli.h"
+#include "run_json.h"
 #include "test_data.h"
 #include "test_meshes.h"
 #include "vdbmesh/mesh_io.h"
 
 namespace vdbmesh::test {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
-nlohmann::json run_json(const std::vector<std::string>& args, int& status) {
-    testing::internal::CaptureStdout();
-    status = cli::run(args);
-    const std::string out = testing::internal::GetCapturedStdout();
-    return status == cli::kSuccess ? nlohmann::json::parse(out) : nlohmann::json();
-}
 
 std::string read_text(const std::filesystem::path& path) {
     std::ostringstream text;
@@ -46,7 +38,7 @@ TEST(SectionCliTest, SpherePhantomScanSectionsAsJsonAndSvg) {
     EXPECT_EQ(mid["label"], "z=31.5");
     EXPECT_EQ(mid["loops"], 1);
     EXPECT_EQ(mid["holes"], 0);
-    const double disc = kPi * 20 * 20;  // the preset's radius, 40 at 128^3, scaled to 64^3
+    const double disc = M_PI * 20 * 20;  // the preset's radius, 40 at 128^3, scaled to 64^3
     EXPECT_NEAR(mid["area"].get<double>(), disc, 0.01 * disc);  // 1%: half the resolution of the 0.5% figure
     EXPECT_NEAR(mid["centroid"][2].get<double>(), 31.5, 1e-9);
     EXPECT_EQ(j["sections"][1]["label"], "x=11.5");

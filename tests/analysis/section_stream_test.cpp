@@ -18,7 +18,6 @@
 namespace vdbmesh {
 namespace {
 
-constexpr std::uint64_t kPlenty = std::uint64_t(256) << 20;
 
 std::vector<Plane> some_planes() {
     return {axis_plane(2, 0.25), axis_plane(2, 0), axis_plane(0, 11.5), axis_plane(1, 0.1), make_plane({1, 2, 3}, 0.7)};
@@ -60,7 +59,7 @@ TEST(SectionStreamTest, EveryFormatGivesTheWholeSections) {
             // numbers and positions disagree on which is first: one rounding (1e-16 relative) of
             // coordinates under 16, summed over the loops' points: 1e-12 covers it.
             const bool stl = std::string(extension) == ".stl";
-            expect_same_sections(whole, section_mesh_stream(file, some_planes(), kPlenty), stl ? 1e-12 : 0);
+            expect_same_sections(whole, section_mesh_stream(file, some_planes(), test::kPlenty), stl ? 1e-12 : 0);
             EXPECT_EQ(whole[0].holes(), 1u);  // the torus's hole
             EXPECT_EQ(whole[2].holes(), 1u);  // the cavity
         }
@@ -74,7 +73,7 @@ TEST(SectionStreamTest, RealScanMeshGivesTheWholeSections) {
     for (double y = 0.06; y < 0.17; y += 0.02) planes.push_back(axis_plane(1, y));
     std::vector<Section> whole;
     for (const Plane& plane : planes) whole.push_back(section_mesh(mesh, plane));
-    expect_same_sections(whole, section_mesh_stream(zipper, planes, kPlenty), 0);
+    expect_same_sections(whole, section_mesh_stream(zipper, planes, test::kPlenty), 0);
     EXPECT_GT(whole[0].area, 0);
 }
 
@@ -90,13 +89,13 @@ TEST(SectionStreamTest, OpenMeshIsRefusedAsInMemory) {
         whole = e.what();
     }
     try {
-        section_mesh_stream(dir / "open.ply", {axis_plane(2, 1.5)}, kPlenty);
+        section_mesh_stream(dir / "open.ply", {axis_plane(2, 1.5)}, test::kPlenty);
     } catch (const Error& e) {
         stream = e.what();
     }
     EXPECT_FALSE(whole.empty());
     EXPECT_EQ(stream, whole);
-    EXPECT_NO_THROW(section_mesh_stream(dir / "open.ply", {axis_plane(0, 0.5)}, kPlenty));  // the cut misses the hole
+    EXPECT_NO_THROW(section_mesh_stream(dir / "open.ply", {axis_plane(0, 0.5)}, test::kPlenty));  // the cut misses the hole
 }
 
 TEST(SectionStreamTest, LimitTooSmallIsRefusedWithTheSmallestThatWorks) {

@@ -12,6 +12,9 @@
 
 namespace vdbmesh::test {
 
+/// A --memory limit (256 MiB) that the stream tests' meshes never reach.
+inline constexpr std::uint64_t kPlenty = std::uint64_t(256) << 20;
+
 /// Runs @a run at a limit of 1 MiB, which must throw UsageError naming "the smallest limit
 /// that works is N M", and at N - 1 MiB, which must throw too; returns N MiB in bytes, or 0
 /// after a test failure. @a message receives the first refusal's text when given.

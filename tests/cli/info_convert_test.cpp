@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli.h"
+#include "concat_args.h"
 #include "test_data.h"
 #include "vdbmesh/grid.h"
 
@@ -49,11 +50,6 @@ nlohmann::json parse_one_object(const std::string& text) {
 }
 
 std::vector<std::string> raw_flags() { return {"--raw-dims", "16,12,10", "--raw-type", "u8", "-q"}; }
-
-std::vector<std::string> concat(std::vector<std::string> a, const std::vector<std::string>& b) {
-    a.insert(a.end(), b.begin(), b.end());
-    return a;
-}
 
 TEST(InfoCommandTest, JsonDescribesARawScan) {
     ScratchDir dir;

@@ -14,28 +14,24 @@
 #include <vector>
 
 #include "cli.h"
+#include "concat_args.h"
 #include "test_data.h"
 #include "vdbmesh/mesh_io.h"
 
 namespace vdbmesh::cli {
 namespace {
 
-struct Output {
+struct OutAndErr {
     int status;
     std::string out, err;
 };
 
-Output run_capturing(const std::vector<std::string>& args) {
+OutAndErr run_capturing_both(const std::vector<std::string>& args) {
     testing::internal::CaptureStdout();
     testing::internal::CaptureStderr();
     const int status = run(args);
     std::string out = testing::internal::GetCapturedStdout();
     return {status, out, testing::internal::GetCapturedStderr()};
-}
-
-std::vector<std::string> concat(std::vector<std::string> a, const std::vector<std::string>& b) {
-    a.insert(a.end(), b.begin(), b.end());
-    return a;
 }
 
 /// The limit a refusal names ("the smallest limit that works is 71M"), in bytes; 0 when none.
@@ -64,9 +60,9 @@ void expect_same_measure(const nlohmann::json& whole, const nlohmann::json& boun
 
 /// measure --json of @a args with and without --memory @a memory, compared.
 void expect_bounded_measure_is_whole(const std::vector<std::string>& args, const std::string& memory) {
-    const Output whole = run_capturing(concat({"measure"}, concat(args, {"--json", "-q"})));
+    const OutAndErr whole = run_capturing_both(concat({"measure"}, concat(args, {"--json", "-q"})));
     ASSERT_EQ(whole.status, kSuccess) << whole.err;
-    const Output bounded = run_capturing(concat({"measure"}, concat(args, {"--json", "-q", "--memory", memory})));
+    const OutAndErr bounded = run_capturing_both(concat({"measure"}, concat(args, {"--json", "-q", "--memory", memory})));
     ASSERT_EQ(bounded.status, kSuccess) << bounded.err;
     expect_same_measure(nlohmann::json::parse(whole.out), nlohmann::json::parse(bounded.out));
 }
@@ -97,31 +93,31 @@ TEST(MeasureMemoryTest, RealMeshFileGivesTheWholeMeasure) {
 
 TEST(MeasureMemoryTest, LimitTooSmallIsUsageErrorNamingTheSmallest) {
     VDBMESH_SHARED_DATA(zipper, "pointcloud_stanford_bunny_scans/reconstruction/bun_zipper.ply");
-    const Output refused = run_capturing({"measure", zipper.string(), "--memory", "1M", "--json"});
+    const OutAndErr refused = run_capturing_both({"measure", zipper.string(), "--memory", "1M", "--json"});
     EXPECT_EQ(refused.status, kUsageError);
     EXPECT_TRUE(refused.out.empty()) << refused.out;
     const std::uint64_t smallest = named_smallest(refused.err);
     ASSERT_GT(smallest, 0u) << refused.err;
-    EXPECT_EQ(run_capturing({"measure", zipper.string(), "--memory", std::to_string((smallest >> 20) - 1) + "M", "-q"}).status, kUsageError);
-    EXPECT_EQ(run_capturing({"measure", zipper.string(), "--memory", std::to_string(smallest >> 20) + "M", "-q"}).status, kSuccess);
+    EXPECT_EQ(run_capturing_both({"measure", zipper.string(), "--memory", std::to_string((smallest >> 20) - 1) + "M", "-q"}).status, kUsageError);
+    EXPECT_EQ(run_capturing_both({"measure", zipper.string(), "--memory", std::to_string(smallest >> 20) + "M", "-q"}).status, kSuccess);
 }
 
 TEST(MeasureMemoryTest, ScanLimitsAndOptionsTheBricksCannotTakeAreRefused) {
     const test::ScratchDir dir;
     const std::string torus = write_torus_phantom(dir).string();
-    const Output tiny = run_capturing({"measure", torus, "--iso", "0.5", "--error", "0.25", "--memory", "1M"});
+    const OutAndErr tiny = run_capturing_both({"measure", torus, "--iso", "0.5", "--error", "0.25", "--memory", "1M"});
     EXPECT_EQ(tiny.status, kUsageError);
     EXPECT_GT(named_smallest(tiny.err), 0u) << tiny.err;
-    EXPECT_EQ(run_capturing({"measure", torus, "--iso", "0.5", "--memory", "128M"}).status, kUsageError);  // --error 0
-    EXPECT_EQ(run_capturing({"measure", torus, "--iso", "0.5", "--error", "0.25", "--refine", "--memory", "128M"}).status, kUsageError);
+    EXPECT_EQ(run_capturing_both({"measure", torus, "--iso", "0.5", "--memory", "128M"}).status, kUsageError);  // --error 0
+    EXPECT_EQ(run_capturing_both({"measure", torus, "--iso", "0.5", "--error", "0.25", "--refine", "--memory", "128M"}).status, kUsageError);
 }
 
 /// section --json of @a args with and without --memory @a memory: the same bytes (edges named by
 /// vertex numbers both ways: SectionStream).
 void expect_bounded_section_is_whole(const std::vector<std::string>& args, const std::string& memory) {
-    const Output whole = run_capturing(concat({"section"}, concat(args, {"--json", "-q"})));
+    const OutAndErr whole = run_capturing_both(concat({"section"}, concat(args, {"--json", "-q"})));
     ASSERT_EQ(whole.status, kSuccess) << whole.err;
-    const Output bounded = run_capturing(concat({"section"}, concat(args, {"--json", "-q", "--memory", memory})));
+    const OutAndErr bounded = run_capturing_both(concat({"section"}, concat(args, {"--json", "-q", "--memory", memory})));
     ASSERT_EQ(bounded.status, kSuccess) << bounded.err;
     EXPECT_EQ(bounded.out, whole.out);
     EXPECT_GT(nlohmann::json::parse(whole.out)["sections"][0]["area"].get<double>(), 0);
@@ -144,16 +140,16 @@ TEST(SectionMemoryTest, LimitTooSmallIsUsageErrorWithNothingWritten) {
     VDBMESH_SHARED_DATA(zipper, "pointcloud_stanford_bunny_scans/reconstruction/bun_zipper.ply");
     const test::ScratchDir dir;
     const std::string svg = (dir / "cut.svg").string();
-    const Output refused = run_capturing({"section", zipper.string(), "--plane", "y=0.1", "--svg", svg, "--memory", "1M"});
+    const OutAndErr refused = run_capturing_both({"section", zipper.string(), "--plane", "y=0.1", "--svg", svg, "--memory", "1M"});
     EXPECT_EQ(refused.status, kUsageError);
     EXPECT_FALSE(std::filesystem::exists(svg));
     const std::uint64_t smallest = named_smallest(refused.err);
     ASSERT_GT(smallest, 0u) << refused.err;
     const std::string at_smallest = std::to_string(smallest >> 20) + "M";
-    EXPECT_EQ(run_capturing({"section", zipper.string(), "--plane", "y=0.1", "--svg", svg, "--memory", at_smallest}).status, kSuccess);
+    EXPECT_EQ(run_capturing_both({"section", zipper.string(), "--plane", "y=0.1", "--svg", svg, "--memory", at_smallest}).status, kSuccess);
     EXPECT_TRUE(std::filesystem::exists(svg));
     const std::string torus = write_torus_phantom(dir).string();
-    const Output scan = run_capturing({"section", torus, "--iso", "0.5", "--error", "0.25", "--plane", "z=32", "--memory", "1M"});
+    const OutAndErr scan = run_capturing_both({"section", torus, "--iso", "0.5", "--error", "0.25", "--plane", "z=32", "--memory", "1M"});
     EXPECT_EQ(scan.status, kUsageError);
     EXPECT_GT(named_smallest(scan.err), 0u) << scan.err;
 }
@@ -166,18 +162,18 @@ std::string file_bytes(const std::filesystem::path& path) {
 /// A command that needs the whole grid or mesh: under the estimate, exit 2 naming it, the output
 /// not written; at the named limit it runs, writing what it writes without --memory.
 void expect_refused_then_run_at_the_estimate(const std::vector<std::string>& args, const std::filesystem::path& output) {
-    const Output refused = run_capturing(concat(args, {"--memory", "1M", "-q"}));
+    const OutAndErr refused = run_capturing_both(concat(args, {"--memory", "1M", "-q"}));
     EXPECT_EQ(refused.status, kUsageError) << refused.err;
     EXPECT_NE(refused.err.find("--memory: expected at least"), std::string::npos) << refused.err;
     EXPECT_FALSE(std::filesystem::exists(output));
     const std::uint64_t smallest = named_smallest(refused.err);
     ASSERT_GT(smallest, 0u) << refused.err;
-    const Output bounded = run_capturing(concat(args, {"--memory", std::to_string(smallest >> 20) + "M", "-q"}));
+    const OutAndErr bounded = run_capturing_both(concat(args, {"--memory", std::to_string(smallest >> 20) + "M", "-q"}));
     EXPECT_EQ(bounded.status, kSuccess) << bounded.err;
     if (output.empty()) return;
     const std::string bounded_bytes = file_bytes(output);
     EXPECT_FALSE(bounded_bytes.empty());
-    const Output whole = run_capturing(concat(args, {"-q"}));  // over it (the outputs are replaced atomically)
+    const OutAndErr whole = run_capturing_both(concat(args, {"-q"}));  // over it (the outputs are replaced atomically)
     EXPECT_EQ(whole.status, kSuccess) << whole.err;
     EXPECT_TRUE(file_bytes(output) == bounded_bytes) << "--memory changed " << output;
 }
