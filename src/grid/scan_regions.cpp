@@ -201,12 +201,12 @@ private:
     }
 
     void survey(const std::function<void(double)>& progress) {
-        Conversion whole{open_(), nullptr, {}, 0};
-        const VolumeHeader& header = whole.reader->header();
+        const std::unique_ptr<SliceReader> reader = open_();
+        const VolumeHeader& header = reader->header();
         whole_ = {0, 0, header.dims[0], header.dims[1]};
-        whole.converter = std::make_unique<Converter>(*whole.reader, options_);
-        first_row_ = whole.converter->first_row();
-        last_row_ = whole.converter->last_row();
+        Converter whole(*reader, options_);
+        first_row_ = whole.first_row();
+        last_row_ = whole.last_row();
         // Node columns of every leaf the conversion can make: the scan and its virtual ring.
         const int pad = options_.band + 1;
         const int first_column = detail::floor_div(-pad, kNodeVoxels);
@@ -215,7 +215,7 @@ private:
         std::map<std::tuple<int, int, int>, std::uint64_t> active;  // per node (z, y, x)
         const double slices = static_cast<double>(header.dims[2]);
         for (int z0 = first_row_; z0 <= last_row_; z0 += kLeafDim) {
-            const ConvertedRow row = whole.converter->make_row(z0);
+            const ConvertedRow row = whole.make_row(z0);
             for (const auto& leaf : row.leaves)
                 active[{z0 & ~(kNodeVoxels - 1), leaf->origin().y() & ~(kNodeVoxels - 1), leaf->origin().x() & ~(kNodeVoxels - 1)}] +=
                     leaf->onVoxelCount();
@@ -223,10 +223,10 @@ private:
             if (progress) progress(std::clamp((z0 + kLeafDim) / slices, 0.0, 1.0));
         }
         for (const auto& [zyx, count] : active) survey_.nodes.push_back({{std::get<2>(zyx), std::get<1>(zyx), std::get<0>(zyx)}, count});
-        survey_.values = whole.converter->values();
-        survey_.background = whole.converter->background(survey_.values);
+        survey_.values = whole.values();
+        survey_.background = whole.background(survey_.values);
         std::vector<ConvertedRow> no_rows;
-        survey_.description = whole.converter->assemble(no_rows, survey_.values);
+        survey_.description = whole.assemble(no_rows, survey_.values);
     }
 
     /// The band of rows [first, last] (at least) of @a part, made or kept.
