@@ -196,7 +196,7 @@ int run_bricked(MeshCommandOptions& options, std::uint64_t memory, Progress& pro
     bricks.memory_bytes = memory;
     bricks.rank = this_rank();
     bricks.ranks = rank_count();
-    bricks.gather = gather_to_rank0;
+    bricks.gather = stream_to_rank0;
     const MeshReport report = mesh_bricks_to_stream(*opened.source, options.mesh, bricks, sink);
     sink.commit();
     if (bricks.rank != 0) return 0;  // rank 0 wrote the file and reports

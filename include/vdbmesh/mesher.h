@@ -17,6 +17,9 @@
 
 namespace vdbmesh {
 
+struct RankPart;     // ranks.h
+class PartReceiver;  // ranks.h
+
 enum class MeshMethod {
     mc,       ///< Marching Cubes on the samples, vertices welded by grid edge
     openvdb,  ///< openvdb::tools::volumeToMesh, quads split along the shorter diagonal
@@ -102,13 +105,13 @@ struct BrickOptions {
     /// the one that builds the least octree twice (docs/dmc.md, "Bricks").
     std::uint64_t memory_bytes = 0;
     /// A run over several processes (ranks.h), for mesh_bricks_to_stream(): this one, @a rank
-    /// of @a ranks, meshes the bricks bricks_to_ranks() gives it; rank 0 gathers every rank's
-    /// part with @a gather (a collective call: every rank's bytes, in rank order, on rank 0, as
-    /// ranks.h's gather_to_rank0()) and alone sends the mesh to its sink, the same vertices and
-    /// triangles in the same order as one process. One rank: nothing is gathered.
+    /// of @a ranks, meshes the bricks bricks_to_ranks() gives it; rank 0 receives every other
+    /// rank's part with @a gather (a collective call, as ranks.h's stream_to_rank0(): the parts
+    /// streamed to rank 0 in rank order) and alone sends the mesh to its sink, the same vertices
+    /// and triangles in the same order as one process. One rank: nothing is gathered.
     int rank = 0;
     int ranks = 1;
-    std::function<std::vector<std::string>(const std::string&)> gather;
+    std::function<void(const RankPart& mine, PartReceiver& receiver)> gather;
 };
 
 /// Where mesh_bricks_to_stream() sends the mesh, in mesh_bricks()'s order: the counts, every

@@ -4,10 +4,11 @@
 /// (VDBMESH_MPI=ON), MPI's ranks; otherwise one process, rank 0 of 1, and nothing changes.
 /// Bricks go to ranks by a fixed rule from their weights alone (NodeWeight::active_voxels of
 /// grid_region.h summed per brick), so every rank computes the same assignment without
-/// talking; rank 0 gathers the others' bytes to assemble the output.
+/// talking; rank 0 receives the others' parts, streamed, to assemble the output.
 
+#include <cstddef>
 #include <cstdint>
-#include <string>
+#include <functional>
 #include <vector>
 
 namespace vdbmesh {
@@ -37,8 +38,30 @@ public:
 int this_rank();
 int rank_count();
 
-/// Every rank's @a bytes, in rank order, on rank 0 (empty elsewhere): a collective call, every
-/// rank must make it. Any size (sent in pieces under MPI's 2 GiB count limit).
-std::vector<std::string> gather_to_rank0(const std::string& bytes);
+/// The most bytes of another rank's part that rank 0 holds at once in stream_to_rank0(), and
+/// that a sending rank holds to send (well under MPI's 2 GiB count limit).
+inline constexpr std::size_t kPartPieceBytes = std::size_t{16} << 20;
+
+/// A rank's part as stream_to_rank0() reads it: its size, and a reader of its bytes.
+struct RankPart {
+    std::uint64_t size = 0;
+    /// Copies @a bytes bytes from @a offset into @a into (never past size).
+    std::function<void(std::uint64_t offset, std::size_t bytes, char* into)> read;
+};
+
+/// What rank 0 does with the parts stream_to_rank0() brings: for ranks 1, 2, ... in order,
+/// begin() with the part's size, then its bytes in order, a piece at a time.
+class PartReceiver {
+public:
+    virtual ~PartReceiver() = default;
+    virtual void begin(int rank, std::uint64_t size) = 0;
+    virtual void piece(const char* bytes, std::size_t count) = 0;
+};
+
+/// Every other rank's part, streamed to rank 0 in rank order (a collective call: every rank
+/// makes it): each rank above 0 reads its @a mine in pieces of at most kPartPieceBytes and sends
+/// them; rank 0 hands them to @a receiver as they arrive, so that it never holds more than a
+/// piece, whatever the parts' sizes (rank 0's own part is not read). One rank: nothing happens.
+void stream_to_rank0(const RankPart& mine, PartReceiver& receiver);
 
 }  // namespace vdbmesh

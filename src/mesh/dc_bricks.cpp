@@ -214,8 +214,8 @@ void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOpti
     });
     PhaseClock clock;
     if (bricks.ranks > 1) {
-        const std::vector<std::string> parts = bricks.gather(bricks.rank == 0 ? std::string() : spill.serialized());
-        for (std::size_t r = 1; r < parts.size(); ++r) spill.absorb(parts[r]);
+        IfcSpill::Receiver receiver(spill);
+        bricks.gather(bricks.rank == 0 ? RankPart{} : spill.part(), receiver);
         clock.lap(report, "gather");
         if (bricks.rank != 0) return;
     }

@@ -148,30 +148,69 @@ void IfcSpill::append(IfcNodeOutput&& node) {
     nodes_.push_back(record);
 }
 
-std::string IfcSpill::serialized() const {
+std::string IfcSpill::records_bytes() const {
     const std::uint64_t count = nodes_.size();
-    std::string bytes(sizeof(count) + count * sizeof(NodeRecord) + file_.size(), '\0');
+    std::string bytes(sizeof(count) + count * sizeof(NodeRecord), '\0');
     std::memcpy(bytes.data(), &count, sizeof(count));
     std::memcpy(bytes.data() + sizeof(count), nodes_.data(), count * sizeof(NodeRecord));
-    const std::vector<char> body = read<char>(0, file_.size());
-    std::memcpy(bytes.data() + sizeof(count) + count * sizeof(NodeRecord), body.data(), body.size());
     return bytes;
 }
 
-void IfcSpill::absorb(const std::string& bytes) {
+RankPart IfcSpill::part() const {
+    auto header = std::make_shared<const std::string>(records_bytes());
+    RankPart part;
+    part.size = header->size() + file_.size();
+    part.read = [this, header](std::uint64_t offset, std::size_t bytes, char* into) {
+        if (offset < header->size()) {
+            const std::size_t from_header = std::min<std::uint64_t>(bytes, header->size() - offset);
+            std::memcpy(into, header->data() + offset, from_header);
+            into += from_header, offset += from_header, bytes -= from_header;
+        }
+        if (bytes > 0) file_.read(offset - header->size(), into, bytes);
+    };
+    return part;
+}
+
+void IfcSpill::Receiver::begin(int rank, std::uint64_t size) {
+    if (left_ != 0) throw Error("bricks: rank " + std::to_string(rank_) + " sent a truncated part");
+    rank_ = rank;
+    left_ = size;
+    header_.clear();
+    header_size_ = 0;
+    if (size == 0) throw Error("bricks: rank " + std::to_string(rank) + " sent an empty part");
+}
+
+void IfcSpill::Receiver::piece(const char* bytes, std::size_t count) {
+    if (count > left_) throw Error("bricks: rank " + std::to_string(rank_) + " sent more than its part");
+    left_ -= count;
+    std::uint64_t node_count = 0;
+    while (count > 0 && (header_size_ == 0 || header_.size() < header_size_)) {
+        // The count first, then the records it announces.
+        const std::size_t wanted = header_size_ == 0 ? sizeof(node_count) - header_.size() : header_size_ - header_.size();
+        const std::size_t taken = std::min(wanted, count);
+        header_.append(bytes, taken);
+        bytes += taken, count -= taken;
+        if (header_size_ == 0 && header_.size() == sizeof(node_count)) {
+            std::memcpy(&node_count, header_.data(), sizeof(node_count));
+            header_size_ = sizeof(node_count) + node_count * sizeof(NodeRecord);
+        }
+        if (header_size_ != 0 && header_.size() == header_size_) take_header();
+    }
+    if (count > 0) spill_.file_.append(bytes, count);
+    if (left_ == 0 && (header_size_ == 0 || header_.size() < header_size_))
+        throw Error("bricks: rank " + std::to_string(rank_) + " sent a truncated part");
+}
+
+void IfcSpill::Receiver::take_header() {
     std::uint64_t count = 0;
-    if (bytes.size() < sizeof(count)) throw Error("bricks: a rank sent a truncated part");
-    std::memcpy(&count, bytes.data(), sizeof(count));
-    const std::size_t records = sizeof(count) + count * sizeof(NodeRecord);
-    if (bytes.size() < records) throw Error("bricks: a rank sent a truncated part");
-    std::vector<NodeRecord> nodes(count);
-    std::memcpy(nodes.data(), bytes.data() + sizeof(count), count * sizeof(NodeRecord));
-    const std::uint64_t base = file_.size();
-    write(std::vector<char>(bytes.begin() + std::ptrdiff_t(records), bytes.end()));
-    for (NodeRecord& node : nodes) {
-        node.vertex_offset += base;
-        node.triangle_offset += base;
-        nodes_.push_back(node);
+    std::memcpy(&count, header_.data(), sizeof(count));
+    base_ = spill_.file_.size();
+    for (std::uint64_t n = 0; n < count; ++n) {
+        NodeRecord node;
+        std::memcpy(&node, header_.data() + sizeof(count) + n * sizeof(NodeRecord), sizeof(NodeRecord));
+        node.vertex_offset += base_;
+        node.triangle_offset += base_;
+        spill_.nodes_.push_back(node);
     }
 }
 

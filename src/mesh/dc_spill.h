@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "vdbmesh/ranks.h"
 #include "vdbmesh/temp_file.h"
 #include "mesh/dual_contouring.h"
 
@@ -21,11 +22,11 @@ public:
     /// The mesh weld_ifc_nodes() makes of every node appended, into @a sink; with @a mirrored
     /// every triangle wound the other way (mesh_grid()'s rule for a mirroring transform).
     void emit(MeshStreamSink& sink, bool mirrored);
-    /// Every node appended, as bytes another process's spill takes with absorb() (a run over
-    /// several ranks sends them to rank 0).
-    std::string serialized() const;
-    /// Takes the nodes of another spill's serialized() bytes, as if appended here.
-    void absorb(const std::string& bytes);
+    /// Every node appended, as a part another process's spill takes with a Receiver (a run
+    /// over several ranks streams them to rank 0): the node records, then the file's bytes.
+    RankPart part() const;
+    /// Takes the parts of other spills into this one, as if their nodes were appended here.
+    class Receiver;
 
     struct NodeRecord {
         openvdb::Coord origin;
@@ -51,8 +52,29 @@ private:
     }
     class Tables;
 
+    std::string records_bytes() const;
+
     TempFile file_{"for the bricks' spill"};
     std::vector<NodeRecord> nodes_;
+};
+
+/// Appends each part it receives to its spill: the header (the node count and records) held
+/// until whole, the body written to the file as it comes.
+class IfcSpill::Receiver final : public PartReceiver {
+public:
+    explicit Receiver(IfcSpill& spill) : spill_(spill) {}
+    void begin(int rank, std::uint64_t size) override;
+    void piece(const char* bytes, std::size_t count) override;
+
+private:
+    void take_header();
+
+    IfcSpill& spill_;
+    int rank_ = 0;
+    std::uint64_t left_ = 0;      ///< of the part's bytes, still to come
+    std::string header_;          ///< the part's count and records, while incomplete
+    std::uint64_t header_size_ = 0;
+    std::uint64_t base_ = 0;      ///< where the part's body starts in the spill's file
 };
 
 }  // namespace vdbmesh::detail

@@ -17,9 +17,6 @@ namespace {
 /// Whether this process initialised MPI (a RanksSession under a launcher).
 bool mpi_live = false;
 
-/// The most bytes one MPI message carries: counts are ints.
-constexpr std::uint64_t kPieceBytes = std::uint64_t{1} << 30;
-
 void check(int code, const char* call) {
     if (code != MPI_SUCCESS) throw Error(std::string("MPI: ") + call + " failed (code " + std::to_string(code) + ")");
 }
@@ -60,31 +57,34 @@ int rank_count() {
     return size;
 }
 
-std::vector<std::string> gather_to_rank0(const std::string& bytes) {
+void stream_to_rank0(const RankPart& mine, PartReceiver& receiver) {
     if (!mpi_live) {
-        const auto simulated = detail::simulated_rank();
-        return simulated ? detail::simulated_gather(*simulated, bytes) : std::vector<std::string>{bytes};
+        if (const auto simulated = detail::simulated_rank()) detail::simulated_stream(*simulated, mine, receiver);
+        return;
     }
     const int rank = this_rank(), ranks = rank_count();
-    std::uint64_t mine = bytes.size();
+    std::uint64_t size = mine.size;
     std::vector<std::uint64_t> sizes(rank == 0 ? static_cast<std::size_t>(ranks) : 0);
-    check(MPI_Gather(&mine, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), "MPI_Gather");
+    check(MPI_Gather(&size, 1, MPI_UINT64_T, sizes.data(), 1, MPI_UINT64_T, 0, MPI_COMM_WORLD), "MPI_Gather");
+    std::vector<char> piece(std::min<std::uint64_t>(kPartPieceBytes, rank == 0 ? *std::max_element(sizes.begin(), sizes.end()) : size));
     if (rank != 0) {
-        for (std::uint64_t at = 0; at < mine; at += kPieceBytes)
-            check(MPI_Send(bytes.data() + at, static_cast<int>(std::min(kPieceBytes, mine - at)), MPI_BYTE, 0, 0, MPI_COMM_WORLD), "MPI_Send");
-        return {};
+        // Sent in order: MPI keeps the order of messages between two ranks on one tag.
+        for (std::uint64_t at = 0; at < size; at += piece.size()) {
+            const std::size_t count = std::size_t(std::min<std::uint64_t>(piece.size(), size - at));
+            mine.read(at, count, piece.data());
+            check(MPI_Send(piece.data(), static_cast<int>(count), MPI_BYTE, 0, 0, MPI_COMM_WORLD), "MPI_Send");
+        }
+        return;
     }
-    std::vector<std::string> all(static_cast<std::size_t>(ranks));
-    all[0] = bytes;
     for (int from = 1; from < ranks; ++from) {
-        std::string& theirs = all[static_cast<std::size_t>(from)];
-        theirs.resize(sizes[static_cast<std::size_t>(from)]);
-        for (std::uint64_t at = 0; at < theirs.size(); at += kPieceBytes)
-            check(MPI_Recv(theirs.data() + at, static_cast<int>(std::min<std::uint64_t>(kPieceBytes, theirs.size() - at)), MPI_BYTE, from,
-                           0, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
-                  "MPI_Recv");
+        const std::uint64_t theirs = sizes[static_cast<std::size_t>(from)];
+        receiver.begin(from, theirs);
+        for (std::uint64_t at = 0; at < theirs; at += piece.size()) {
+            const std::size_t count = std::size_t(std::min<std::uint64_t>(piece.size(), theirs - at));
+            check(MPI_Recv(piece.data(), static_cast<int>(count), MPI_BYTE, from, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "MPI_Recv");
+            receiver.piece(piece.data(), count);
+        }
     }
-    return all;
 }
 
 }  // namespace vdbmesh

@@ -19,9 +19,8 @@ int rank_count() {
     return simulated ? simulated->ranks : 1;
 }
 
-std::vector<std::string> gather_to_rank0(const std::string& bytes) {
-    const auto simulated = detail::simulated_rank();
-    return simulated ? detail::simulated_gather(*simulated, bytes) : std::vector<std::string>{bytes};
+void stream_to_rank0(const RankPart& mine, PartReceiver& receiver) {
+    if (const auto simulated = detail::simulated_rank()) detail::simulated_stream(*simulated, mine, receiver);
 }
 
 }  // namespace vdbmesh

@@ -2,10 +2,11 @@
 
 #include "ranks/simulated_ranks.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
-#include <iterator>
 #include <sstream>
+#include <vector>
 
 #include "vdbmesh/atomic_file.h"
 #include "vdbmesh/error.h"
@@ -35,24 +36,28 @@ std::optional<SimulatedRank> simulated_rank() {
     return simulated;
 }
 
-std::vector<std::string> simulated_gather(const SimulatedRank& simulated, const std::string& bytes) {
+void simulated_stream(const SimulatedRank& simulated, const RankPart& mine, PartReceiver& receiver) {
+    std::vector<char> piece(kPartPieceBytes);
     if (simulated.rank != 0) {
         AtomicFile part(part_path(simulated, simulated.rank));
         std::ofstream out(part.temp_path(), std::ios::binary);
-        out.write(bytes.data(), std::streamsize(bytes.size()));
+        for (std::uint64_t at = 0; at < mine.size; at += piece.size()) {
+            const std::size_t count = std::size_t(std::min<std::uint64_t>(piece.size(), mine.size - at));
+            mine.read(at, count, piece.data());
+            out.write(piece.data(), std::streamsize(count));
+        }
         if (!out.flush()) throw Error(part.temp_path().string() + ": cannot write simulated rank " + std::to_string(simulated.rank) + "'s part");
         out.close();
         part.commit();
-        return {};
+        return;
     }
-    std::vector<std::string> parts{bytes};
     for (int rank = 1; rank < simulated.ranks; ++rank) {
         std::ifstream in(part_path(simulated, rank), std::ios::binary);
         if (!in) throw Error(part_path(simulated, rank).string() + ": no part of simulated rank " + std::to_string(rank) + " (run ranks " +
                              std::to_string(simulated.ranks - 1) + " .. 1 before rank 0)");
-        parts.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        receiver.begin(rank, std::filesystem::file_size(part_path(simulated, rank)));
+        while (in.read(piece.data(), std::streamsize(piece.size())) || in.gcount() > 0) receiver.piece(piece.data(), std::size_t(in.gcount()));
     }
-    return parts;
 }
 
 }  // namespace vdbmesh::detail

@@ -8,7 +8,8 @@
 #include <filesystem>
 #include <optional>
 #include <string>
-#include <vector>
+
+#include "vdbmesh/ranks.h"
 
 namespace vdbmesh::detail {
 
@@ -20,8 +21,8 @@ struct SimulatedRank {
 /// The simulated rank VDBMESH_SIMULATE_RANKS names, if set. @throw UsageError when malformed.
 std::optional<SimulatedRank> simulated_rank();
 
-/// gather_to_rank0() for a simulated rank: rank 0 gets every part in rank order.
+/// stream_to_rank0() for a simulated rank: rank 0 receives every other part in rank order.
 /// @throw Error when a part cannot be written or read (a rank above 0 has not run).
-std::vector<std::string> simulated_gather(const SimulatedRank& simulated, const std::string& bytes);
+void simulated_stream(const SimulatedRank& simulated, const RankPart& mine, PartReceiver& receiver);
 
 }  // namespace vdbmesh::detail

@@ -18,6 +18,7 @@
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesher.h"
+#include "vdbmesh/ranks.h"
 #include "vdbmesh/phantom.h"
 
 namespace vdbmesh {
@@ -71,8 +72,10 @@ Mesh streamed(const openvdb::FloatGrid::Ptr& grid, const MeshOptions& options, c
 }
 
 /// mesh_bricks_to_stream() run as @a ranks ranks one after another in this process, the last
-/// rank first: each hands its part to a stand-in for ranks.h's gather, and rank 0's gets them all
-/// in rank order, as gather_to_rank0() returns them under mpirun. Returns what rank 0 sent.
+/// rank first: each hands its part to a stand-in for ranks.h's stream_to_rank0(), which keeps
+/// it, and rank 0's hands them all to its receiver in rank order, in pieces of awkward sizes (5
+/// bytes, inside the part's node count, then 4,093), as stream_to_rank0() does under mpirun.
+/// Returns what rank 0 sent.
 Mesh streamed_over_ranks(const openvdb::FloatGrid::Ptr& grid, const MeshOptions& options, const BrickShape& shape, int ranks) {
     const std::unique_ptr<GridRegionSource> source = grid_regions_in_memory(grid);
     std::vector<std::string> parts(static_cast<std::size_t>(ranks));
@@ -80,9 +83,19 @@ Mesh streamed_over_ranks(const openvdb::FloatGrid::Ptr& grid, const MeshOptions&
         BrickOptions bricks{shape};
         bricks.rank = rank;
         bricks.ranks = ranks;
-        bricks.gather = [&parts, rank](const std::string& bytes) {
-            parts[std::size_t(rank)] = bytes;
-            return rank == 0 ? parts : std::vector<std::string>();
+        bricks.gather = [&parts, rank](const RankPart& mine, PartReceiver& receiver) {
+            if (rank != 0) {
+                std::string& part = parts[std::size_t(rank)];
+                part.resize(mine.size);
+                mine.read(0, part.size(), part.data());
+                return;
+            }
+            for (int from = 1; from < int(parts.size()); ++from) {
+                const std::string& part = parts[std::size_t(from)];
+                receiver.begin(from, part.size());
+                for (std::size_t at = 0, piece = 5; at < part.size(); at += piece, piece = 4093)
+                    receiver.piece(part.data() + at, std::min(piece, part.size() - at));
+            }
         };
         CollectingSink sink;
         mesh_bricks_to_stream(*source, options, bricks, sink);
