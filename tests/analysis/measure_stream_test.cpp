@@ -66,17 +66,13 @@ void expect_same_measure(const MeshMeasure& whole, const MeshMeasure& stream) {
 
 TEST(MeasureStreamTest, EveryFormatGivesTheWholeMeasure) {
     const test::ScratchDir dir;
-    for (const bool ascii : {false, true}) {
-        for (const char* extension : {".ply", ".stl", ".obj"}) {
-            const std::filesystem::path file = dir / (std::string(ascii ? "ascii" : "binary") + extension);
-            write_mesh(test::torus_and_box_with_cavity(), file, {ascii, false});
-            SCOPED_TRACE(file.filename().string());
-            const MeshMeasure stream = measure_mesh_stream(file, {test::kPlenty, kTinyRuns});
-            expect_same_measure(measure_mesh(read_mesh(file)), stream);
-            ASSERT_EQ(stream.components.size(), 3u);
-            EXPECT_LT(stream.components[2].volume, 0);  // the cavity
-            EXPECT_NEAR(stream.components[2].volume, -1, 1e-12);
-        }
+    for (const std::filesystem::path& file : test::solids_in_every_format(dir.path())) {
+        SCOPED_TRACE(file.filename().string());
+        const MeshMeasure stream = measure_mesh_stream(file, {test::kPlenty, kTinyRuns});
+        expect_same_measure(measure_mesh(read_mesh(file)), stream);
+        ASSERT_EQ(stream.components.size(), 3u);
+        EXPECT_LT(stream.components[2].volume, 0);  // the cavity
+        EXPECT_NEAR(stream.components[2].volume, -1, 1e-12);
     }
 }
 

@@ -47,22 +47,18 @@ void expect_same_sections(const std::vector<Section>& whole, const std::vector<S
 
 TEST(SectionStreamTest, EveryFormatGivesTheWholeSections) {
     const test::ScratchDir dir;
-    for (const bool ascii : {false, true}) {
-        for (const char* extension : {".ply", ".obj", ".stl"}) {
-            const std::filesystem::path file = dir / (std::string(ascii ? "ascii" : "binary") + extension);
-            write_mesh(test::torus_and_box_with_cavity(), file, {ascii, false});
-            SCOPED_TRACE(file.filename().string());
-            const Mesh mesh = read_mesh(file);
-            std::vector<Section> whole;
-            for (const Plane& plane : some_planes()) whole.push_back(section_mesh(mesh, plane));
-            // STL: the crossing points measured from the other end of an edge where its vertex
-            // numbers and positions disagree on which is first: one rounding (1e-16 relative) of
-            // coordinates under 16, summed over the loops' points: 1e-12 covers it.
-            const bool stl = std::string(extension) == ".stl";
-            expect_same_sections(whole, section_mesh_stream(file, some_planes(), test::kPlenty), stl ? 1e-12 : 0);
-            EXPECT_EQ(whole[0].holes(), 1u);  // the torus's hole
-            EXPECT_EQ(whole[2].holes(), 1u);  // the cavity
-        }
+    for (const std::filesystem::path& file : test::solids_in_every_format(dir.path())) {
+        SCOPED_TRACE(file.filename().string());
+        const Mesh mesh = read_mesh(file);
+        std::vector<Section> whole;
+        for (const Plane& plane : some_planes()) whole.push_back(section_mesh(mesh, plane));
+        // STL: the crossing points measured from the other end of an edge where its vertex
+        // numbers and positions disagree on which is first: one rounding (1e-16 relative) of
+        // coordinates under 16, summed over the loops' points: 1e-12 covers it.
+        const bool stl = file.extension() == ".stl";
+        expect_same_sections(whole, section_mesh_stream(file, some_planes(), test::kPlenty), stl ? 1e-12 : 0);
+        EXPECT_EQ(whole[0].holes(), 1u);  // the torus's hole
+        EXPECT_EQ(whole[2].holes(), 1u);  // the cavity
     }
 }
 
