@@ -149,21 +149,22 @@ public:
         if (part.width <= 0 || part.height <= 0) return 0;
         const std::uint64_t windows = Converter::window_bytes(part.width, part.height, options_.band) +
                                       2 * std::uint64_t(whole_.width * whole_.height) * sizeof(float);
-        return band_bytes(box) + grid_bytes(box) + windows;
+        const std::pair<int, int> rows = rows_of(box);
+        return band_bytes(rows, part) + grid_bytes(rows, box) + windows;
     }
 
-    /// The leaves of the rows the box meets in the node columns it meets.
-    std::uint64_t grid_bytes(const IndexBox& box) const override {
-        const auto [first, last] = rows_of(box);
-        return kLeafBytes * survey_.leaves->leaves(first, last, box.min[0], box.max[0], box.min[1], box.max[1]);
-    }
+    std::uint64_t grid_bytes(const IndexBox& box) const override { return grid_bytes(rows_of(box), box); }
 
 private:
-    /// The leaves a read of @a box makes: its rows over its part and the virtual ring the part's
+    /// The leaves of @a rows (rows_of(box)) in the node columns the box meets.
+    std::uint64_t grid_bytes(std::pair<int, int> rows, const IndexBox& box) const {
+        return kLeafBytes * survey_.leaves->leaves(rows.first, rows.second, box.min[0], box.max[0], box.min[1], box.max[1]);
+    }
+
+    /// The leaves a read makes: @a rows over its @a part and the virtual ring the part's
     /// conversion adds round it (band + 1), counted by whole node columns.
-    std::uint64_t band_bytes(const IndexBox& box) const {
-        const auto [first, last] = rows_of(box);
-        const SliceRectangle part = part_of(box);
+    std::uint64_t band_bytes(std::pair<int, int> rows, const SliceRectangle& part) const {
+        const auto [first, last] = rows;
         const int pad = options_.band + 1;
         return kLeafBytes * survey_.leaves->leaves(first, last, part.min_x - pad, part.min_x + part.width + pad, part.min_y - pad,
                                                    part.min_y + part.height + pad);
