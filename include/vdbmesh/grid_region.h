@@ -60,11 +60,6 @@ public:
     /// source holds while reading (a scan's band and converter windows): what a reader keeping
     /// that grid after the read holds.
     virtual std::uint64_t grid_bytes(const IndexBox& box) const { return estimated_bytes(box); }
-
-    /// Whether a read of a box takes whole rows along x from the file (a scan, stored slice by
-    /// slice with x varying fastest): boxes side by side in x then read the same bytes again, so
-    /// the bricked plan prefers columns as wide as the grid in x (docs/scale.md).
-    virtual bool reads_whole_rows() const { return false; }
 };
 
 /// Adds to @a into what @a region holds: its tiles copied at their own level, its leaves moved

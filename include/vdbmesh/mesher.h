@@ -102,9 +102,7 @@ struct BrickOptions {
     /// the whole grid, unless memory_bytes is set.
     BrickShape shape;
     /// With the shape not given: of the shapes whose estimated peak (brick_peak_bytes()) fits,
-    /// the one that builds the least octree twice, after the fewest columns across x for a
-    /// source that reads whole rows (a scan: each such column reads the file again; docs/dmc.md,
-    /// "Bricks").
+    /// the one that builds the least octree twice (docs/dmc.md, "Bricks").
     std::uint64_t memory_bytes = 0;
     /// A run over several processes (ranks.h), for mesh_bricks_to_stream(): this one, @a rank
     /// of @a ranks, meshes the bricks bricks_to_ranks() gives it; rank 0 receives every other

@@ -155,9 +155,6 @@ public:
 
     std::uint64_t grid_bytes(const IndexBox& box) const override { return grid_bytes(rows_of(box), box); }
 
-    /// A part's rows are read whole (read_slice_part() skips only the rows outside it).
-    bool reads_whole_rows() const override { return true; }
-
 private:
     /// The leaves of @a rows (rows_of(box)) in the node columns the box meets.
     std::uint64_t grid_bytes(std::pair<int, int> rows, const IndexBox& box) const {

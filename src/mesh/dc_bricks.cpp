@@ -145,24 +145,20 @@ BrickShape plan_brick_shape(const GridRegionSource& source, std::uint64_t memory
         }
         return found;
     };
-    // Shapes by how many times the file is read (a source reading whole rows reads it once per
-    // column across x: for a scan on disk that costs more than the octree), then by the octree
-    // work their rings repeat, then the fewest columns; the first that fits.
-    const bool whole_rows = source.reads_whole_rows();
-    std::vector<std::tuple<int, std::uint64_t, int, BrickShape>> shapes;
+    // Shapes by the octree work their rings repeat, then the fewest columns; the first that fits.
+    std::vector<std::tuple<std::uint64_t, int, BrickShape>> shapes;
     for (const int x : widths(extent_x)) {
         for (const int y : widths(extent_y)) {
             const BrickShape shape{x, y};
-            const int across_x = (extent_x + x - 1) / x;
-            const int columns = across_x * ((extent_y + y - 1) / y);
-            shapes.push_back({whole_rows ? across_x : 1, built_voxels(meshed, low, extent, shape), columns, shape});
+            const int columns = ((extent_x + x - 1) / x) * ((extent_y + y - 1) / y);
+            shapes.push_back({built_voxels(meshed, low, extent, shape), columns, shape});
         }
     }
     std::stable_sort(shapes.begin(), shapes.end(), [](const auto& a, const auto& b) {
-        return std::tie(std::get<0>(a), std::get<1>(a), std::get<2>(a)) < std::tie(std::get<0>(b), std::get<1>(b), std::get<2>(b));
+        return std::tie(std::get<0>(a), std::get<1>(a)) < std::tie(std::get<0>(b), std::get<1>(b));
     });
     for (const auto& candidate : shapes) {
-        if (brick_peak_bytes(source, std::get<3>(candidate)) <= memory_bytes) return std::get<3>(candidate);
+        if (brick_peak_bytes(source, std::get<2>(candidate)) <= memory_bytes) return std::get<2>(candidate);
     }
     const std::uint64_t smallest = brick_peak_bytes(source, {1, 1});
     constexpr std::uint64_t kMiB = std::uint64_t(1) << 20;

@@ -7,7 +7,6 @@
 #include <openvdb/openvdb.h>
 #include <tbb/task_arena.h>
 
-#include <algorithm>
 #include <cstdlib>
 #include <memory>
 #include <string>
@@ -275,42 +274,6 @@ TEST(BricksTest, RefusesBricksWithOtherMethodsAndErrorZero) {
 // A flat slab over 8 x 8 nodes, under a limit that one column exceeds but a cut along one axis
 // meets: the plan cuts it into strips (the ring one node wide along one cut) rather than into
 // squares (rings along two), and the shape it picks fits the limit.
-/// A grid in memory read as a scan is: by whole rows along x (GridRegionSource::reads_whole_rows()).
-class RowReadingSource final : public GridRegionSource {
-public:
-    explicit RowReadingSource(std::unique_ptr<GridRegionSource> inner) : inner_(std::move(inner)) {}
-    std::shared_ptr<const openvdb::FloatGrid> description() const override { return inner_->description(); }
-    std::vector<NodeWeight> nodes() const override { return inner_->nodes(); }
-    std::shared_ptr<openvdb::FloatGrid> read(const IndexBox& box) const override { return inner_->read(box); }
-    std::uint64_t estimated_bytes(const IndexBox& box) const override { return inner_->estimated_bytes(box); }
-    std::uint64_t grid_bytes(const IndexBox& box) const override { return inner_->grid_bytes(box); }
-    bool reads_whole_rows() const override { return true; }
-
-private:
-    std::unique_ptr<GridRegionSource> inner_;
-};
-
-// A slab twice as long in x as in y (17 x 9 nodes from the lowest meshed node): cut across x, a
-// column's ring holds fewer nodes, so a grid read by leaves is cut so; a scan, which would read
-// every row again for each column across x, is cut across y into columns as wide as the grid.
-TEST(BricksTest, PlanForAScanReadsItsRowsOnce) {
-    auto grid = openvdb::FloatGrid::create(0.0f);
-    grid->tree().denseFill(openvdb::CoordBBox({0, 0, 0}, {2047, 1023, 7}), 1.0f, true);
-    const std::unique_ptr<GridRegionSource> leaves = grid_regions_in_memory(grid);
-    const RowReadingSource rows(grid_regions_in_memory(grid));
-    const std::uint64_t whole = brick_peak_bytes(*leaves, {17, 9});
-    const std::uint64_t largest_half = std::max(brick_peak_bytes(*leaves, {17, 5}), brick_peak_bytes(*leaves, {9, 9}));
-    ASSERT_LT(largest_half, whole);
-    const std::uint64_t limit = (largest_half + whole) / 2;
-    const BrickShape by_leaves = detail::plan_brick_shape(*leaves, limit), by_rows = detail::plan_brick_shape(rows, limit);
-    EXPECT_LE(brick_peak_bytes(*leaves, by_leaves), limit);
-    EXPECT_LE(brick_peak_bytes(rows, by_rows), limit);
-    EXPECT_EQ(by_leaves.nodes_y, 9) << by_leaves.nodes_x << " x " << by_leaves.nodes_y;
-    EXPECT_LT(by_leaves.nodes_x, 17);
-    EXPECT_EQ(by_rows.nodes_x, 17) << by_rows.nodes_x << " x " << by_rows.nodes_y;
-    EXPECT_LT(by_rows.nodes_y, 9);
-}
-
 TEST(BricksTest, PlanCutsIntoStripsWhereTheyFit) {
     auto grid = openvdb::FloatGrid::create(0.0f);
     grid->tree().denseFill(openvdb::CoordBBox({0, 0, 0}, {1023, 1023, 15}), 1.0f, true);
