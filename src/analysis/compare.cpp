@@ -20,6 +20,7 @@
 #include <utility>
 
 #include "vdbmesh/analysis.h"
+#include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/mesh_budget.h"
 #include "vdbmesh/process.h"
@@ -262,6 +263,12 @@ Mesh to_index_space(const Mesh& mesh, const openvdb::FloatGrid& grid) {
 
 TrueSurface::TrueSurface(const openvdb::FloatGrid& grid, double iso, Inside inside, AccuracyOptions options)
     : grid_(grid), iso_(iso), inside_(inside), options_(std::move(options)) {
+    if (!options_.exact_surface_points.empty()) {
+        if (!options_.exact_signed_distance) throw UsageError("TrueSurface: exact surface points need the exact signed distance");
+        reference_points_ = std::move(options_.exact_surface_points);
+        options_.exact_surface_points.clear();
+        return;
+    }
     MeshOptions mc;
     mc.method = MeshMethod::mc;
     mc.iso = iso;
