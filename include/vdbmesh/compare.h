@@ -109,7 +109,9 @@ struct CompareOptions {
     std::vector<double> decimate_fractions;
     bool marching_cubes = true;                            ///< one MC mesh
     /// Per volumeToMesh mesh, mesh_to_budget() (mesh_budget.h) at its triangle count: the mesh
-    /// of ours meant to beat it on every count.
+    /// of ours meant to beat it on every count. A budget whose route (budget_route.h) only makes
+    /// and keeps meshes of the DC rows is not meshed again: its time is the sum of those rows'
+    /// times, its mesh the one kept (`same_mesh_as`).
     bool budget_rows = true;
     AccuracyOptions accuracy;
     /// Called before each mesh with its index and the number of meshes.

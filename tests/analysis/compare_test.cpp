@@ -9,6 +9,7 @@
 #include "test_data.h"
 #include "vdbmesh/compare.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/mesh_budget.h"
 #include "vdbmesh/phantom.h"
 
 namespace vdbmesh {
@@ -214,6 +215,37 @@ TEST_F(CompareTest, CompareMeshersRunsEverySettingInOrder) {
         EXPECT_EQ(m.mesher.method, m.method);
         EXPECT_FALSE(m.mesher.phases.empty());
     }
+}
+
+TEST_F(CompareTest, BudgetRowsTheDcRowsMeetAreTheBudgetsMeshWithoutMeshingAgain) {
+    CompareOptions options;
+    options.iso = 0.5;
+    options.errors = {0, 0.1, 0.25, 0.5, 1, 2};
+    options.adaptivities = {0, 1};
+    options.accuracy = {2000, exact_distance(*sphere_)};
+    const Comparison result = compare_meshers(*grid_, options);
+    ASSERT_EQ(result.meshes.size(), 11u);  // 6 DC, MC, 2 volumeToMesh, 2 budgets
+    bool from_rows = false;
+    for (const std::size_t i : {9u, 10u}) {
+        const MeshComparison& budget = result.meshes[i];
+        ASSERT_TRUE(budget.budget.has_value());
+        // Judged by mesh_to_budget() itself, run here.
+        MeshOptions mesh_options;
+        mesh_options.iso = 0.5;
+        const Mesh direct = mesh_to_budget(*grid_, mesh_options, *budget.budget).mesh;
+        EXPECT_EQ(budget.analysis.triangles, direct.triangles.size()) << i;
+        if (!budget.same_mesh_as) continue;
+        const MeshComparison& row = result.meshes[*budget.same_mesh_as];
+        if (row.method != MeshMethod::dc || !row.error) continue;
+        from_rows = true;
+        mesh_options.error = *row.error;
+        const Mesh kept = mesh_grid(*grid_, mesh_options).mesh;
+        EXPECT_EQ(kept.vertices, direct.vertices) << i;
+        EXPECT_EQ(kept.triangles, direct.triangles) << i;
+        EXPECT_GE(budget.seconds, row.seconds) << i;  // the kept mesh's time and those of the meshes tried before it
+        EXPECT_EQ(budget.accuracy.distance.hausdorff, row.accuracy.distance.hausdorff) << i;
+    }
+    EXPECT_TRUE(from_rows);  // the budget at volumeToMesh a = 0's count is met by the error-0 row
 }
 
 }  // namespace
