@@ -146,7 +146,8 @@ nlohmann::ordered_json grid_json(const CompareCommandOptions& o, const LoadedGri
     const openvdb::Vec3d voxel = loaded.grid->voxelSize();
     j["voxel_size"] = {voxel[0], voxel[1], voxel[2]};
     j["samples"] = o.samples;
-    j["reference_triangles"] = reference;
+    // (a phantom's reference points are drawn on its exact surface, corners and edges included)
+    j["reference_triangles"] = loaded.phantom ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(reference);
     return j;
 }
 
@@ -296,6 +297,7 @@ int run_compare(const CompareCommandOptions& o) {
         options.accuracy.exact_signed_distance = [spec](double x, double y, double z) {
             return phantom_signed_distance(spec, x, y, z);
         };
+        options.accuracy.exact_surface_points = phantom_surface_points(spec, o.samples);
     }
     Progress progress("comparing", o.common.quiet);
     options.progress = [&](std::size_t i, std::size_t count) { progress(double(i) / double(count)); };

@@ -31,6 +31,7 @@
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_budget.h"
 #include "vdbmesh/mesh_io.h"
+#include "vdbmesh/mesh_refusals.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/read.h"
 
@@ -220,16 +221,8 @@ MeshResult mesh_to_budget_checked(const openvdb::FloatGrid& grid, MeshCommandOpt
     MeshResult result = mesh_to_budget(grid, options.mesh, std::size_t(*options.triangles), &budget);
     options.mesh.error = budget.error;
     if (result.mesh.triangles.empty()) return result;  // (no surface: reported as such)
-    const std::string asked = "--triangles " + std::to_string(*options.triangles) + ": ";
-    if (budget.error == 0 && budget.meshed_triangles < *options.triangles) {
-        throw Error(asked + "the most accurate mesh there is (--error 0) has " + std::to_string(budget.meshed_triangles) +
-                    " triangles; expected a budget of at most that many");
-    }
-    if (result.mesh.triangles.size() > *options.triangles) {
-        throw Error(asked + "the decimation keeping the mesh closed, manifold and free of self-intersections stops at " +
-                    std::to_string(result.mesh.triangles.size()) +
-                    " triangles (each further collapse would break a guarantee); expected a budget of at least that many");
-    }
+    const std::string refusal = budget_refusal(OptionStyle::command_line, *options.triangles, result.mesh.triangles.size(), budget);
+    if (!refusal.empty()) throw Error(refusal);
     return result;
 }
 
@@ -350,7 +343,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     const CLI::Option* smooth_iterations = command.add_option("--smooth-iterations", options->labels.smooth_iterations, "--labels: constrained smoothing passes (0: voxel faces)")
         ->check(CLI::Range(0, 1000))
         ->capture_default_str();
-    command.callback([options, &result, one_surface, error, adaptivity, format, smooth_iterations, triangles, sharp] {
+    command.callback([options, &result, one_surface, error, adaptivity, format, smooth_iterations, triangles] {
         const std::string method = lowercase(options->method);
         const bool labels = bool(options->labels.label.labels);
         refuse_unless(format, labels, "with --labels, got none");
@@ -359,9 +352,9 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
             refuse_unless(option, !labels, "without --labels (a label map is meshed per label), got --labels");
         refuse_unless(error, method == "dc" || method == "dmc", "with --method dc or dmc, got --method " + method);
         refuse_unless(adaptivity, method == "openvdb", "with --method openvdb, got --method " + method);
-        refuse_unless(sharp, method == "dc" || method == "dmc", "with --method dc, got --method " + method);
-        refuse_unless(sharp, options->mesh.error > 0, "with --error above 0 (at 0 no cell merges), got --error 0");
-        refuse_unless(sharp, !options->triangles, "without --triangles (the budget's decimator keeps no feature), got --triangles");
+        const std::string sharp_refused = sharp_refusal(OptionStyle::command_line, options->mesh.sharp, kMethods.at(method),
+                                                        options->mesh.error, options->triangles.has_value());
+        if (!sharp_refused.empty()) throw UsageError(sharp_refused);
         refuse_budget_conflicts(*options, triangles, error);
         result.status = run_mesh(*options);
     });

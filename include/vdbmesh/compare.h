@@ -32,6 +32,11 @@ struct AccuracyOptions {
     std::size_t samples = 100000;
     /// Analytic surface (phantoms). Empty: the trilinear isosurface of the grid.
     SignedDistance exact_signed_distance;
+    /// Points on the analytic surface (index space, e.g. phantom_surface_points(), corners and
+    /// edges included) for the surface -> mesh direction, in place of samples of the grid's
+    /// Marching Cubes mesh projected onto it (which miss the corners). Only with
+    /// exact_signed_distance.
+    std::vector<std::array<double, 3>> exact_surface_points;
 };
 
 /// Angle between each triangle's normal and the true surface normal at its centroid, in degrees.
@@ -69,17 +74,17 @@ std::optional<double> distance_to_trilinear_isosurface(const openvdb::FloatGrid&
 Mesh to_index_space(const Mesh& mesh, const openvdb::FloatGrid& grid);
 
 /// The true surface of a grid at an isovalue, against which any number of meshes are
-/// measured. Built once: the reference samples for the surface -> mesh direction, drawn
-/// uniformly by area on the grid's Marching Cubes mesh and moved to the nearest point of the
-/// true surface (the trilinear isosurface cut by the scan box as
-/// distance_to_trilinear_isosurface() says, or the exact one), so they lie ON it. (A
-/// supersampled MC mesh would only approximate it, at 4x the triangles.)
+/// measured. Built once: the reference samples for the surface -> mesh direction, either
+/// AccuracyOptions::exact_surface_points or drawn uniformly by area on the grid's Marching
+/// Cubes mesh and moved to the nearest point of the true surface (the trilinear isosurface cut
+/// by the scan box as distance_to_trilinear_isosurface() says, or the exact one), so they lie
+/// ON it. (A supersampled MC mesh would only approximate it, at 4x the triangles.)
 class TrueSurface {
 public:
     TrueSurface(const openvdb::FloatGrid& grid, double iso, Inside inside, AccuracyOptions options = {});
     /// Measures @a mesh, in world coordinates as mesh_grid() returns it.
     Accuracy measure(const Mesh& mesh) const;
-    std::size_t reference_triangles() const { return reference_triangles_; }  ///< of the MC mesh sampled
+    std::size_t reference_triangles() const { return reference_triangles_; }  ///< of the MC mesh sampled (0: none was)
 
 private:
     const openvdb::FloatGrid& grid_;
@@ -104,7 +109,9 @@ struct CompareOptions {
     std::vector<double> decimate_fractions;
     bool marching_cubes = true;                            ///< one MC mesh
     /// Per volumeToMesh mesh, mesh_to_budget() (mesh_budget.h) at its triangle count: the mesh
-    /// of ours meant to beat it on every count.
+    /// of ours meant to beat it on every count. A budget whose route (budget_route.h) only makes
+    /// and keeps meshes of the DC rows is not meshed again: its time is the sum of those rows'
+    /// times, its mesh the one kept (`same_mesh_as`).
     bool budget_rows = true;
     AccuracyOptions accuracy;
     /// Called before each mesh with its index and the number of meshes.
@@ -132,7 +139,7 @@ struct MeshComparison {
 /// Every mesher's result, in the order run.
 struct Comparison {
     std::vector<MeshComparison> meshes;
-    std::size_t reference_triangles = 0;  ///< of the MC mesh the reference samples come from
+    std::size_t reference_triangles = 0;  ///< of the MC mesh the reference samples come from (0: exact_surface_points)
 };
 
 /// Meshes @a grid with every setting (DC at each error, MC, volumeToMesh at each

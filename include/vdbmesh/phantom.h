@@ -81,6 +81,14 @@ float phantom_sample(const PhantomSpec& spec, std::int64_t i, std::int64_t j, st
 /// parallel; the result does not depend on the thread count.
 void fill_phantom_slice(const PhantomSpec& spec, std::int64_t z, float* slice);
 
+/// @a count points on the shape's exact surface, in voxel index coordinates, the same for the
+/// same arguments: every corner (the cube's eight), a tenth of @a count evenly spaced along the
+/// edges by length (the cube's twelve, the cylinder's rims, the circles where cube-minus-sphere's
+/// ball cuts the faces), and the rest drawn uniformly by area on the faces. The reference a
+/// mesh's distance from the surface is measured from (`compare --phantom`): points taken from
+/// a mesh and projected onto the surface would miss its corners and edges.
+std::vector<std::array<double, 3>> phantom_surface_points(const PhantomSpec& spec, std::size_t count);
+
 /// Exact area of the shape's surface (voxels^2), ignoring the volume's bounds.
 double phantom_area(const PhantomSpec& spec);
 /// Exact volume enclosed by the surface (voxels^3), ignoring the volume's bounds.

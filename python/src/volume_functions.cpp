@@ -24,6 +24,7 @@
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/mesh_budget.h"
+#include "vdbmesh/mesh_refusals.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/side_grid.h"
 
@@ -79,33 +80,28 @@ Inside parse_inside(const std::string& name) {
 }
 
 /// The options of a mesh call, checking for Ctrl-C as the mesher goes; iso and inside are set later.
-MeshOptions mesh_options(const std::string& method, double error, double adaptivity, bool open_boundary) {
+MeshOptions mesh_options(const std::string& method, double error, double adaptivity, bool open_boundary, bool sharp) {
     MeshOptions options;
     options.method = parse_method(method);
     options.error = error;
     options.adaptivity = adaptivity;
     options.open_boundary = open_boundary;
+    options.sharp = sharp;
     options.progress = signal_checking_progress();
     return options;
 }
 
 /// The mesh of @a grid with at most @a triangles triangles (mesh_to_budget(), as `vdbmesh mesh
 /// --triangles`), or the mesher's at options.error when no budget is given. Refused as
-/// `vdbmesh mesh` refuses them (UsageError, a ValueError in Python): a budget above the error-0
-/// mesh's triangles, and one below where the guaranteed decimation has to stop.
+/// `vdbmesh mesh` refuses them (budget_refusal(); UsageError, a ValueError in Python): a budget
+/// above the error-0 mesh's triangles, and one below where the guaranteed decimation has to stop.
 Mesh mesh_within(const openvdb::FloatGrid& grid, const MeshOptions& options, std::optional<std::uint64_t> triangles) {
     if (!triangles) return mesh_grid(grid, options).mesh;
     BudgetReport budget;
     Mesh mesh = mesh_to_budget(grid, options, std::size_t(*triangles), &budget).mesh;
     if (mesh.triangles.empty()) return mesh;  // (no surface: mesh() raises vdbmesh.Error)
-    const std::string asked = "triangles=" + std::to_string(*triangles) + ": ";
-    if (budget.error == 0 && budget.meshed_triangles < *triangles)
-        throw UsageError(asked + "the most accurate mesh there is (error=0) has " + std::to_string(budget.meshed_triangles) +
-                         " triangles; expected a budget of at most that many");
-    if (mesh.triangles.size() > *triangles)
-        throw UsageError(asked + "the decimation keeping the mesh closed, manifold and free of self-intersections stops at " +
-                         std::to_string(mesh.triangles.size()) +
-                         " triangles (each further collapse would break a guarantee); expected a budget of at least that many");
+    const std::string refusal = budget_refusal(OptionStyle::python, *triangles, mesh.triangles.size(), budget);
+    if (!refusal.empty()) throw UsageError(refusal);
     return mesh;
 }
 
@@ -228,8 +224,8 @@ py::tuple read_volume(const std::filesystem::path& path) {
 
 py::tuple mesh_array(const py::array& array, double level, const std::string& method, double error, double adaptivity,
                      const std::string& inside, bool open_boundary, const Affine& array_to_world,
-                     std::optional<std::uint64_t> triangles) {
-    MeshOptions options = mesh_options(method, error, adaptivity, open_boundary);
+                     std::optional<std::uint64_t> triangles, bool sharp) {
+    MeshOptions options = mesh_options(method, error, adaptivity, open_boundary, sharp);
     const StridedVolume volume = strided_volume(array);
     Mesh mesh;
     {
@@ -243,14 +239,21 @@ py::tuple mesh_array(const py::array& array, double level, const std::string& me
 
 py::tuple mesh_file(const std::filesystem::path& path, std::optional<double> level, const std::string& method,
                     double error, double adaptivity, const std::string& inside, bool open_boundary,
-                    std::optional<std::uint64_t> triangles) {
-    MeshOptions options = mesh_options(method, error, adaptivity, open_boundary);
+                    std::optional<std::uint64_t> triangles, bool sharp) {
+    MeshOptions options = mesh_options(method, error, adaptivity, open_boundary, sharp);
     Mesh mesh;
     {
         py::gil_scoped_release released;
         mesh = mesh_within(*file_grid(path, level, inside, options), options, triangles);
     }
     return to_arrays(std::move(mesh));
+}
+
+/// Raises ValueError in `vdbmesh mesh --sharp`'s words when sharp=True cannot go with the
+/// method, the error or a budget (sharp_refusal()).
+void refuse_sharp_conflicts(bool sharp, const std::string& method, double error, bool budget) {
+    const std::string refusal = sharp_refusal(OptionStyle::python, sharp, parse_method(method), error, budget);
+    if (!refusal.empty()) throw UsageError(refusal);
 }
 
 void array_to_vdb(const py::array& array, double iso, const std::filesystem::path& path, const Affine& array_to_world) {
@@ -264,9 +267,12 @@ void array_to_vdb(const py::array& array, double iso, const std::filesystem::pat
 void bind_volume_functions(py::module_& module) {
     module.def("read_volume", &read_volume, py::arg("path"));
     module.def("mesh_array", &mesh_array, py::arg("array"), py::arg("level"), py::arg("method"), py::arg("error"),
-               py::arg("adaptivity"), py::arg("inside"), py::arg("open_boundary"), py::arg("array_to_world"), py::arg("triangles"));
+               py::arg("adaptivity"), py::arg("inside"), py::arg("open_boundary"), py::arg("array_to_world"), py::arg("triangles"),
+               py::arg("sharp"));
     module.def("mesh_file", &mesh_file, py::arg("path"), py::arg("level"), py::arg("method"), py::arg("error"),
-               py::arg("adaptivity"), py::arg("inside"), py::arg("open_boundary"), py::arg("triangles"));
+               py::arg("adaptivity"), py::arg("inside"), py::arg("open_boundary"), py::arg("triangles"), py::arg("sharp"));
+    module.def("refuse_sharp_conflicts", &refuse_sharp_conflicts, py::arg("sharp"), py::arg("method"), py::arg("error"),
+               py::arg("budget"));
     module.def("array_to_vdb", &array_to_vdb, py::arg("array"), py::arg("iso"), py::arg("path"),
                py::arg("array_to_world"));
 }

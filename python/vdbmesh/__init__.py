@@ -49,7 +49,7 @@ def read_volume(path):
 
 
 def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacing=None, affine=None, adaptivity=0.0,
-         *, level=None, closed=True, triangles=None):
+         *, level=None, closed=True, triangles=None, sharp=False):
     """Meshes the isosurface at ``iso`` (or ``level``, its alias) of a volume: a 3D array, or the
     path of a scan or .vdb file (which carries its own geometry: then give neither spacing nor
     affine). The closed, guaranteed call; ``marching_cubes`` is scikit-image's drop-in.
@@ -76,6 +76,10 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
     (the budget picks it).
     A budget above the error-0 mesh's triangles, or below where the decimation must stop to keep
     the guarantees, raises ValueError; a number that is not whole (a float, a bool) TypeError.
+    sharp: True puts the vertices of cells on sharp edges and corners on the feature, up to a
+    voxel beyond ``error`` there (as ``vdbmesh mesh --sharp``; docs/dmc.md, "Sharp features").
+    Method "dc" with ``error`` above 0 only, not with ``triangles`` (ValueError); a value other
+    than True or False raises TypeError.
     NaN samples count as outside the object (as scikit-image counts them: not above the level);
     the surface passes next to them.
     Arrays of int64, uint64 and float16 are cast (numpy's safe casts); other types raise.
@@ -90,6 +94,9 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
         warnings.warn("dmc was retired: it runs dc, see docs/dmc.md", DeprecationWarning, stacklevel=2)
         method = "dc"
     _check_applicable(method, error, adaptivity, closed)
+    if not isinstance(sharp, bool):
+        raise TypeError(f"sharp: expected True or False, got {type(sharp).__name__} {sharp!r}")
+    _vdbmesh.refuse_sharp_conflicts(sharp, method, float(error), triangles is not None)
     triangles = _triangle_budget(triangles, method, error)
     _arrays.check_inside(inside)
     if isinstance(volume_or_path, (str, os.PathLike)):
@@ -97,7 +104,7 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
             raise ValueError("spacing, affine: only for arrays; a file carries its own geometry")
         vertices, faces = _vdbmesh.mesh_file(_existing_path(volume_or_path), None if level is None else float(level),
                                              method, float(error), float(adaptivity), inside, not closed,
-                                             triangles)
+                                             triangles, sharp)
     else:
         array = _arrays.volume_array(volume_or_path)
         data_range = _arrays.data_range(array)
@@ -105,7 +112,7 @@ def mesh(volume_or_path, iso=None, method="dc", error=0.0, inside="auto", spacin
         array = _arrays.nan_at_level(array, level)
         array_to_world, unit = _array_to_world(spacing, affine)
         vertices, faces = _vdbmesh.mesh_array(array, level, method, float(error), float(adaptivity), inside, not closed,
-                                              array_to_world, triangles)
+                                              array_to_world, triangles, sharp)
         if unit != 1:
             vertices *= unit
     if len(faces) == 0:

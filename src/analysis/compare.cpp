@@ -20,6 +20,8 @@
 #include <utility>
 
 #include "vdbmesh/analysis.h"
+#include "vdbmesh/budget_route.h"
+#include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/mesh_budget.h"
 #include "vdbmesh/process.h"
@@ -226,6 +228,42 @@ Mesh mesh_of(const openvdb::FloatGrid& grid, const CompareOptions& options, Mesh
     return decimated;
 }
 
+/// The DC row (not sharp, not decimated, no budget) of @a error among the first @a count runs.
+std::optional<std::size_t> dc_row(const std::vector<MeshComparison>& runs, std::size_t count, double error) {
+    for (std::size_t k = 0; k < count; ++k) {
+        const MeshComparison& r = runs[k];
+        if (r.method == MeshMethod::dc && r.error == error && !r.sharp && !r.decimate && !r.budget) return k;
+    }
+    return std::nullopt;
+}
+
+/// The earlier DC row whose mesh the budget run @a i keeps, found without meshing: mesh_to_budget()'s
+/// route (budget_route()) over the rows' triangle counts, when every mesh it makes is a row's and
+/// it keeps one (no decimation). The run's time is then the sum of those rows' times
+/// (mesh_to_budget() makes exactly those meshes, one after the other; each row's time is the
+/// fastest of its runs, see kRetimeBelowSeconds) and its mesher report the kept row's. Empty
+/// otherwise: the budget is meshed.
+std::optional<std::size_t> budget_from_rows(std::vector<MeshComparison>& runs, std::size_t i) {
+    MeshComparison& run = runs[i];
+    if (!run.budget || *run.budget == 0) return std::nullopt;
+    double seconds = 0;
+    bool missing = false;
+    const std::optional<double> kept = budget_route(*run.budget, [&](double error) -> std::size_t {
+        const auto row = dc_row(runs, i, error);
+        if (!row) {
+            missing = true;
+            return 0;  // (the route is dropped)
+        }
+        seconds += runs[*row].seconds;
+        return runs[*row].analysis.triangles;
+    });
+    if (missing || !kept) return std::nullopt;
+    const std::size_t row = *dc_row(runs, i, *kept);
+    run.seconds = seconds;
+    run.mesher = runs[row].mesher;
+    return row;
+}
+
 }  // namespace
 
 const char* method_name(MeshMethod method) {
@@ -262,6 +300,12 @@ Mesh to_index_space(const Mesh& mesh, const openvdb::FloatGrid& grid) {
 
 TrueSurface::TrueSurface(const openvdb::FloatGrid& grid, double iso, Inside inside, AccuracyOptions options)
     : grid_(grid), iso_(iso), inside_(inside), options_(std::move(options)) {
+    if (!options_.exact_surface_points.empty()) {
+        if (!options_.exact_signed_distance) throw UsageError("TrueSurface: exact surface points need the exact signed distance");
+        reference_points_ = std::move(options_.exact_surface_points);
+        options_.exact_surface_points.clear();
+        return;
+    }
     MeshOptions mc;
     mc.method = MeshMethod::mc;
     mc.iso = iso;
@@ -340,8 +384,9 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
         if (options.progress) options.progress(i, runs.size());
         MeshComparison& run = runs[i];
         if (budget_of[i]) run.budget = runs[*budget_of[i]].analysis.triangles;
-        const Mesh mesh = mesh_of(grid, options, run, error0);
-        fingerprints[i] = mesh_fingerprint(mesh);
+        const std::optional<std::size_t> budget_row = budget_from_rows(runs, i);
+        const Mesh mesh = budget_row ? Mesh() : mesh_of(grid, options, run, error0);
+        fingerprints[i] = budget_row ? fingerprints[*budget_row] : mesh_fingerprint(mesh);
         for (std::size_t earlier = 0; earlier < i && !run.same_mesh_as; ++earlier)
             if (fingerprints[earlier] == fingerprints[i]) run.same_mesh_as = earlier;
         if (run.same_mesh_as) {

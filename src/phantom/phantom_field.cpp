@@ -128,6 +128,12 @@ double PhantomField::signed_distance(double x, double y, double z) const {
     return 0;
 }
 
+std::array<double, 3> PhantomField::to_volume(const Vec3& p) const {
+    Vec3 v{};
+    for (int i = 0; i < 3; ++i) v[i] = centre_[i] + rotation_[i][0] * p[0] + rotation_[i][1] * p[1] + rotation_[i][2] * p[2];
+    return v;
+}
+
 double PhantomField::density(double x, double y, double z) const {
     return phantom_blur(signed_distance(x, y, z), spec_.blur);
 }

@@ -17,6 +17,8 @@ public:
     double signed_distance(double x, double y, double z) const;
     /// s(signed distance, blur).
     double density(double x, double y, double z) const;
+    /// A point of the shape's own frame (centred at the origin, unrotated) in the volume's.
+    std::array<double, 3> to_volume(const std::array<double, 3>& shape_point) const;
 
     const PhantomSpec& spec() const { return spec_; }
 

@@ -2,7 +2,10 @@
 // it (mesh_budget.h). Measured against volumeToMesh at adaptivity 1 in bench/README.md, "Triangle budget".
 #include <array>
 #include <chrono>
+#include <functional>
+#include <optional>
 
+#include "vdbmesh/budget_route.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/mesh_budget.h"
 
@@ -19,44 +22,42 @@ MeshResult dc_mesh(const openvdb::FloatGrid& grid, MeshOptions options, double e
     return mesh_grid(grid, options);
 }
 
-/// The most accurate mesh that fits, given @a fitting at kBudgetBaseError that does, in
-/// @a report: the error-0 mesh (Marching Cubes', the quickest to make) when it fits, else the
-/// smallest of kBetweenErrors whose mesh fits, found by bisection (two or three meshes, not up
-/// to four one after the other), else @a fitting.
-MeshResult most_accurate_fitting(const openvdb::FloatGrid& grid, const MeshOptions& options, std::size_t max_triangles,
-                                 MeshResult fitting, BudgetReport& report) {
-    if (fitting.mesh.triangles.empty()) return fitting;  // no surface: none at a smaller error either
-    const auto take_if_fits = [&](double error) {
-        MeshResult finer = dc_mesh(grid, options, error);
-        if (finer.mesh.triangles.size() > max_triangles) return false;
-        report.error = error;
-        report.meshed_triangles = finer.mesh.triangles.size();
-        fitting = std::move(finer);
-        return true;
-    };
-    if (take_if_fits(0)) return fitting;
-    // Bisection: kBetweenErrors[fits] fits (-1: the base error), kBetweenErrors[fails] does not
-    // (the size: error 0).
+}  // namespace
+
+std::optional<double> budget_route(std::size_t max_triangles, const std::function<std::size_t(double)>& triangles_at) {
+    const std::size_t base = triangles_at(kBudgetBaseError);
+    if (base > max_triangles) return std::nullopt;
+    if (base == 0) return kBudgetBaseError;  // no surface: none at a smaller error either
+    // The error-0 mesh (Marching Cubes', the quickest to make) when it fits, else bisection:
+    // two or three meshes, not up to four one after the other.
+    if (triangles_at(0) <= max_triangles) return 0.0;
+    // kBetweenErrors[fits] fits (-1: the base error), kBetweenErrors[fails] does not (the size: error 0).
     int fits = -1, fails = int(kBetweenErrors.size());
     while (fails - fits > 1) {
         const int middle = (fits + fails) / 2;
-        (take_if_fits(kBetweenErrors[std::size_t(middle)]) ? fits : fails) = middle;
+        (triangles_at(kBetweenErrors[std::size_t(middle)]) <= max_triangles ? fits : fails) = middle;
     }
-    return fitting;
+    return fits < 0 ? kBudgetBaseError : kBetweenErrors[std::size_t(fits)];
 }
-
-}  // namespace
 
 MeshResult mesh_to_budget(const openvdb::FloatGrid& grid, const MeshOptions& options, std::size_t max_triangles, BudgetReport* report) {
     if (max_triangles == 0) throw UsageError("--triangles: expected a budget of at least 1 triangle, got 0");
     if (options.open_boundary) throw UsageError("--triangles: the decimation needs a closed surface, got --open-boundary");
     BudgetReport local;
-    MeshResult result = dc_mesh(grid, options, kBudgetBaseError);
-    local.error = kBudgetBaseError;
-    local.meshed_triangles = result.mesh.triangles.size();
-    if (local.meshed_triangles <= max_triangles) {
-        result = most_accurate_fitting(grid, options, max_triangles, std::move(result), local);
-    } else {
+    MeshResult result;
+    // Keeps the latest mesh that fits, and first the base mesh (which the decimator starts from
+    // when it does not fit).
+    const auto triangles_at = [&](double error) {
+        MeshResult mesh = dc_mesh(grid, options, error);
+        const std::size_t count = mesh.mesh.triangles.size();
+        if (count <= max_triangles || error == kBudgetBaseError) {
+            local.error = error;
+            local.meshed_triangles = count;
+            result = std::move(mesh);
+        }
+        return count;
+    };
+    if (!budget_route(max_triangles, triangles_at)) {
         DecimateOptions decimate;
         decimate.target_triangles = max_triangles;
         const auto start = std::chrono::steady_clock::now();

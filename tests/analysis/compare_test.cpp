@@ -9,6 +9,7 @@
 #include "test_data.h"
 #include "vdbmesh/compare.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/mesh_budget.h"
 #include "vdbmesh/phantom.h"
 
 namespace vdbmesh {
@@ -116,6 +117,54 @@ TEST_F(CompareTest, McIsWithinFiveHundredthsOfAVoxelOfTheExactSphere) {
     EXPECT_LE(accuracy.normals.mean_deg, accuracy.normals.p95_deg);
 }
 
+/// The cube [c - h, c + h]^3 with its corner (+, +, +) cut off by the plane through the points
+/// @a t along its three edges from that corner: 10 vertices, 3 squares, 3 pentagons and the cut,
+/// fanned into triangles turned outwards (the solid is convex).
+Mesh cube_with_a_corner_cut(const std::array<double, 3>& c, double h, double t) {
+    Mesh mesh;
+    const auto add = [&](double x, double y, double z) {
+        mesh.vertices.push_back({float(c[0] + x), float(c[1] + y), float(c[2] + z)});
+    };
+    for (int i = 0; i < 7; ++i) add(i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h);  // corner 7, (+, +, +), is cut
+    add(h - t, h, h);  // 7: A on the x edge
+    add(h, h - t, h);  // 8: B on the y edge
+    add(h, h, h - t);  // 9: C on the z edge
+    const std::vector<std::vector<std::uint32_t>> faces = {{0, 2, 6, 4}, {0, 1, 5, 4}, {0, 1, 3, 2}, {1, 3, 9, 8, 5},
+                                                           {2, 3, 9, 7, 6}, {4, 5, 8, 7, 6}, {7, 8, 9}};
+    for (const auto& face : faces) {
+        for (std::size_t k = 1; k + 1 < face.size(); ++k) {
+            std::array<std::uint32_t, 3> tri{face[0], face[k], face[k + 1]};
+            const auto point = [&](std::uint32_t v) { return openvdb::Vec3d(mesh.vertices[v][0], mesh.vertices[v][1], mesh.vertices[v][2]); };
+            const openvdb::Vec3d normal = (point(tri[1]) - point(tri[0])).cross(point(tri[2]) - point(tri[0]));
+            const openvdb::Vec3d outward = point(tri[0]) - openvdb::Vec3d(c[0], c[1], c[2]);
+            if (normal.dot(outward) < 0) std::swap(tri[1], tri[2]);
+            mesh.triangles.push_back(tri);
+        }
+    }
+    return mesh;
+}
+
+TEST(ExactSurfacePointsTest, ACubeWithACornerCutIsReportedAtTheCutsDistance) {
+    // By hand: the cut corner is t / sqrt(3) from the cut plane (the foot of the perpendicular
+    // is the cut triangle's centroid); every mesh point is at most t / 3 inside the cube (the
+    // centroid again), and every other one on it. So the Hausdorff distance is t / sqrt(3),
+    // reached only at the corner, which reference points drawn from a Marching Cubes mesh (its
+    // corners rounded) never reach. The exact points include it.
+    const PhantomSpec cube = phantom_preset("cube", {64, 64, 64});  // side 40
+    const double t = 3;
+    const Mesh mesh = cube_with_a_corner_cut(cube.centre_or_default(), cube.side / 2, t);
+    const auto grid = openvdb::FloatGrid::create(0.f);  // index space = world space; no samples needed
+    AccuracyOptions options{20000, exact_distance(cube), phantom_surface_points(cube, 20000)};
+    const TrueSurface truth(*grid, 0.5, Inside::above, options);
+    EXPECT_EQ(truth.reference_triangles(), 0u);
+    const Accuracy accuracy = truth.measure(mesh);
+    // Float vertices about 50 voxels from the origin: 4e-6 voxel of rounding.
+    EXPECT_NEAR(accuracy.distance.max_b_to_a, t / std::sqrt(3.0), 1e-4);
+    EXPECT_NEAR(accuracy.distance.hausdorff, t / std::sqrt(3.0), 1e-4);
+    EXPECT_LE(accuracy.distance.max_a_to_b, t / 3 + 1e-4);
+    EXPECT_GT(accuracy.distance.max_a_to_b, 0.0);  // the cut, 7.8 of 9,600 voxels^2, holds about 16 of the mesh's samples
+}
+
 TEST_F(CompareTest, VolumeToMeshAtFullAdaptivityIsFartherFromTheTrilinearIsosurfaceThanMc) {
     const TrueSurface truth(*grid_, 0.5, Inside::above, {20000, {}});
     const Accuracy mc = truth.measure(mesh_with(*grid_, MeshMethod::mc));
@@ -166,6 +215,37 @@ TEST_F(CompareTest, CompareMeshersRunsEverySettingInOrder) {
         EXPECT_EQ(m.mesher.method, m.method);
         EXPECT_FALSE(m.mesher.phases.empty());
     }
+}
+
+TEST_F(CompareTest, BudgetRowsTheDcRowsMeetAreTheBudgetsMeshWithoutMeshingAgain) {
+    CompareOptions options;
+    options.iso = 0.5;
+    options.errors = {0, 0.1, 0.25, 0.5, 1, 2};
+    options.adaptivities = {0, 1};
+    options.accuracy = {2000, exact_distance(*sphere_)};
+    const Comparison result = compare_meshers(*grid_, options);
+    ASSERT_EQ(result.meshes.size(), 11u);  // 6 DC, MC, 2 volumeToMesh, 2 budgets
+    bool from_rows = false;
+    for (const std::size_t i : {9u, 10u}) {
+        const MeshComparison& budget = result.meshes[i];
+        ASSERT_TRUE(budget.budget.has_value());
+        // Judged by mesh_to_budget() itself, run here.
+        MeshOptions mesh_options;
+        mesh_options.iso = 0.5;
+        const Mesh direct = mesh_to_budget(*grid_, mesh_options, *budget.budget).mesh;
+        EXPECT_EQ(budget.analysis.triangles, direct.triangles.size()) << i;
+        if (!budget.same_mesh_as) continue;
+        const MeshComparison& row = result.meshes[*budget.same_mesh_as];
+        if (row.method != MeshMethod::dc || !row.error) continue;
+        from_rows = true;
+        mesh_options.error = *row.error;
+        const Mesh kept = mesh_grid(*grid_, mesh_options).mesh;
+        EXPECT_EQ(kept.vertices, direct.vertices) << i;
+        EXPECT_EQ(kept.triangles, direct.triangles) << i;
+        EXPECT_GE(budget.seconds, row.seconds) << i;  // the kept mesh's time and those of the meshes tried before it
+        EXPECT_EQ(budget.accuracy.distance.hausdorff, row.accuracy.distance.hausdorff) << i;
+    }
+    EXPECT_TRUE(from_rows);  // the budget at volumeToMesh a = 0's count is met by the error-0 row
 }
 
 }  // namespace
