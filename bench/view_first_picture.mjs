@@ -12,7 +12,10 @@
 // across the view as the browser test does and reports the page's frame time while rotating
 // (View > frame time: the median of the last 30 frames drawn while the camera moved).
 //
-// node bench/view_first_picture.mjs --vdbmesh build/vdbmesh --web web FILE [--splats] [--frame-time] [-- view arguments]
+// A .vdb without a splat file first shows its topology preview ("splat_kind": "preview"); with
+// --until-fitted the bench then waits for the fitted splats in its place and reports when.
+//
+// node bench/view_first_picture.mjs --vdbmesh build/vdbmesh --web web FILE [--splats] [--frame-time] [--until-fitted] [-- view arguments]
 // node bench/view_first_picture.mjs --vdbmesh build/vdbmesh --web web --lattice -- gyroid --period 64 --thickness 4 --box 4096 --voxel 1
 import { spawn } from 'node:child_process';
 import { createRequire } from 'node:module';
@@ -70,7 +73,7 @@ try {
   const state = await page.evaluate(() => ({ ...window.vdbmeshView }));
   const picture = state.splatViews > 0 ? `${state.splats} splats, finest level ${state.splatLevel}` : `${state.level} mesh, ${state.triangles} triangles`;
   Object.assign(report, { first_picture_s: seconds(), first_picture: picture, error: state.error || undefined });
-  if (state.splatViews > 0) report.splat_figures = await page.locator('#splat-figures').textContent();
+  if (state.splatViews > 0) Object.assign(report, { splat_kind: state.splatKind, splat_figures: await page.locator('#splat-figures').textContent() });
   // Where the time after serving went: the page's requests, in seconds from the navigation.
   report.page_s = await page.evaluate(() => Object.fromEntries([
     ['dom_ready', performance.timing.domContentLoadedEventEnd - performance.timing.navigationStart],
@@ -82,6 +85,11 @@ try {
   // SwiftShader holds the page's thread).
   if (state.firstSplatsMs) report.first_splats_by_page_s = Number((report.page_opened_s + state.firstSplatsMs / 1000).toFixed(2));
   if (own.includes('--frame-time')) report.frame_time = await rotate(page);
+  if (own.includes('--until-fitted')) {
+    await page.waitForFunction(() => window.vdbmeshView.splatKind === 'fitted' || window.vdbmeshView.error, null, { polling: 500 });
+    const fitted = await page.evaluate(() => ({ ...window.vdbmeshView }));
+    Object.assign(report, { fitted_splats_s: seconds(), fitted_splats: fitted.splats, error: fitted.error || undefined });
+  }
   if (own.includes('--splats')) {
     await page.locator('#splats').click();
     await page.waitForFunction(() => window.vdbmeshView.splatViews > 0 || window.vdbmeshView.error, null, { polling: 100 });

@@ -55,6 +55,14 @@ ViewSource splats_alone_source(const ViewCommandOptions& options) {
     return source;
 }
 
+/// The histogram and coarse grid of a .vdb read by region, made while the page shows splats.
+std::function<std::shared_ptr<const ViewScan>(const std::atomic<bool>&)> prepare_in_background(
+    std::shared_ptr<const GridRegionSource> regions) {
+    return [regions = std::move(regions)](const std::atomic<bool>& stop) {
+        return std::make_shared<const ViewScan>(prepare_grid_regions(regions, &stop));
+    };
+}
+
 /// Reads the input before anything is served, so that a bad file is reported at once.
 ViewSource load_source(const ViewCommandOptions& options) {
     const std::string& input = options.inputs.front();
@@ -92,9 +100,19 @@ ViewSource load_source(const ViewCommandOptions& options) {
             source.splats = view_splat_file(options.splat_file, input, *regions, options.iso, stored_iso, options.common.quiet,
                                             std::move(splat_file));
             source.initial_iso = source.splats->tree->iso;
-            source.prepare_scan = [regions](const std::atomic<bool>& stop) {
-                return std::make_shared<const ViewScan>(prepare_grid_regions(regions, &stop));
-            };
+            source.prepare_scan = prepare_in_background(regions);
+            return source;
+        }
+        if (const std::optional<double> iso = options.iso ? options.iso : stored_iso) {
+            // The topology preview at once (seconds, no value read); the fit, then the
+            // histogram and coarse grid, in the background.
+            source.splats = topology_preview_splats(*regions, *iso);
+            source.initial_iso = *iso;
+            source.fit_splats = [regions, iso = *iso](const std::atomic<bool>& stop) { return fit_view_splats(regions, iso, stop); };
+            source.prepare_scan = prepare_in_background(regions);
+            if (!options.common.quiet)
+                std::cerr << "vdbmesh view: the topology preview: " << source.splats->tree->leaf_count() << " splats in "
+                          << source.splats->seconds << " s; the splat tree is fitted in the background\n";
             return source;
         }
         source.scan = std::make_shared<const ViewScan>(prepare_grid_regions(std::move(regions)));
@@ -108,15 +126,18 @@ ViewSource load_source(const ViewCommandOptions& options) {
 /// The figures `vdbmesh check --json` prints, for the page.
 std::string check_figures(const Mesh& mesh) { return detail::json_text(report_json(analyze_mesh(mesh))); }
 
-/// A splat file alone, or a .vdb with its splat file: read in seconds (the file, the grid's
-/// topology), no pass over the voxels. The page is served meanwhile, so that the browser starts
-/// while they are read (about 1.2 to 2.4 s of a first picture on a busy machine, issue 30); a
-/// bad file is still an error of the command, the page showing it too.
+/// A splat file alone, or a .vdb (with its splat file, or shown first by its topology preview):
+/// read in seconds (the file, the grid's topology), no pass over the voxels. The page is served
+/// meanwhile, so that the browser starts while they are read (about 1.2 to 2.4 s of a first
+/// picture on a busy machine, issue 30); a bad file is still an error of the command, the page
+/// showing it too. (A .vdb stating no isovalue, without --iso, is prepared before the page's
+/// API answers: Otsu's suggestion needs its values.) A .vdb's splat file fitted now is not.
 bool read_while_serving(const ViewCommandOptions& options) {
     if (options.label.labels) return false;
     const std::string extension = lowercase_extension(options.inputs.front());
-    return extension == ".splat" ||
-           (extension == ".vdb" && !options.splat_file.empty() && std::filesystem::exists(options.splat_file));
+    if (extension == ".splat") return true;
+    if (extension != ".vdb") return false;
+    return options.splat_file.empty() || std::filesystem::exists(options.splat_file);
 }
 
 void run_view(ViewCommandOptions& options) {

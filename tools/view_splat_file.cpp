@@ -1,12 +1,8 @@
 #include "view_splat_file.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_reduce.h>
-
 #include <chrono>
 #include <algorithm>
 #include <iostream>
-#include <limits>
 #include <sstream>
 #include <utility>
 
@@ -48,36 +44,6 @@ std::shared_ptr<const SplatTree> read_belonging(const std::filesystem::path& fil
     return tree;
 }
 
-/// The box of @a tree's childless discs (what the page frames before it has a mesh), in
-/// parallel: a huge tree has millions of nodes.
-void set_box(ViewSplats& splats) {
-    using Box = std::pair<std::array<double, 3>, std::array<double, 3>>;
-    constexpr double kHuge = std::numeric_limits<double>::max();
-    const Box empty{{kHuge, kHuge, kHuge}, {-kHuge, -kHuge, -kHuge}};
-    const std::vector<SplatNode>& nodes = splats.tree->nodes;
-    const auto join = [](Box a, const Box& b) {
-        for (int i = 0; i < 3; ++i) {
-            a.first[i] = std::min(a.first[i], b.first[i]);
-            a.second[i] = std::max(a.second[i], b.second[i]);
-        }
-        return a;
-    };
-    const Box box = tbb::parallel_reduce(tbb::blocked_range<std::size_t>(0, nodes.size(), 4096), empty,
-        [&](const auto& range, Box box) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                const SplatNode& node = nodes[i];
-                if (node.child_count != 0) continue;
-                for (int a = 0; a < 3; ++a) {
-                    box.first[a] = std::min(box.first[a], double(node.centre[a]) - node.radius);
-                    box.second[a] = std::max(box.second[a], double(node.centre[a]) + node.radius);
-                }
-            }
-            return box;
-        }, join);
-    splats.box_min = box.first;
-    splats.box_max = box.second;
-}
-
 }  // namespace
 
 std::shared_ptr<const ViewSplats> view_splat_file(const std::filesystem::path& file, const std::filesystem::path& vdb,
@@ -103,7 +69,7 @@ std::shared_ptr<const ViewSplats> view_splat_file(const std::filesystem::path& f
         splats->tree = std::make_shared<const SplatTree>(std::move(tree));
     }
     splats->seconds = seconds_since(start);
-    set_box(*splats);
+    set_splat_box(*splats);
     if (!quiet)
         std::cerr << "vdbmesh view: " << (splats->from_file ? "read " : "wrote ") << file.string() << ": "
                   << splats->tree->nodes.size() << " splats, " << std::filesystem::file_size(file) << " bytes, "
@@ -122,7 +88,7 @@ std::shared_ptr<const ViewSplats> view_splats_alone(const std::filesystem::path&
     if (splats->tree->nodes.empty())
         throw Error(file.string() + ": holds no splats (its grid has no surface at " + number_text(splats->tree->iso) + ")");
     splats->seconds = seconds_since(start);
-    set_box(*splats);
+    set_splat_box(*splats);
     if (!quiet)
         std::cerr << "vdbmesh view: read " << file.string() << ": " << splats->tree->nodes.size() << " splats in "
                   << splats->seconds << " s (the splats alone: meshes need the grid they were fitted to)\n";

@@ -35,6 +35,14 @@ struct NodeWeight {
     std::uint64_t active_voxels = 0;
 };
 
+/// The active voxels of one 8^3 leaf: its value mask, bit i of the 512 being voxel
+/// origin + (x, y, z) with i = x * 64 + y * 8 + z, as OpenVDB orders a leaf (on[x] holds the
+/// row of x, bit y * 8 + z).
+struct LeafMask {
+    std::array<std::int32_t, 3> origin{};  ///< multiple of 8 on each axis
+    std::array<std::uint64_t, 8> on{};
+};
+
 /// Where a region of one float grid comes from. Implementations are read-only after opening;
 /// read() may be called from several threads at once.
 class GridRegionSource {
@@ -60,6 +68,15 @@ public:
     /// source holds while reading (a scan's band and converter windows): what a reader keeping
     /// that grid after the read holds.
     virtual std::uint64_t grid_bytes(const IndexBox& box) const { return estimated_bytes(box); }
+
+    /// The leaves that hold an active voxel inside @a box, each with its mask cleared outside
+    /// the box, in z-major order of their origins (as nodes()): where the active band round a
+    /// scan's surface lies, for a picture of it before any value is read (the viewer's topology
+    /// preview). Active tiles are not listed: a tile holds one value, so the isosurface does
+    /// not pass through it (vdbmesh's converted grids have none); a caller wanting them has
+    /// nodes(). This default reads the region (read(box)); a .vdb's source answers from the
+    /// topology it read at opening, without loading a leaf's values.
+    virtual std::vector<LeafMask> active_leaves(const IndexBox& box) const;
 };
 
 /// Adds to @a into what @a region holds: its tiles copied at their own level, its leaves moved

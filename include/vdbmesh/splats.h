@@ -98,6 +98,14 @@ SplatTree build_splat_tree(const openvdb::FloatGrid& grid, const SplatOptions& o
 /// that only a node's region and the splats are held, never the whole grid.
 SplatTree build_splat_tree(const GridRegionSource& source, const SplatOptions& options);
 
+/// A coarse picture of @a source's surface from its topology alone, before any sample is
+/// read (a .vdb's source lists its leaves' masks from the tree read at opening): a splat per
+/// leaf holding active voxels, at their centroid, across their thinnest direction, its radius
+/// reaching the farthest; inner nodes as build_splat_tree()'s. For grids whose active voxels
+/// are a band round the surface (vdbmesh convert's). The normals' sign is unknown: every
+/// node's cone is the whole sphere (never culled as facing away); iso is 0, tolerance 0.
+SplatTree build_topology_preview(const GridRegionSource& source);
+
 /// A camera, as the page sends it.
 struct SplatView {
     /// World to clip space, column-major as WebGL takes it (three.js projectionMatrix times

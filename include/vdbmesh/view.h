@@ -87,8 +87,23 @@ struct ViewSplats {
     double seconds = 0;     ///< the fit's, or the file's reading
     std::string file;       ///< the splat file's name
     bool from_file = false; ///< read from the file (else fitted now and written to it)
+    /// The topology preview (build_topology_preview(): a splat per leaf, no value read), shown
+    /// until ViewSource::fit_splats has fitted the tree.
+    bool preview = false;
     std::array<double, 3> box_min{}, box_max{};  ///< world units: the childless discs' box, what the page frames first
 };
+
+/// The box of @a splats' tree's childless discs into its box_min and box_max.
+void set_splat_box(ViewSplats& splats);
+
+/// The topology preview of @a regions at @a iso (what the page shows of a .vdb without a
+/// splat file while its tree is fitted): seconds on a huge grid, no voxel value read.
+std::shared_ptr<const ViewSplats> topology_preview_splats(const GridRegionSource& regions, double iso);
+
+/// The splat tree of @a regions at @a iso (build_splat_tree() by region). With @a stop set,
+/// gives up (Error) at its next read.
+std::shared_ptr<const ViewSplats> fit_view_splats(std::shared_ptr<const GridRegionSource> regions, double iso,
+                                                  const std::atomic<bool>& stop);
 
 /// What the page shows: a scan, a mesh, a label map's meshes, or a lattice's splats.
 struct ViewSource {
@@ -109,6 +124,10 @@ struct ViewSource {
     /// or 20 s after the server was made; the server sets @a stop when it is destroyed: the
     /// preparation should then give up soon.
     std::function<std::shared_ptr<const ViewScan>(const std::atomic<bool>& stop)> prepare_scan;
+    /// Set with a topology preview in @a splats (`view scan.vdb` without --splats): fits the
+    /// tree at initial_iso; it runs before prepare_scan, in its thread and when it starts, and
+    /// replaces the preview (GET /api/splats then serves the fitted tree, X-Splat-Kind fitted).
+    std::function<std::shared_ptr<const ViewSplats>(const std::atomic<bool>& stop)> fit_splats;
 };
 
 /// Meshes a grid as mesh_grid() does.
@@ -134,7 +153,8 @@ struct ViewServerOptions {
 ///                       "preparing" true until then, "prepare_error" if it failed; prepare=1
 ///                       starts the preparation: ViewSource::prepare_scan), the budget;
 ///                       for a label map its labels (value, name, colour, their runs of the mesh);
-///                       with a tree made before serving, splats (file, from_file, nodes, seconds, iso);
+///                       with a tree made before serving, splats (file, from_file, preview, nodes,
+///                       seconds, iso; preview true until the fit replaces the topology preview);
 ///                       for a lattice (kind "lattice") its box, placed and fitted subtrees;
 ///                       kind "splats" for a splat file alone (ViewSource::splats)
 ///                       (only /api/splats serves a lattice, without close-ups)
@@ -152,7 +172,8 @@ struct ViewServerOptions {
 /// GET /api/download     the mesh of the same parameters as format=stl|ply|obj
 /// GET /api/splats       binary: the splats a camera needs (centre, normal as float32 x 3,
 ///                       radius float32: 28 bytes each) of the scan's splat hierarchy at iso;
-///                       headers X-Splats, X-Level (finest level shown), X-Cut-Level (coarsest node
+///                       headers X-Splats, X-Splat-Kind (preview: the topology preview; fitted),
+///                       X-Level (finest level shown), X-Cut-Level (coarsest node
 ///                       shown for its children, -1: full detail), X-Complete, X-Tree-Nodes,
 ///                       X-Seconds (the tree's build). Parameters: iso, vp (16 numbers, world to
 ///                       clip, column-major), eye (3), focal (pixels per unit at w = 1), pixel, budget;

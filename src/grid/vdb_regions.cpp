@@ -17,6 +17,7 @@
 #include <utility>
 
 #include "leaf_loading_children.h"
+#include "leaf_masks.h"
 #include "region_walk.h"
 #include "vdb_file.h"
 #include "vdb_probe.h"
@@ -82,6 +83,9 @@ public:
 
     /// From the masks only: no leaf buffer is loaded.
     std::vector<NodeWeight> nodes() const override { return node_weights(topology_->tree()); }
+
+    /// From the masks only, as nodes().
+    std::vector<LeafMask> active_leaves(const IndexBox& box) const override { return detail::leaf_masks(topology_->tree(), box); }
 
     std::shared_ptr<openvdb::FloatGrid> read(const IndexBox& box) const override {
         openvdb::FloatGrid::Ptr grid = topology_->copyWithNewTree();

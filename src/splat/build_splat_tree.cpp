@@ -83,7 +83,7 @@ void append_cell(Levels& levels, CellNodes& cell) {
 }
 
 /// By parent, then z-major.
-void merge_up(Levels& levels, int level) {
+void merge_up(Levels& levels, int level, bool unsigned_normals) {
     std::vector<BuildNode>& below = levels[level - 1];
     const bool root = level == kSplatRootLevel;
     const auto key = [&](const BuildNode& n) {
@@ -95,6 +95,7 @@ void merge_up(Levels& levels, int level) {
         const auto origin = root ? std::array<std::int32_t, 3>{} : parent_origin(below[begin].origin, level);
         std::size_t end = begin + 1;
         while (end < below.size() && (root || parent_origin(below[end].origin, level) == origin)) ++end;
+        if (unsigned_normals) align_normals(&below[begin], std::uint32_t(end - begin));
         BuildNode parent = merge_children(&below[begin], std::uint32_t(end - begin), origin);
         parent.first_child = std::uint32_t(begin);
         levels[level].push_back(parent);
@@ -165,12 +166,10 @@ SampleRule sample_rule(const openvdb::FloatGrid& grid, const SplatOptions& optio
     return rule;
 }
 
-namespace {
-
-/// The tree from levels 0 to 2 of every cell of the grid.
-SplatTree assemble(Levels& levels, const openvdb::math::Transform& transform, const SplatOptions& options) {
+SplatTree assemble(Levels& levels, const openvdb::math::Transform& transform, const SplatOptions& options,
+                   bool unsigned_normals) {
     for (int level = kSplatLeafLevel + 1; level <= kSplatRootLevel; ++level)
-        if (!levels[level - 1].empty()) merge_up(levels, level);
+        if (!levels[level - 1].empty()) merge_up(levels, level, unsigned_normals);
     SplatTree tree;
     tree.nodes = breadth_first(levels, kSplatRootLevel, transform);
     tree.iso = options.iso;
@@ -178,6 +177,8 @@ SplatTree assemble(Levels& levels, const openvdb::math::Transform& transform, co
     tree.tolerance = options.coplanar_tolerance;
     return tree;
 }
+
+namespace {
 
 /// The 128^3 nodes whose cells may hold crossings: those holding active values and the ones
 /// just below them on each axis (their cells reach the first samples of the node above).

@@ -52,6 +52,11 @@ CellNodes fit_cell(const openvdb::FloatGrid& grid, const openvdb::Coord& origin,
 /// a radius enclosing their discs, a cone enclosing their cones. first_child is left 0.
 BuildNode merge_children(const BuildNode* children, std::uint32_t count, const std::array<std::int32_t, 3>& origin);
 
+/// Flips the normals of @a count nodes at @a children that point away from their principal
+/// direction (of the weighted sum of n n^T), so that normals known only up to sign (the
+/// topology preview's) do not cancel in merge_children().
+void align_normals(BuildNode* children, std::uint32_t count);
+
 /// Whether @a parent may stand for its @a children: all childless and every child's disc within
 /// @a tolerance voxels of the parent's plane.
 bool coplanar_within(const BuildNode& parent, const BuildNode* children, std::uint32_t count, double tolerance);
@@ -73,8 +78,14 @@ void append_cells(Levels& levels, const openvdb::FloatGrid& grid, const std::vec
 void append_cell(Levels& levels, CellNodes& cell);
 
 /// Builds levels[level] from levels[level - 1] (reordered so each parent's children are
-/// contiguous); the root level takes every node below as a child.
-void merge_up(Levels& levels, int level);
+/// contiguous); the root level takes every node below as a child. With @a unsigned_normals,
+/// each parent's children are aligned first (align_normals()).
+void merge_up(Levels& levels, int level, bool unsigned_normals = false);
+
+/// The tree of levels 0 to 2 (nodes of higher levels made by merge_up()), in the world space of
+/// @a transform, with @a options' isovalue, side and tolerance.
+SplatTree assemble(Levels& levels, const openvdb::math::Transform& transform, const SplatOptions& options,
+                   bool unsigned_normals = false);
 
 /// The nodes breadth-first from levels[top][0] (the only node of that level), each node's
 /// children contiguous, in world space by @a transform; in @a sources (when given) the level

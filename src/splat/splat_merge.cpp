@@ -2,6 +2,7 @@
 // that lets a parent stand for coplanar children.
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -57,6 +58,19 @@ BuildNode merge_children(const BuildNode* children, std::uint32_t count, const s
     parent.origin = origin;
     parent.child_count = count;
     return parent;
+}
+
+void align_normals(BuildNode* children, std::uint32_t count) {
+    Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+    for (std::uint32_t i = 0; i < count; ++i) {
+        const Eigen::Vector3d n = vec(children[i].normal);
+        scatter += double(std::max<std::uint32_t>(children[i].weight, 1)) * n * n.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+    const Eigen::Vector3d principal = solver.eigenvectors().col(2);  // the largest eigenvalue's
+    for (std::uint32_t i = 0; i < count; ++i)
+        if (vec(children[i].normal).dot(principal) < 0)
+            for (float& c : children[i].normal) c = -c;
 }
 
 bool coplanar_within(const BuildNode& parent, const BuildNode* children, std::uint32_t count, double tolerance) {

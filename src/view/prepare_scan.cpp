@@ -12,6 +12,7 @@
 #include "vdbmesh/volume_stats.h"
 #include "view/coarse_grid.h"
 #include "view/grid_samples.h"
+#include "view/stoppable_regions.h"
 
 namespace vdbmesh {
 
@@ -63,25 +64,6 @@ std::optional<std::pair<double, double>> stated_value_range(const openvdb::Float
     return range;
 }
 
-/// @a source whose reads give up once @a stop is set (a server closing while it prepares).
-class StoppableRegions : public GridRegionSource {
-public:
-    StoppableRegions(std::shared_ptr<const GridRegionSource> source, const std::atomic<bool>& stop)
-        : source_(std::move(source)), stop_(stop) {}
-    std::shared_ptr<const openvdb::FloatGrid> description() const override { return source_->description(); }
-    std::vector<NodeWeight> nodes() const override { return source_->nodes(); }
-    std::shared_ptr<openvdb::FloatGrid> read(const IndexBox& box) const override {
-        if (stop_) throw Error("the scan's preparation was stopped");
-        return source_->read(box);
-    }
-    std::uint64_t estimated_bytes(const IndexBox& box) const override { return source_->estimated_bytes(box); }
-    std::uint64_t grid_bytes(const IndexBox& box) const override { return source_->grid_bytes(box); }
-
-private:
-    std::shared_ptr<const GridRegionSource> source_;
-    const std::atomic<bool>& stop_;
-};
-
 void add_histogram(ValueHistogram& into, const ValueHistogram& part) {
     for (std::size_t bin = 0; bin < into.counts.size(); ++bin) into.counts[bin] += part.counts[bin];
 }
@@ -106,7 +88,7 @@ ViewScan prepare_grid(std::shared_ptr<openvdb::FloatGrid> grid) {
 
 ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions, const std::atomic<bool>* stop) {
     if (stop) {
-        ViewScan scan = prepare_grid_regions(std::make_shared<const StoppableRegions>(regions, *stop));
+        ViewScan scan = prepare_grid_regions(std::make_shared<const view::StoppableRegions>(regions, *stop, "the scan's preparation"));
         scan.regions = std::move(regions);
         return scan;
     }

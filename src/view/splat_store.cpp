@@ -64,14 +64,30 @@ std::string splat_buffers(const std::vector<SplatNode>& nodes) {
 
 SplatStore::SplatStore(std::shared_ptr<const ViewScan> scan, std::shared_ptr<const ViewSplats> initial, double initial_iso)
     : scan_(std::move(scan)), initial_iso_(initial_iso) {
-    if (!initial) return;
-    initial_ = std::make_shared<const StoredSplats>(StoredSplats{initial->tree, initial->seconds});
+    if (initial) set_initial(std::move(initial));
+}
+
+void SplatStore::set_initial(std::shared_ptr<const ViewSplats> splats) {
+    auto stored = std::make_shared<const StoredSplats>(StoredSplats{splats->tree, splats->seconds, splats->preview});
+    const std::lock_guard<std::mutex> lock(initial_mutex_);
+    initial_splats_ = std::move(splats);
+    initial_ = std::move(stored);
+}
+
+std::shared_ptr<const ViewSplats> SplatStore::initial() const {
+    const std::lock_guard<std::mutex> lock(initial_mutex_);
+    return initial_splats_;
 }
 
 std::shared_ptr<const StoredSplats> SplatStore::tree(double iso) {
-    if (initial_ && iso == initial_iso_) return initial_;
+    std::shared_ptr<const StoredSplats> initial;
+    {
+        const std::lock_guard<std::mutex> lock(initial_mutex_);
+        initial = initial_;
+    }
+    if (initial && iso == initial_iso_) return initial;
     const auto scan = std::atomic_load(&scan_);
-    if (!scan && initial_) throw ScanPreparing();
+    if (!scan && initial) throw ScanPreparing();
     if (!scan) throw UsageError("splats: the input is a mesh, not a scan or grid");
     const std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& [kept_iso, stored] : kept_)

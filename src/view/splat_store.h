@@ -21,6 +21,7 @@ namespace vdbmesh::view {
 struct StoredSplats {
     std::shared_ptr<const SplatTree> tree;
     double seconds = 0;
+    bool preview = false;  ///< the topology preview (ViewSplats::preview): no close-ups from it
 };
 
 /// What the page asks for: iso (the scan's initial one), vp (16 numbers, column-major, world
@@ -51,10 +52,17 @@ public:
     std::shared_ptr<const StoredSplats> tree(double iso);
     /// The scan prepared in the background (ViewSource::prepare_scan).
     void set_scan(std::shared_ptr<const ViewScan> scan) { std::atomic_store(&scan_, std::move(scan)); }
+    /// The tree at the initial isovalue fitted in the background (ViewSource::fit_splats), in
+    /// place of the topology preview.
+    void set_initial(std::shared_ptr<const ViewSplats> fitted);
+    /// The tree at the initial isovalue as it stands (null: none made before serving).
+    std::shared_ptr<const ViewSplats> initial() const;
 
 private:
     static constexpr std::size_t kKept = 2;
     std::shared_ptr<const ViewScan> scan_;
+    mutable std::mutex initial_mutex_;
+    std::shared_ptr<const ViewSplats> initial_splats_;
     std::shared_ptr<const StoredSplats> initial_;
     double initial_iso_ = 0;
     std::mutex mutex_;

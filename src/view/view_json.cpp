@@ -33,6 +33,7 @@ nlohmann::json info_json(const ViewSource& source, std::size_t triangle_budget) 
     if (source.scan) j["scan"] = scan_json(*source.scan, source.initial_iso);
     if (source.splats)
         j["splats"] = {{"file", source.splats->file}, {"from_file", source.splats->from_file},
+                       {"preview", source.splats->preview},
                        {"nodes", source.splats->tree->nodes.size()}, {"seconds", source.splats->seconds},
                        {"iso", source.splats->tree->iso}, {"box_min", source.splats->box_min},
                        {"box_max", source.splats->box_max}};

@@ -179,6 +179,8 @@ private:
         }
         if (stop_preparing_) return;
         try {
+            // The fitted tree first: the page shows the topology preview until then.
+            if (const auto& fit = store().source().fit_splats) splats().set_initial(fit(stop_preparing_));
             const auto scan = store().source().prepare_scan(stop_preparing_);
             splats().set_scan(scan);
             store().set_scan(scan);
@@ -191,6 +193,7 @@ private:
     nlohmann::json info() {
         ViewSource now = store().source();
         now.scan = store().scan();
+        if (auto initial = splats().initial()) now.splats = std::move(initial);  // fitted in place of the preview
         nlohmann::json j = view::info_json(now, options_.triangle_budget);
         if (now.prepare_scan && !now.scan) j["preparing"] = true;
         const std::lock_guard<std::mutex> lock(prepare_error_mutex_);
@@ -269,8 +272,10 @@ private:
             throw UsageError("iso: the splat file holds the splats at " + std::to_string(store().source().initial_iso) + " only; " + kNoGrid);
         const auto stored = splats().tree(parsed.iso);
         SplatSelection selection = select_splats(*stored->tree, parsed.view);
-        if (parsed.close_up_triangles) add_close_up(*stored, parsed, selection, response);
+        // The preview's weights count active voxels, not crossings: no close-up's estimate from them.
+        if (parsed.close_up_triangles && !stored->preview) add_close_up(*stored, parsed, selection, response);
         set_splat_headers(response, selection, selection.nodes.size(), stored->tree->nodes.size(), stored->seconds);
+        response.set_header("X-Splat-Kind", stored->preview ? "preview" : "fitted");
         response.set_content(view::splat_buffers(*stored->tree, selection), "application/octet-stream");
     }
 

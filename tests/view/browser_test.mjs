@@ -6,6 +6,7 @@
 // removes the expected half and caps the cut, splats cover the view and refine on a zoom
 // (the page's reported level), and Ctrl-C stops the server cleanly. Then (without --scan)
 // `vdbmesh view --labels` on a small label map: the labels listed, coloured, switchable.
+// `vdbmesh view scan.vdb` without a splat file: the topology preview first, then the fitted splats.
 // Prints the time from releasing the slider to the coarse and the full mesh on screen.
 // Exit 0 passed, 1 failed, 77 skipped (no Chromium; a failure under VDBMESH_REQUIRE_BROWSER=1).
 //
@@ -462,6 +463,41 @@ async function checkSplatFile(browser, options, scratch, scan, decode, checks, t
   await checkSplatsAlone(browser, options, splats, decode, checks, timeout);
 }
 
+/// `view scan.vdb` without a splat file: the topology preview at once (a splat per leaf, no
+/// value read), the page saying so; then the fitted splats in its place, then the coarse mesh.
+async function checkTopologyPreview(browser, options, scratch, decode, checks, timeout) {
+  const vdb = path.join(scratch, 'splat-file.vdb');  // checkSplatFile's
+  const viewer = await startViewer(options.vdbmesh, [vdb]);
+  try {
+    const page = await browser.newPage({ viewport: { width: 900, height: 700 } });
+    page.on('pageerror', (error) => checks.expect(false, `no error in the topology preview's page: ${error.message}`));
+    page.setDefaultTimeout(timeout);
+    const driver = new PageDriver(page, options.out, decode);
+    await page.goto(viewer.address);
+    await page.waitForFunction(() => window.vdbmeshView.splatViews > 0 || window.vdbmeshView.error, null, { polling: 50 });
+    const first = await driver.state();
+    const preview = await driver.shot('topology-preview');
+    const previewShare = foreground(preview, BACKGROUND).share;
+    checks.expect(!first.error && first.splatKind === 'preview' && first.meshes === 0 && previewShare > 0.05,
+      `view FILE.vdb first shows the topology preview (${first.splatKind}, ${first.splats} splats, ${(100 * previewShare).toFixed(1)}% of the view) ${first.error}`);
+    checks.expect((await page.locator('#splat-kind').textContent()) === 'topology preview', 'and its figures say "topology preview"');
+    await page.waitForFunction(() => window.vdbmeshView.splatKind === 'fitted' || window.vdbmeshView.error, null, { polling: 100 });
+    await page.waitForFunction(() => !window.vdbmeshView.splatBusy, null, { polling: 100 });
+    const fitted = await driver.state();
+    const fittedShot = await driver.shot('topology-preview-fitted');
+    const fittedShare = foreground(fittedShot, BACKGROUND).share;
+    checks.expect(!fitted.error && fittedShare > 0.05 && (await page.locator('#splat-kind').textContent()) === 'fitted',
+      `then the fitted splats in its place (${fitted.splats} splats, ${(100 * fittedShare).toFixed(1)}% of the view), the figures saying "fitted"`);
+    checks.expect(changedShare(preview, fittedShot) > 0.001, `and the picture changes (${(100 * changedShare(preview, fittedShot)).toFixed(2)}% of pixels)`);
+    await page.waitForFunction(() => window.vdbmeshView.meshes > 0 || window.vdbmeshView.error, null, { polling: 100 });
+    const later = await driver.state();
+    checks.expect(!later.error && !later.preparing && later.splatKind === 'fitted', `then the coarse mesh and the slider (${later.level}, ${later.triangles} triangles)`);
+    await page.close();
+  } finally {
+    checks.expect((await stopViewer(viewer.child)) === 0, 'view FILE.vdb (topology preview) stops cleanly on SIGINT (exit 0)');
+  }
+}
+
 async function checkSplatsAlone(browser, options, splats, decode, checks, timeout) {
   const viewer = await startViewer(options.vdbmesh, [splats]);
   try {
@@ -527,6 +563,7 @@ async function main() {
     if (!options.scan || options.labelsMap) await checkLabels(browser, options, scratch, driver.decode, checks, timeout);
     if (!options.scan || options.latticeBox) await checkLattice(browser, options, driver.decode, checks, timeout);
     if (!options.scan) await checkSplatFile(browser, options, scratch, scan, driver.decode, checks, timeout);
+    if (!options.scan) await checkTopologyPreview(browser, options, scratch, driver.decode, checks, timeout);
   } finally {
     await browser?.close();
     if (viewer) checks.expect((await stopViewer(viewer.child)) === 0, 'vdbmesh view stops cleanly on SIGINT (exit 0)');

@@ -16,7 +16,7 @@ const $ = (id) => document.getElementById(id);
 const radio = (name) => document.querySelector(`input[name=${name}]:checked`).value;
 const state = (window.vdbmeshView = {
   level: '', triangles: 0, meshes: 0, busy: false, timings: [], error: '', figures: null, overBudget: 0, labels: 0, drawnTriangles: 0,
-  preparing: false, firstSplatsMs: null, splatMode: false, cameraMovedAt: 0, splats: 0, splatLevel: null, splatCutLevel: null, splatComplete: false, splatViews: 0, splatBusy: false,
+  preparing: false, firstSplatsMs: null, splatMode: false, cameraMovedAt: 0, splats: 0, splatLevel: null, splatCutLevel: null, splatComplete: false, splatViews: 0, splatBusy: false, splatKind: null,
   detail: 'mesh', closeUpTriangles: 0, closeUpBox: null, frameMs: null, frameSamples: 0, moving: false,
 });
 
@@ -94,7 +94,7 @@ function showCloseUp(mesh) {
 function showSplats(shown) {
   state.firstSplatsMs ??= performance.now();  // since the page's navigation began
   Object.assign(state, {
-    splats: shown.splats, splatLevel: shown.level, splatCutLevel: shown.cutLevel, splatComplete: shown.complete, splatViews: state.splatViews + 1, splatBusy: false,
+    splats: shown.splats, splatKind: shown.kind, splatLevel: shown.level, splatCutLevel: shown.cutLevel, splatComplete: shown.complete, splatViews: state.splatViews + 1, splatBusy: false,
     detail: shown.closeUp ? 'triangles' : 'splats', closeUpTriangles: shown.closeUp?.triangles ?? 0, closeUpBox: shown.closeUp?.box ?? null,
   });
   const cube = (level) => `${2 ** (level + 1)}³ voxels`;
@@ -103,10 +103,15 @@ function showSplats(shown) {
     ? `<span id="detail">triangles</span> close up: ${shown.closeUp.triangles.toLocaleString('en-US')} of the full mesh ` +
       `(voxels ${shown.closeUp.box.replace(/,/g, ' ')}, meshed in ${shown.closeUp.seconds.toFixed(2)} s); splats elsewhere: `
     : '<span id="detail">splats</span>: ';
-  $('splat-figures').innerHTML = `${triangles}${shown.splats.toLocaleString('en-US')} splats, ${detail}, finest level ${shown.level} ` +
+  // The topology preview: a splat per leaf placed from the active voxels alone (no value read),
+  // until the server has fitted the tree.
+  const kind = shown.kind === 'preview' ? '<span id="splat-kind">topology preview</span> (a splat per leaf from the active voxels; the fit follows), '
+    : '<span id="splat-kind">fitted</span> ';
+  $('splat-figures').innerHTML = `${triangles}${kind}${shown.splats.toLocaleString('en-US')} splats, ${detail}, finest level ${shown.level} ` +
     `(${cube(shown.level)})${shown.complete ? '' : ', budget reached'}; tree of ${shown.treeNodes.toLocaleString('en-US')} ` +
     `nodes built in ${shown.seconds.toFixed(2)} s; view in ${shown.ms.toFixed(0)} ms`;
-  status(shown.closeUp ? `triangles close up, splats elsewhere: ${detail}` : `splats: ${detail}`);
+  const what = shown.kind === 'preview' ? 'topology preview' : 'splats';
+  status(shown.closeUp ? `triangles close up, splats elsewhere: ${detail}` : `${what}: ${detail}`);
 }
 
 function setSplatMode(on) {
@@ -248,7 +253,8 @@ function setUpLattice(lattice) {
 /// The splats of the first picture of a model whose tree is ready (the full budget's follow).
 const FIRST_SPLATS = 15000;
 
-/// A .vdb whose splat tree was made before serving (`view --splats FILE`): the splats at once,
+/// A .vdb whose splat tree was made before serving (`view --splats FILE`), or shown first by its
+/// topology preview while the server fits it (`view scan.vdb`): the splats at once,
 /// framed by their box, while the server prepares the histogram and coarse grid; the iso
 /// slider and the coarse mesh come when it is done (splat mode stays on). A splat file alone
 /// (`view scan.splat`, kind "splats"): the splats only.
@@ -267,14 +273,23 @@ async function startWithSplats(splats) {
   }
   state.preparing = Boolean(info.preparing);
   if (!info.preparing) return setUpPreparedScan();
-  $('figures').textContent = 'histogram and coarse mesh: being prepared by the server (a pass over the grid)…';
+  const preparing = 'histogram and coarse mesh: being prepared by the server (a pass over the grid)…';
+  $('figures').textContent = splats.preview ? 'the splat tree: being fitted by the server (a pass over the grid); then the ' + preparing : preparing;
   const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
   // The server's pass takes every core: it starts once the full budget's splats are drawn.
   while (state.splatViews < 2 && !state.error) await sleep(100);
   info = await fetchJson('/api/info?prepare=1');
-  while (info.preparing && !info.prepare_error) {
+  // A topology preview is fitted first (then the pass): the splats of the same view are asked
+  // for again once the fitted tree is there.
+  let preview = Boolean(splats.preview);
+  while ((info.preparing || preview) && !info.prepare_error) {
     await sleep(1000);
     info = await fetchJson('/api/info');
+    if (preview && !info.splats.preview) {
+      preview = false;
+      $('figures').textContent = preparing;
+      splatLayer.refresh();
+    }
   }
   return setUpPreparedScan();
 }

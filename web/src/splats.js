@@ -25,7 +25,7 @@ const RIM = Array.from({ length: DISC_SEGMENTS }, (_, k) => (2 * Math.PI * k) / 
 
 export class SplatLayer {
   /// @a handlers: onAsk() when a view is asked for, onShown(figures) when its answer is drawn
-  /// ({ splats, level, cutLevel, complete, treeNodes, seconds, ms, closeUp: null or { box,
+  /// ({ splats, kind ('preview': the topology preview, or 'fitted'), level, cutLevel, complete, treeNodes, seconds, ms, closeUp: null or { box,
   /// triangles, seconds } }), onError(error), meshParams() the mesh's method and parameters,
   /// onCloseUp(mesh or null) the close-up's triangles to draw (null: none).
   constructor(scene3d, handlers) {
@@ -114,7 +114,7 @@ export class SplatLayer {
       await this.scene3d.nextRender();
       if (abort !== this.abort) return;
       this.handlers.onShown({
-        splats: this.count, level: Number(response.headers.get('X-Level')), cutLevel: Number(response.headers.get('X-Cut-Level')), complete: response.headers.get('X-Complete') === '1',
+        splats: this.count, kind: response.headers.get('X-Splat-Kind') ?? 'fitted', level: Number(response.headers.get('X-Level')), cutLevel: Number(response.headers.get('X-Cut-Level')), complete: response.headers.get('X-Complete') === '1',
         treeNodes: Number(response.headers.get('X-Tree-Nodes')), seconds: Number(response.headers.get('X-Seconds')),
         ms: performance.now() - started, closeUp: closeUp && { box, triangles: closeUp.triangles, seconds: closeUp.seconds },
       });
