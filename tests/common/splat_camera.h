@@ -5,6 +5,8 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <string>
 
 #include "vdbmesh/splats.h"
 
@@ -35,6 +37,15 @@ inline SplatView camera_at(const std::array<double, 3>& eye, const openvdb::Vec3
     camera.eye = eye;
     camera.focal_pixels = 700 / (2 * std::tan(fov / 2));
     return camera;
+}
+
+/// The page's query of GET /api/splats for @a camera, asking for close-ups within @a closeup
+/// triangles.
+inline std::string splat_query(const SplatView& camera, std::uint64_t closeup) {
+    std::string query = "/api/splats?vp=";
+    for (std::size_t i = 0; i < camera.view_projection.size(); ++i) query += (i ? "," : "") + std::to_string(camera.view_projection[i]);
+    query += "&eye=" + std::to_string(camera.eye[0]) + "," + std::to_string(camera.eye[1]) + "," + std::to_string(camera.eye[2]);
+    return query + "&focal=" + std::to_string(camera.focal_pixels) + "&closeup=" + std::to_string(closeup);
 }
 
 }  // namespace vdbmesh::test

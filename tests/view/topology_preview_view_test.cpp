@@ -24,11 +24,7 @@ constexpr double kIso = 0.5;  // the phantom's surface
 
 /// The page's query for a camera at @a eye looking at the sphere's centre, asking for close-ups.
 std::string splat_query(const std::array<double, 3>& eye) {
-    const SplatView camera = test::camera_at(eye, openvdb::Vec3d(20, 20, 20));
-    std::string query = "/api/splats?vp=";
-    for (std::size_t i = 0; i < camera.view_projection.size(); ++i) query += (i ? "," : "") + std::to_string(camera.view_projection[i]);
-    query += "&eye=" + std::to_string(eye[0]) + "," + std::to_string(eye[1]) + "," + std::to_string(eye[2]);
-    return query + "&focal=" + std::to_string(camera.focal_pixels) + "&closeup=480000";
+    return test::splat_query(test::camera_at(eye, openvdb::Vec3d(20, 20, 20)), 480000);
 }
 
 TEST(ViewTopologyPreview, ThePreviewIsServedThenTheFittedTreeInItsPlace) {
