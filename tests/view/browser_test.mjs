@@ -474,13 +474,19 @@ async function checkTopologyPreview(browser, options, scratch, decode, checks, t
     page.setDefaultTimeout(timeout);
     const driver = new PageDriver(page, options.out, decode);
     await page.goto(viewer.address);
-    await page.waitForFunction(() => window.vdbmeshView.splatViews > 0 || window.vdbmeshView.error, null, { polling: 50 });
-    const first = await driver.state();
+    // What the page shows when its first splats are drawn, read in the same task that draws them:
+    // on a small file the fit that follows the first picture can replace the preview before a
+    // later read (a screenshot under load takes longer than the fit).
+    const first = await (await page.waitForFunction(() => (window.vdbmeshView.splatViews > 0 || window.vdbmeshView.error) && {
+      error: window.vdbmeshView.error, kind: window.vdbmeshView.splatKind, splats: window.vdbmeshView.splats, meshes: window.vdbmeshView.meshes,
+      said: document.querySelector('#splat-kind')?.textContent ?? '',
+    }, null, { polling: 50 })).jsonValue();
     const preview = await driver.shot('topology-preview');
     const previewShare = foreground(preview, BACKGROUND).share;
-    checks.expect(!first.error && first.splatKind === 'preview' && first.meshes === 0 && previewShare > 0.05,
-      `view FILE.vdb first shows the topology preview (${first.splatKind}, ${first.splats} splats, ${(100 * previewShare).toFixed(1)}% of the view) ${first.error}`);
-    checks.expect((await page.locator('#splat-kind').textContent()) === 'topology preview', 'and its figures say "topology preview"');
+    const shotOfThePreview = (await driver.state()).splatKind === 'preview';  // no switch until after the shot
+    checks.expect(!first.error && first.kind === 'preview' && first.meshes === 0 && previewShare > 0.05,
+      `view FILE.vdb first shows the topology preview (${first.kind}, ${first.splats} splats, ${(100 * previewShare).toFixed(1)}% of the view) ${first.error}`);
+    checks.expect(first.said === 'topology preview', `and its figures say "topology preview" (${first.said})`);
     await page.waitForFunction(() => window.vdbmeshView.splatKind === 'fitted' || window.vdbmeshView.error, null, { polling: 100 });
     await page.waitForFunction(() => !window.vdbmeshView.splatBusy, null, { polling: 100 });
     const fitted = await driver.state();
@@ -488,7 +494,11 @@ async function checkTopologyPreview(browser, options, scratch, decode, checks, t
     const fittedShare = foreground(fittedShot, BACKGROUND).share;
     checks.expect(!fitted.error && fittedShare > 0.05 && (await page.locator('#splat-kind').textContent()) === 'fitted',
       `then the fitted splats in its place (${fitted.splats} splats, ${(100 * fittedShare).toFixed(1)}% of the view), the figures saying "fitted"`);
-    checks.expect(changedShare(preview, fittedShot) > 0.001, `and the picture changes (${(100 * changedShare(preview, fittedShot)).toFixed(2)}% of pixels)`);
+    if (shotOfThePreview) {
+      checks.expect(changedShare(preview, fittedShot) > 0.001, `and the picture changes (${(100 * changedShare(preview, fittedShot)).toFixed(2)}% of pixels)`);
+    } else {
+      console.log('the fit replaced the preview before its screenshot ended: the two pictures are not compared');
+    }
     await page.waitForFunction(() => window.vdbmeshView.meshes > 0 || window.vdbmeshView.error, null, { polling: 100 });
     const later = await driver.state();
     checks.expect(!later.error && !later.preparing && later.splatKind === 'fitted', `then the coarse mesh and the slider (${later.level}, ${later.triangles} triangles)`);
