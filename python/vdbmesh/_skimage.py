@@ -49,7 +49,7 @@ def marching_cubes(volume, level=None, *, spacing=(1.0, 1.0, 1.0), gradient_dire
     samples = array[::step, ::step, ::step].astype(np.float32, copy=False)  # as scikit-image compares them
     samples = _arrays.nan_at_level(samples, level)
 
-    verts, faces = _vdbmesh.mesh_array(samples, level, "mc", 0.0, 0.0, "above", True, _INDEX_SPACE, None)
+    verts, faces = _vdbmesh.mesh_array(samples, level, "mc", 0.0, 0.0, "above", True, _INDEX_SPACE, None, False)
     if len(faces) > 0:
         verts, faces, normals, values = _vdbmesh.marching_cubes_extras(samples, verts, faces, cell_mask)
     if len(faces) == 0:
