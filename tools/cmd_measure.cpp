@@ -129,7 +129,7 @@ void add_measure_command(CLI::App& command, CommandResult& result) {
     add_mesh_input_options(command, options->input);
     command.add_option("--memory", options->memory,
                        "Measure within SIZE (K, M, G) whatever the input's size: a mesh read as a stream, a scan or .vdb meshed by "
-                       "bricks (--error above 0); sums sorted and spooled through temporary files in $TMPDIR; self-intersections "
+                       "bricks (Marching Cubes at --error 0); sums sorted and spooled through temporary files in $TMPDIR; self-intersections "
                        "not checked (\"clean\" counts the rest)");
     command.add_flag("--json", options->json, "One JSON object instead of a table");
     add_label_flags(command, options->labels.label, "A label map: measure each label's mesh (all, or a list like 3,5,10-12)");

@@ -139,9 +139,10 @@ nlohmann::ordered_json figures_json(const MeshCommandOptions& options, const Pro
 std::optional<std::uint64_t> memory_limit(const MeshCommandOptions& options) {
     if (options.memory.empty() && rank_count() == 1) return std::nullopt;
     const std::string why = options.memory.empty() ? "mpirun" : "--memory";
-    if (options.mesh.method != MeshMethod::dc || options.mesh.error <= 0) {
-        throw UsageError(why + ": only --method dc with --error above 0 meshes by bricks; Marching Cubes and volumeToMesh mesh the whole "
-                         "grid at once" + (why == "mpirun" ? std::string(", in one process (run them without mpirun)") : ""));
+    if (options.mesh.method == MeshMethod::openvdb) {
+        throw UsageError(why + ": --method openvdb (volumeToMesh) meshes the whole grid at once" +
+                         (why == "mpirun" ? std::string(", in one process (run it without mpirun)") : std::string()) +
+                         "; --method dc and mc mesh by bricks");
     }
     const ProcessingOptions& p = options.processing;
     if (options.verify || options.normals || p.taubin > 0 || p.decimate || p.max_error) {
@@ -330,7 +331,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     auto* sharp = command.add_flag("--sharp", options->mesh.sharp,
                       "dc, --error above 0: vertices on sharp edges and corners, up to a voxel beyond the error there (docs/dmc.md)");
     auto* memory = command.add_option("--memory", options->memory,
-                       "Mesh brick by brick within about SIZE bytes (K, M, G suffixes; dc at --error > 0): the same mesh");
+                       "Mesh brick by brick within about SIZE bytes (K, M, G suffixes; dc and mc): the same mesh");
     add_read_flags(command, options->read);
     // What shapes one surface means nothing to a label map, meshed per label: refused with --labels.
     std::vector<const CLI::Option*> one_surface = add_processing_options(command, options->processing);

@@ -171,7 +171,7 @@ void add_section_command(CLI::App& command, CommandResult& result) {
     command.add_flag("--json", options->json, "One JSON object {\"sections\": [...]} instead of text");
     command.add_option("--memory", options->memory,
                        "Section within SIZE (K, M, G) whatever the input's size: a mesh read as a stream and cut triangle by triangle, "
-                       "a scan or .vdb meshed by bricks (--error above 0)");
+                       "a scan or .vdb meshed by bricks (Marching Cubes at --error 0)");
     add_mesh_input_options(command, options->input);
     add_common_options(command, options->common);
     command.callback([options, &result] {

@@ -111,10 +111,6 @@ std::uint64_t grid_stream_share(std::uint64_t memory_bytes, std::uint64_t least_
 
 void stream_grid_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& options, const std::string& purpose,
                       std::uint64_t memory_bytes, MeshRecordVisitor& visitor) {
-    if (!(options.error > 0)) {
-        throw UsageError("--memory: a scan or .vdb is meshed by bricks, which the dc mesher does at an --error above 0 only; give "
-                         "--error (such as 0.25)");
-    }
     if (options.refine) throw UsageError("--memory: --refine moves the vertices of the whole mesh, which --memory never holds; leave it out");
     const GridRegionsInput opened =
         open_grid_regions(inputs, options.iso, options.read, purpose, band_one(), options.iso_option, options.inside);

@@ -20,7 +20,7 @@ struct MeshInputOptions {
     std::optional<double> iso;
     std::string iso_option = "--iso";  ///< the option that gives iso, for messages
     Inside inside = Inside::above;
-    double error = 0;     ///< the dc mesher's tolerated error in voxels (above 0 with --memory)
+    double error = 0;     ///< the dc mesher's tolerated error in voxels (0: Marching Cubes)
     bool refine = false;  ///< vertices onto the triquadratic isosurface (refine_to_isosurface)
     ReadFlags read;
     /// The options that mean something only for a scan or .vdb input (--iso, --inside, --refine,
@@ -51,7 +51,7 @@ std::uint64_t grid_stream_share(std::uint64_t memory_bytes, std::uint64_t least_
 /// With --memory and a scan or .vdb input (not is_mesh_file()): the surface meshed by bricks
 /// within @a memory_bytes (the .vdb or scan read by region, as `mesh --memory` reads it) and
 /// handed to @a visitor as a file of it would be read: announced(), the vertices, the
-/// triangles. The same mesh as load_mesh() at the same --error (above 0: the bricks' mesher).
+/// triangles. The same mesh as load_mesh() at the same --error.
 /// @a visitor plans for grid_stream_share() of @a memory_bytes; the mesher, for all of it.
 /// @throw UsageError for --error 0 or --refine (the whole mesh) and a limit under one brick.
 void stream_grid_mesh(const std::vector<std::string>& inputs, const MeshInputOptions& options, const std::string& purpose,

@@ -130,7 +130,7 @@ public:
 /// mesh_bricks() without holding the mesh: each brick's vertices and triangles go to a spill
 /// (an unlinked temporary file) as soon as it is meshed, and after the last brick the spill is
 /// read back node by node into @a sink (docs/dmc.md, "Bricks"). The same vertices and triangles
-/// in the same order as mesh_bricks(); MeshMethod::dc at options.error > 0 only. Returns the
+/// in the same order as mesh_bricks(); MeshMethod::dc and mc only. Returns the
 /// report (its mesh went to the sink). Over several ranks (BrickOptions::ranks), only rank 0's
 /// sink receives anything.
 /// @throw UsageError as mesh_bricks(); Error when the spill cannot be written.
@@ -143,9 +143,10 @@ MeshReport mesh_bricks_to_stream(const GridRegionSource& source, const MeshOptio
 std::uint64_t brick_peak_bytes(const GridRegionSource& source, const BrickShape& shape);
 
 /// The mesh mesh_grid() makes of the grid @a source holds, read brick by brick: the same
-/// bytes for any brick size and thread count. Only MeshMethod::dc at options.error > 0 meshes
-/// by bricks; with no shape and no memory limit any method meshes the whole grid, read as one region.
-/// @throw UsageError as mesh_grid(), and for bricks with another method, error 0, or
+/// bytes for any brick size and thread count. MeshMethod::dc and mc mesh by bricks (at error 0
+/// and with mc, Marching Cubes brick by brick); with no shape and no memory limit any method meshes
+/// the whole grid, read as one region.
+/// @throw UsageError as mesh_grid(), and for bricks with MeshMethod::openvdb, or
 /// a shape outside [1, 4096] nodes across (or one side 0); before any work, when memory_bytes is below
 /// brick_peak_bytes() of a brick of one node (naming the smallest limit that works).
 MeshResult mesh_bricks(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks);

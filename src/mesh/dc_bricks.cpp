@@ -15,6 +15,7 @@
 #include "mesh/dual_contouring.h"
 #include "mesh/dc_spill.h"
 #include "mesh/dc_wavefront.h"
+#include "mesh/marching_cubes.h"
 #include "mesh/mesh_phases.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/program_memory.h"
@@ -103,6 +104,29 @@ std::vector<IfcBrick> bricks_of_rank(std::vector<IfcBrick> planned, int rank, in
     return mine;
 }
 
+/// Marching Cubes (error 0) brick by brick, into @a consume: a brick's nodes and a leaf beyond
+/// them on the far sides (its blocks' cells read one sample further) read, its blocks marched.
+/// No halo: a cell needs nothing but its 8 samples.
+void march_bricks(const GridRegionSource& source, const SampleClassifier& classifier, const MeshOptions& options,
+                  const std::vector<IfcBrick>& planned, const BrickShape& shape, MeshReport& report,
+                  const std::function<void(std::vector<IfcNodeOutput>&&)>& consume) {
+    constexpr int kLeafVoxels = 8;
+    for (std::size_t b = 0; b < planned.size(); ++b) {
+        const IfcColumn column = column_of(planned[b], shape);
+        const int z0 = planned[b].layer * kNodeVoxels;
+        const openvdb::CoordBBox owned({column.min_x, column.min_y, z0}, {column.max_x, column.max_y, z0 + kNodeVoxels - 1});
+        const IndexBox read{{column.min_x, column.min_y, z0},
+                            {column.max_x + 1 + kLeafVoxels, column.max_y + 1 + kLeafVoxels, z0 + kNodeVoxels + kLeafVoxels}};
+        PhaseClock clock;
+        const std::shared_ptr<openvdb::FloatGrid> region = source.read(read);
+        clock.lap(report, "read");
+        std::vector<IfcNodeOutput> nodes = marching_cubes_nodes(*region, classifier, options, owned);
+        clock.lap(report, "contour");
+        consume(std::move(nodes));
+        if (options.progress) options.progress(0.9 * double(b + 1) / double(planned.size()));
+    }
+}
+
 }  // namespace
 
 std::vector<IfcBrick> plan_ifc_bricks(const GridRegionSource& source, const BrickShape& shape) {
@@ -175,6 +199,10 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
     report.estimated_peak_bytes = brick_peak_bytes(source, bricks.shape);
     if (bricks.ranks > 1) planned = bricks_of_rank(std::move(planned), bricks.rank, bricks.ranks);
     const SampleClassifier classifier(*source.description(), options);
+    if (options.method == MeshMethod::mc || options.error <= 0) {
+        march_bricks(source, classifier, options, planned, bricks.shape, report, consume);
+        return;
+    }
     MeshOptions per_column = options;
     per_column.progress = nullptr;
     std::size_t done = 0;

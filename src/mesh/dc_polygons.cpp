@@ -504,6 +504,11 @@ openvdb::Coord ifc_key_point(std::uint64_t key) {
     return p;
 }
 
+std::uint64_t ifc_edge_key(const openvdb::Coord& min_sample, int axis) {
+    check_key_range(min_sample);
+    return edge_key(min_sample, axis);
+}
+
 void contour_ifc_block(const SampleClassifier& classifier, openvdb::FloatGrid::ConstAccessor& accessor, const IfcCellGrid& grid,
                        std::size_t block, double error, const openvdb::math::Transform& transform, IfcBlockOutput& out) {
     thread_local IfcSamples rows;  // the rows of bits only: the contour reads no value

@@ -27,6 +27,11 @@ bool ifc_key_of_coarse_cell(std::uint64_t key);
 /// owner node is the node holding it (docs/dmc.md, "Bricks").
 openvdb::Coord ifc_key_point(std::uint64_t key);
 
+/// The key of the grid edge from @a min_sample along @a axis (0, 1, 2), as the blocks name
+/// their crossings: Marching Cubes by bricks keys its vertices so too (marching_cubes.h).
+/// @throw Error beyond the keys' coordinate range (+-2^18).
+std::uint64_t ifc_edge_key(const openvdb::Coord& min_sample, int axis);
+
 struct IfcBlockOutput {
     std::vector<IfcVertex> vertices;                     ///< unique keys but those of coarse cells
     std::vector<std::array<std::uint64_t, 3>> triangles;  ///< counter-clockwise seen from outside

@@ -23,7 +23,7 @@ namespace vdbmesh::detail {
 Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report);
 
 /// The same mesh, brick after brick of @a bricks.shape read from @a source
-/// (options.error > 0). The same bytes for any brick size and thread count.
+/// (at error 0, and with MeshMethod::mc, Marching Cubes by bricks: marching_cubes_nodes()). The same bytes for any brick size and thread count.
 Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report);
 
 /// The same mesh into @a sink through a spill (dc_spill.h), never held whole; with

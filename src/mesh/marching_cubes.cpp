@@ -1,10 +1,13 @@
 // Marching Cubes (Lorensen and Cline, SIGGRAPH 1987) on the samples of a sparse grid, with the
 // crack-free table of mc_table.cpp. Vertices are keyed by their grid edge (the edge's minimum
 // voxel and its axis), as in the topology-recovery note 003_*.txt, so they are welded exactly
-// with no coordinate hashing. The work is split in 8^3 blocks of cells (surface_blocks()):
+// with no coordinate hashing. The work is split in 8^3 blocks of cells (surface_blocks()),
+// taken in the bricks' order (node by node in z-major order, a node's blocks by origin), so
+// that the mesh made brick by brick (marching_cubes_nodes(), through DC's spill) has the
+// same bytes:
 //  1. per block, in parallel: the crossing edges it owns (those whose minimum voxel lies in it)
-//     with their positions, and its triangles as references to edges of this or the 7 blocks
-//     after it;
+//     with their positions, and its triangles as references to edges of this block or of the
+//     7 blocks a step further along x, y or z;
 //  2. serial prefix sums over the blocks' vertex and triangle counts;
 //  3. per block, in parallel: vertices and triangles written at their offsets.
 // The output therefore depends on the grid and options only, not on the thread count.
@@ -23,8 +26,11 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <optional>
+#include <utility>
 #include <vector>
 
+#include "mesh/dual_contouring.h"
 #include "mesh/edge_crossing.h"
 #include "mesh/mc_table.h"
 #include "mesh/sample_classifier.h"
@@ -84,12 +90,26 @@ struct BlockOutput {
     std::vector<std::array<EdgeRef, 3>> triangles;
 };
 
+/// The blocks' output order: node by node in z-major order (the bricks' order), then by
+/// origin within a node.
+bool block_before(const openvdb::Coord& a, const openvdb::Coord& b) {
+    constexpr int kNodeMask = ~(kNodeVoxels - 1);
+    const openvdb::Coord node_a(a.x() & kNodeMask, a.y() & kNodeMask, a.z() & kNodeMask);
+    const openvdb::Coord node_b(b.x() & kNodeMask, b.y() & kNodeMask, b.z() & kNodeMask);
+    return node_a != node_b ? ifc_node_before(node_a, node_b) : a < b;
+}
+
+/// Marching Cubes on the blocks of a grid, each block's output apart.
 class MarchingCubes {
 public:
-    MarchingCubes(const openvdb::FloatGrid& grid, const MeshOptions& options)
-        : grid_(grid), options_(options), classifier_(grid, options), blocks_(surface_blocks(grid, classifier_)) {}
+    MarchingCubes(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
+                  const std::optional<openvdb::CoordBBox>& within = std::nullopt)
+        : grid_(grid), options_(options), classifier_(classifier), blocks_(surface_blocks(grid, classifier, within)) {
+        std::sort(blocks_.begin(), blocks_.end(), block_before);
+    }
 
-    Mesh run() {
+    /// Each block's crossing edges, their positions and its triangles.
+    std::vector<BlockOutput> march() const {
         std::vector<BlockOutput> outputs(blocks_.size());
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size()), [&](const auto& range) {
             auto accessor = grid_.getConstAccessor();
@@ -103,11 +123,14 @@ public:
                 collect_triangles(samples, own_vertex, outputs[b]);
             }
         });
-        if (options_.progress) options_.progress(0.7);
-        Mesh mesh = assemble(outputs);
-        if (options_.progress) options_.progress(1.0);
-        return mesh;
+        return outputs;
     }
+
+    /// The mesh of every block: vertices and triangles in the blocks' order.
+    Mesh assemble(const std::vector<BlockOutput>& outputs) const;
+
+    /// The blocks' outputs keyed as DC's nodes are (ifc_edge_key()), grouped by node.
+    std::vector<IfcNodeOutput> keyed_nodes(std::vector<BlockOutput>&& outputs) const;
 
 private:
     /// Whether the crossing edge at @a v along @a axis carries a vertex: with open_boundary,
@@ -188,62 +211,115 @@ private:
 
     /// The index in blocks_ of the block at @a origin.
     std::size_t block_index(const openvdb::Coord& origin) const {
-        const auto it = std::lower_bound(blocks_.begin(), blocks_.end(), origin);
+        const auto it = std::lower_bound(blocks_.begin(), blocks_.end(), origin, block_before);
         if (it == blocks_.end() || *it != origin) throw Error("marching cubes: a triangle refers to an unvisited block");
         return std::size_t(it - blocks_.begin());
     }
 
-    Mesh assemble(const std::vector<BlockOutput>& outputs) const {
-        std::vector<std::size_t> first_vertex(outputs.size() + 1, 0), first_triangle(outputs.size() + 1, 0);
-        for (std::size_t b = 0; b < outputs.size(); ++b) {
-            first_vertex[b + 1] = first_vertex[b] + outputs[b].positions.size();
-            first_triangle[b + 1] = first_triangle[b] + outputs[b].triangles.size();
-        }
-        if (first_vertex.back() > std::numeric_limits<std::uint32_t>::max()) {
-            throw Error("marching cubes: more than 2^32 vertices");
-        }
-        Mesh mesh;
-        mesh.vertices.resize(first_vertex.back());
-        mesh.triangles.resize(first_triangle.back());
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
-            for (std::size_t b = range.begin(); b != range.end(); ++b) {
-                const BlockOutput& out = outputs[b];
-                std::copy(out.positions.begin(), out.positions.end(), mesh.vertices.begin() + first_vertex[b]);
-                // The blocks a triangle of block b can refer to: b itself and the 7 after it.
-                // Edges of b are resolved already; the others are found by binary search.
-                std::array<std::size_t, 8> neighbour{};
-                std::array<bool, 8> resolved{};
-                auto vertex_index = [&](EdgeRef ref) {
-                    if (ref & kOwnVertex) return std::uint32_t(first_vertex[b] + (ref & 0xffffu));
-                    const unsigned d = ref >> 16;
-                    if (!resolved[d]) {
-                        neighbour[d] = block_index(blocks_[b].offsetBy(kBlockDim * (d & 1), kBlockDim * ((d >> 1) & 1), kBlockDim * (d >> 2)));
-                        resolved[d] = true;
-                    }
-                    const std::vector<std::uint16_t>& edges = outputs[neighbour[d]].edges;
-                    const auto it = std::lower_bound(edges.begin(), edges.end(), std::uint16_t(ref & 0xffffu));
-                    if (it == edges.end() || *it != (ref & 0xffffu)) throw Error("marching cubes: a triangle refers to a missing vertex");
-                    return std::uint32_t(first_vertex[neighbour[d]] + std::size_t(it - edges.begin()));
-                };
-                for (std::size_t t = 0; t < out.triangles.size(); ++t) {
-                    auto& tri = mesh.triangles[first_triangle[b] + t];
-                    for (int k = 0; k < 3; ++k) tri[k] = vertex_index(out.triangles[t][k]);
-                }
-            }
-        });
-        return mesh;
-    }
-
     const openvdb::FloatGrid& grid_;
     const MeshOptions& options_;
-    SampleClassifier classifier_;
+    const SampleClassifier& classifier_;
     std::vector<openvdb::Coord> blocks_;
 };
+
+Mesh MarchingCubes::assemble(const std::vector<BlockOutput>& outputs) const {
+    std::vector<std::size_t> first_vertex(outputs.size() + 1, 0), first_triangle(outputs.size() + 1, 0);
+    for (std::size_t b = 0; b < outputs.size(); ++b) {
+        first_vertex[b + 1] = first_vertex[b] + outputs[b].positions.size();
+        first_triangle[b + 1] = first_triangle[b] + outputs[b].triangles.size();
+    }
+    if (first_vertex.back() > std::numeric_limits<std::uint32_t>::max()) {
+        throw Error("marching cubes: more than 2^32 vertices");
+    }
+    Mesh mesh;
+    mesh.vertices.resize(first_vertex.back());
+    mesh.triangles.resize(first_triangle.back());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+            const BlockOutput& out = outputs[b];
+            std::copy(out.positions.begin(), out.positions.end(), mesh.vertices.begin() + first_vertex[b]);
+            // The blocks a triangle of block b can refer to: b itself and the 7 after it.
+            // Edges of b are resolved already; the others are found by binary search.
+            std::array<std::size_t, 8> neighbour{};
+            std::array<bool, 8> resolved{};
+            auto vertex_index = [&](EdgeRef ref) {
+                if (ref & kOwnVertex) return std::uint32_t(first_vertex[b] + (ref & 0xffffu));
+                const unsigned d = ref >> 16;
+                if (!resolved[d]) {
+                    neighbour[d] = block_index(blocks_[b].offsetBy(kBlockDim * (d & 1), kBlockDim * ((d >> 1) & 1), kBlockDim * (d >> 2)));
+                    resolved[d] = true;
+                }
+                const std::vector<std::uint16_t>& edges = outputs[neighbour[d]].edges;
+                const auto it = std::lower_bound(edges.begin(), edges.end(), std::uint16_t(ref & 0xffffu));
+                if (it == edges.end() || *it != (ref & 0xffffu)) throw Error("marching cubes: a triangle refers to a missing vertex");
+                return std::uint32_t(first_vertex[neighbour[d]] + std::size_t(it - edges.begin()));
+            };
+            for (std::size_t t = 0; t < out.triangles.size(); ++t) {
+                auto& tri = mesh.triangles[first_triangle[b] + t];
+                for (int k = 0; k < 3; ++k) tri[k] = vertex_index(out.triangles[t][k]);
+            }
+        }
+    });
+    return mesh;
+}
+
+std::vector<IfcNodeOutput> MarchingCubes::keyed_nodes(std::vector<BlockOutput>&& outputs) const {
+    constexpr int kNodeMask = ~(kNodeVoxels - 1);
+    // The grid edge of an edge_code() in the block at @a block: its minimum voxel and axis.
+    auto edge_of = [](const openvdb::Coord& block, std::uint32_t code) {
+        const int axis = int(code % 3), cell = int(code / 3);
+        return std::pair{block.offsetBy(cell / (kBlockDim * kBlockDim), (cell / kBlockDim) % kBlockDim, cell % kBlockDim), axis};
+    };
+    std::vector<IfcNodeOutput> nodes;
+    for (std::size_t b = 0; b < blocks_.size(); ++b) {
+        BlockOutput& out = outputs[b];
+        if (out.edges.empty() && out.triangles.empty()) continue;
+        const openvdb::Coord& origin = blocks_[b];
+        const openvdb::Coord node(origin.x() & kNodeMask, origin.y() & kNodeMask, origin.z() & kNodeMask);
+        if (nodes.empty() || nodes.back().origin != node) nodes.push_back({node, {}, {}});
+        IfcBlockOutput keyed;
+        keyed.vertices.reserve(out.edges.size());
+        for (std::size_t v = 0; v < out.edges.size(); ++v) {
+            const auto [voxel, axis] = edge_of(origin, out.edges[v]);
+            keyed.vertices.push_back({ifc_edge_key(voxel, axis), out.positions[v]});
+        }
+        keyed.triangles.reserve(out.triangles.size());
+        for (const std::array<EdgeRef, 3>& refs : out.triangles) {
+            std::array<std::uint64_t, 3> keys;
+            for (int k = 0; k < 3; ++k) {
+                if (refs[k] & kOwnVertex) {
+                    keys[k] = keyed.vertices[refs[k] & 0xffffu].key;
+                    continue;
+                }
+                const unsigned d = refs[k] >> 16;
+                const openvdb::Coord neighbour = origin.offsetBy(kBlockDim * int(d & 1), kBlockDim * int((d >> 1) & 1), kBlockDim * int(d >> 2));
+                const auto [voxel, axis] = edge_of(neighbour, refs[k] & 0xffffu);
+                keys[k] = ifc_edge_key(voxel, axis);
+            }
+            keyed.triangles.push_back(keys);
+        }
+        out = BlockOutput();
+        nodes.back().blocks.push_back(std::move(keyed));
+    }
+    return nodes;
+}
 
 }  // namespace
 
 Mesh marching_cubes(const openvdb::FloatGrid& grid, const MeshOptions& options) {
-    return MarchingCubes(grid, options).run();
+    const SampleClassifier classifier(grid, options);
+    const MarchingCubes marcher(grid, classifier, options);
+    const std::vector<BlockOutput> outputs = marcher.march();
+    if (options.progress) options.progress(0.7);
+    Mesh mesh = marcher.assemble(outputs);
+    if (options.progress) options.progress(1.0);
+    return mesh;
+}
+
+std::vector<IfcNodeOutput> marching_cubes_nodes(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
+                                                const openvdb::CoordBBox& blocks_within) {
+    const MarchingCubes marcher(grid, classifier, options, blocks_within);
+    return marcher.keyed_nodes(marcher.march());
 }
 
 }  // namespace vdbmesh::detail

@@ -104,8 +104,8 @@ void check_brick_options(const MeshOptions& options, const BrickOptions& bricks)
 /// @a bricks with a brick size: the one given, else the largest that fits bricks.memory_bytes
 /// (else the whole grid's extent); only for the methods that mesh by bricks.
 BrickOptions planned_bricks(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks) {
-    if (options.method != MeshMethod::dc || options.error <= 0) {
-        throw UsageError("bricks: only the dc method at an error above 0 meshes by bricks (the others mesh the whole grid)");
+    if (options.method == MeshMethod::openvdb) {
+        throw UsageError("bricks: the openvdb method meshes the whole grid at once (volumeToMesh); dc and mc mesh by bricks");
     }
     BrickOptions planned = bricks;
     if (!planned.shape.given()) planned.shape = detail::plan_brick_shape(source, bricks.memory_bytes);

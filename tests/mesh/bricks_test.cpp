@@ -1,4 +1,4 @@
-// Issue 28: the default mesher brick by brick (docs/dmc.md, "Bricks") gives the same bytes as
+// Issue 28: the default mesher brick by brick (docs/dmc.md, "Bricks"; Marching Cubes at error 0) gives the same bytes as
 // the whole-grid run for any brick size, thread count and number of ranks, on phantoms placed so that node
 // borders (multiples of 128 voxels) cross a sharp turn, a thin wall and coarse merges, and on
 // a real scan; CGAL (cgal_judge.h) judges the bricked mesh clean.
@@ -198,6 +198,7 @@ TEST(BricksTest, RealScanCThead) {
     ASSERT_NO_FATAL_FAILURE(test::convert_shared_scan(scan, grid));
     if (!grid) return;
     expect_same_as_whole(grid, dc_options(0.5, scan.iso), "CThead", {{{1, 1}, 2}, {{3, 1}, 1}}, false);
+    expect_same_as_whole(grid, dc_options(0.0, scan.iso), "CThead, Marching Cubes", {{{1, 1}, 2}}, false);
 }
 
 // The bunny CT (4 x 4 x 3 nodes): one-node bricks read a halo smaller than the scan. About a
@@ -255,20 +256,46 @@ TEST(BricksTest, MirroredGridIsWoundAlike) {
     EXPECT_EQ(streamed(grid, dc_options(0.5), {1, 1}, /*wants_corners=*/false).triangles, whole.triangles);
 }
 
-TEST(BricksTest, RefusesBricksWithOtherMethodsAndErrorZero) {
+TEST(BricksTest, RefusesBricksWithVolumeToMeshAndBadShapes) {
     PhantomSpec spec;
     spec.dims = {40, 40, 40};
     spec.radius = 12;
     const auto source = grid_regions_in_memory(test::phantom_scan_grid(spec));
-    EXPECT_THROW(mesh_bricks(*source, dc_options(0.0), BrickOptions{{1, 1}}), UsageError);
-    MeshOptions mc = dc_options(0.5);
-    mc.method = MeshMethod::mc;
-    EXPECT_THROW(mesh_bricks(*source, mc, BrickOptions{{1, 1}}), UsageError);
+    MeshOptions openvdb = dc_options(0.0);
+    openvdb.method = MeshMethod::openvdb;
+    openvdb.adaptivity = 0.5;
+    EXPECT_THROW(mesh_bricks(*source, openvdb, BrickOptions{{1, 1}}), UsageError);
     EXPECT_THROW(mesh_bricks(*source, dc_options(0.5), BrickOptions{{-1, 1}}), UsageError);
     EXPECT_THROW(mesh_bricks(*source, dc_options(0.5), BrickOptions{{2, 0}}), UsageError);
     // One brick of the whole grid: any method, the same mesh as mesh_grid().
-    EXPECT_EQ(mesh_bricks(*source, mc, BrickOptions{}).mesh.triangles.size(),
-              mesh_grid(*test::phantom_scan_grid(spec), mc).mesh.triangles.size());
+    EXPECT_EQ(mesh_bricks(*source, openvdb, BrickOptions{}).mesh.triangles.size(),
+              mesh_grid(*test::phantom_scan_grid(spec), openvdb).mesh.triangles.size());
+}
+
+// Marching Cubes (the default error 0, and --method mc) by bricks: a cell needs only its 8
+// samples, so no halo; the blocks' order is the bricks' (node by node in z-major order), so the
+// bytes are the whole grid's, through the spill and over ranks too. A sphere where eight nodes
+// meet, a tilted cylinder through five nodes along z, and an open boundary (mc only) cut by the
+// scan box across node borders.
+TEST(BricksTest, MarchingCubesByBricksIsTheWholeGridsMesh) {
+    PhantomSpec sphere;
+    sphere.radius = 36;
+    expect_same_as_whole(phantom_on_node_corner(sphere), dc_options(0.0), "sphere, Marching Cubes at error 0");
+    PhantomSpec cylinder;
+    cylinder.shape = PhantomShape::cylinder;
+    cylinder.dims = {56, 56, 600};
+    cylinder.radius = 17;
+    cylinder.height = 560;
+    cylinder.rotation_degrees = {0.8, 0.5, 0};
+    cylinder.blur = 1;
+    MeshOptions mc = dc_options(0.0);
+    mc.method = MeshMethod::mc;
+    expect_same_as_whole(test::phantom_scan_grid(cylinder), mc, "cylinder, --method mc", kEveryBricking, false);
+    PhantomSpec cut = sphere;
+    cut.dims = {150, 150, 140};
+    cut.centre = std::array<double, 3>{128.3, 127.6, 128.45};  // the sphere runs out of the box
+    mc.open_boundary = true;
+    expect_same_as_whole(test::phantom_scan_grid(cut), mc, "sphere cut by the box, --method mc, open boundary", kEveryBricking, false);
 }
 
 // A flat slab over 8 x 8 nodes, under a limit that one column exceeds but a cut along one axis

@@ -197,8 +197,9 @@ TEST(CmdMeshTest, MirroredScanGivesOutwardMeshes) {
     }
 }
 
-// --memory (issue 28): the same bytes as without it; a limit too small, a malformed size, or a
-// method that meshes only whole grids is refused before any work, nothing written.
+// --memory (issue 28): the same bytes as without it (DC, and Marching Cubes at the default error
+// 0 or by --method mc); a limit too small, a malformed size, or volumeToMesh (which meshes only
+// whole grids) is refused before any work, nothing written.
 TEST(CmdMeshTest, MemoryLimitGivesTheSameBytesOrIsRefused) {
     ScratchDir scratch;
     const auto input = write_ball_raw(scratch);
@@ -221,6 +222,16 @@ TEST(CmdMeshTest, MemoryLimitGivesTheSameBytesOrIsRefused) {
     ASSERT_EQ(run_with({"-o", whole_stl.string(), "--error", "0.5"}), cli::kSuccess);
     ASSERT_EQ(run_with({"-o", bounded_stl.string(), "--error", "0.5", "--memory", "80M"}), cli::kSuccess);
     EXPECT_EQ(bytes(bounded_stl), bytes(whole_stl));
+    // The default error 0 (Marching Cubes) and --method mc: by bricks too, the same bytes.
+    for (const std::vector<std::string>& method : {std::vector<std::string>{}, std::vector<std::string>{"--method", "mc"}}) {
+        const auto whole_mc = scratch / "whole_mc.ply", bounded_mc = scratch / "bounded_mc.ply";
+        std::vector<std::string> plain = {"-o", whole_mc.string()}, limited = {"-o", bounded_mc.string(), "--memory", "80M"};
+        plain.insert(plain.end(), method.begin(), method.end());
+        limited.insert(limited.end(), method.begin(), method.end());
+        ASSERT_EQ(run_with(plain), cli::kSuccess);
+        ASSERT_EQ(run_with(limited), cli::kSuccess);
+        EXPECT_EQ(bytes(bounded_mc), bytes(whole_mc)) << (method.empty() ? "error 0" : "--method mc");
+    }
     const auto refused = scratch / "refused.ply";
     testing::internal::CaptureStderr();
     EXPECT_EQ(run_with({"-o", refused.string(), "--error", "0.5", "--memory", "1M"}), cli::kUsageError);
@@ -230,7 +241,6 @@ TEST(CmdMeshTest, MemoryLimitGivesTheSameBytesOrIsRefused) {
         EXPECT_EQ(run_with({"-o", refused.string(), "--error", "0.5", "--memory", size}), cli::kUsageError) << size;
     }
     EXPECT_EQ(run_with({"-o", refused.string(), "--memory", "1G", "--method", "openvdb"}), cli::kUsageError);
-    EXPECT_EQ(run_with({"-o", refused.string(), "--memory", "1G"}), cli::kUsageError);  // error 0: Marching Cubes
     EXPECT_FALSE(std::filesystem::exists(refused));
 }
 
