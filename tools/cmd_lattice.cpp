@@ -126,9 +126,9 @@ void refuse_unbounded_lattice(const WorkLimit& limit, const LatticeOptions& latt
                          evaluated * double(sizeof(SharedLeaf)) + 8 * band_leaves + output);
 }
 
-/// Serves the page showing @a tree by its splat hierarchy until Ctrl-C.
-void view_lattice(const SharedTree& tree, const LatticeOptions& lattice, const LatticeCommandOptions& o,
-                  std::chrono::steady_clock::time_point start) {
+/// The page's source: @a tree's splat hierarchy, fitted with result matching.
+ViewSource lattice_source(const SharedTree& tree, const LatticeOptions& lattice, const LatticeCommandOptions& o,
+                          std::chrono::steady_clock::time_point start) {
     const auto fit_start = std::chrono::steady_clock::now();
     SplatOptions options;
     options.inside = Inside::below;
@@ -147,8 +147,16 @@ void view_lattice(const SharedTree& tree, const LatticeOptions& lattice, const L
     ViewSource source;
     source.name = o.kind + " lattice";
     source.lattice = std::move(shown);
-    const std::string name = source.name;
-    serve_view(std::move(source), o.server, name, o.no_open, o.common.quiet);
+    return source;
+}
+
+/// Serves the page showing @a tree by its splat hierarchy until Ctrl-C. The page is served at
+/// once and its API waits for the splats (seconds on a 4096^3 lattice): the browser starts
+/// meanwhile (issue 30's first picture within 5 s).
+void view_lattice(const SharedTree& tree, const LatticeOptions& lattice, const LatticeCommandOptions& o,
+                  std::chrono::steady_clock::time_point start) {
+    serve_view_while_loading([&] { return lattice_source(tree, lattice, o, start); }, o.server, o.kind + " lattice", o.no_open,
+                             o.common.quiet);
 }
 
 int run_lattice(const LatticeCommandOptions& o) {

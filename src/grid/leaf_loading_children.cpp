@@ -2,9 +2,11 @@
 // pointers (valid in the child: the tree was there when it was forked), the child copies each
 // leaf's buffer (out of core, so the copy shares its place in the file), loads the copy into
 // its shared area and frees it, then answers with the length of a failure text (0: done) and
-// the text. The parent waits with a time limit instead of the child's alarm; a child that
-// times out is killed and the request given once more to a fresh one (as run_in_child() does:
-// a child can block on a lock another thread held at fork()).
+// the text. Each request may use a few seconds of the child's CPU time (RLIMIT_CPU, set anew
+// for each: SIGXCPU ends a reader that loops); the parent waits with a much longer wall limit
+// instead of the child's alarm: a child that reaches it is killed and the request given once
+// more to a fresh one (as run_in_child() does: a child can block on a lock another thread
+// held at fork()).
 
 #include "leaf_loading_children.h"
 
@@ -69,6 +71,9 @@ bool readable_within(int fd, unsigned seconds) {
     }
 }
 
+/// CPU seconds a request of @a leaves may use.
+unsigned request_cpu_seconds(std::size_t leaves) { return reading_cpu_seconds(leaves * FloatLeaf::SIZE * sizeof(float)); }
+
 /// The child's side: serves requests on @a socket until the parent closes it.
 [[noreturn]] void serve_requests(int socket, float* values, std::uint64_t address_space) {
     enter_reading_child(address_space);
@@ -76,6 +81,7 @@ bool readable_within(int fd, unsigned seconds) {
     for (std::uint64_t count = 0; read_exactly(socket, &count, sizeof(count));) {
         leaves.resize(std::min<std::uint64_t>(count, kLeavesPerRequest));
         if (count > kLeavesPerRequest || !read_exactly(socket, leaves.data(), leaves.size() * sizeof(leaves[0]))) ::_exit(2);
+        limit_cpu_from_now(request_cpu_seconds(leaves.size()));
         const std::string failure = failure_of(
             [&] {
                 for (std::size_t i = 0; i < leaves.size(); ++i) {
@@ -120,15 +126,15 @@ public:
 
     /// Waits for the answer to the last request; throws FormatError when it failed.
     void finish() {
-        const unsigned seconds = reading_seconds(request_.size() * FloatLeaf::SIZE * sizeof(float));
-        if (answered_within(seconds)) return;
+        const unsigned cpu_seconds = request_cpu_seconds(request_.size());
+        const unsigned seconds = blocked_wall_seconds(cpu_seconds);
+        if (answered_within(seconds, cpu_seconds)) return;
         // Once more from a fresh child (see the file's comment), then give up.
         restart();
         send(request_.data(), request_.size());
-        if (answered_within(seconds)) return;
+        if (answered_within(seconds, cpu_seconds)) return;
         stop();
-        throw FormatError(path_.string(), "reading it did not finish in " + std::to_string(seconds) +
-                                              " s, twice (OpenVDB's reader can loop on a corrupt file)");
+        throw FormatError(path_.string(), blocked_failure(seconds));
     }
 
 private:
@@ -169,8 +175,9 @@ private:
     }
 
     /// True when the child answered done within @a seconds, false when it did not answer in
-    /// time; throws FormatError when it answered a failure or ended.
-    bool answered_within(unsigned seconds) {
+    /// time; throws FormatError when it answered a failure or ended (by its @a cpu_seconds
+    /// limit among others).
+    bool answered_within(unsigned seconds, unsigned cpu_seconds) {
         if (!readable_within(socket_, seconds)) return false;
         std::uint32_t length = 0;
         if (read_exactly(socket_, &length, sizeof(length))) {
@@ -185,6 +192,7 @@ private:
         }
         pid_ = -1;
         stop();
+        if (WIFSIGNALED(status) && WTERMSIG(status) == SIGXCPU) throw FormatError(path_.string(), cpu_limit_failure(cpu_seconds));
         if (WIFSIGNALED(status))
             throw FormatError(path_.string(), std::string("corrupt .vdb file: OpenVDB's reader crashed on it (") + ::strsignal(WTERMSIG(status)) + ")");
         throw FormatError(path_.string(), "not a readable .vdb file");

@@ -52,21 +52,23 @@ constexpr bool kAddressSanitizer = false;
 /// has one, and so may any program that embeds vdbmesh) swallows the alarm below, and a
 /// blocked SIGALRM never arrives: either way the parent waits forever. A crash handler would
 /// run the host's crash reporting in the child. So the child resets them all to the default:
-/// the alarm ends it, a crash kills it, and the parent reports which.
+/// the alarm or the CPU limit (SIGXCPU) ends it, a crash kills it, and the parent reports which.
 void restore_default_signals() {
-    for (const int signal : {SIGALRM, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) ::signal(signal, SIG_DFL);
-    sigset_t alarm_only;
-    sigemptyset(&alarm_only);
-    sigaddset(&alarm_only, SIGALRM);
-    ::sigprocmask(SIG_UNBLOCK, &alarm_only, nullptr);
+    for (const int signal : {SIGALRM, SIGXCPU, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) ::signal(signal, SIG_DFL);
+    sigset_t limits;
+    sigemptyset(&limits);
+    sigaddset(&limits, SIGALRM);
+    sigaddset(&limits, SIGXCPU);
+    ::sigprocmask(SIG_UNBLOCK, &limits, nullptr);
 }
 
-[[noreturn]] void read_in_child(const ChildReading& reading, rlim_t limit, unsigned seconds, int report) {
-    enter_reading_child(limit);
-    // A reader that loops, or a child that blocks (a lock held by another thread of the parent
-    // at fork()), ends by SIGALRM instead of hanging the parent.
-    ::alarm(seconds);
-    const std::string failure = failure_of(reading, limit);
+[[noreturn]] void read_in_child(const ChildReading& reading, const ChildLimits& limits, int report) {
+    enter_reading_child(limits.address_space);
+    // A reader that loops ends by SIGXCPU; a child that blocks without using CPU (a lock held
+    // by another thread of the parent at fork()) by SIGALRM, instead of hanging the parent.
+    limit_cpu_from_now(limits.cpu_seconds);
+    ::alarm(limits.wall_seconds);
+    const std::string failure = failure_of(reading, limits.address_space);
     if (!failure.empty()) (void)!::write(report, failure.data(), failure.size());
     ::_exit(failure.empty() ? 0 : 1);
 }
@@ -88,13 +90,13 @@ struct ChildOutcome {
     std::string failure;
 };
 
-ChildOutcome read_once_in_child(const std::filesystem::path& path, const ChildReading& reading, rlim_t limit, unsigned seconds) {
+ChildOutcome read_once_in_child(const std::filesystem::path& path, const ChildReading& reading, const ChildLimits& limits) {
     int report[2];
     if (::pipe2(report, O_CLOEXEC) != 0) throw Error(path.string() + ": cannot create a pipe to check the .vdb file");
     const pid_t child = ::fork();
     if (child == 0) {
         ::close(report[0]);
-        read_in_child(reading, limit, seconds, report[1]);
+        read_in_child(reading, limits, report[1]);
     }
     ::close(report[1]);
     ChildOutcome outcome;
@@ -106,25 +108,7 @@ ChildOutcome read_once_in_child(const std::filesystem::path& path, const ChildRe
     return outcome;
 }
 
-bool ended_by_alarm(const ChildOutcome& outcome) { return WIFSIGNALED(outcome.status) && WTERMSIG(outcome.status) == SIGALRM; }
-
-/// Runs @a reading in a child limited to @a limit bytes of address space and @a seconds;
-/// throws FormatError naming @a path when it crashes, runs out of either or throws.
-void run_in_child(const std::filesystem::path& path, const ChildReading& reading, rlim_t limit, unsigned seconds) {
-    ChildOutcome outcome = read_once_in_child(path, reading, limit, seconds);
-    // A child can also block on a lock another thread of this process held at fork() (a fresh
-    // small .vdb a test had just written timed out once in a CI run of the suite): a second
-    // child, forked at another moment, tells that from a reader that loops on the file.
-    if (ended_by_alarm(outcome)) outcome = read_once_in_child(path, reading, limit, seconds);
-    const int status = outcome.status;
-    if (ended_by_alarm(outcome))
-        throw FormatError(path.string(), "reading it did not finish in " + std::to_string(seconds) +
-                                             " s, twice (OpenVDB's reader can loop on a corrupt file)");
-    if (WIFSIGNALED(status))
-        throw FormatError(path.string(), std::string("corrupt .vdb file: OpenVDB's reader crashed on it (") +
-                                             ::strsignal(WTERMSIG(status)) + ")");
-    if (WEXITSTATUS(status) != 0) throw FormatError(path.string(), outcome.failure.empty() ? "not a readable .vdb file" : outcome.failure);
-}
+bool ended_by(const ChildOutcome& outcome, int signal) { return WIFSIGNALED(outcome.status) && WTERMSIG(outcome.status) == signal; }
 
 std::uintmax_t file_bytes(const std::filesystem::path& path) {
     std::error_code ec;
@@ -134,7 +118,50 @@ std::uintmax_t file_bytes(const std::filesystem::path& path) {
 
 }  // namespace
 
-unsigned reading_seconds(std::uintmax_t bytes) { return 10 + static_cast<unsigned>(bytes >> 24); }
+// A sound file's reading uses about 0.1 s of CPU per 16 MiB (the tiled bunny's topology, 45 MB
+// counted, 1.5 s of the child's time at load 9): 4 s and 1 s per 16 MiB leave a margin of 3 or more.
+unsigned reading_cpu_seconds(std::uintmax_t bytes) { return 4 + static_cast<unsigned>(bytes >> 24); }
+
+// Ten times the CPU limit and a minute more: a read that gets a tenth of a core (seen beside
+// other jobs on a 2-core machine) still finishes, and a blocked child is retried within minutes.
+unsigned blocked_wall_seconds(unsigned cpu_seconds) { return 60 + 10 * cpu_seconds; }
+
+std::string cpu_limit_failure(unsigned cpu_seconds) {
+    return "reading it used more than " + std::to_string(cpu_seconds) + " s of CPU time (OpenVDB's reader can loop on a corrupt file)";
+}
+
+std::string blocked_failure(unsigned wall_seconds) {
+    return "reading it did not finish in " + std::to_string(wall_seconds) +
+           " s, twice, the reading process blocked (its CPU time has a limit of its own: a read slowed by a busy machine is "
+           "not stopped by this one)";
+}
+
+void limit_cpu_from_now(unsigned seconds) {
+    rusage used{};
+    ::getrusage(RUSAGE_SELF, &used);
+    const std::uint64_t micros = std::uint64_t(used.ru_utime.tv_sec + used.ru_stime.tv_sec) * 1'000'000 +
+                                 std::uint64_t(used.ru_utime.tv_usec + used.ru_stime.tv_usec);
+    const auto spent = static_cast<rlim_t>((micros + 999'999) / 1'000'000);  // rounded up
+    rlimit limit{};
+    ::getrlimit(RLIMIT_CPU, &limit);
+    limit.rlim_cur = std::min(limit.rlim_max, spent + seconds);  // RLIM_INFINITY is the largest value
+    ::setrlimit(RLIMIT_CPU, &limit);
+}
+
+void run_in_child(const std::filesystem::path& path, const ChildReading& reading, const ChildLimits& limits) {
+    ChildOutcome outcome = read_once_in_child(path, reading, limits);
+    // A child can block on a lock another thread of this process held at fork() (a fresh
+    // small .vdb a test had just written timed out once in a CI run of the suite): a second
+    // child, forked at another moment, tells that from a reader that loops on the file.
+    if (ended_by(outcome, SIGALRM)) outcome = read_once_in_child(path, reading, limits);
+    const int status = outcome.status;
+    if (ended_by(outcome, SIGALRM)) throw FormatError(path.string(), blocked_failure(limits.wall_seconds));
+    if (ended_by(outcome, SIGXCPU)) throw FormatError(path.string(), cpu_limit_failure(limits.cpu_seconds));
+    if (WIFSIGNALED(status))
+        throw FormatError(path.string(), std::string("corrupt .vdb file: OpenVDB's reader crashed on it (") +
+                                             ::strsignal(WTERMSIG(status)) + ")");
+    if (WEXITSTATUS(status) != 0) throw FormatError(path.string(), outcome.failure.empty() ? "not a readable .vdb file" : outcome.failure);
+}
 
 std::uint64_t address_space_now() {
     unsigned long pages = 0;
@@ -169,6 +196,7 @@ std::string failure_of(const ChildReading& reading, std::uint64_t address_space)
 void probe_vdb_in_child(const std::filesystem::path& path) {
     openvdb::initialize();
     const std::uintmax_t bytes = file_bytes(path);
+    const unsigned cpu_seconds = reading_cpu_seconds(bytes);
     run_in_child(
         path,
         [&] {
@@ -177,7 +205,7 @@ void probe_vdb_in_child(const std::filesystem::path& path) {
             file.getGrids();
             file.close();
         },
-        memory_limit(bytes), reading_seconds(bytes));
+        {memory_limit(bytes), cpu_seconds, blocked_wall_seconds(cpu_seconds)});
 }
 
 void probe_vdb_topology_in_child(const std::filesystem::path& path, const ChildReading& read_topology) {
@@ -185,7 +213,8 @@ void probe_vdb_topology_in_child(const std::filesystem::path& path, const ChildR
     const std::uintmax_t bytes = file_bytes(path);
     // The file is mapped whole (delayed loading): its size counts in the address space.
     const rlim_t limit = address_space_now() + static_cast<rlim_t>(bytes) + memory_limit(bytes / 16);
-    run_in_child(path, read_topology, limit, reading_seconds(bytes / 16));
+    const unsigned cpu_seconds = reading_cpu_seconds(bytes / 16);
+    run_in_child(path, read_topology, {limit, cpu_seconds, blocked_wall_seconds(cpu_seconds)});
 }
 
 }  // namespace vdbmesh::detail

@@ -8,6 +8,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -19,35 +21,65 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+/// Sums over the set bits of a byte (bit z: z = 0..7): how many, of z and of z^2.
+struct ByteSums {
+    std::array<std::uint8_t, 256> count{}, z{}, zz{};
+    ByteSums() {
+        for (int byte = 0; byte < 256; ++byte)
+            for (int z = 0; z < 8; ++z)
+                if (byte >> z & 1) {
+                    count[byte] += 1;
+                    this->z[byte] += std::uint8_t(z);
+                    zz[byte] += std::uint8_t(z * z);
+                }
+    }
+};
+const ByteSums kByteSums;
+
 /// The splat of one leaf (level 2, in index space; voxel centres at integer coordinates):
 /// the centroid of its active voxels, the direction across them, a radius reaching the
 /// farthest voxel's far corner. Its normal's sign is unknown (the cone is the whole sphere).
+/// The sums of the coordinates and their products are counted in integers a row of 8 voxels
+/// at a time (exact: the same doubles as summing voxel by voxel), and the farthest voxel is
+/// sought among each row's two ends (the farthest of a row along z is one of them).
 BuildNode leaf_splat(const LeafMask& leaf) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-    std::uint32_t count = 0;
+    std::int64_t n = 0, sx = 0, sy = 0, sz = 0, sxx = 0, syy = 0, szz = 0, sxy = 0, sxz = 0, syz = 0;
     for (int x = 0; x < 8; ++x)
-        for (std::uint64_t word = leaf.on[x]; word != 0; word &= word - 1) {
-            const int bit = __builtin_ctzll(word);
-            const Eigen::Vector3d p(x, bit / 8, bit % 8);
-            sum += p;
-            outer += p * p.transpose();
-            ++count;
+        for (int y = 0; y < 8; ++y) {
+            const unsigned byte = unsigned(leaf.on[x] >> (8 * y)) & 0xffu;
+            if (byte == 0) continue;
+            const std::int64_t c = kByteSums.count[byte], z = kByteSums.z[byte], zz = kByteSums.zz[byte];
+            n += c;
+            sx += x * c;
+            sy += y * c;
+            sz += z;
+            sxx += x * x * c;
+            syy += y * y * c;
+            szz += zz;
+            sxy += x * y * c;
+            sxz += x * z;
+            syz += y * z;
         }
     BuildNode node;
     node.origin = leaf.origin;
-    node.weight = count;
+    node.weight = std::uint32_t(n);
     node.cone = float(kPi);
-    if (count == 0) return node;
+    if (n == 0) return node;
+    const Eigen::Vector3d sum(static_cast<double>(sx), static_cast<double>(sy), static_cast<double>(sz));
+    Eigen::Matrix3d outer;
+    outer << double(sxx), double(sxy), double(sxz), double(sxy), double(syy), double(syz), double(sxz), double(syz), double(szz);
+    const auto count = std::uint32_t(n);
     const Eigen::Vector3d centroid = sum / count;
     const Eigen::Matrix3d covariance = outer / count - centroid * centroid.transpose();
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
     const Eigen::Vector3d normal = solver.eigenvectors().col(0);  // the smallest eigenvalue's
     double radius = 0;
     for (int x = 0; x < 8; ++x)
-        for (std::uint64_t word = leaf.on[x]; word != 0; word &= word - 1) {
-            const int bit = __builtin_ctzll(word);
-            radius = std::max(radius, (Eigen::Vector3d(x, bit / 8, bit % 8) - centroid).squaredNorm());
+        for (int y = 0; y < 8; ++y) {
+            const unsigned byte = unsigned(leaf.on[x] >> (8 * y)) & 0xffu;
+            if (byte == 0) continue;
+            for (const int z : {__builtin_ctz(byte), 31 - __builtin_clz(byte)})
+                radius = std::max(radius, (Eigen::Vector3d(x, y, z) - centroid).squaredNorm());
         }
     const Eigen::Vector3d world = centroid + Eigen::Vector3d(leaf.origin[0], leaf.origin[1], leaf.origin[2]);
     node.centre = {float(world.x()), float(world.y()), float(world.z())};

@@ -4,7 +4,14 @@
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
 
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <tuple>
+#include <vector>
 #include <stdexcept>
 
 #include "test_data.h"
@@ -78,6 +85,58 @@ TEST(TopologyPreview, ASplatPerLeafAcrossTheSphereBandMadeWithoutReadingAValue) 
     for (const SplatNode& node : tree.nodes)
         if (node.child_count == 0)
             EXPECT_LE((vec(node.centre) - vec(tree.nodes[0].centre)).length() + node.radius, tree.nodes[0].radius * (1 + 1e-5));
+}
+
+/// A leaf's splat as the preview defines it, summed voxel by voxel (double sums of each active
+/// voxel's coordinates and their products, Eigen's solver, the farthest of every voxel), on a
+/// grid of unit voxels at the origin (world = index).
+SplatNode reference_leaf_splat(const openvdb::FloatTree::LeafNodeType& leaf) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+    std::uint32_t count = 0;
+    for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
+        const openvdb::Coord offset = voxel.getCoord() - leaf.origin();
+        const Eigen::Vector3d p(offset.x(), offset.y(), offset.z());
+        sum += p;
+        outer += p * p.transpose();
+        ++count;
+    }
+    const Eigen::Vector3d centroid = sum / count;
+    const Eigen::Matrix3d covariance = outer / count - centroid * centroid.transpose();
+    const Eigen::Vector3d normal = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvectors().col(0);
+    double farthest = 0;
+    for (auto voxel = leaf.cbeginValueOn(); voxel; ++voxel) {
+        const openvdb::Coord offset = voxel.getCoord() - leaf.origin();
+        farthest = std::max(farthest, (Eigen::Vector3d(offset.x(), offset.y(), offset.z()) - centroid).squaredNorm());
+    }
+    SplatNode node;
+    const Eigen::Vector3d world = centroid + Eigen::Vector3d(leaf.origin().x(), leaf.origin().y(), leaf.origin().z());
+    node.centre = {float(world.x()), float(world.y()), float(world.z())};
+    openvdb::Vec3d unit(float(normal.x()), float(normal.y()), float(normal.z()));  // as the tree stores it, then normalised
+    unit.normalize();
+    node.normal = {float(unit.x()), float(unit.y()), float(unit.z())};
+    node.radius = float(std::sqrt(farthest) + std::sqrt(3.0) / 2);
+    return node;
+}
+
+TEST(TopologyPreview, EachLeafsSplatIsTheVoxelByVoxelOneExactly) {
+    const auto grid = sphere_band();
+    const SplatTree tree = build_topology_preview(*grid_regions_in_memory(grid));
+    std::vector<SplatNode> expected, leaves;
+    for (auto leaf = grid->tree().cbeginLeaf(); leaf; ++leaf) expected.push_back(reference_leaf_splat(*leaf));
+    for (const SplatNode& node : tree.nodes)
+        if (node.child_count == 0) leaves.push_back(node);
+    auto by_centre = [](const SplatNode& a, const SplatNode& b) { return a.centre < b.centre; };
+    std::sort(expected.begin(), expected.end(), by_centre);
+    std::sort(leaves.begin(), leaves.end(), by_centre);
+    ASSERT_EQ(leaves.size(), expected.size());
+    for (std::size_t i = 0; i < leaves.size(); ++i) {
+        EXPECT_EQ(leaves[i].centre, expected[i].centre) << i;
+        // Up to sign: the merge aligns the unsigned normals of siblings (align_normals).
+        const std::array<float, 3> flipped{-expected[i].normal[0], -expected[i].normal[1], -expected[i].normal[2]};
+        EXPECT_TRUE(leaves[i].normal == expected[i].normal || leaves[i].normal == flipped) << i;
+        EXPECT_EQ(leaves[i].radius, expected[i].radius) << i;
+    }
 }
 
 TEST(TopologyPreview, TheSameTreeFromTheVdbTopology) {

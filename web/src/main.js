@@ -241,17 +241,18 @@ function setUpPanel() {
 }
 
 /// A lattice is shown by its splats alone (`vdbmesh lattice --view`): never meshed, framed by its box.
+/// The splats of the first picture of a model whose tree is ready (the full budget's follow).
+const FIRST_SPLATS = 15000;
+
 function setUpLattice(lattice) {
   scene3d.fitTo(new THREE.Box3(new THREE.Vector3(...lattice.box_min), new THREE.Vector3(...lattice.box_max)));
   scene3d.setView('home');
   fitted = true;
   $('splat-controls').classList.remove('hidden');
   Object.assign($('splats'), { checked: true, disabled: true });
+  splatLayer.quickFirst(FIRST_SPLATS);
   setSplatMode(true);
 }
-
-/// The splats of the first picture of a model whose tree is ready (the full budget's follow).
-const FIRST_SPLATS = 15000;
 
 /// A .vdb whose splat tree was made before serving (`view --splats FILE`), or shown first by its
 /// topology preview while the server fits it (`view scan.vdb`): the splats at once,
@@ -303,7 +304,11 @@ async function setUpPreparedScan() {
 }
 
 async function start() {
-  info = await fetchJson('/api/info');
+  const asked = fetchJson('/api/info');
+  // The discs' shaders compiled while the server answers (it may be reading or fitting for
+  // seconds): under a software renderer they took most of the first splats' drawing.
+  splatLayer.precompile();
+  info = await asked;
   document.title = `${info.name} · vdbmesh view`;
   $('title').textContent = info.name;
   Object.assign(remesher, { isScan: info.kind === 'scan', budget: info.triangle_budget });
