@@ -15,6 +15,7 @@
 #include <CGAL/box_intersection_d.h>
 #include <CGAL/boost/graph/helpers.h>
 
+#include <array>
 #include <sstream>
 #include <vector>
 
@@ -46,7 +47,9 @@ CgalVerdict judge_with_cgal(const Mesh& mesh) {
     std::vector<Kernel::Point_3> points;
     points.reserve(mesh.vertices.size());
     for (const auto& v : mesh.vertices) points.emplace_back(v[0], v[1], v[2]);
-    std::vector<std::vector<std::size_t>> polygons;
+    // Fixed-size polygons: CGAL takes any random-access range as a polygon, and a vector each
+    // was a heap allocation a triangle (millions on a whole scan).
+    std::vector<std::array<std::size_t, 3>> polygons;
     polygons.reserve(mesh.triangles.size());
     for (const auto& t : mesh.triangles) polygons.push_back({t[0], t[1], t[2]});
     verdict.polygon_mesh = PMP::is_polygon_soup_a_polygon_mesh(polygons);
@@ -55,7 +58,11 @@ CgalVerdict judge_with_cgal(const Mesh& mesh) {
     PMP::polygon_soup_to_polygon_mesh(points, polygons, surface);
     verdict.closed = CGAL::is_closed(surface);
     for (auto face : surface.faces()) verdict.degenerate_faces += PMP::is_degenerate_triangle_face(face, surface);
-    verdict.self_intersects = PMP::does_self_intersect<CGAL::Parallel_if_available_tag>(surface);
+    // Sequential: CGAL's parallel box intersection (CGAL 5.5, box_intersection_d.h) copies the
+    // boxes four times and intersects 16 pairs of quarters, about four times the sequential
+    // sorting and tree work; the suite runs two tests at a time on two cores, so that work
+    // had no idle core to go to (Seg3dMrNifti's test spent most of its time there).
+    verdict.self_intersects = PMP::does_self_intersect<CGAL::Sequential_tag>(surface);
     // Outward: every component oriented as its nesting asks (outer shells out, pores in:
     // does_bound_a_volume, defined for closed meshes without self-intersection), and the
     // enclosed volume positive, which rules out a mesh turned inside out as a whole.

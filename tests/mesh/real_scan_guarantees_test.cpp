@@ -20,6 +20,7 @@
 #include "cgal_judge.h"
 #include "same_triangles.h"
 #include "shared_scan.h"
+#include "test_data.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/compare.h"
 #include "vdbmesh/geometry.h"
@@ -55,6 +56,15 @@ Mesh mesh_scan(const openvdb::FloatGrid& grid, const SharedScan& scan, MeshMetho
     return mesh_grid(grid, options).mesh;
 }
 
+/// The scans whose whole meshes are the suite's costliest to judge (a fresh clone's suite:
+/// Seg3dMrNifti 200 s, Marching Cubes 2,293,404 triangles and DC at 0.25 2,095,678, the noise
+/// of the MRI barely merging; BunnyCt 81 s, Marching Cubes 3,022,504): by default CGAL judges
+/// their DC mesh at error 1 only, and the other scans judge Marching Cubes and DC at 0.25, the
+/// same code. VDBMESH_FULL=1 judges every setting on every scan.
+bool judges_every_setting(const SharedScan& scan) {
+    return test::full_run() || (scan.name != "Seg3dMrNifti" && scan.name != "BunnyCt");
+}
+
 class RealScanGuaranteesTest : public ::testing::TestWithParam<SharedScan> {
 protected:
     // The two cores the suite is budgeted for; the meshes do not depend on it.
@@ -64,20 +74,24 @@ protected:
 // Intersection-free DC (issue 9, point 2): clean by construction at every error, so no check
 // runs; CGAL judges it, and Marching Cubes. DC keeps every Marching Cubes component (a merged
 // cell holds one disk of surface) and, at error 0, is Marching Cubes, so CGAL (the suite's
-// slowest part) judges that mesh once.
+// slowest part) judges that mesh once. On the two costliest scans the default suite judges DC
+// at error 1 only (judges_every_setting()); every count below is still asserted there.
 TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
     const SharedScan& scan = GetParam();
     openvdb::FloatGrid::Ptr grid;
     ASSERT_NO_FATAL_FAILURE(test::convert_shared_scan(scan, grid));
     if (!grid) return;  // skipped: the shared data is missing
+    const bool every_setting = judges_every_setting(scan);
     const Mesh mc = mesh_scan(*grid, scan, MeshMethod::mc);
     const MeshAnalysis mc_report = analyze_mesh(mc);
     std::cout << "[ figures  ] " << scan.name << " mc: " << describe(mc_report) << "\n";
-    const test::CgalVerdict mc_verdict = test::judge_with_cgal(mc);
-    EXPECT_TRUE(mc_verdict.clean()) << scan.name << " at iso " << scan.iso << ", mc: not clean: " << mc_verdict.describe()
-                                    << "; vdbmesh check: " << describe(mc_report);
+    if (every_setting) {
+        const test::CgalVerdict mc_verdict = test::judge_with_cgal(mc);
+        EXPECT_TRUE(mc_verdict.clean()) << scan.name << " at iso " << scan.iso << ", mc: not clean: " << mc_verdict.describe()
+                                        << "; vdbmesh check: " << describe(mc_report);
+    }
     EXPECT_TRUE(test::same_triangles(mesh_scan(*grid, scan, MeshMethod::dc), mc)) << scan.name << ": DC at error 0 differs from MC";
-    for (double error : {0.25, 1.0}) {
+    for (double error : every_setting ? std::vector<double>{0.25, 1.0} : std::vector<double>{1.0}) {
         const Mesh dc = mesh_scan(*grid, scan, MeshMethod::dc, error);
         const MeshAnalysis report = analyze_mesh(dc);
         std::cout << "[ figures  ] " << scan.name << " dc --error " << error << ": " << describe(report) << "\n";
