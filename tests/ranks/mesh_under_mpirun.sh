@@ -2,9 +2,10 @@
 # Issue 28: `vdbmesh mesh` under mpirun gives the same bytes as one plain process, on a phantom
 # it writes (a cylinder through five node layers, noisy, so that ranks split it mid-surface).
 # The phantom and the plain run are made once (a ctest fixture) for the runs with 1, 2 and 3 ranks:
-#   mesh_under_mpirun.sh plain VDBMESH WORK          writes WORK/cylinder.nii.gz and WORK/plain.ply
-#   mesh_under_mpirun.sh ranks VDBMESH WORK MPIEXEC RANKS
-# The second exits 0 when the file rank 0 writes is byte-identical to the plain run's, else 1.
+#   mesh_under_mpirun.sh plain VDBMESH WORK          writes WORK/cylinder.nii.gz, WORK/plain.ply and .obj
+#   mesh_under_mpirun.sh ranks VDBMESH WORK MPIEXEC RANKS [ply|obj]
+# The second exits 0 when the file the ranks write together is byte-identical to the plain run's
+# (in that format: binary PLY by default, OBJ's text), and no temporary file is left; else 1.
 set -eu
 step=$1 vdbmesh=$2 work=$3
 mesh="mesh $work/cylinder.nii.gz --iso 0.5 --error 0.25 -q"
@@ -12,15 +13,20 @@ if [ "$step" = plain ]; then
     mkdir -p "$work"
     "$vdbmesh" phantom cylinder --dims 200,200,600 --radius 80 --noise 0.05 -q -o "$work/cylinder.nii.gz"
     "$vdbmesh" $mesh -o "$work/plain.ply"
+    "$vdbmesh" $mesh -o "$work/plain.obj"
     exit 0
 fi
-mpiexec=$4 ranks=$5
-output="$work/ranks$ranks.ply"
+mpiexec=$4 ranks=$5 format=${6:-ply}
+output="$work/ranks$ranks.$format"
 trap 'rm -f "$output"' EXIT
 # Root may start ranks here (tests run as root), and more ranks than cores.
 "$mpiexec" --allow-run-as-root --oversubscribe -np "$ranks" "$vdbmesh" $mesh --threads 1 -o "$output"
-if ! cmp "$work/plain.ply" "$output"; then
-    echo "mesh under mpirun -np $ranks differs from the plain run"
+if ! cmp "$work/plain.$format" "$output"; then
+    echo "mesh under mpirun -np $ranks differs from the plain run ($format)"
     exit 1
 fi
-echo "mesh under mpirun -np $ranks: the same $(wc -c <"$work/plain.ply") bytes as the plain run"
+if ls "$work"/ranks$ranks.$format.tmp-* >/dev/null 2>&1; then
+    echo "mesh under mpirun -np $ranks left a temporary file"
+    exit 1
+fi
+echo "mesh under mpirun -np $ranks: the same $(wc -c <"$work/plain.$format") bytes as the plain run ($format)"
