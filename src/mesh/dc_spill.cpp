@@ -217,25 +217,23 @@ void IfcSpill::resolve(const Foreign* foreign, bool with_corners, Used& used, Te
             at += record_bytes;
         }
     };
-    {
-        // Runs of nodes of one z-layer holding at most this many triangles (one node more
-        // when a single node holds more): their resolved triangles are held until appended.
-        constexpr std::uint64_t kRunTriangles = std::uint64_t{1} << 19;
-        Tables tables(*this, foreign);
-        std::vector<std::vector<char>> batches;
-        for (std::size_t first = 0; first < nodes_.size();) {
-            std::size_t end = first + 1;
-            std::uint64_t triangles = nodes_[first].triangle_count;
-            while (end < nodes_.size() && nodes_[end].origin.z() == nodes_[first].origin.z() &&
-                   triangles + nodes_[end].triangle_count <= kRunTriangles)
-                triangles += nodes_[end++].triangle_count;
-            tables.drop_below(nodes_[first].origin.z());
-            tables.load_around(nodes_.data() + first, end - first);
-            batches.resize(end - first);
-            tbb::parallel_for(std::size_t{0}, end - first, [&](std::size_t n) { resolve_node(tables, nodes_[first + n], batches[n]); });
-            for (const std::vector<char>& batch : batches) resolved.append(batch.data(), batch.size());
-            first = end;
-        }
+    // Runs of nodes of one z-layer holding at most this many triangles (one node more when a
+    // single node holds more): their resolved triangles are held until appended.
+    constexpr std::uint64_t kRunTriangles = std::uint64_t{1} << 19;
+    Tables tables(*this, foreign);
+    std::vector<std::vector<char>> batches;
+    for (std::size_t first = 0; first < nodes_.size();) {
+        std::size_t end = first + 1;
+        std::uint64_t triangles = nodes_[first].triangle_count;
+        while (end < nodes_.size() && nodes_[end].origin.z() == nodes_[first].origin.z() &&
+               triangles + nodes_[end].triangle_count <= kRunTriangles)
+            triangles += nodes_[end++].triangle_count;
+        tables.drop_below(nodes_[first].origin.z());
+        tables.load_around(nodes_.data() + first, end - first);
+        batches.resize(end - first);
+        tbb::parallel_for(std::size_t{0}, end - first, [&](std::size_t n) { resolve_node(tables, nodes_[first + n], batches[n]); });
+        for (const std::vector<char>& batch : batches) resolved.append(batch.data(), batch.size());
+        first = end;
     }
 }
 

@@ -200,6 +200,17 @@ TEST_F(BricksRanksTest, CylinderThroughFiveNodesSplitByLayers) {
     expect_same_bytes(test::phantom_scan_grid(spec), {1, 1}, {2, 3});
 }
 
+TEST_F(BricksRanksTest, MirroredGridIsWoundAlikeAcrossAColumnBorder) {
+    // Columns of one node across x = 128: the two ranks' border runs between columns.
+    PhantomSpec spec;
+    spec.dims = {150, 60, 60};
+    spec.radius = 25;
+    spec.centre = std::array<double, 3>{128.5, 30, 30};
+    const auto grid = test::phantom_scan_grid(spec);
+    grid->transform().preScale(openvdb::Vec3d(-1, 1, 1));
+    expect_same_bytes(grid, {1, 1}, {2});
+}
+
 TEST_F(BricksRanksTest, RanksWithNoBrickWriteNothingAndTheFileIsWhole) {
     // One column of three layers over 5 ranks: at least two ranks have no brick.
     expect_same_bytes(sphere_on_node_corner(), {4, 4}, {5});
