@@ -108,7 +108,8 @@ struct BrickOptions {
     /// of @a ranks, meshes the bricks bricks_to_ranks() gives it; rank 0 receives every other
     /// rank's part with @a gather (a collective call, as ranks.h's stream_to_rank0(): the parts
     /// streamed to rank 0 in rank order) and alone sends the mesh to its sink, the same vertices
-    /// and triangles in the same order as one process. One rank: nothing is gathered.
+    /// and triangles in the same order as one process (unless the ranks write together:
+    /// collectives below). One rank: nothing is gathered.
     int rank = 0;
     int ranks = 1;
     std::function<void(const RankPart& mine, PartReceiver& receiver)> gather;

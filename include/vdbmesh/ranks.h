@@ -4,7 +4,8 @@
 /// (VDBMESH_MPI=ON), MPI's ranks; otherwise one process, rank 0 of 1, and nothing changes.
 /// Bricks go to ranks by a fixed rule from their weights alone (NodeWeight::active_voxels of
 /// grid_region.h summed per brick), so every rank computes the same assignment without
-/// talking; rank 0 receives the others' parts, streamed, to assemble the output.
+/// talking; under MPI every rank then writes its own part of the output (RankCollectives),
+/// while simulated ranks stream their parts to rank 0, which assembles it.
 
 #include <cstddef>
 #include <cstdint>
