@@ -31,6 +31,7 @@
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_budget.h"
 #include "vdbmesh/mesh_io.h"
+#include "vdbmesh/mesh_range_file.h"
 #include "vdbmesh/mesh_refusals.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/read.h"
@@ -157,12 +158,7 @@ class FileSink final : public MeshStreamSink {
 public:
     FileSink(const MeshCommandOptions& options, const openvdb::FloatGrid& grid) : options_(options), grid_(grid) {}
     void begin(std::uint64_t vertex_count, std::uint64_t triangle_count) override {
-        if (triangle_count == 0) {
-            throw no_surface_error(options_.inputs.front(), grid_, {options_.mesh.iso, options_.mesh.iso}, options_.output,
-                                   grid_steps_text(options_.processing));
-        }
-        vertices = vertex_count;
-        triangles = triangle_count;
+        counted(vertex_count, triangle_count);
         writer_.emplace(options_.output, MeshWriteOptions{options_.ascii, false}, vertex_count, triangle_count);
     }
     void vertex(const std::array<float, 3>& position) override { writer_->add_vertex(position); }
@@ -170,16 +166,41 @@ public:
         writer_->add_triangle(t, corners);
     }
     bool needs_corners() const override { return MeshStreamWriter::writes_corners(options_.output); }
-    /// Writes the file: on the rank that received the mesh (rank 0), nothing elsewhere.
+    MeshRangeSink* ranges() override { return &range_file_; }
+    /// Writes the file when the mesh came as a stream: on the rank that received it (rank 0),
+    /// nothing elsewhere; ranks that wrote the file together (ranges()) committed it already.
     void commit() {
         if (writer_) writer_->commit();
     }
     std::uint64_t vertices = 0, triangles = 0;
 
 private:
+    /// The whole mesh's counts, on every rank; an empty mesh refused.
+    void counted(std::uint64_t vertex_count, std::uint64_t triangle_count) {
+        if (triangle_count == 0) {
+            throw no_surface_error(options_.inputs.front(), grid_, {options_.mesh.iso, options_.mesh.iso}, options_.output,
+                                   grid_steps_text(options_.processing));
+        }
+        vertices = vertex_count;
+        triangles = triangle_count;
+    }
+    /// The file when the ranks write it together (rank 0 commits it).
+    class RangeFile final : public MeshRangeFile {
+    public:
+        explicit RangeFile(FileSink& sink) : MeshRangeFile(sink.options_.output, sink.options_.ascii), sink_(sink) {}
+        std::string header(std::uint64_t vertex_count, std::uint64_t triangle_count) override {
+            sink_.counted(vertex_count, triangle_count);
+            return MeshRangeFile::header(vertex_count, triangle_count);
+        }
+
+    private:
+        FileSink& sink_;
+    };
+
     const MeshCommandOptions& options_;
     const openvdb::FloatGrid& grid_;
     std::optional<MeshStreamWriter> writer_;
+    RangeFile range_file_{*this};
 };
 
 /// With --memory: the input read by region (never whole), brick by brick into the file (exit
@@ -199,6 +220,7 @@ int run_bricked(MeshCommandOptions& options, std::uint64_t memory, Progress& pro
     bricks.rank = this_rank();
     bricks.ranks = rank_count();
     bricks.gather = stream_to_rank0;
+    bricks.collectives = ranks_collectives();
     const MeshReport report = mesh_bricks_to_stream(*opened.source, options.mesh, bricks, sink);
     sink.commit();
     if (bricks.rank != 0) return 0;  // rank 0 wrote the file and reports

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "vdbmesh/mesh.h"
@@ -54,6 +55,24 @@ public:
 private:
     struct Stream;
     std::unique_ptr<Stream> stream_;
+};
+
+/// A mesh file's records as bytes, the same MeshStreamWriter writes, for ranks that each write
+/// their own records at their places in one file (mesher.h's MeshRangeSink).
+class MeshRecordFormat {
+public:
+    /// @throw UsageError for an unknown extension.
+    MeshRecordFormat(const std::filesystem::path& path, bool ascii);
+    std::string header(std::uint64_t vertex_count, std::uint64_t triangle_count) const;
+    std::string footer() const;
+    void vertices(const std::vector<std::array<float, 3>>& positions, std::string& out) const;
+    /// @a corners is read only for STL (MeshStreamWriter::writes_corners()).
+    void triangles(const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                   const std::vector<std::array<std::array<float, 3>, 3>>& corners, std::string& out) const;
+
+private:
+    int format_;
+    bool ascii_;
 };
 
 /// @brief Reads a mesh, choosing the format by extension (.stl, .ply, .obj).

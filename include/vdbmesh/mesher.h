@@ -8,17 +8,17 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesh.h"
 #include "vdbmesh/openvdb_fwd.h"
+#include "vdbmesh/ranks.h"
 
 namespace vdbmesh {
 
-struct RankPart;     // ranks.h
-class PartReceiver;  // ranks.h
 
 enum class MeshMethod {
     mc,       ///< Marching Cubes on the samples, vertices welded by grid edge
@@ -108,11 +108,18 @@ struct BrickOptions {
     /// of @a ranks, meshes the bricks bricks_to_ranks() gives it; rank 0 receives every other
     /// rank's part with @a gather (a collective call, as ranks.h's stream_to_rank0(): the parts
     /// streamed to rank 0 in rank order) and alone sends the mesh to its sink, the same vertices
-    /// and triangles in the same order as one process. One rank: nothing is gathered.
+    /// and triangles in the same order as one process (unless the ranks write together:
+    /// collectives below). One rank: nothing is gathered.
     int rank = 0;
     int ranks = 1;
     std::function<void(const RankPart& mine, PartReceiver& receiver)> gather;
+    /// Ranks that can talk (ranks.h's ranks_collectives()) and a sink with ranges(): every rank
+    /// resolves and writes its own nodes' part of the file instead (docs/scale.md, "Assembly on
+    /// every rank"); the same bytes.
+    std::optional<RankCollectives> collectives;
 };
+
+class MeshRangeSink;
 
 /// Where mesh_bricks_to_stream() sends the mesh, in mesh_bricks()'s order: the counts, every
 /// vertex, then every triangle with its corners' positions (what a MeshStreamWriter takes).
@@ -125,6 +132,36 @@ public:
     /// False when triangle() ignores its corners (they may then be zeros): a file of vertex
     /// numbers (PLY, OBJ) spares the spill a third of its bytes.
     virtual bool needs_corners() const { return true; }
+    /// The sink's form for ranks that write the file together (BrickOptions::collectives), if
+    /// it has one; otherwise rank 0 receives the others' parts and alone sends the mesh here.
+    virtual MeshRangeSink* ranges() { return nullptr; }
+};
+
+/// A file that ranks write together (BrickOptions::collectives; docs/scale.md, "Assembly on
+/// every rank"): each rank formats its own nodes' vertices and triangles and writes them at
+/// their places in one file every rank opens (a shared file system); rank 0 makes it, writes
+/// the header and footer, and commits it once every rank has written.
+class MeshRangeSink {
+public:
+    virtual ~MeshRangeSink() = default;
+    /// The bytes before the first vertex, on every rank, for the whole mesh's counts.
+    /// @throw as MeshStreamSink::begin() (every rank alike).
+    virtual std::string header(std::uint64_t vertex_count, std::uint64_t triangle_count) = 0;
+    /// The bytes after the last triangle.
+    virtual std::string footer() const = 0;
+    /// Appends the bytes of @a positions, of @a triangles (with their corners when
+    /// MeshStreamSink::needs_corners(), else @a corners may be empty) to @a out.
+    virtual void vertices(const std::vector<std::array<float, 3>>& positions, std::string& out) const = 0;
+    virtual void triangles(const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                           const std::vector<std::array<std::array<float, 3>, 3>>& corners, std::string& out) const = 0;
+    /// Rank 0 (@a made empty): makes the temporary file and returns its path; the other ranks
+    /// open rank 0's path, @a made.
+    virtual std::string open(const std::string& made) = 0;
+    /// Writes @a count bytes at @a offset of the file.
+    virtual void write_at(std::uint64_t offset, const char* bytes, std::size_t count) = 0;
+    /// Closes the file; on rank 0 with @a commit (every rank wrote its part), syncs and renames
+    /// it into place, and without, removes it.
+    virtual void close(bool commit) = 0;
 };
 
 /// mesh_bricks() without holding the mesh: each brick's vertices and triangles go to a spill

@@ -4,11 +4,14 @@
 /// (VDBMESH_MPI=ON), MPI's ranks; otherwise one process, rank 0 of 1, and nothing changes.
 /// Bricks go to ranks by a fixed rule from their weights alone (NodeWeight::active_voxels of
 /// grid_region.h summed per brick), so every rank computes the same assignment without
-/// talking; rank 0 receives the others' parts, streamed, to assemble the output.
+/// talking; under MPI every rank then writes its own part of the output (RankCollectives),
+/// while simulated ranks stream their parts to rank 0, which assembles it.
 
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace vdbmesh {
@@ -63,5 +66,26 @@ public:
 /// them; rank 0 hands them to @a receiver as they arrive, so that it never holds more than a
 /// piece, whatever the parts' sizes (rank 0's own part is not read). One rank: nothing happens.
 void stream_to_rank0(const RankPart& mine, PartReceiver& receiver);
+
+/// What ranks that assemble the output together tell each other (collective calls: every rank
+/// makes each, in the same order). A run over several processes that can talk (MPI) has them
+/// (ranks_collectives()); one process, or ranks simulated one after another, has none.
+struct RankCollectives {
+    int rank = 0, ranks = 1;
+    /// Every rank's bytes, in rank order, on every rank.
+    std::function<std::vector<std::string>(const std::string& mine)> allgather;
+    /// to_each[q] sent to rank q; returns what each rank sent this one, in rank order.
+    std::function<std::vector<std::string>(const std::vector<std::string>& to_each)> exchange;
+    /// The bitwise or over every rank of @a words (the same length on every rank), in place.
+    std::function<void(std::vector<std::uint64_t>& words)> or_words;
+    /// Rank 0's @a text, on every rank.
+    std::function<std::string(const std::string& text)> from_rank0;
+    /// Whether every rank passed true.
+    std::function<bool(bool mine)> all;
+};
+
+/// This run's collectives: MPI's under a launcher with more than one rank; none otherwise
+/// (one process, or a simulated rank: those stream their parts to rank 0 instead).
+std::optional<RankCollectives> ranks_collectives();
 
 }  // namespace vdbmesh

@@ -241,6 +241,12 @@ void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOpti
         clock.lap(report, "spill");
     });
     PhaseClock clock;
+    if (bricks.ranks > 1 && bricks.collectives && sink.ranges()) {
+        spill.emit_on_ranks(*sink.ranges(), sink.needs_corners(), mirrored, *bricks.collectives);
+        clock.lap(report, "write");
+        if (options.progress) options.progress(1.0);
+        return;
+    }
     if (bricks.ranks > 1) {
         IfcSpill::Receiver receiver(spill);
         bricks.gather(bricks.rank == 0 ? RankPart{} : spill.part(), receiver);

@@ -30,42 +30,14 @@ openvdb::Coord node_of(const openvdb::Coord& p) {
     return openvdb::Coord(p.x() & kMask, p.y() & kMask, p.z() & kMask);
 }
 
-std::tuple<int, int, int> z_major(const openvdb::Coord& c) { return {c.z(), c.y(), c.x()}; }
-
-/// Which vertices some triangle uses, and each used one's number among them (rank()).
-class UsedVertices {
-public:
-    explicit UsedVertices(std::uint64_t count) : words_((count + 63) / 64, 0) {}
-    /// Safe to call from several threads at once.
-    void mark(std::uint64_t v) { __atomic_fetch_or(&words_[v / 64], std::uint64_t(1) << (v % 64), __ATOMIC_RELAXED); }
-    bool used(std::uint64_t v) const { return (words_[v / 64] >> (v % 64)) & 1u; }
-    /// Counts the used vertices; rank() answers after this.
-    std::uint64_t count() {
-        before_.resize(words_.size());
-        std::uint64_t total = 0;
-        for (std::size_t w = 0; w < words_.size(); ++w) {
-            before_[w] = total;
-            total += std::uint64_t(__builtin_popcountll(words_[w]));
-        }
-        return total;
-    }
-    /// The number of used vertices before @a v.
-    std::uint64_t rank(std::uint64_t v) const {
-        const std::uint64_t below = words_[v / 64] & ((std::uint64_t(1) << (v % 64)) - 1);
-        return before_[v / 64] + std::uint64_t(__builtin_popcountll(below));
-    }
-
-private:
-    std::vector<std::uint64_t> words_, before_;
-};
 
 }  // namespace
 
 /// The vertices of the nodes near the one being resolved, by key.
 class IfcSpill::Tables {
 public:
-    Tables(const IfcSpill& spill) : spill_(spill) {
-        for (std::size_t n = 0; n < spill.nodes_.size(); ++n) by_origin_[z_major(spill.nodes_[n].origin)] = n;
+    Tables(const IfcSpill& spill, const Foreign* foreign) : spill_(spill), foreign_(foreign) {
+        for (std::size_t n = 0; n < spill.nodes_.size(); ++n) by_origin_[ifc_z_major(spill.nodes_[n].origin)] = n;
     }
 
     struct Table {
@@ -89,7 +61,7 @@ public:
     std::pair<std::uint64_t, const std::array<float, 3>*> find(std::uint64_t key, const Table*& last) const {
         const openvdb::Coord node = node_of(ifc_key_point(key));
         if (!last || last->origin != node) {
-            const auto it = loaded_.find(z_major(node));
+            const auto it = loaded_.find(ifc_z_major(node));
             last = it == loaded_.end() ? nullptr : it->second.get();
         }
         const std::uint32_t index = last ? last->index->find(key) : IfcKeyIndex::kMissing;
@@ -104,15 +76,22 @@ public:
 
 private:
     void load(const openvdb::Coord& node) {
-        const auto key = z_major(node);
+        const auto key = ifc_z_major(node);
         if (loaded_.count(key) != 0) return;
         const auto record = by_origin_.find(key);
-        if (record == by_origin_.end()) return;
-        const NodeRecord& r = spill_.nodes_[record->second];
-        const std::vector<VertexRecord> vertices = spill_.read<VertexRecord>(r.vertex_offset, r.vertex_count);
+        const auto other = foreign_ ? foreign_->find(key) : Foreign::const_iterator();
+        if (record == by_origin_.end() && (!foreign_ || other == foreign_->end())) return;
         auto table = std::make_unique<Table>();
         table->origin = node;
-        table->first_vertex = r.first_vertex;
+        std::vector<VertexRecord> vertices;
+        if (record != by_origin_.end()) {
+            const NodeRecord& r = spill_.nodes_[record->second];
+            vertices = spill_.read<VertexRecord>(r.vertex_offset, r.vertex_count);
+            table->first_vertex = r.first_vertex;
+        } else {
+            vertices = other->second.vertices;
+            table->first_vertex = other->second.first_vertex;
+        }
         std::vector<std::uint64_t> keys(vertices.size());
         table->positions.resize(vertices.size());
         for (std::size_t v = 0; v < vertices.size(); ++v) {
@@ -124,6 +103,7 @@ private:
     }
 
     const IfcSpill& spill_;
+    const Foreign* foreign_;
     std::map<std::tuple<int, int, int>, std::size_t> by_origin_;
     std::map<std::tuple<int, int, int>, std::unique_ptr<Table>> loaded_;
 };
@@ -214,25 +194,10 @@ void IfcSpill::Receiver::take_header() {
     }
 }
 
-void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
-    std::sort(nodes_.begin(), nodes_.end(), [](const NodeRecord& a, const NodeRecord& b) { return ifc_node_before(a.origin, b.origin); });
-    std::uint64_t vertex_count = 0, triangle_count = 0;
-    for (NodeRecord& node : nodes_) {
-        node.first_vertex = vertex_count;
-        vertex_count += node.vertex_count;
-        triangle_count += node.triangle_count;
-    }
-    if (vertex_count >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
-    // One pass resolves every triangle's keys (the costly part), marking the vertices used (the
-    // weld drops the others) and keeping the triangles resolved in a second file, read back in
-    // order once the used vertices are counted and written: each its vertex numbers (before
-    // unused vertices are dropped), then, when the sink wants them, its corners.
+void IfcSpill::resolve(const Foreign* foreign, bool with_corners, Used& used, TempFile& resolved) const {
     using Numbers = std::array<std::uint32_t, 3>;
     using Corners = std::array<std::array<float, 3>, 3>;
-    const bool with_corners = sink.needs_corners();
     const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
-    TempFile resolved("for the bricks' resolved triangles");
-    UsedVertices used(vertex_count);
     auto resolve_node = [&](const Tables& tables, const NodeRecord& node, std::vector<char>& batch) {
         const Tables::Table* last = nullptr;
         const std::vector<KeyedTriangle> triangles = read<KeyedTriangle>(node.triangle_offset, node.triangle_count);
@@ -252,26 +217,45 @@ void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
             at += record_bytes;
         }
     };
-    {
-        // Runs of nodes of one z-layer holding at most this many triangles (one node more
-        // when a single node holds more): their resolved triangles are held until appended.
-        constexpr std::uint64_t kRunTriangles = std::uint64_t{1} << 19;
-        Tables tables(*this);
-        std::vector<std::vector<char>> batches;
-        for (std::size_t first = 0; first < nodes_.size();) {
-            std::size_t end = first + 1;
-            std::uint64_t triangles = nodes_[first].triangle_count;
-            while (end < nodes_.size() && nodes_[end].origin.z() == nodes_[first].origin.z() &&
-                   triangles + nodes_[end].triangle_count <= kRunTriangles)
-                triangles += nodes_[end++].triangle_count;
-            tables.drop_below(nodes_[first].origin.z());
-            tables.load_around(nodes_.data() + first, end - first);
-            batches.resize(end - first);
-            tbb::parallel_for(std::size_t{0}, end - first, [&](std::size_t n) { resolve_node(tables, nodes_[first + n], batches[n]); });
-            for (const std::vector<char>& batch : batches) resolved.append(batch.data(), batch.size());
-            first = end;
-        }
+    // Runs of nodes of one z-layer holding at most this many triangles (one node more when a
+    // single node holds more): their resolved triangles are held until appended.
+    constexpr std::uint64_t kRunTriangles = std::uint64_t{1} << 19;
+    Tables tables(*this, foreign);
+    std::vector<std::vector<char>> batches;
+    for (std::size_t first = 0; first < nodes_.size();) {
+        std::size_t end = first + 1;
+        std::uint64_t triangles = nodes_[first].triangle_count;
+        while (end < nodes_.size() && nodes_[end].origin.z() == nodes_[first].origin.z() &&
+               triangles + nodes_[end].triangle_count <= kRunTriangles)
+            triangles += nodes_[end++].triangle_count;
+        tables.drop_below(nodes_[first].origin.z());
+        tables.load_around(nodes_.data() + first, end - first);
+        batches.resize(end - first);
+        tbb::parallel_for(std::size_t{0}, end - first, [&](std::size_t n) { resolve_node(tables, nodes_[first + n], batches[n]); });
+        for (const std::vector<char>& batch : batches) resolved.append(batch.data(), batch.size());
+        first = end;
     }
+}
+
+void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
+    std::sort(nodes_.begin(), nodes_.end(), [](const NodeRecord& a, const NodeRecord& b) { return ifc_node_before(a.origin, b.origin); });
+    std::uint64_t vertex_count = 0, triangle_count = 0;
+    for (NodeRecord& node : nodes_) {
+        node.first_vertex = vertex_count;
+        vertex_count += node.vertex_count;
+        triangle_count += node.triangle_count;
+    }
+    if (vertex_count >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
+    // One pass resolves every triangle's keys (the costly part), marking the vertices used (the
+    // weld drops the others) and keeping the triangles resolved in a second file, read back in
+    // order once the used vertices are counted and written.
+    using Numbers = std::array<std::uint32_t, 3>;
+    using Corners = std::array<std::array<float, 3>, 3>;
+    const bool with_corners = sink.needs_corners();
+    const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
+    TempFile resolved("for the bricks' resolved triangles");
+    Used used(vertex_count);
+    resolve(nullptr, with_corners, used, resolved);
     const std::uint64_t used_count = used.count();
     sink.begin(used_count, triangle_count);
     for (const NodeRecord& node : nodes_) {

@@ -4,14 +4,20 @@
 // read back node by node in z-major order, keys resolved to vertex numbers, into a sink.
 
 #include <cstdint>
+#include <map>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include "vdbmesh/mesher.h"
 #include "vdbmesh/ranks.h"
 #include "vdbmesh/temp_file.h"
 #include "mesh/dual_contouring.h"
 
 namespace vdbmesh::detail {
+
+/// A node's place in z-major order, as a map key.
+inline std::tuple<int, int, int> ifc_z_major(const openvdb::Coord& c) { return {c.z(), c.y(), c.x()}; }
 
 class IfcSpill {
 public:
@@ -22,6 +28,12 @@ public:
     /// The mesh weld_ifc_nodes() makes of every node appended, into @a sink; with @a mirrored
     /// every triangle wound the other way (mesh_grid()'s rule for a mirroring transform).
     void emit(MeshStreamSink& sink, bool mirrored);
+    /// emit() by every rank together (BrickOptions::collectives; docs/scale.md, "Assembly on
+    /// every rank"): each rank's spill holds its own nodes; the ranks learn each other's node
+    /// counts, swap the vertices of the nodes beside another rank's, resolve their own
+    /// triangles, or together which vertices are used, and each writes its own nodes' records
+    /// at their places in @a sink's shared file. The same bytes as emit() on one spill of all.
+    void emit_on_ranks(MeshRangeSink& sink, bool with_corners, bool mirrored, const RankCollectives& ranks);
     /// Every node appended, as a part another process's spill takes with a Receiver (a run
     /// over several ranks streams them to rank 0): the node records, then the file's bytes.
     RankPart part() const;
@@ -51,11 +63,55 @@ private:
         return records;
     }
     class Tables;
+    class Used;
+    struct ForeignNode;
+    using Foreign = std::map<std::tuple<int, int, int>, ForeignNode>;
+    /// Resolves the triangles of nodes_ (sorted, numbered) into @a resolved: each its vertex
+    /// numbers (before unused ones are dropped), then, @a with_corners, its corners; marks the
+    /// vertices used in @a used. @a foreign: other ranks' nodes beside these, if any.
+    void resolve(const Foreign* foreign, bool with_corners, Used& used, TempFile& resolved) const;
+    /// The vertex records of the nodes beside other ranks' nodes, to each rank (emit_on_ranks()).
+    Foreign swap_borders(const std::map<std::tuple<int, int, int>, std::pair<int, std::uint64_t>>& owners, const RankCollectives& ranks) const;
 
     std::string records_bytes() const;
 
     TempFile file_{"for the bricks' spill"};
     std::vector<NodeRecord> nodes_;
+};
+
+/// Which vertices some triangle uses, and each used one's number among them (rank()).
+class IfcSpill::Used {
+public:
+    explicit Used(std::uint64_t count) : words_((count + 63) / 64, 0) {}
+    /// Safe to call from several threads at once.
+    void mark(std::uint64_t v) { __atomic_fetch_or(&words_[v / 64], std::uint64_t(1) << (v % 64), __ATOMIC_RELAXED); }
+    bool used(std::uint64_t v) const { return (words_[v / 64] >> (v % 64)) & 1u; }
+    /// Counts the used vertices; rank() answers after this.
+    std::uint64_t count() {
+        before_.resize(words_.size());
+        std::uint64_t total = 0;
+        for (std::size_t w = 0; w < words_.size(); ++w) {
+            before_[w] = total;
+            total += std::uint64_t(__builtin_popcountll(words_[w]));
+        }
+        return total;
+    }
+    /// The marks, a bit a vertex: or-ed over ranks by emit_on_ranks().
+    std::vector<std::uint64_t>& words() { return words_; }
+    /// The number of used vertices before @a v.
+    std::uint64_t rank(std::uint64_t v) const {
+        const std::uint64_t below = words_[v / 64] & ((std::uint64_t(1) << (v % 64)) - 1);
+        return before_[v / 64] + std::uint64_t(__builtin_popcountll(below));
+    }
+
+private:
+    std::vector<std::uint64_t> words_, before_;
+};
+
+/// Another rank's node beside this rank's (emit_on_ranks()): its number and its vertices.
+struct IfcSpill::ForeignNode {
+    std::uint64_t first_vertex = 0;
+    std::vector<VertexRecord> vertices;
 };
 
 /// Appends each part it receives to its spill: the header (the node count and records) held

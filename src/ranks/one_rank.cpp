@@ -23,4 +23,6 @@ void stream_to_rank0(const RankPart& mine, PartReceiver& receiver) {
     if (const auto simulated = detail::simulated_rank()) detail::simulated_stream(*simulated, mine, receiver);
 }
 
+std::optional<RankCollectives> ranks_collectives() { return std::nullopt; }
+
 }  // namespace vdbmesh

@@ -1,0 +1,220 @@
+// The spill's output written by every rank together (dc_spill.h, emit_on_ranks(); docs/scale.md,
+// "Assembly on every rank"). A vertex's number in the file is its node's place in z-major order
+// and the used vertices before it, so each rank needs, besides its own nodes: every node's
+// counts (one allgather of a few numbers a node), the vertices of the other ranks' nodes beside
+// its own (its triangles name them: one exchange of the border nodes' records), and which
+// vertices any rank's triangles use (one or-reduction of a bit a vertex). Each rank then formats
+// its own nodes' records into local files, the ranks learn each other's byte counts (another
+// allgather: an ASCII record's length depends on its numbers), and each copies its bytes to
+// their places in the file rank 0 made.
+
+#include <algorithm>
+#include <cstring>
+#include <set>
+
+#include "mesh/dc_key_index.h"
+#include "mesh/dc_spill.h"
+#include "vdbmesh/error.h"
+
+namespace vdbmesh::detail {
+
+namespace {
+
+/// What every rank learns of each node: where it is, its counts, and later its bytes.
+struct NodeSummary {
+    std::int32_t origin[3];
+    std::uint64_t vertex_count, triangle_count;
+};
+struct NodeBytes {
+    std::uint64_t vertex_bytes, triangle_bytes;
+};
+
+template <typename T>
+std::string bytes_of(const std::vector<T>& records) {
+    return std::string(reinterpret_cast<const char*>(records.data()), records.size() * sizeof(T));
+}
+
+template <typename T>
+std::vector<T> records_of(const std::string& bytes) {
+    std::vector<T> records(bytes.size() / sizeof(T));
+    if (!records.empty()) std::memcpy(records.data(), bytes.data(), records.size() * sizeof(T));
+    return records;
+}
+
+/// A node of the whole mesh: its owner and its place among the owner's nodes.
+struct GlobalNode {
+    openvdb::Coord origin;
+    int owner = 0;
+    std::size_t index = 0;  ///< among the owner's nodes, in z-major order
+};
+
+/// Every rank's nodes (each rank's list z-major), merged into z-major order.
+std::vector<GlobalNode> merged_nodes(const std::vector<std::vector<NodeSummary>>& each) {
+    std::vector<GlobalNode> all;
+    for (std::size_t q = 0; q < each.size(); ++q)
+        for (std::size_t n = 0; n < each[q].size(); ++n)
+            all.push_back({openvdb::Coord(each[q][n].origin[0], each[q][n].origin[1], each[q][n].origin[2]), int(q), n});
+    std::sort(all.begin(), all.end(), [](const GlobalNode& a, const GlobalNode& b) { return ifc_node_before(a.origin, b.origin); });
+    return all;
+}
+
+/// Copies @a count bytes at @a from of @a local to @a to of @a sink's file, a piece at a time.
+void copy_to_sink(const TempFile& local, std::uint64_t from, std::uint64_t count, std::uint64_t to, MeshRangeSink& sink) {
+    constexpr std::uint64_t kPiece = std::uint64_t{16} << 20;
+    std::vector<char> piece(std::size_t(std::min(kPiece, count)));
+    for (std::uint64_t done = 0; done < count;) {
+        const std::size_t bytes = std::size_t(std::min<std::uint64_t>(piece.size(), count - done));
+        local.read(from + done, piece.data(), bytes);
+        sink.write_at(to + done, piece.data(), bytes);
+        done += bytes;
+    }
+}
+
+}  // namespace
+
+IfcSpill::Foreign IfcSpill::swap_borders(const std::map<std::tuple<int, int, int>, std::pair<int, std::uint64_t>>& owners,
+                                         const RankCollectives& ranks) const {
+    // A node goes to each other rank owning one of its 26 neighbours: that rank's triangles
+    // may name its vertices (keys name grid points at most a node away).
+    std::vector<std::string> to_each(std::size_t(ranks.ranks));
+    for (const NodeRecord& node : nodes_) {
+        std::set<int> readers;
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const auto it = owners.find(ifc_z_major(node.origin.offsetBy(dx * kNodeVoxels, dy * kNodeVoxels, dz * kNodeVoxels)));
+                    if (it != owners.end() && it->second.first != ranks.rank) readers.insert(it->second.first);
+                }
+        if (readers.empty()) continue;
+        const std::vector<VertexRecord> vertices = read<VertexRecord>(node.vertex_offset, node.vertex_count);
+        const NodeSummary summary{{node.origin.x(), node.origin.y(), node.origin.z()}, node.vertex_count, 0};
+        for (const int q : readers) {
+            to_each[std::size_t(q)].append(reinterpret_cast<const char*>(&summary), sizeof(summary));
+            to_each[std::size_t(q)] += bytes_of(vertices);
+        }
+    }
+    Foreign foreign;
+    for (const std::string& message : ranks.exchange(to_each)) {
+        for (std::size_t at = 0; at < message.size();) {
+            NodeSummary summary;
+            std::memcpy(&summary, message.data() + at, sizeof(summary));
+            at += sizeof(summary);
+            const std::size_t bytes = summary.vertex_count * sizeof(VertexRecord);
+            if (at + bytes > message.size()) throw Error("bricks: a rank sent a truncated border node");
+            const auto key = ifc_z_major(openvdb::Coord(summary.origin[0], summary.origin[1], summary.origin[2]));
+            ForeignNode& node = foreign[key];
+            node.first_vertex = owners.at(key).second;
+            node.vertices = records_of<VertexRecord>(message.substr(at, bytes));
+            at += bytes;
+        }
+    }
+    return foreign;
+}
+
+void IfcSpill::emit_on_ranks(MeshRangeSink& sink, bool with_corners, bool mirrored, const RankCollectives& ranks) {
+    std::sort(nodes_.begin(), nodes_.end(), [](const NodeRecord& a, const NodeRecord& b) { return ifc_node_before(a.origin, b.origin); });
+    std::vector<NodeSummary> mine;
+    for (const NodeRecord& node : nodes_) mine.push_back({{node.origin.x(), node.origin.y(), node.origin.z()}, node.vertex_count, node.triangle_count});
+    std::vector<std::vector<NodeSummary>> each;
+    for (const std::string& bytes : ranks.allgather(bytes_of(mine))) each.push_back(records_of<NodeSummary>(bytes));
+    const std::vector<GlobalNode> all = merged_nodes(each);
+
+    // Every node's first vertex number, as one spill of all would number them (emit()).
+    std::map<std::tuple<int, int, int>, std::pair<int, std::uint64_t>> owners;  // z-major origin -> rank, first vertex
+    std::uint64_t vertex_count = 0, triangle_count = 0;
+    for (const GlobalNode& node : all) {
+        const NodeSummary& summary = each[std::size_t(node.owner)][node.index];
+        owners[ifc_z_major(node.origin)] = {node.owner, vertex_count};
+        if (node.owner == ranks.rank) nodes_[node.index].first_vertex = vertex_count;
+        vertex_count += summary.vertex_count;
+        triangle_count += summary.triangle_count;
+    }
+    if (vertex_count >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
+
+    const Foreign foreign = swap_borders(owners, ranks);
+    using Numbers = std::array<std::uint32_t, 3>;
+    using Corners = std::array<std::array<float, 3>, 3>;
+    const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
+    TempFile resolved("for the bricks' resolved triangles");
+    Used used(vertex_count);
+    resolve(&foreign, with_corners, used, resolved);
+    ranks.or_words(used.words());
+    const std::uint64_t used_count = used.count();
+    const std::string header = sink.header(used_count, triangle_count);
+    const std::string footer = sink.footer();
+
+    // This rank's records formatted, node by node, into two local files.
+    TempFile vertex_text("for this rank's vertices"), triangle_text("for this rank's triangles");
+    std::vector<NodeBytes> my_bytes(nodes_.size());
+    std::uint64_t resolved_at = 0;
+    std::string text;
+    for (std::size_t n = 0; n < nodes_.size(); ++n) {
+        const NodeRecord& node = nodes_[n];
+        std::vector<std::array<float, 3>> positions;
+        const std::vector<VertexRecord> vertices = read<VertexRecord>(node.vertex_offset, node.vertex_count);
+        for (std::size_t v = 0; v < vertices.size(); ++v)
+            if (used.used(node.first_vertex + v)) positions.push_back(vertices[v].position);
+        text.clear();
+        sink.vertices(positions, text);
+        vertex_text.append(text.data(), text.size());
+        my_bytes[n].vertex_bytes = text.size();
+
+        std::vector<char> batch(std::size_t(node.triangle_count * record_bytes));
+        if (!batch.empty()) resolved.read(resolved_at, batch.data(), batch.size());
+        resolved_at += batch.size();
+        std::vector<std::array<std::uint32_t, 3>> triangles(std::size_t(node.triangle_count));
+        std::vector<Corners> corners(with_corners ? triangles.size() : 0);
+        for (std::size_t t = 0; t < triangles.size(); ++t) {
+            Numbers numbers;
+            std::memcpy(&numbers, batch.data() + t * record_bytes, sizeof(numbers));
+            for (int k = 0; k < 3; ++k) triangles[t][std::size_t(k)] = std::uint32_t(used.rank(numbers[std::size_t(k)]));
+            if (with_corners) std::memcpy(&corners[t], batch.data() + t * record_bytes + sizeof(numbers), sizeof(Corners));
+            if (mirrored) {
+                std::swap(triangles[t][1], triangles[t][2]);
+                if (with_corners) std::swap(corners[t][1], corners[t][2]);
+            }
+        }
+        text.clear();
+        sink.triangles(triangles, corners, text);
+        triangle_text.append(text.data(), text.size());
+        my_bytes[n].triangle_bytes = text.size();
+    }
+
+    // Each node's place in the file: the header, every node's vertices, every node's triangles.
+    std::vector<std::vector<NodeBytes>> bytes_each;
+    for (const std::string& bytes : ranks.allgather(bytes_of(my_bytes))) bytes_each.push_back(records_of<NodeBytes>(bytes));
+    std::uint64_t vertices_end = header.size();
+    for (const GlobalNode& node : all) vertices_end += bytes_each[std::size_t(node.owner)][node.index].vertex_bytes;
+    std::uint64_t vertex_at = header.size(), triangle_at = vertices_end, my_vertex_at = 0, my_triangle_at = 0;
+
+    const std::string made = ranks.rank == 0 ? sink.open("") : std::string();
+    const std::string shared = ranks.from_rank0(made);
+    bool written = false;
+    try {
+        if (ranks.rank != 0) sink.open(shared);
+        for (const GlobalNode& node : all) {
+            const NodeBytes& bytes = bytes_each[std::size_t(node.owner)][node.index];
+            if (node.owner == ranks.rank) {
+                copy_to_sink(vertex_text, my_vertex_at, bytes.vertex_bytes, vertex_at, sink);
+                copy_to_sink(triangle_text, my_triangle_at, bytes.triangle_bytes, triangle_at, sink);
+                my_vertex_at += bytes.vertex_bytes, my_triangle_at += bytes.triangle_bytes;
+            }
+            vertex_at += bytes.vertex_bytes, triangle_at += bytes.triangle_bytes;
+        }
+        if (ranks.rank == 0) {
+            sink.write_at(0, header.data(), header.size());
+            sink.write_at(triangle_at, footer.data(), footer.size());
+        }
+        written = true;
+    } catch (...) {
+        // Every rank learns that one failed, so that none waits and rank 0 removes the file.
+        ranks.all(false);
+        sink.close(false);
+        throw;
+    }
+    const bool everyone = ranks.all(written);
+    sink.close(everyone);
+    if (!everyone) throw Error("bricks: another rank failed to write its part of the mesh");
+}
+
+}  // namespace vdbmesh::detail
