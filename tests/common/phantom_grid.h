@@ -11,4 +11,18 @@ namespace vdbmesh::test {
 /// scan at its surface's isovalue 0.5.
 openvdb::FloatGrid::Ptr phantom_scan_grid(const PhantomSpec& spec);
 
+/// A slightly tilted cylinder (56 x 56 x 600 samples, blurred over a voxel) through five node
+/// layers along z: its wall crosses four node borders and its flat caps turn sharply, the case
+/// the bricks' and ranks' tests split by layers.
+inline PhantomSpec cylinder_through_five_nodes() {
+    PhantomSpec spec;
+    spec.shape = PhantomShape::cylinder;
+    spec.dims = {56, 56, 600};
+    spec.radius = 17;
+    spec.height = 560;
+    spec.rotation_degrees = {0.8, 0.5, 0};
+    spec.blur = 1;
+    return spec;
+}
+
 }  // namespace vdbmesh::test

@@ -190,14 +190,7 @@ TEST_F(BricksRanksTest, RanksWritingTogetherGiveOneProcesssBytesInEveryFormat) {
 
 TEST_F(BricksRanksTest, CylinderThroughFiveNodesSplitByLayers) {
     // One column, so the ranks' runs are node layers, the borders across the tilted wall.
-    PhantomSpec spec;
-    spec.shape = PhantomShape::cylinder;
-    spec.dims = {56, 56, 600};
-    spec.radius = 17;
-    spec.height = 560;
-    spec.rotation_degrees = {0.8, 0.5, 0};
-    spec.blur = 1;
-    expect_same_bytes(test::phantom_scan_grid(spec), {1, 1}, {2, 3});
+    expect_same_bytes(test::phantom_scan_grid(test::cylinder_through_five_nodes()), {1, 1}, {2, 3});
 }
 
 TEST_F(BricksRanksTest, MirroredGridIsWoundAlikeAcrossAColumnBorder) {

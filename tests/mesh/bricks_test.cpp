@@ -181,14 +181,7 @@ TEST(BricksTest, ThinWallsAcrossNodes) {
 // decides from its halo alone is checked against the whole grid. The slightly tilted
 // cylinder's wall crosses four node borders, its flat caps turn sharply.
 TEST(BricksTest, LongCylinderThroughFiveNodes) {
-    PhantomSpec spec;
-    spec.shape = PhantomShape::cylinder;
-    spec.dims = {56, 56, 600};
-    spec.radius = 17;
-    spec.height = 560;
-    spec.rotation_degrees = {0.8, 0.5, 0};
-    spec.blur = 1;
-    const auto grid = test::phantom_scan_grid(spec);
+    const auto grid = test::phantom_scan_grid(test::cylinder_through_five_nodes());
     for (const double error : {0.5, 2.0}) expect_same_as_whole(grid, dc_options(error), "cylinder at " + std::to_string(error));
 }
 
@@ -281,16 +274,9 @@ TEST(BricksTest, MarchingCubesByBricksIsTheWholeGridsMesh) {
     PhantomSpec sphere;
     sphere.radius = 36;
     expect_same_as_whole(phantom_on_node_corner(sphere), dc_options(0.0), "sphere, Marching Cubes at error 0");
-    PhantomSpec cylinder;
-    cylinder.shape = PhantomShape::cylinder;
-    cylinder.dims = {56, 56, 600};
-    cylinder.radius = 17;
-    cylinder.height = 560;
-    cylinder.rotation_degrees = {0.8, 0.5, 0};
-    cylinder.blur = 1;
     MeshOptions mc = dc_options(0.0);
     mc.method = MeshMethod::mc;
-    expect_same_as_whole(test::phantom_scan_grid(cylinder), mc, "cylinder, --method mc", kEveryBricking, false);
+    expect_same_as_whole(test::phantom_scan_grid(test::cylinder_through_five_nodes()), mc, "cylinder, --method mc", kEveryBricking, false);
     PhantomSpec cut = sphere;
     cut.dims = {150, 150, 140};
     cut.centre = std::array<double, 3>{128.3, 127.6, 128.45};  // the sphere runs out of the box
