@@ -3,6 +3,8 @@
 
 #include <openvdb/openvdb.h>
 
+#include <array>
+
 #include "vdbmesh/phantom.h"
 
 namespace vdbmesh::test {
@@ -23,6 +25,18 @@ inline PhantomSpec cylinder_through_five_nodes() {
     spec.rotation_degrees = {0.8, 0.5, 0};
     spec.blur = 1;
     return spec;
+}
+
+/// A sphere across the node border x = 128, its grid mirrored in x (a negative scale, as an
+/// x-flipped scan's): the bricks' and ranks' tests of winding.
+inline openvdb::FloatGrid::Ptr mirrored_sphere_across_a_node_border() {
+    PhantomSpec spec;
+    spec.dims = {150, 60, 60};
+    spec.radius = 25;
+    spec.centre = std::array<double, 3>{128.5, 30, 30};
+    openvdb::FloatGrid::Ptr grid = phantom_scan_grid(spec);
+    grid->transform().preScale(openvdb::Vec3d(-1, 1, 1));
+    return grid;
 }
 
 }  // namespace vdbmesh::test

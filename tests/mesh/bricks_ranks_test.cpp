@@ -195,12 +195,7 @@ TEST_F(BricksRanksTest, CylinderThroughFiveNodesSplitByLayers) {
 
 TEST_F(BricksRanksTest, MirroredGridIsWoundAlikeAcrossAColumnBorder) {
     // Columns of one node across x = 128: the two ranks' border runs between columns.
-    PhantomSpec spec;
-    spec.dims = {150, 60, 60};
-    spec.radius = 25;
-    spec.centre = std::array<double, 3>{128.5, 30, 30};
-    const auto grid = test::phantom_scan_grid(spec);
-    grid->transform().preScale(openvdb::Vec3d(-1, 1, 1));
+    const auto grid = test::mirrored_sphere_across_a_node_border();
     expect_same_bytes(grid, {1, 1}, {2});
 }
 

@@ -237,12 +237,7 @@ TEST(BricksTest, InMemoryRegionsReadTheBoxExactly) {
 
 // A mirroring transform (x flipped): the bricked and streamed meshes are wound as mesh_grid()'s.
 TEST(BricksTest, MirroredGridIsWoundAlike) {
-    PhantomSpec spec;
-    spec.dims = {150, 60, 60};
-    spec.radius = 25;
-    spec.centre = std::array<double, 3>{128.5, 30, 30};
-    const auto grid = test::phantom_scan_grid(spec);
-    grid->transform().preScale(openvdb::Vec3d(-1, 1, 1));
+    const auto grid = test::mirrored_sphere_across_a_node_border();
     const Mesh whole = mesh_grid(*grid, dc_options(0.5)).mesh;
     EXPECT_EQ(bricked(grid, dc_options(0.5), {1, 1}, 2).mesh.triangles, whole.triangles);
     EXPECT_EQ(streamed(grid, dc_options(0.5), {1, 1}).triangles, whole.triangles);
