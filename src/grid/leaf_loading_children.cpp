@@ -4,9 +4,9 @@
 // its shared area and frees it, then answers with the length of a failure text (0: done) and
 // the text. Each request may use a few seconds of the child's CPU time (RLIMIT_CPU, set anew
 // for each: SIGXCPU ends a reader that loops); the parent waits with a much longer wall limit
-// instead of the child's alarm: a child that reaches it is killed and the request given once
-// more to a fresh one (as run_in_child() does: a child can block on a lock another thread
-// held at fork()).
+// instead of the child's alarm: a child that reaches either is killed and the request given
+// once more to a fresh one (as run_in_child() does: a child can block, or spin, on a lock
+// another thread held at fork()).
 
 #include "leaf_loading_children.h"
 
@@ -128,11 +128,11 @@ public:
     void finish() {
         const unsigned cpu_seconds = request_cpu_seconds(request_.size());
         const unsigned seconds = blocked_wall_seconds(cpu_seconds);
-        if (answered_within(seconds, cpu_seconds)) return;
+        if (answered_within(seconds, cpu_seconds, /*last_try=*/false)) return;
         // Once more from a fresh child (see the file's comment), then give up.
         restart();
         send(request_.data(), request_.size());
-        if (answered_within(seconds, cpu_seconds)) return;
+        if (answered_within(seconds, cpu_seconds, /*last_try=*/true)) return;
         stop();
         throw FormatError(path_.string(), blocked_failure(seconds));
     }
@@ -175,9 +175,10 @@ private:
     }
 
     /// True when the child answered done within @a seconds, false when it did not answer in
-    /// time; throws FormatError when it answered a failure or ended (by its @a cpu_seconds
-    /// limit among others).
-    bool answered_within(unsigned seconds, unsigned cpu_seconds) {
+    /// time, or, unless @a last_try, ran out of its @a cpu_seconds (it may spin on a lock held
+    /// at fork(), as it may block on one); throws FormatError when it answered a failure or
+    /// ended otherwise.
+    bool answered_within(unsigned seconds, unsigned cpu_seconds, bool last_try) {
         if (!readable_within(socket_, seconds)) return false;
         std::uint32_t length = 0;
         if (read_exactly(socket_, &length, sizeof(length))) {
@@ -192,7 +193,10 @@ private:
         }
         pid_ = -1;
         stop();
-        if (WIFSIGNALED(status) && WTERMSIG(status) == SIGXCPU) throw FormatError(path_.string(), cpu_limit_failure(cpu_seconds));
+        if (WIFSIGNALED(status) && WTERMSIG(status) == SIGXCPU) {
+            if (!last_try) return false;
+            throw FormatError(path_.string(), cpu_limit_failure(cpu_seconds));
+        }
         if (WIFSIGNALED(status))
             throw FormatError(path_.string(), std::string("corrupt .vdb file: OpenVDB's reader crashed on it (") + ::strsignal(WTERMSIG(status)) + ")");
         throw FormatError(path_.string(), "not a readable .vdb file");
