@@ -5,7 +5,7 @@
 // point X,Y (fractions of its width and height) to the centre, wheels STEPS in, waits for the
 // view to rest and saves OUT-close-N.png with the figures the page printed. A tool, not a test.
 //
-// node bench/view_screenshots.mjs --vdbmesh build/vdbmesh --web web --out /tmp/shots/k3 [--fitted] [--close-up 0.42,0.31,12] -- view ARGS
+// node bench/view_screenshots.mjs --vdbmesh build/vdbmesh --web web --out build/shots/k3 [--fitted] [--close-up 0.42,0.31,12] -- view ARGS
 import { spawn } from 'node:child_process';
 import fs from 'node:fs';
 import { createRequire } from 'node:module';
