@@ -25,11 +25,6 @@ namespace {
 
 using KeyedTriangle = std::array<std::uint64_t, 3>;
 
-openvdb::Coord node_of(const openvdb::Coord& p) {
-    constexpr int kMask = ~(kNodeVoxels - 1);
-    return openvdb::Coord(p.x() & kMask, p.y() & kMask, p.z() & kMask);
-}
-
 
 }  // namespace
 
@@ -59,7 +54,7 @@ public:
     /// The vertex @a key names: its number (before unused ones are dropped) and position,
     /// from the tables loaded (load_around()); @a last is the caller's table last used.
     std::pair<std::uint64_t, const std::array<float, 3>*> find(std::uint64_t key, const Table*& last) const {
-        const openvdb::Coord node = node_of(ifc_key_point(key));
+        const openvdb::Coord node = ifc_node_of(ifc_key_point(key));
         if (!last || last->origin != node) {
             const auto it = loaded_.find(ifc_z_major(node));
             last = it == loaded_.end() ? nullptr : it->second.get();

@@ -108,14 +108,13 @@ void split_clipped_blocks(IfcCellGrid& cells, const IfcOriginFilter& decide) {
 }
 
 std::vector<IfcNodeOutput> group_ifc_outputs_by_node(const std::vector<openvdb::Coord>& origins, std::vector<IfcBlockOutput>& outputs) {
-    constexpr int kNodeMask = ~(kNodeVoxels - 1);
     std::vector<IfcNodeOutput> nodes;
     std::vector<std::vector<std::size_t>> members;
     std::vector<std::pair<openvdb::Coord, std::size_t>> by_node;  // node origin, block
     for (std::size_t b = 0; b < origins.size(); ++b) {
         if (outputs[b].vertices.empty() && outputs[b].triangles.empty()) continue;
         const openvdb::Coord& o = origins[b];
-        by_node.push_back({openvdb::Coord(o.x() & kNodeMask, o.y() & kNodeMask, o.z() & kNodeMask), b});
+        by_node.push_back({ifc_node_of(o), b});
     }
     // Stable: the blocks of a node keep their origin order.
     std::stable_sort(by_node.begin(), by_node.end(), [](const auto& a, const auto& b) { return ifc_node_before(a.first, b.first); });

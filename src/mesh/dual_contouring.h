@@ -56,6 +56,12 @@ struct IfcNodeOutput {
     std::vector<IfcVertex> coarse;
 };
 
+/// The origin of the node (docs/dmc.md, "Bricks") holding grid point @a p.
+inline openvdb::Coord ifc_node_of(const openvdb::Coord& p) {
+    constexpr int kNodeMask = ~(kNodeVoxels - 1);
+    return openvdb::Coord(p.x() & kNodeMask, p.y() & kNodeMask, p.z() & kNodeMask);
+}
+
 /// Whether node origin @a a comes before @a b in z-major order (z, then y, then x).
 inline bool ifc_node_before(const openvdb::Coord& a, const openvdb::Coord& b) {
     return a.z() != b.z() ? a.z() < b.z() : a.y() != b.y() ? a.y() < b.y() : a.x() < b.x();

@@ -93,9 +93,7 @@ struct BlockOutput {
 /// The blocks' output order: node by node in z-major order (the bricks' order), then by
 /// origin within a node.
 bool block_before(const openvdb::Coord& a, const openvdb::Coord& b) {
-    constexpr int kNodeMask = ~(kNodeVoxels - 1);
-    const openvdb::Coord node_a(a.x() & kNodeMask, a.y() & kNodeMask, a.z() & kNodeMask);
-    const openvdb::Coord node_b(b.x() & kNodeMask, b.y() & kNodeMask, b.z() & kNodeMask);
+    const openvdb::Coord node_a = ifc_node_of(a), node_b = ifc_node_of(b);
     return node_a != node_b ? ifc_node_before(node_a, node_b) : a < b;
 }
 
@@ -264,7 +262,6 @@ Mesh MarchingCubes::assemble(const std::vector<BlockOutput>& outputs) const {
 }
 
 std::vector<IfcNodeOutput> MarchingCubes::keyed_nodes(std::vector<BlockOutput>&& outputs) const {
-    constexpr int kNodeMask = ~(kNodeVoxels - 1);
     // The grid edge of an edge_code() in the block at @a block: its minimum voxel and axis.
     auto edge_of = [](const openvdb::Coord& block, std::uint32_t code) {
         const int axis = int(code % 3), cell = int(code / 3);
@@ -275,7 +272,7 @@ std::vector<IfcNodeOutput> MarchingCubes::keyed_nodes(std::vector<BlockOutput>&&
         BlockOutput& out = outputs[b];
         if (out.edges.empty() && out.triangles.empty()) continue;
         const openvdb::Coord& origin = blocks_[b];
-        const openvdb::Coord node(origin.x() & kNodeMask, origin.y() & kNodeMask, origin.z() & kNodeMask);
+        const openvdb::Coord node = ifc_node_of(origin);
         if (nodes.empty() || nodes.back().origin != node) nodes.push_back({node, {}, {}});
         IfcBlockOutput keyed;
         keyed.vertices.reserve(out.edges.size());
