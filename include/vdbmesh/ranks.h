@@ -82,6 +82,11 @@ struct RankCollectives {
     std::function<std::string(const std::string& text)> from_rank0;
     /// Whether every rank passed true.
     std::function<bool(bool mine)> all;
+    /// Not collective: sends @a bytes to rank @a to under @a tag and returns at once (the bytes
+    /// are kept until taken); and the bytes rank @a from posted to this one under @a tag,
+    /// waiting for them. One message per sender, receiver and tag.
+    std::function<void(int to, int tag, std::string bytes)> post;
+    std::function<std::string(int from, int tag)> take;
 };
 
 /// This run's collectives: MPI's under a launcher with more than one rank; none otherwise

@@ -9,6 +9,7 @@
 #include <limits>
 #include <array>
 #include <map>
+#include <optional>
 #include <string>
 #include <tuple>
 
@@ -92,17 +93,57 @@ std::uint64_t built_voxels(const std::vector<std::pair<openvdb::Coord, std::uint
     return built;
 }
 
-/// The bricks of @a planned that ranks.h's rule gives @a rank of @a ranks: a contiguous run.
-std::vector<IfcBrick> bricks_of_rank(std::vector<IfcBrick> planned, int rank, int ranks) {
+/// A rank's share of the planned bricks: a contiguous run (ranks.h's rule), and the ranks owning
+/// the bricks just under and over it when those lie in the same column (-1: none).
+struct RankRun {
+    std::vector<IfcBrick> bricks;
+    int below = -1, above = -1;
+};
+
+bool same_column(const IfcBrick& a, const IfcBrick& b) { return a.min_x == b.min_x && a.min_y == b.min_y; }
+
+RankRun run_of_rank(const std::vector<IfcBrick>& planned, int rank, int ranks) {
     std::vector<std::uint64_t> weights(planned.size());
     for (std::size_t b = 0; b < planned.size(); ++b) weights[b] = planned[b].active_voxels;
     const std::vector<int> rank_of = bricks_to_ranks(weights, ranks);
-    std::vector<IfcBrick> mine;
+    RankRun run;
     for (std::size_t b = 0; b < planned.size(); ++b) {
-        if (rank_of[b] == rank) mine.push_back(planned[b]);
+        if (rank_of[b] != rank) continue;
+        if (run.bricks.empty() && b > 0 && same_column(planned[b - 1], planned[b])) run.below = rank_of[b - 1];
+        run.bricks.push_back(planned[b]);
+        if (b + 1 < planned.size() && rank_of[b + 1] != rank && same_column(planned[b], planned[b + 1])) run.above = rank_of[b + 1];
     }
-    return mine;
+    return run;
 }
+
+/// The cells at the borders between this rank's run and the runs under and over it in the
+/// same column, posted to the ranks owning those (docs/scale.md, "Borders between ranks"): the
+/// bottom block rows of its first layer down as soon as they are built, the top block row of
+/// its last layer up once decided; each taken only when needed, so no rank waits but for cells
+/// it reads.
+class RankBorders {
+public:
+    RankBorders(const RankCollectives& ranks, int below, int above) : ranks_(ranks), below_(below), above_(above) {}
+
+    void post_bottom_rows(std::string rows) {
+        if (below_ >= 0) ranks_.post(below_, kBottomRows, std::move(rows));
+    }
+    const std::string& rows_above() {
+        if (!rows_above_) rows_above_ = ranks_.take(above_, kBottomRows);
+        return *rows_above_;
+    }
+    void post_top_row(std::string row) {
+        if (above_ >= 0) ranks_.post(above_, kTopRow, std::move(row));
+    }
+    std::string row_below() { return ranks_.take(below_, kTopRow); }
+
+private:
+    static constexpr int kBottomRows = 28001, kTopRow = 28002;  // message tags
+
+    const RankCollectives& ranks_;
+    const int below_, above_;
+    std::optional<std::string> rows_above_;
+};
 
 /// Marching Cubes (error 0) brick by brick, into @a consume: a brick's nodes and a leaf beyond
 /// them on the far sides (its blocks' cells read one sample further) read, its blocks marched.
@@ -197,7 +238,10 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
     report.brick_shape = bricks.shape;
     report.bricks = planned.size();
     report.estimated_peak_bytes = brick_peak_bytes(source, bricks.shape);
-    if (bricks.ranks > 1) planned = bricks_of_rank(std::move(planned), bricks.rank, bricks.ranks);
+    RankRun run{planned};
+    if (bricks.ranks > 1) run = run_of_rank(planned, bricks.rank, bricks.ranks);
+    const std::size_t total = planned.size();
+    planned = std::move(run.bricks);
     const SampleClassifier classifier(*source.description(), options);
     if (options.method == MeshMethod::mc || options.error <= 0) {
         march_bricks(source, classifier, options, planned, bricks.shape, report, consume);
@@ -206,17 +250,37 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
     MeshOptions per_column = options;
     per_column.progress = nullptr;
     std::size_t done = 0;
+    auto consume_counted = [&](std::vector<IfcNodeOutput>&& made) {
+        consume(std::move(made));
+        if (options.progress) options.progress(0.9 * double(++done) / double(total));
+    };
+    // Ranks that can talk build the layers at their borders once (simulated ranks, which run
+    // one after another, each build them).
+    std::optional<RankBorders> borders;
+    if (bricks.ranks > 1 && bricks.collectives) borders.emplace(*bricks.collectives, run.below, run.above);
+    std::optional<std::string> deferred;  // the first column's first layer, with a rank below
     for (std::size_t first = 0; first < planned.size();) {
         std::size_t last = first;  // the bricks of one column, consecutive layers
-        while (last + 1 < planned.size() && planned[last + 1].min_x == planned[first].min_x && planned[last + 1].min_y == planned[first].min_y)
-            ++last;
+        while (last + 1 < planned.size() && same_column(planned[last + 1], planned[first])) ++last;
+        IfcColumnBorders column_borders;
+        if (borders) {
+            column_borders.below = first == 0 && run.below >= 0;
+            column_borders.above = last + 1 == planned.size() && run.above >= 0;
+            if (column_borders.below) column_borders.first_layer_built = [&](std::string rows) { borders->post_bottom_rows(std::move(rows)); };
+            column_borders.rows_above = [&]() -> const std::string& { return borders->rows_above(); };
+        }
         IfcColumnWavefront wavefront(source, classifier, per_column, column_of(planned[first], bricks.shape), report);
-        wavefront.run(planned[first].layer, planned[last].layer, [&](std::vector<IfcNodeOutput>&& made) {
-            consume(std::move(made));
-            if (options.progress) options.progress(0.9 * double(++done) / double(planned.size()));
-        });
+        wavefront.run(planned[first].layer, planned[last].layer, consume_counted, borders ? &column_borders : nullptr);
+        if (column_borders.deferred) deferred = std::move(column_borders.deferred);
+        if (column_borders.above) borders->post_top_row(std::move(column_borders.top_row));
         first = last + 1;
     }
+    if (!deferred) return;
+    PhaseClock clock;
+    const std::string row_below = borders->row_below();
+    clock.lap(report, "borders");
+    IfcColumnWavefront wavefront(source, classifier, per_column, column_of(planned.front(), bricks.shape), report);
+    wavefront.contour_deferred(planned.front().layer, *deferred, row_below, consume_counted);
 }
 
 Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report) {

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "mesh/dc_block_bytes.h"
 #include "mesh/mesh_phases.h"
 
 namespace vdbmesh::detail {
@@ -85,9 +86,23 @@ void IfcColumnWavefront::build(int layer) {
                                             {column_.max_x + kNodeVoxels, column_.max_y + kNodeVoxels, z1 - 1});
     cells_ = merge_cells(std::move(cells_), build_ifc_cell_grid(*window_, classifier_, options_, layer_and_ring, report_));
     // A block's split reads its 26 neighbours: decide those whose neighbours are all built.
+    split_where([&](const openvdb::Coord& o) { return o.z() < z1 - kLeafVoxels; });
+}
+
+void IfcColumnWavefront::take_rows_above(const std::string& rows, int layer) {
+    cells_ = merge_cells(std::move(cells_), ifc_blocks_from_bytes(rows));
+    // The top block row under them and their bottom row, as the rank above will decide it.
+    split_where([&](const openvdb::Coord& o) { return o.z() < layer_z(layer) + kLeafVoxels; });
+}
+
+void IfcColumnWavefront::split_where(const IfcOriginFilter& decide) {
     PhaseClock clock;
-    split_clipped_blocks(cells_, [&](const openvdb::Coord& o) { return o.z() < z1 - kLeafVoxels; });
+    split_clipped_blocks(cells_, [&](const openvdb::Coord& o) { return o.z() >= decide_from_z_ && decide(o); });
     clock.lap(report_, "split");
+}
+
+std::string IfcColumnWavefront::block_rows(int z_begin, int z_end) const {
+    return ifc_blocks_bytes(cells_, [&](const openvdb::Coord& o) { return o.z() >= z_begin && o.z() < z_end; });
 }
 
 std::vector<IfcNodeOutput> IfcColumnWavefront::contour(int layer) {
@@ -103,7 +118,8 @@ void IfcColumnWavefront::drop_below(int cells_z, int samples_z) {
     release_free_memory();
 }
 
-void IfcColumnWavefront::run(int first, int last, const std::function<void(std::vector<IfcNodeOutput>&&)>& consume) {
+void IfcColumnWavefront::run(int first, int last, const std::function<void(std::vector<IfcNodeOutput>&&)>& consume,
+                             IfcColumnBorders* borders) {
     // Building layer s reads samples from one below its bottom to one above its top; the
     // contour of layer s - 1 reads the cells of its blocks and of the blocks next to them (the
     // top block row of layer s - 2, the bottom one of layer s), and the samples of layers
@@ -111,15 +127,37 @@ void IfcColumnWavefront::run(int first, int last, const std::function<void(std::
     // as: the top leaf row under the first layer built, then per layer its first leaf row
     // (before the layer under it is built) and the rest (after the layer two below is dropped);
     // a contoured layer keeps only its top block row of cells.
+    const bool below = borders && borders->below, above = borders && borders->above;
+    if (below) decide_from_z_ = layer_z(first) + kLeafVoxels;
     const int start = first - 1;  // built, not contoured: the halo under the column's bricks
     read(layer_z(start) - kLeafVoxels, layer_z(start + 1));
     for (int s = start; s <= last + 1; ++s) {
         read(layer_z(s + 1), layer_z(s + 1) + kLeafVoxels);
-        build(s);
-        if (s - 1 >= first) consume(contour(s - 1));
+        if (s == last + 1 && above) {
+            take_rows_above(borders->rows_above(), s);
+            borders->top_row = block_rows(layer_z(s) - kLeafVoxels, layer_z(s));
+        } else if (s != start || !below) {
+            build(s);
+        }
+        if (s == first && below) borders->first_layer_built(block_rows(layer_z(s), layer_z(s) + 2 * kLeafVoxels));
+        if (s - 1 == first && below) {
+            borders->deferred = block_rows(layer_z(first), layer_z(first + 1) + kLeafVoxels);
+        } else if (s - 1 >= first) {
+            consume(contour(s - 1));
+        }
         drop_below(layer_z(s) - kLeafVoxels, layer_z(s - 1));
         if (s <= last) read(layer_z(s + 1) + kLeafVoxels, layer_z(s + 2));
     }
+}
+
+void IfcColumnWavefront::contour_deferred(int layer, const std::string& deferred, const std::string& row_below,
+                                          const std::function<void(std::vector<IfcNodeOutput>&&)>& consume) {
+    // What run() held when it would have contoured the layer: the samples of the layers under,
+    // at and over it and a leaf row more, the cells of the layer and the block rows round it.
+    read(layer_z(layer - 1), layer_z(layer + 2) + kLeafVoxels);
+    cells_ = merge_cells(ifc_blocks_from_bytes(row_below), ifc_blocks_from_bytes(deferred));
+    split_where([](const openvdb::Coord&) { return true; });  // the layer's bottom row, now that its neighbours are here
+    consume(contour(layer));
 }
 
 }  // namespace vdbmesh::detail

@@ -5,6 +5,9 @@
 #include <openvdb/openvdb.h>
 
 #include <functional>
+#include <limits>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "mesh/dual_contouring.h"
@@ -14,6 +17,24 @@ namespace vdbmesh::detail {
 /// The owned part of a column of bricks: whole nodes across x and y (voxels, inclusive).
 struct IfcColumn {
     int min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+};
+
+/// Where a column's run of bricks meets another rank's run in the same column (mpirun): the
+/// layer beyond is built by that rank, not again here, and the cells at the border are handed
+/// over as bytes (dc_block_bytes.h; docs/scale.md, "Borders between ranks").
+struct IfcColumnBorders {
+    bool below = false;  ///< layer first - 1 is another rank's
+    bool above = false;  ///< layer last + 1 is another rank's
+    /// With @a below: called once layer first is built, with its bottom two block rows (as
+    /// built, the bottom one not yet decided by the split).
+    std::function<void(std::string)> first_layer_built;
+    /// With @a above: the bottom two block rows of layer last + 1, as the rank above built them.
+    std::function<const std::string&()> rows_above;
+    /// Out, with @a below: layer first's cells (all but its bottom block row decided) and the
+    /// bottom block row of the layer above, for contour_deferred().
+    std::optional<std::string> deferred;
+    /// Out, with @a above: the top block row of layer last, decided.
+    std::string top_row;
 };
 
 /// Contours the column's node layers from bottom to top. Held at any time: the samples of
@@ -27,12 +48,22 @@ public:
 
     /// Calls @a consume with the nodes of each node layer @a first .. @a last (node z
     /// indices, z / kNodeVoxels) in turn, in z-major order within a layer.
-    void run(int first, int last, const std::function<void(std::vector<IfcNodeOutput>&&)>& consume);
+    /// With @a borders (may be null), as IfcColumnBorders says: layer first is then left to
+    /// contour_deferred().
+    void run(int first, int last, const std::function<void(std::vector<IfcNodeOutput>&&)>& consume, IfcColumnBorders* borders = nullptr);
+
+    /// Contours layer @a layer, left by run() in IfcColumnBorders::deferred, once the top block
+    /// row of the layer below (IfcColumnBorders::top_row of the rank below) has come.
+    void contour_deferred(int layer, const std::string& deferred, const std::string& row_below,
+                          const std::function<void(std::vector<IfcNodeOutput>&&)>& consume);
 
 private:
     bool in_column(const openvdb::Coord& origin) const;
     void read(int z_begin, int z_end);
     void build(int layer);
+    void take_rows_above(const std::string& rows, int layer);
+    void split_where(const IfcOriginFilter& decide);
+    std::string block_rows(int z_begin, int z_end) const;
     std::vector<IfcNodeOutput> contour(int layer);
     void drop_below(int cells_z, int samples_z);
 
@@ -43,6 +74,8 @@ private:
     MeshReport& report_;
     openvdb::FloatGrid::Ptr window_;
     IfcCellGrid cells_;
+    /// Blocks below this z are never decided by run() (a rank below: its cells come later).
+    int decide_from_z_ = std::numeric_limits<int>::min();
 };
 
 }  // namespace vdbmesh::detail

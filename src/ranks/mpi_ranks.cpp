@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <list>
 #include <string>
 
 #include "ranks/simulated_ranks.h"
@@ -18,6 +19,18 @@ namespace {
 
 /// Whether this process initialised MPI (a RanksSession under a launcher).
 bool mpi_live = false;
+
+/// Messages post() sent that may not have been received yet: their bytes must live until then.
+struct PostedMessage {
+    std::string bytes;
+    MPI_Request request = MPI_REQUEST_NULL;
+};
+std::list<PostedMessage> posted;
+
+void wait_for_posted() {
+    for (PostedMessage& message : posted) MPI_Wait(&message.request, MPI_STATUS_IGNORE);
+    posted.clear();
+}
 
 void check(int code, const char* call) {
     if (code != MPI_SUCCESS) throw Error(std::string("MPI: ") + call + " failed (code " + std::to_string(code) + ")");
@@ -36,6 +49,7 @@ RanksSession::RanksSession() {
 RanksSession::~RanksSession() {
     if (!mpi_live) return;
     mpi_live = false;
+    wait_for_posted();
     MPI_Finalize();
 }
 
@@ -164,11 +178,27 @@ bool mpi_all(bool mine) {
     return value != 0;
 }
 
+void mpi_post(int to, int tag, std::string bytes) {
+    PostedMessage& message = posted.emplace_back();
+    message.bytes = std::move(bytes);
+    check(MPI_Isend(message.bytes.data(), count_of(message.bytes.size()), MPI_BYTE, to, tag, MPI_COMM_WORLD, &message.request), "MPI_Isend");
+}
+
+std::string mpi_take(int from, int tag) {
+    MPI_Status status;
+    check(MPI_Probe(from, tag, MPI_COMM_WORLD, &status), "MPI_Probe");
+    int count = 0;
+    check(MPI_Get_count(&status, MPI_BYTE, &count), "MPI_Get_count");
+    std::string bytes(std::size_t(count), '\0');
+    check(MPI_Recv(bytes.data(), count, MPI_BYTE, from, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE), "MPI_Recv");
+    return bytes;
+}
+
 }  // namespace
 
 std::optional<RankCollectives> ranks_collectives() {
     if (!mpi_live || rank_count() < 2) return std::nullopt;
-    return RankCollectives{this_rank(), rank_count(), mpi_allgather, mpi_exchange, mpi_or_words, mpi_from_rank0, mpi_all};
+    return RankCollectives{this_rank(), rank_count(), mpi_allgather, mpi_exchange, mpi_or_words, mpi_from_rank0, mpi_all, mpi_post, mpi_take};
 }
 
 }  // namespace vdbmesh

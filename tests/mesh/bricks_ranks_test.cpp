@@ -12,9 +12,11 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <mutex>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "phantom_grid.h"
@@ -29,7 +31,8 @@ namespace vdbmesh {
 namespace {
 
 /// Collective calls between threads: each call posts this rank's input, waits for every rank,
-/// reads what it needs, and waits again before the board is reused.
+/// reads what it needs, and waits again before the board is reused. Messages (post, take) wait
+/// in a mailbox.
 class Board {
 public:
     explicit Board(int ranks) : ranks_(ranks), posted_(std::size_t(ranks)), words_(std::size_t(ranks)) {}
@@ -67,6 +70,19 @@ public:
             wait();
             return value;
         };
+        c.post = [this, rank](int to, int tag, std::string bytes) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            mailbox_[{rank, to, tag}] = std::move(bytes);
+            woken_.notify_all();
+        };
+        c.take = [this, rank](int from, int tag) {
+            std::unique_lock<std::mutex> lock(mutex_);
+            const std::tuple<int, int, int> key{from, rank, tag};
+            woken_.wait(lock, [&] { return mailbox_.count(key) != 0; });
+            std::string bytes = std::move(mailbox_[key]);
+            mailbox_.erase(key);
+            return bytes;
+        };
         c.all = [this, rank](bool mine) {
             posted_[std::size_t(rank)] = {mine ? "1" : "0"};
             wait();
@@ -93,6 +109,7 @@ private:
     int ranks_;
     std::vector<std::vector<std::string>> posted_;
     std::vector<std::vector<std::uint64_t>> words_;
+    std::map<std::tuple<int, int, int>, std::string> mailbox_;  // from, to, tag
     std::mutex mutex_;
     std::condition_variable woken_;
     int arrived_ = 0;

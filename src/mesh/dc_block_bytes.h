@@ -1,0 +1,20 @@
+#pragma once
+// Private: blocks' cells as bytes, so that a rank can hand the cells it built at a border to
+// the rank beyond it instead of that rank building them again (dc_wavefront.cpp; docs/scale.md,
+// "Borders between ranks").
+
+#include <string>
+
+#include "mesh/dual_contouring.h"
+
+namespace vdbmesh::detail {
+
+/// The blocks of @a cells whose origins @a take accepts (built or not), in origin order, with
+/// everything a block holds: its leaves, the parts a split may take, what the contour reads of
+/// its samples, and its split decision.
+std::string ifc_blocks_bytes(const IfcCellGrid& cells, const IfcOriginFilter& take);
+
+/// The blocks ifc_blocks_bytes() wrote, as they were. @throw Error on bytes it did not write.
+IfcCellGrid ifc_blocks_from_bytes(const std::string& bytes);
+
+}  // namespace vdbmesh::detail
