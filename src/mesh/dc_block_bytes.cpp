@@ -111,11 +111,10 @@ void read_block(ByteReader& in, IfcBlockCells& block) {
 
 }  // namespace
 
-std::string ifc_blocks_bytes(const IfcCellGrid& cells, const IfcOriginFilter& take) {
+std::string ifc_blocks_bytes(const IfcCellGrid& cells, const std::vector<std::size_t>& blocks) {
     std::string bytes;
     ByteWriter out(bytes);
-    for (std::size_t b = 0; b < cells.origins.size(); ++b) {
-        if (!take(cells.origins[b])) continue;
+    for (const std::size_t b : blocks) {
         out.put(cells.origins[b]);
         out.put(bool(cells.blocks[b]));
         if (cells.blocks[b]) write_block(out, *cells.blocks[b]);
@@ -123,8 +122,15 @@ std::string ifc_blocks_bytes(const IfcCellGrid& cells, const IfcOriginFilter& ta
     return bytes;
 }
 
-IfcCellGrid ifc_blocks_from_bytes(const std::string& bytes) {
-    IfcCellGrid cells;
+std::string ifc_blocks_bytes(const IfcCellGrid& cells, const IfcOriginFilter& take) {
+    std::vector<std::size_t> taken;
+    for (std::size_t b = 0; b < cells.origins.size(); ++b) {
+        if (take(cells.origins[b])) taken.push_back(b);
+    }
+    return ifc_blocks_bytes(cells, taken);
+}
+
+void append_ifc_blocks(const std::string& bytes, IfcCellGrid& cells) {
     ByteReader in(bytes);
     while (!in.done()) {
         openvdb::Coord origin;
@@ -135,7 +141,6 @@ IfcCellGrid ifc_blocks_from_bytes(const std::string& bytes) {
         cells.blocks.emplace_back();
         if (built) read_block(in, cells.block_for_writing(cells.blocks.size() - 1));
     }
-    return cells;
 }
 
 }  // namespace vdbmesh::detail

@@ -4,6 +4,7 @@
 // "Borders between ranks").
 
 #include <string>
+#include <vector>
 
 #include "mesh/dual_contouring.h"
 
@@ -13,8 +14,16 @@ namespace vdbmesh::detail {
 /// everything a block holds: its leaves, the parts a split may take, what the contour reads of
 /// its samples, and its split decision.
 std::string ifc_blocks_bytes(const IfcCellGrid& cells, const IfcOriginFilter& take);
+/// The same, of the blocks numbered @a blocks (indices into @a cells, in origin order).
+std::string ifc_blocks_bytes(const IfcCellGrid& cells, const std::vector<std::size_t>& blocks);
 
-/// The blocks ifc_blocks_bytes() wrote, as they were. @throw Error on bytes it did not write.
-IfcCellGrid ifc_blocks_from_bytes(const std::string& bytes);
+/// The blocks ifc_blocks_bytes() wrote, as they were, appended to @a cells (whose origins then
+/// need sorting unless the bytes' follow them). @throw Error on bytes it did not write.
+void append_ifc_blocks(const std::string& bytes, IfcCellGrid& cells);
+inline IfcCellGrid ifc_blocks_from_bytes(const std::string& bytes) {
+    IfcCellGrid cells;
+    append_ifc_blocks(bytes, cells);
+    return cells;
+}
 
 }  // namespace vdbmesh::detail

@@ -93,14 +93,29 @@ std::uint64_t built_voxels(const std::vector<std::pair<openvdb::Coord, std::uint
     return built;
 }
 
+bool same_column(const IfcBrick& a, const IfcBrick& b) { return a.min_x == b.min_x && a.min_y == b.min_y; }
+
+/// The columns of @a planned's bricks, in visiting order.
+std::vector<IfcColumn> columns_of(const std::vector<IfcBrick>& planned, const BrickShape& shape) {
+    std::vector<IfcColumn> columns;
+    for (std::size_t b = 0; b < planned.size(); ++b) {
+        if (b == 0 || !same_column(planned[b - 1], planned[b])) columns.push_back(column_of(planned[b], shape));
+    }
+    return columns;
+}
+
+/// Whether node @a node is one of @a column's or of its ring's.
+bool within_ring(const IfcColumn& column, const openvdb::Coord& node) {
+    return node.x() >= column.min_x - kNodeVoxels && node.x() <= column.max_x + 1 && node.y() >= column.min_y - kNodeVoxels &&
+           node.y() <= column.max_y + 1;
+}
+
 /// A rank's share of the planned bricks: a contiguous run (ranks.h's rule), and the ranks owning
 /// the bricks just under and over it when those lie in the same column (-1: none).
 struct RankRun {
     std::vector<IfcBrick> bricks;
     int below = -1, above = -1;
 };
-
-bool same_column(const IfcBrick& a, const IfcBrick& b) { return a.min_x == b.min_x && a.min_y == b.min_y; }
 
 RankRun run_of_rank(const std::vector<IfcBrick>& planned, int rank, int ranks) {
     std::vector<std::uint64_t> weights(planned.size());
@@ -259,7 +274,17 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
     std::optional<RankBorders> borders;
     if (bricks.ranks > 1 && bricks.collectives) borders.emplace(*bricks.collectives, run.below, run.above);
     std::optional<std::string> deferred;  // the first column's first layer, with a rank below
-    for (std::size_t first = 0; first < planned.size();) {
+    // Where columns' rings reach into each other, a node one column built is kept for the next.
+    const std::vector<IfcColumn> columns = columns_of(planned, bricks.shape);
+    std::size_t column = 0;
+    std::optional<IfcNodeCache> cache;
+    if (columns.size() > 1) {
+        cache.emplace([&](const openvdb::Coord& node) {
+            return std::any_of(columns.begin() + std::ptrdiff_t(column) + 1, columns.end(),
+                               [&](const IfcColumn& later) { return within_ring(later, node); });
+        });
+    }
+    for (std::size_t first = 0; first < planned.size(); ++column) {
         std::size_t last = first;  // the bricks of one column, consecutive layers
         while (last + 1 < planned.size() && same_column(planned[last + 1], planned[first])) ++last;
         IfcColumnBorders column_borders;
@@ -269,7 +294,7 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
             if (column_borders.below) column_borders.first_layer_built = [&](std::string rows) { borders->post_bottom_rows(std::move(rows)); };
             column_borders.rows_above = [&]() -> const std::string& { return borders->rows_above(); };
         }
-        IfcColumnWavefront wavefront(source, classifier, per_column, column_of(planned[first], bricks.shape), report);
+        IfcColumnWavefront wavefront(source, classifier, per_column, columns[column], report, cache ? &*cache : nullptr);
         wavefront.run(planned[first].layer, planned[last].layer, consume_counted, borders ? &column_borders : nullptr);
         if (column_borders.deferred) deferred = std::move(column_borders.deferred);
         if (column_borders.above) borders->post_top_row(std::move(column_borders.top_row));

@@ -56,8 +56,8 @@ void drop_cells_below(IfcCellGrid& cells, int z) {
 }  // namespace
 
 IfcColumnWavefront::IfcColumnWavefront(const GridRegionSource& source, const SampleClassifier& classifier, const MeshOptions& options,
-                                       const IfcColumn& column, MeshReport& report)
-    : source_(source), classifier_(classifier), options_(options), column_(column), report_(report) {
+                                       const IfcColumn& column, MeshReport& report, IfcNodeCache* cache)
+    : source_(source), classifier_(classifier), options_(options), column_(column), report_(report), cache_(cache) {
     std::shared_ptr<const openvdb::FloatGrid> description = source.description();
     window_ = openvdb::FloatGrid::create(description->background());
     window_->setTransform(description->transform().copy());
@@ -84,7 +84,17 @@ void IfcColumnWavefront::build(int layer) {
     // The layer's nodes in the column and its ring (block origins, inclusive).
     const openvdb::CoordBBox layer_and_ring({column_.min_x - kNodeVoxels, column_.min_y - kNodeVoxels, z0},
                                             {column_.max_x + kNodeVoxels, column_.max_y + kNodeVoxels, z1 - 1});
-    cells_ = merge_cells(std::move(cells_), build_ifc_cell_grid(*window_, classifier_, options_, layer_and_ring, report_));
+    IfcOriginFilter build_node;
+    if (cache_) build_node = [&](const openvdb::Coord& node) { return !cache_->has(node); };
+    IfcCellGrid built = build_ifc_cell_grid(*window_, classifier_, options_, layer_and_ring, report_, build_node);
+    if (cache_) {
+        PhaseClock clock;
+        IfcCellGrid taken = cache_->take(layer_and_ring);  // before keeping this layer's own
+        cache_->keep(built);
+        built = merge_cells(std::move(built), std::move(taken));
+        clock.lap(report_, "cache");
+    }
+    cells_ = merge_cells(std::move(cells_), std::move(built));
     // A block's split reads its 26 neighbours: decide those whose neighbours are all built.
     split_where([&](const openvdb::Coord& o) { return o.z() < z1 - kLeafVoxels; });
 }

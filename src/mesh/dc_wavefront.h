@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "mesh/dc_node_cache.h"
 #include "mesh/dual_contouring.h"
 
 namespace vdbmesh::detail {
@@ -40,11 +41,14 @@ struct IfcColumnBorders {
 /// Contours the column's node layers from bottom to top. Held at any time: the samples of
 /// the column's nodes and of one ring of nodes round it (a leaf more) in at most three node
 /// layers and a leaf row, and the cells of two node layers and a block row. The ring's nodes are built (octree, coarse
-/// merge, split) but not contoured; no node is built twice in one column.
+/// merge, split) but not contoured; no node is built twice in one column, nor, with a cache,
+/// in one process.
 class IfcColumnWavefront {
 public:
+    /// With @a cache (may be null), the nodes it holds are taken from it rather than built, and
+    /// the nodes built that a later column reads are kept in it.
     IfcColumnWavefront(const GridRegionSource& source, const SampleClassifier& classifier, const MeshOptions& options, const IfcColumn& column,
-                       MeshReport& report);
+                       MeshReport& report, IfcNodeCache* cache = nullptr);
 
     /// Calls @a consume with the nodes of each node layer @a first .. @a last (node z
     /// indices, z / kNodeVoxels) in turn, in z-major order within a layer.
@@ -73,6 +77,7 @@ private:
     const IfcColumn column_;
     MeshReport& report_;
     openvdb::FloatGrid::Ptr window_;
+    IfcNodeCache* cache_;
     IfcCellGrid cells_;
     /// Blocks below this z are never decided by run() (a rank below: its cells come later).
     int decide_from_z_ = std::numeric_limits<int>::min();

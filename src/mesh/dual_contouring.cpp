@@ -147,10 +147,15 @@ std::vector<IfcNodeOutput> group_ifc_outputs_by_node(const std::vector<openvdb::
 }
 
 IfcCellGrid build_ifc_cell_grid(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
-                                const std::optional<openvdb::CoordBBox>& within, MeshReport& report) {
+                                const std::optional<openvdb::CoordBBox>& within, MeshReport& report, const IfcOriginFilter& build_node) {
     PhaseClock clock;
     IfcCellGrid cells;
     cells.origins = surface_blocks(grid, classifier, within);
+    if (build_node) {
+        cells.origins.erase(std::remove_if(cells.origins.begin(), cells.origins.end(),
+                                           [&](const openvdb::Coord& o) { return !build_node(ifc_node_of(o)); }),
+                            cells.origins.end());
+    }
     cells.blocks.resize(cells.origins.size());
     auto may_hold_surface = [&](std::size_t b, auto& accessor) { return block_may_hold_surface(accessor, classifier, cells.origins[b]); };
     for_each_surface_block(grid, classifier, cells.origins, may_hold_surface, [&](const IfcSamples& samples, std::size_t b) {

@@ -74,11 +74,12 @@ void release_free_memory();
 using IfcOriginFilter = std::function<bool(const openvdb::Coord&)>;
 
 /// The cells of the blocks of @a grid that may hold surface, with origins @a within (every
-/// block when not given): each block's octree, then each node's coarse merge (dc_coarse_merge.cpp;
-/// @a within must hold every block of a node or none). Adds the phases "octree" and "coarse"
-/// to @a report.
+/// block when not given) in the nodes @a build_node accepts (every node when null): each
+/// block's octree, then each node's coarse merge (dc_coarse_merge.cpp; @a within must hold
+/// every block of a node or none). Adds the phases "octree" and "coarse" to @a report.
 IfcCellGrid build_ifc_cell_grid(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
-                                const std::optional<openvdb::CoordBBox>& within, MeshReport& report);
+                                const std::optional<openvdb::CoordBBox>& within, MeshReport& report,
+                                const IfcOriginFilter& build_node = {});
 
 /// Splits the blocks that are still one 8-voxel cell of their own after the merge across
 /// blocks, whose surface only clips one of their faces, where the block across that face is not
