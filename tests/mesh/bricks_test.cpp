@@ -12,7 +12,9 @@
 #include <string>
 
 #include "cgal_judge.h"
+#include "mesh/dc_block_bytes.h"
 #include "mesh/dual_contouring.h"
+#include "mesh/sample_classifier.h"
 #include "phantom_grid.h"
 #include "shared_scan.h"
 #include "vdbmesh/error.h"
@@ -175,6 +177,37 @@ TEST(BricksTest, ThinWallsAcrossNodes) {
     spec.blur = 1;
     spec.noise_sigma = 0.02;
     expect_same_as_whole(phantom_on_node_corner(spec), dc_options(1.0), "cube minus sphere");
+}
+
+// The cells a rank hands another (docs/scale.md, "Borders between ranks") and a column keeps for
+// the next (IfcNodeCache) go through bytes: every field must come back, or the identity tests
+// above and in bricks_ranks_test.cpp fail somewhere far from the cause. A sphere on a node
+// corner at error 2 has coarse cells, split parts and crossings in its blocks.
+TEST(BricksTest, BlocksAsBytesComeBackAsTheyWere) {
+    PhantomSpec spec;
+    spec.radius = 36;
+    const auto grid = phantom_on_node_corner(spec);
+    const MeshOptions options = dc_options(2.0);
+    const detail::SampleClassifier classifier(*grid, options);
+    MeshReport report;
+    const detail::IfcCellGrid built = detail::build_ifc_cell_grid(*grid, classifier, options, std::nullopt, report);
+    ASSERT_GT(built.origins.size(), 100u);
+    auto every = [](const openvdb::Coord&) { return true; };
+    const std::string bytes = detail::ifc_blocks_bytes(built, every);
+    const detail::IfcCellGrid back = detail::ifc_blocks_from_bytes(bytes);
+    EXPECT_EQ(back.origins, built.origins);
+    EXPECT_EQ(detail::ifc_blocks_bytes(back, every), bytes);
+    std::size_t with_parts = 0, coarse = 0;
+    for (std::size_t b = 0; b < back.blocks.size(); ++b) {
+        ASSERT_EQ(bool(back.blocks[b]), bool(built.blocks[b]));
+        if (!back.blocks[b]) continue;
+        EXPECT_EQ(back.blocks[b]->crossings, built.blocks[b]->crossings);
+        with_parts += back.blocks[b]->parts ? 1 : 0;
+        coarse += !back.blocks[b]->cells.empty() && back.blocks[b]->cells[0].level > detail::kIfcMaxLevel ? 1 : 0;
+    }
+    EXPECT_GT(coarse, 0u) << "no coarse cell: the case does not exercise them";
+    EXPECT_GT(with_parts, 0u) << "no block with split parts: the case does not exercise them";
+    EXPECT_THROW(detail::ifc_blocks_from_bytes(bytes.substr(0, bytes.size() - 3)), Error);
 }
 
 // Five nodes along z: the halo of a one-node brick holds only three of them, so what a brick
