@@ -5,7 +5,9 @@
 
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <type_traits>
+#include <utility>
 
 #include "vdbmesh/error.h"
 
@@ -17,50 +19,66 @@ static_assert(std::is_trivially_copyable_v<IfcCell>);
 static_assert(std::is_trivially_copyable_v<Qef3>);
 static_assert(std::is_trivially_copyable_v<openvdb::Coord>);
 
+/// Writes a block's fields (block_fields()) as bytes.
 class ByteWriter {
 public:
     explicit ByteWriter(std::string& out) : out_(out) {}
     template <typename T>
-    void put(const T& value) {
+    void value(const T& v) {
         static_assert(std::is_trivially_copyable_v<T>);
-        out_.append(reinterpret_cast<const char*>(&value), sizeof(T));
+        out_.append(reinterpret_cast<const char*>(&v), sizeof(T));
     }
     template <typename T>
-    void put_vector(const std::vector<T>& values) {
-        put(std::uint64_t(values.size()));
+    void vector(const std::vector<T>& values) {
+        value(std::uint64_t(values.size()));
         out_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
     }
-    void put_leaves(const IfcLeaves& leaves) {
-        put(leaves.level);
-        put(leaves.cell);
-        put_vector(leaves.cells);
+    void leaves(const IfcLeaves& leaves) {
+        value(leaves.level);
+        value(leaves.cell);
+        vector(leaves.cells);
+    }
+    void parts(const std::unique_ptr<IfcBlockCells::Parts>& parts) {
+        value(bool(parts));
+        if (!parts) return;
+        leaves(*parts);
+        value(parts->clipped_faces);
     }
 
 private:
     std::string& out_;
 };
 
+/// Reads what ByteWriter wrote, field by field.
 class ByteReader {
 public:
     explicit ByteReader(const std::string& in) : in_(in) {}
     bool done() const { return at_ == in_.size(); }
     template <typename T>
-    void get(T& value) {
+    void value(T& v) {
         static_assert(std::is_trivially_copyable_v<T>);
-        take(&value, sizeof(T));
+        take(&v, sizeof(T));
     }
     template <typename T>
-    void get_vector(std::vector<T>& values) {
+    void vector(std::vector<T>& values) {
         std::uint64_t count = 0;
-        get(count);
+        value(count);
         if (count > (in_.size() - at_) / sizeof(T)) fail();
         values.resize(count);
         take(values.data(), count * sizeof(T));
     }
-    void get_leaves(IfcLeaves& leaves) {
-        get(leaves.level);
-        get(leaves.cell);
-        get_vector(leaves.cells);
+    void leaves(IfcLeaves& leaves) {
+        value(leaves.level);
+        value(leaves.cell);
+        vector(leaves.cells);
+    }
+    void parts(std::unique_ptr<IfcBlockCells::Parts>& parts) {
+        bool present = false;
+        value(present);
+        if (!present) return;
+        parts = std::make_unique<IfcBlockCells::Parts>();
+        leaves(*parts);
+        value(parts->clipped_faces);
     }
 
 private:
@@ -75,38 +93,18 @@ private:
     std::size_t at_ = 0;
 };
 
-void write_block(ByteWriter& out, const IfcBlockCells& block) {
-    out.put_leaves(block);
-    out.put(block.root_leaf);
-    out.put(block.root_qef);
-    out.put(bool(block.parts));
-    if (block.parts) {
-        out.put_leaves(*block.parts);
-        out.put(block.parts->clipped_faces);
-    }
-    out.put(block.sampled);
-    out.put(block.inside_rows);
-    out.put_vector(block.crossings);
-    out.put(block.split_decided);
-    out.put(block.was_split);
-}
-
-void read_block(ByteReader& in, IfcBlockCells& block) {
-    in.get_leaves(block);
-    in.get(block.root_leaf);
-    in.get(block.root_qef);
-    bool has_parts = false;
-    in.get(has_parts);
-    if (has_parts) {
-        block.parts = std::make_unique<IfcBlockCells::Parts>();
-        in.get_leaves(*block.parts);
-        in.get(block.parts->clipped_faces);
-    }
-    in.get(block.sampled);
-    in.get(block.inside_rows);
-    in.get_vector(block.crossings);
-    in.get(block.split_decided);
-    in.get(block.was_split);
+/// Every field of @a block, in the one order both ways (@a Io: ByteWriter or ByteReader).
+template <typename Io, typename Block>
+void block_fields(Io& io, Block& block) {
+    io.leaves(block);
+    io.value(block.root_leaf);
+    io.value(block.root_qef);
+    io.parts(block.parts);
+    io.value(block.sampled);
+    io.value(block.inside_rows);
+    io.vector(block.crossings);
+    io.value(block.split_decided);
+    io.value(block.was_split);
 }
 
 }  // namespace
@@ -115,9 +113,9 @@ std::string ifc_blocks_bytes(const IfcCellGrid& cells, const std::vector<std::si
     std::string bytes;
     ByteWriter out(bytes);
     for (const std::size_t b : blocks) {
-        out.put(cells.origins[b]);
-        out.put(bool(cells.blocks[b]));
-        if (cells.blocks[b]) write_block(out, *cells.blocks[b]);
+        out.value(cells.origins[b]);
+        out.value(bool(cells.blocks[b]));
+        if (cells.blocks[b]) block_fields(out, std::as_const(*cells.blocks[b]));
     }
     return bytes;
 }
@@ -134,12 +132,12 @@ void append_ifc_blocks(const std::string& bytes, IfcCellGrid& cells) {
     ByteReader in(bytes);
     while (!in.done()) {
         openvdb::Coord origin;
-        in.get(origin);
+        in.value(origin);
         bool built = false;
-        in.get(built);
+        in.value(built);
         cells.origins.push_back(origin);
         cells.blocks.emplace_back();
-        if (built) read_block(in, cells.block_for_writing(cells.blocks.size() - 1));
+        if (built) block_fields(in, cells.block_for_writing(cells.blocks.size() - 1));
     }
 }
 
