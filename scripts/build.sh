@@ -12,7 +12,10 @@ case "${1:-}" in
   "") ;;
   *) echo "usage: build.sh [--tests | --all]" >&2; exit 2 ;;
 esac
-if [ $tests = ON ]; then bash scripts/install-deps.sh --tests; else bash scripts/install-deps.sh; fi
+if [ $bench = ON ]; then bash scripts/install-deps.sh --all
+elif [ $tests = ON ]; then bash scripts/install-deps.sh --tests
+else bash scripts/install-deps.sh
+fi
 generator=()
 command -v ninja >/dev/null && generator=(-G Ninja)
 # Configure once; again only to switch the tests (with the Python module and MPI) or the

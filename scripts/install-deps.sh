@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages vdbmesh needs, only those that are missing.
 #   install-deps.sh          what the library and the `vdbmesh` program need (the quick start)
-#   install-deps.sh --tests  that and what the tests, the benchmarks and the Python module need
+#   install-deps.sh --tests  that and what the tests, MPI and the Python module need (CI's, scripts/test.sh's)
+#   install-deps.sh --all    that and what only the benchmarks need (bench/: build.sh --all)
 set -euo pipefail
 packages=(
   cmake g++ ninja-build ccache pkg-config
@@ -14,7 +15,7 @@ packages=(
 # Node.js and npm build the page of `vdbmesh view` (web/: npm ci, esbuild); Debian's, unless the machine has its own.
 command -v node >/dev/null || packages+=(nodejs)
 command -v npm >/dev/null || packages+=(npm)
-if [ "${1:-}" = "--tests" ]; then
+if [ "${1:-}" = "--tests" ] || [ "${1:-}" = "--all" ]; then
   packages+=(
     libgtest-dev
     libopenvdb-tools                      # vdb_print: the tests open our .vdb files with OpenVDB's own tool
@@ -22,13 +23,19 @@ if [ "${1:-}" = "--tests" ]; then
     chromium chromium-driver              # the browser test of the page (headless, WebGL through SwiftShader)
     pybind11-dev python3-dev python3-numpy python3-pytest   # the Python module and its tests
     python3-skimage                                          # its comparison tests and bench/python_vs_skimage.py
-    libmeshoptimizer-dev                  # bench/decimate_bench.cpp: the speed reference of vdbmesh mesh --decimate
     libopenmpi-dev openmpi-bin            # VDBMESH_MPI=ON (the test build): vdbmesh distributed under mpirun (issue 28, src/ranks)
-    python3-vtk9                          # bench/labels_vs_vtk.py: VTK discrete flying edges + windowed sinc, the reference of mesh --labels
   )
 elif [ -n "${1:-}" ]; then
-  echo "usage: install-deps.sh [--tests]" >&2
+  echo "usage: install-deps.sh [--tests | --all]" >&2
   exit 2
+fi
+# Only the benchmarks use these: on a fresh Debian 12 they are 43 more packages (45 MB to fetch,
+# 224 MB unpacked, mostly VTK's), which CI's test run (--tests) need not install.
+if [ "${1:-}" = "--all" ]; then
+  packages+=(
+    libmeshoptimizer-dev                  # bench/decimate_bench.cpp: the speed reference of vdbmesh mesh --decimate
+    python3-vtk9                          # bench/labels_vs_vtk.py: VTK discrete flying edges + windowed sinc, the reference of mesh --labels
+  )
 fi
 missing=()
 for p in "${packages[@]}"; do

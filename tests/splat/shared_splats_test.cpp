@@ -9,13 +9,14 @@
 #include <tuple>
 
 #include "splat_camera.h"
+#include "splat_test_math.h"
 #include "vdbmesh/shared_splats.h"
 #include "vdbmesh/shared_tree.h"
 
 namespace vdbmesh {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using test::kPi;
 
 /// A row of eight 128^3 nodes along x, each holding the same sphere (radius 20 voxels, a signed
 /// distance negative inside in a band of 3): the six inner nodes have the same neighbourhood,

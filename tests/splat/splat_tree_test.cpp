@@ -10,6 +10,7 @@
 #include <iterator>
 #include <random>
 
+#include "splat_test_math.h"
 #include "test_data.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/mesher.h"
@@ -21,7 +22,8 @@ namespace {
 constexpr double kRadius = 10.0;                     // world units
 constexpr double kVoxel = 0.5;                       // world units: the sphere is 20 voxels wide
 const openvdb::Vec3d kCentre(3.1, -2.2, 1.7);        // world: off the sample lattice
-constexpr double kPi = 3.14159265358979323846;
+using test::kPi;
+using test::vec;
 
 /// The signed distance to the sphere (positive inside, isovalue 0), dense over its box plus a
 /// margin, in a grid of voxel kVoxel offset from the origin (so world space is exercised).
@@ -50,8 +52,6 @@ SplatOptions sphere_options(double tolerance = 0.1) {
     options.coplanar_tolerance = tolerance;
     return options;
 }
-
-openvdb::Vec3d vec(const std::array<float, 3>& a) { return openvdb::Vec3d(a[0], a[1], a[2]); }
 
 /// The angle between two directions (atan2: accurate near 0, where acos is not).
 double angle(const std::array<float, 3>& a, const std::array<float, 3>& b) {

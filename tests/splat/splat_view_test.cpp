@@ -10,6 +10,7 @@
 #include <map>
 
 #include "splat_camera.h"
+#include "splat_test_math.h"
 #include "test_data.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/grid_region.h"
@@ -18,7 +19,7 @@
 namespace vdbmesh {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using test::kPi;
 
 /// A sphere of radius 40 voxels centred near the origin, so that it spans eight 128^3 nodes:
 /// the signed distance (positive inside) in a band of 3 voxels, inside tiles and voxels deeper.

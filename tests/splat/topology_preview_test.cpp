@@ -14,6 +14,7 @@
 #include <vector>
 #include <stdexcept>
 
+#include "splat_test_math.h"
 #include "test_data.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/grid_region.h"
@@ -22,9 +23,11 @@
 namespace vdbmesh {
 namespace {
 
-constexpr double kRadius = 40;     // voxels
+using test::vec;
+
+constexpr double kBandRadius = 40;  // voxels
 constexpr double kHalfBand = 1.5;  // voxels: the active band |distance| <= 1.5, as a converted scan's
-const openvdb::Vec3d kCentre(2.3, -1.6, 0.7);
+const openvdb::Vec3d kBandCentre(2.3, -1.6, 0.7);
 
 /// The signed distance to the sphere (positive inside) on the band's voxels only, all active.
 openvdb::FloatGrid::Ptr sphere_band() {
@@ -34,7 +37,7 @@ openvdb::FloatGrid::Ptr sphere_band() {
     for (int z = -44; z <= 44; ++z)
         for (int y = -44; y <= 44; ++y)
             for (int x = -44; x <= 44; ++x) {
-                const double d = kRadius - (openvdb::Vec3d(x, y, z) - kCentre).length();
+                const double d = kBandRadius - (openvdb::Vec3d(x, y, z) - kBandCentre).length();
                 if (std::abs(d) <= kHalfBand) accessor.setValue(openvdb::Coord(x, y, z), float(d));
             }
     return grid;
@@ -54,8 +57,6 @@ private:
     std::shared_ptr<const GridRegionSource> whole_;
 };
 
-openvdb::Vec3d vec(const std::array<float, 3>& a) { return openvdb::Vec3d(a[0], a[1], a[2]); }
-
 TEST(TopologyPreview, ASplatPerLeafAcrossTheSphereBandMadeWithoutReadingAValue) {
     const auto grid = sphere_band();
     const TopologyOnly source(grid_regions_in_memory(grid));
@@ -68,10 +69,10 @@ TEST(TopologyPreview, ASplatPerLeafAcrossTheSphereBandMadeWithoutReadingAValue) 
         EXPECT_FLOAT_EQ(node.cone, float(3.14159265358979323846));  // the sign is unknown: never culled
         if (node.child_count != 0) continue;
         EXPECT_EQ(node.level, kSplatLeafLevel);
-        const openvdb::Vec3d radial = vec(node.centre) - kCentre;
+        const openvdb::Vec3d radial = vec(node.centre) - kBandCentre;
         // The centroid of the band's voxels in a leaf lies within the band, but for the sag of
         // the sphere across a leaf (8 voxels: 8^2 * 3 / (8 * 40) = 0.6 voxel on its diagonal).
-        EXPECT_NEAR(radial.length(), kRadius, kHalfBand + 0.6) << "at " << radial;
+        EXPECT_NEAR(radial.length(), kBandRadius, kHalfBand + 0.6) << "at " << radial;
         // A leaf's disc reaches from the centroid past the farthest active voxel's centre by
         // half a voxel's diagonal: at least that, at most the leaf's diagonal and that.
         EXPECT_LE(node.radius, std::sqrt(3.0) * 7.5 + 0.01);
