@@ -28,6 +28,7 @@ export class MotionNotice {
     if (!this.enabled) return;
     this.toldAt = performance.now();
     // Fire and forget: a lost word costs at most the pause's lapse (moving) or a pause (still).
-    fetch(`/api/motion?moving=${moving ? 1 : 0}`, { method: 'POST', keepalive: true }).catch(() => {});
+    // An empty body, sent with Content-Length: 0 (cpp-httplib answers 400 to a POST without it).
+    fetch(`/api/motion?moving=${moving ? 1 : 0}`, { method: 'POST', body: '', keepalive: true }).catch(() => {});
   }
 }
