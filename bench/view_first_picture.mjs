@@ -28,9 +28,13 @@ const option = (name) => own[own.indexOf(name) + 1];
 const file = own.filter((a, i) => !a.startsWith('--') && !['--vdbmesh', '--web'].includes(own[i - 1]))[0];
 const { chromium } = createRequire(path.resolve(option('--web'), 'package.json'))('playwright-core');
 
-/// Drags across the canvas (15 steps right, 15 back) and returns the page's frame time.
+/// Drags across the canvas (15 steps right, 15 back) and returns the page's frame time, the
+/// drag's seconds and whether the server's background work (fit, preparation) was under way
+/// before and after it (it pauses while the camera moves).
 async function rotate(page) {
   await page.waitForFunction(() => window.vdbmeshView.splatViews > 1 || window.vdbmeshView.meshes > 0, null, { polling: 100 });
+  const preparingBefore = await page.evaluate(() => window.vdbmeshView.preparing);
+  const dragStarted = Date.now();
   const box = await page.locator('#view canvas').boundingBox();
   const y = box.y + box.height / 2;
   await page.mouse.move(box.x + box.width * 0.3, y);
@@ -39,8 +43,10 @@ async function rotate(page) {
   await page.mouse.move(box.x + box.width * 0.3, y, { steps: 15 });
   await page.mouse.up();
   await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))));
+  const drag_s = Number(((Date.now() - dragStarted) / 1000).toFixed(2));
   const state = await page.evaluate(() => ({ ...window.vdbmeshView }));
-  return { ms: state.frameMs, frames: state.frameSamples, triangles: state.frameTriangles, shown: await page.locator('#frame-time').textContent() };
+  return { ms: state.frameMs, frames: state.frameSamples, triangles: state.frameTriangles, drag_s,
+    preparing: [preparingBefore, state.preparing], shown: await page.locator('#frame-time').textContent() };
 }
 
 const started = Date.now();

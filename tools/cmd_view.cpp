@@ -56,10 +56,10 @@ ViewSource splats_alone_source(const ViewCommandOptions& options) {
 }
 
 /// The histogram and coarse grid of a .vdb read by region, made while the page shows splats.
-std::function<std::shared_ptr<const ViewScan>(const std::atomic<bool>&)> prepare_in_background(
+std::function<std::shared_ptr<const ViewScan>(const BackgroundControl&)> prepare_in_background(
     std::shared_ptr<const GridRegionSource> regions) {
-    return [regions = std::move(regions)](const std::atomic<bool>& stop) {
-        return std::make_shared<const ViewScan>(prepare_grid_regions(regions, &stop));
+    return [regions = std::move(regions)](const BackgroundControl& control) {
+        return std::make_shared<const ViewScan>(prepare_grid_regions(regions, &control));
     };
 }
 
@@ -108,7 +108,7 @@ ViewSource load_source(const ViewCommandOptions& options) {
             // histogram and coarse grid, in the background.
             source.splats = topology_preview_splats(*regions, *iso);
             source.initial_iso = *iso;
-            source.fit_splats = [regions, iso = *iso](const std::atomic<bool>& stop) { return fit_view_splats(regions, iso, stop); };
+            source.fit_splats = [regions, iso = *iso](const BackgroundControl& control) { return fit_view_splats(regions, iso, control); };
             source.prepare_scan = prepare_in_background(regions);
             if (!options.common.quiet)
                 std::cerr << "vdbmesh view: the topology preview: " << source.splats->tree->leaf_count() << " splats in "

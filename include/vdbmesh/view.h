@@ -4,7 +4,7 @@
 /// the local HTTP server that serves the page, meshes as binary buffers and their figures.
 
 #include <array>
-#include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "vdbmesh/background_control.h"
 #include "vdbmesh/mesh.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/openvdb_fwd.h"
@@ -59,9 +60,9 @@ ViewScan prepare_grid(std::shared_ptr<openvdb::FloatGrid> grid);
 
 /// prepare_grid() of a grid that is never held whole (a huge .vdb): its statistics, histogram
 /// and coarse grid read in slabs about one node thick, one at a time. Without a stored scan box
-/// the box is that of the source's nodes. With @a stop, gives up (Error) at the first read
-/// after it is set.
-ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions, const std::atomic<bool>* stop = nullptr);
+/// the box is that of the source's nodes. With @a control, heeds it between reads and between the pieces of each slab's work (a
+/// fraction of a second each): waits while it pauses, gives up (Error) once it stops.
+ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions, const BackgroundControl* control = nullptr);
 
 /// One label of a label map shown label by label: its closed mesh is a run of the
 /// source's mesh (its triangles and its vertices one after another).
@@ -100,10 +101,10 @@ void set_splat_box(ViewSplats& splats);
 /// splat file while its tree is fitted): seconds on a huge grid, no voxel value read.
 std::shared_ptr<const ViewSplats> topology_preview_splats(const GridRegionSource& regions, double iso);
 
-/// The splat tree of @a regions at @a iso (build_splat_tree() by region). With @a stop set,
-/// gives up (Error) at its next read.
+/// The splat tree of @a regions at @a iso (build_splat_tree() by region). Each read heeds
+/// @a control: waits while it pauses, gives up (Error) once it stops.
 std::shared_ptr<const ViewSplats> fit_view_splats(std::shared_ptr<const GridRegionSource> regions, double iso,
-                                                  const std::atomic<bool>& stop);
+                                                  const BackgroundControl& control);
 
 /// What the page shows: a scan, a mesh, a label map's meshes, or a lattice's splats.
 struct ViewSource {
@@ -121,13 +122,15 @@ struct ViewSource {
     /// a pass over every leaf of a huge .vdb) in the background while the page already shows
     /// the splats. Until it is done GET /api/info says "preparing" and /api/mesh answers 503.
     /// It starts when the page asks (GET /api/info?prepare=1, once its first splats are drawn),
-    /// or 20 s after the server was made; the server sets @a stop when it is destroyed: the
-    /// preparation should then give up soon.
-    std::function<std::shared_ptr<const ViewScan>(const std::atomic<bool>& stop)> prepare_scan;
+    /// or 20 s after the server was made. The work heeds @a control's checkpoints: the server
+    /// pauses it while the page's camera moves (POST /api/motion) and stops it when it is
+    /// destroyed (the preparation should then give up soon).
+    std::function<std::shared_ptr<const ViewScan>(const BackgroundControl& control)> prepare_scan;
     /// Set with a topology preview in @a splats (`view scan.vdb` without --splats): fits the
     /// tree at initial_iso; it runs before prepare_scan, in its thread and when it starts, and
     /// replaces the preview (GET /api/splats then serves the fitted tree, X-Splat-Kind fitted).
-    std::function<std::shared_ptr<const ViewSplats>(const std::atomic<bool>& stop)> fit_splats;
+    /// It heeds @a control as prepare_scan does.
+    std::function<std::shared_ptr<const ViewSplats>(const BackgroundControl& control)> fit_splats;
 };
 
 /// Meshes a grid as mesh_grid() does.
@@ -145,6 +148,11 @@ struct ViewServerOptions {
     /// What meshes the scan: mesh_grid() when empty. A stand-in lets a test hold a request
     /// inside the mesher (a full mesh gives up through its options.progress).
     GridMesher mesher;
+    /// POST /api/motion: how long the background work's pause lasts after moving=1 unless
+    /// renewed (the page renews it every second while its camera moves), and after moving=0
+    /// (the page's refined view drawn first).
+    std::chrono::milliseconds motion_lease{3000};
+    std::chrono::milliseconds resume_after_still{1000};
 };
 
 /// The HTTP server of `vdbmesh view`, bound on construction.
@@ -182,6 +190,14 @@ struct ViewServerOptions {
 ///                       about N triangles for level=region: X-Closeup-Box (x0,y0,z0,x1,y1,z1),
 ///                       X-Closeup-Triangles (estimated), X-Closeup-Splats (the last splats sent,
 ///                       inside the box: the triangles replace them)
+/// POST /api/motion      the page's camera: moving=1 when it starts moving (and again at least
+///                       every second while it moves), moving=0 once it has been still for a
+///                       moment. The background work (ViewSource::fit_splats, prepare_scan)
+///                       pauses at its next checkpoint while the camera moves and goes on
+///                       resume_after_still after moving=0, or motion_lease after the last
+///                       moving=1 when no moving=0 comes (a page gone mid-motion): the same
+///                       results, later (ViewServerOptions). JSON: {"paused_ms": how long
+///                       the pause now lasts}
 class ViewServer {
 public:
     /// @throw Error when the address cannot be bound (a port in use).

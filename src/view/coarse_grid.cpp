@@ -1,7 +1,7 @@
 #include "view/coarse_grid.h"
 
 #include <openvdb/tools/Dense.h>
-#include <tbb/blocked_range.h>
+#include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -34,14 +34,15 @@ float block_mean(const Accessor& full, const openvdb::CoordBBox& box, int factor
     return float(sum / count);
 }
 
-/// The coarse layers [first_layer, end_layer) of @a dense from @a grid.
+/// The coarse layers [first_layer, end_layer) of @a dense from @a grid, in parallel by rows
+/// (a single layer is shared by the threads too).
 void fill_dense(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box, int factor, DenseGrid& dense,
                 int first_layer, int end_layer) {
     const openvdb::Coord dims = dense.bbox().dim();
-    tbb::parallel_for(tbb::blocked_range<int>(first_layer, end_layer), [&](const tbb::blocked_range<int>& slices) {
+    tbb::parallel_for(tbb::blocked_range2d<int>(first_layer, end_layer, 0, dims.y()), [&](const tbb::blocked_range2d<int>& rows) {
         const auto full = grid.getConstAccessor();
-        for (int z = slices.begin(); z < slices.end(); ++z) {
-            for (int y = 0; y < dims.y(); ++y) {
+        for (int z = rows.rows().begin(); z < rows.rows().end(); ++z) {
+            for (int y = rows.cols().begin(); y < rows.cols().end(); ++y) {
                 for (int x = 0; x < dims.x(); ++x) {
                     const openvdb::Coord coarse(x, y, z);
                     dense.setValue(coarse, block_mean(full, box, factor, coarse));
@@ -98,7 +99,7 @@ openvdb::FloatGrid::Ptr coarse_grid(const openvdb::FloatGrid& grid, const openvd
 }
 
 openvdb::FloatGrid::Ptr coarse_grid(const GridRegionSource& source, const openvdb::CoordBBox& box, int factor,
-                                    const SlabVisitor& visit) {
+                                    const SlabVisitor& visit, const Checkpoint& checkpoint) {
     DenseGrid dense(openvdb::CoordBBox(openvdb::Coord(0), coarse_dims(box, factor) - openvdb::Coord(1)));
     const int layers = dense.bbox().dim().z();
     // Slabs of whole coarse layers about one node thick, read one at a time.
@@ -113,7 +114,10 @@ openvdb::FloatGrid::Ptr coarse_grid(const GridRegionSource& source, const openvd
         slab.min[2] = box.min().z() + first * factor;
         slab.max[2] = std::min(box.max().z() + 1, box.min().z() + end * factor);
         const auto slab_grid = source.read(slab);
-        fill_dense(*slab_grid, box, factor, dense, first, end);
+        for (int layer = first; layer < end; ++layer) {
+            checkpoint();
+            fill_dense(*slab_grid, box, factor, dense, layer, layer + 1);
+        }
         visit(*slab_grid, openvdb::CoordBBox(openvdb::Coord(box.min().x(), box.min().y(), slab.min[2]),
                                              openvdb::Coord(box.max().x(), box.max().y(), slab.max[2] - 1)));
     }

@@ -22,9 +22,14 @@ openvdb::FloatGrid::Ptr coarse_grid(const openvdb::FloatGrid& grid, const openvd
 /// A slab's grid (read by region) and the part of the box it holds.
 using SlabVisitor = std::function<void(const openvdb::FloatGrid&, const openvdb::CoordBBox&)>;
 
+/// Called between pieces of background work (each a fraction of a second): it may wait (a
+/// pause) or throw (a stop).
+using Checkpoint = std::function<void()>;
+
 /// The same grid from @a source read in slabs of whole coarse layers about one node thick,
 /// one at a time; @a visit sees each slab too (so that other passes share the read).
+/// @a checkpoint is called before each coarse layer is averaged.
 openvdb::FloatGrid::Ptr coarse_grid(const GridRegionSource& source, const openvdb::CoordBBox& box, int factor,
-                                    const SlabVisitor& visit);
+                                    const SlabVisitor& visit, const Checkpoint& checkpoint = [] {});
 
 }  // namespace vdbmesh::view

@@ -46,16 +46,20 @@ void for_each_sample(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& b
     visit_tiles(grid, box, visit);
 }
 
+void add_samples(ValueHistogram& histogram, const float* values, std::size_t count) {
+    const std::size_t bins = histogram.counts.size();
+    const double min = histogram.min, max = histogram.max;
+    const double scale = max > min ? double(bins) / (max - min) : 0.0;
+    for (std::size_t i = 0; i < count; ++i) {
+        const double bin = std::floor((values[i] - min) * scale);
+        histogram.counts[std::size_t(std::clamp(bin, 0.0, double(bins - 1)))] += 1;
+    }
+}
+
 ValueHistogram sample_histogram(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box, double min, double max,
                                 std::size_t bins) {
     ValueHistogram histogram{min, max, std::vector<std::uint64_t>(bins, 0)};
-    const double scale = max > min ? double(bins) / (max - min) : 0.0;
-    for_each_sample(grid, box, [&](const float* values, std::size_t count) {
-        for (std::size_t i = 0; i < count; ++i) {
-            const double bin = std::floor((values[i] - min) * scale);
-            histogram.counts[std::size_t(std::clamp(bin, 0.0, double(bins - 1)))] += 1;
-        }
-    });
+    for_each_sample(grid, box, [&](const float* values, std::size_t count) { add_samples(histogram, values, count); });
     return histogram;
 }
 

@@ -17,6 +17,9 @@ using SampleRunVisitor = std::function<void(const float* values, std::size_t cou
 /// the background outside them is left out), in runs of at most 512 values.
 void for_each_sample(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box, const SampleRunVisitor& visit);
 
+/// Counts @a count @a values into @a histogram's bins (values outside its range in the end bins).
+void add_samples(ValueHistogram& histogram, const float* values, std::size_t count);
+
 /// The histogram of the samples of @a grid inside @a box over [min, max] in @a bins equal bins
 /// (values outside are counted in the end bins).
 ValueHistogram sample_histogram(const openvdb::FloatGrid& grid, const openvdb::CoordBBox& box, double min, double max,

@@ -12,7 +12,7 @@
 #include "vdbmesh/volume_stats.h"
 #include "view/coarse_grid.h"
 #include "view/grid_samples.h"
-#include "view/stoppable_regions.h"
+#include "view/controlled_regions.h"
 
 namespace vdbmesh {
 
@@ -64,10 +64,6 @@ std::optional<std::pair<double, double>> stated_value_range(const openvdb::Float
     return range;
 }
 
-void add_histogram(ValueHistogram& into, const ValueHistogram& part) {
-    for (std::size_t bin = 0; bin < into.counts.size(); ++bin) into.counts[bin] += part.counts[bin];
-}
-
 }  // namespace
 
 ViewScan prepare_scan(const std::function<std::unique_ptr<VolumeReader>()>& open_reader) {
@@ -86,14 +82,14 @@ ViewScan prepare_grid(std::shared_ptr<openvdb::FloatGrid> grid) {
     return finish_view_scan(std::move(grid), box, accumulator.finish());
 }
 
-ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions, const std::atomic<bool>* stop) {
-    if (stop) {
-        ViewScan scan = prepare_grid_regions(std::make_shared<const view::StoppableRegions>(regions, *stop, "the scan's preparation"));
-        scan.regions = std::move(regions);
-        return scan;
-    }
-    const auto description = regions->description();
-    const openvdb::CoordBBox box = stored_scan_box(*description).value_or(nodes_box(*regions));
+namespace {
+
+/// prepare_grid_regions() reading through @a source, @a checkpoint called between reads and
+/// between the pieces of each slab's work (a coarse layer, a run of 512 samples); the scan's
+/// regions left unset.
+ViewScan prepare_by_slabs(const GridRegionSource& source, const view::Checkpoint& checkpoint) {
+    const auto description = source.description();
+    const openvdb::CoordBBox box = stored_scan_box(*description).value_or(nodes_box(source));
     if (box.empty()) throw Error("the grid holds no active voxels");
     // The histogram's bins span the samples' range. A converted grid states it: the histogram
     // is then counted in the same pass as the statistics and the coarse grid, and kept when the
@@ -105,21 +101,42 @@ ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions, c
     VolumeStatsAccumulator accumulator;
     ViewScan scan;
     scan.coarse_factor = view::coarse_factor(box, kCoarseSampleBudget);
-    scan.coarse = view::coarse_grid(*regions, box, scan.coarse_factor, [&](const openvdb::FloatGrid& slab_grid, const openvdb::CoordBBox& slab) {
-        view::for_each_sample(slab_grid, slab, [&](const float* values, std::size_t count) { accumulator.add(values, count); });
-        if (stated) add_histogram(histogram, view::sample_histogram(slab_grid, slab, stated->first, stated->second, kViewHistogramBins));
-    });
+    scan.coarse = view::coarse_grid(source, box, scan.coarse_factor, [&](const openvdb::FloatGrid& slab_grid, const openvdb::CoordBBox& slab) {
+        view::for_each_sample(slab_grid, slab, [&](const float* values, std::size_t count) {
+            checkpoint();
+            accumulator.add(values, count);
+            if (stated) view::add_samples(histogram, values, count);
+        });
+    }, checkpoint);
     const VolumeStats stats = accumulator.finish();
     if (stated && stats.min == stated->first && stats.max == stated->second) {
         scan.histogram = std::move(histogram);
     } else {
         scan.histogram = ValueHistogram{stats.min, stats.max, std::vector<std::uint64_t>(kViewHistogramBins, 0)};
-        for_each_slab(*regions, box, [&](const openvdb::FloatGrid& slab_grid, const openvdb::CoordBBox& slab) {
-            add_histogram(scan.histogram, view::sample_histogram(slab_grid, slab, stats.min, stats.max, kViewHistogramBins));
+        for_each_slab(source, box, [&](const openvdb::FloatGrid& slab_grid, const openvdb::CoordBBox& slab) {
+            view::for_each_sample(slab_grid, slab, [&](const float* values, std::size_t count) {
+                checkpoint();
+                view::add_samples(scan.histogram, values, count);
+            });
         });
     }
     scan.suggested_iso = stats.suggested_iso;
     scan.suggested_reason = stats.suggested_reason;
+    return scan;
+}
+
+}  // namespace
+
+constexpr const char* kPreparation = "the scan's preparation";
+
+ViewScan prepare_grid_regions(std::shared_ptr<const GridRegionSource> regions, const BackgroundControl* control) {
+    ViewScan scan;
+    if (control) {
+        const view::ControlledRegions controlled(regions, *control, kPreparation);
+        scan = prepare_by_slabs(controlled, [control] { control->checkpoint(kPreparation); });
+    } else {
+        scan = prepare_by_slabs(*regions, [] {});
+    }
     scan.regions = std::move(regions);
     return scan;
 }

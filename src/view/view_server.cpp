@@ -109,7 +109,8 @@ public:
 
     ~Impl() {
         if (loading_.joinable()) loading_.join();
-        start_preparing(/*stop=*/true);
+        background_.stop();
+        start_preparing();  // wakes a preparation still waiting to start
         if (preparing_.joinable()) preparing_.join();
     }
 
@@ -161,11 +162,10 @@ private:
         }
     }
 
-    /// Lets the preparation start (the page has drawn its first splats), or stop.
-    void start_preparing(bool stop = false) {
+    /// Lets the preparation start (the page has drawn its first splats).
+    void start_preparing() {
         const std::lock_guard<std::mutex> lock(prepare_mutex_);
-        if (stop) stop_preparing_ = true;
-        else start_preparing_ = true;
+        start_preparing_ = true;
         prepare_wake_.notify_all();
     }
 
@@ -175,13 +175,13 @@ private:
     void prepare_scan() {
         {
             std::unique_lock<std::mutex> lock(prepare_mutex_);
-            prepare_wake_.wait_for(lock, kPrepareDelay, [this] { return start_preparing_ || stop_preparing_; });
+            prepare_wake_.wait_for(lock, kPrepareDelay, [this] { return start_preparing_; });
         }
-        if (stop_preparing_) return;
+        if (background_.stopped()) return;
         try {
             // The fitted tree first: the page shows the topology preview until then.
-            if (const auto& fit = store().source().fit_splats) splats().set_initial(fit(stop_preparing_));
-            const auto scan = store().source().prepare_scan(stop_preparing_);
+            if (const auto& fit = store().source().fit_splats) splats().set_initial(fit(background_));
+            const auto scan = store().source().prepare_scan(background_);
             splats().set_scan(scan);
             store().set_scan(scan);
         } catch (const std::exception& e) {
@@ -214,6 +214,17 @@ private:
         server_.Get("/api/figures", guarded([this](const auto& request, auto& response) { serve_figures(request, response); }));
         server_.Get("/api/splats", guarded([this](const auto& request, auto& response) { serve_splats(request, response); }));
         server_.Get("/api/download", guarded([this](const auto& request, auto& response) { serve_download(request, response); }));
+        server_.Post("/api/motion", guarded([this](const auto& request, auto& response) { serve_motion(request, response); }));
+    }
+
+    /// The page's camera started (or goes on) moving, or has come to rest: the background work
+    /// pauses meanwhile, its cores left to the browser's drawing (view.h).
+    void serve_motion(const httplib::Request& request, httplib::Response& response) {
+        const std::string moving = request.has_param("moving") ? request.get_param_value("moving") : "";
+        if (moving != "1" && moving != "0") throw UsageError("moving: expected 1 or 0, got \"" + moving + "\"");
+        const std::chrono::milliseconds pause = moving == "1" ? options_.motion_lease : options_.resume_after_still;
+        background_.pause_until(BackgroundControl::Clock::now() + pause);
+        response.set_content(detail::json_text(nlohmann::json{{"paused_ms", pause.count()}}), "application/json");
     }
 
     void serve_asset(const httplib::Request& request, httplib::Response& response) const {
@@ -368,7 +379,7 @@ private:
     std::mutex prepare_mutex_;
     std::condition_variable prepare_wake_;
     bool start_preparing_ = false;
-    std::atomic<bool> stop_preparing_{false};
+    BackgroundControl background_;  ///< the fit's and the preparation's: paused while the camera moves, stopped on closing
     std::mutex prepare_error_mutex_;
     std::string prepare_error_;
 };

@@ -11,7 +11,7 @@
 
 #include "vdbmesh/splats.h"
 #include "vdbmesh/view.h"
-#include "view/stoppable_regions.h"
+#include "view/controlled_regions.h"
 
 namespace vdbmesh {
 namespace {
@@ -64,13 +64,13 @@ std::shared_ptr<const ViewSplats> topology_preview_splats(const GridRegionSource
 }
 
 std::shared_ptr<const ViewSplats> fit_view_splats(std::shared_ptr<const GridRegionSource> regions, double iso,
-                                                  const std::atomic<bool>& stop) {
+                                                  const BackgroundControl& control) {
     const auto start = std::chrono::steady_clock::now();
     SplatOptions options;
     options.iso = iso;
-    const view::StoppableRegions stoppable(std::move(regions), stop, "the splat tree's fit");
+    const view::ControlledRegions controlled(std::move(regions), control, "the splat tree's fit");
     auto splats = std::make_shared<ViewSplats>();
-    splats->tree = std::make_shared<const SplatTree>(build_splat_tree(stoppable, options));
+    splats->tree = std::make_shared<const SplatTree>(build_splat_tree(controlled, options));
     splats->seconds = seconds_since(start);
     set_splat_box(*splats);
     return splats;

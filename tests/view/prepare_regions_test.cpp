@@ -73,14 +73,14 @@ TEST(PrepareRegions, AStatedValueRangeSavesTheHistogramsPassOnlyWhenTrue) {
 TEST(PrepareRegions, AStoppedPreparationGivesUpBeforeItsNextRead) {
     const auto grid = test::phantom_scan_grid(phantom_preset("sphere", {40, 40, 40}));
     auto counting = std::make_shared<CountingRegions>(grid_regions_in_memory(grid));
-    std::atomic<bool> stop{false};
-    const ViewScan scan = prepare_grid_regions(counting, &stop);
+    BackgroundControl control;
+    const ViewScan scan = prepare_grid_regions(counting, &control);
     EXPECT_EQ(scan.regions, counting);  // the source itself, not the stoppable wrapper
     const int whole = counting->reads;
     EXPECT_GT(whole, 0);
-    stop = true;  // a server closing while it prepares
+    control.stop();  // a server closing while it prepares
     try {
-        prepare_grid_regions(counting, &stop);
+        prepare_grid_regions(counting, &control);
         ADD_FAILURE() << "no error once stopped";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("stopped"), std::string::npos) << e.what();

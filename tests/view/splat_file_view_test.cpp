@@ -166,9 +166,9 @@ TEST(ViewSplatFile, TheSplatsAreServedWhileTheScanIsPrepared) {
     source.splats = cli::view_splat_file(dir / "scan.splat", dir / "scan.vdb", *regions, std::nullopt, kIso, true);
     source.initial_iso = kIso;
     std::promise<void> release;
-    source.prepare_scan = [regions, held = release.get_future().share()](const std::atomic<bool>& stop) {
+    source.prepare_scan = [regions, held = release.get_future().share()](const BackgroundControl& control) {
         held.wait();  // the pass over the grid, held until the test has asked its questions
-        return std::make_shared<const ViewScan>(prepare_grid_regions(regions, &stop));
+        return std::make_shared<const ViewScan>(prepare_grid_regions(regions, &control));
     };
     ViewServer server(source, {});
     std::thread serving([&] { server.run(); });

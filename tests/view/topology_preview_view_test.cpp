@@ -35,9 +35,9 @@ TEST(ViewTopologyPreview, ThePreviewIsServedThenTheFittedTreeInItsPlace) {
     source.name = "scan.vdb";
     source.splats = topology_preview_splats(*regions, kIso);
     source.initial_iso = kIso;
-    source.fit_splats = [regions](const std::atomic<bool>& stop) { return fit_view_splats(regions, kIso, stop); };
-    source.prepare_scan = [regions](const std::atomic<bool>& stop) {
-        return std::make_shared<const ViewScan>(prepare_grid_regions(regions, &stop));
+    source.fit_splats = [regions](const BackgroundControl& control) { return fit_view_splats(regions, kIso, control); };
+    source.prepare_scan = [regions](const BackgroundControl& control) {
+        return std::make_shared<const ViewScan>(prepare_grid_regions(regions, &control));
     };
     EXPECT_TRUE(source.splats->preview);
     EXPECT_EQ(source.splats->tree->leaf_count(), regions->active_leaves({{-1000, -1000, -1000}, {1000, 1000, 1000}}).size());
@@ -82,9 +82,10 @@ TEST(ViewTopologyPreview, ThePreviewIsServedThenTheFittedTreeInItsPlace) {
 TEST(ViewTopologyPreview, AStoppedFitGivesUpBeforeItsNextRead) {
     const test::ScratchDir dir;
     write_vdb(*test::phantom_scan_grid(phantom_preset("sphere", {40, 40, 40})), dir / "scan.vdb");
-    const std::atomic<bool> stop{true};
+    BackgroundControl stopped;
+    stopped.stop();
     try {
-        fit_view_splats(open_vdb_regions(dir / "scan.vdb"), kIso, stop);
+        fit_view_splats(open_vdb_regions(dir / "scan.vdb"), kIso, stopped);
         ADD_FAILURE() << "a stopped fit went on";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("the splat tree's fit was stopped"), std::string::npos) << e.what();

@@ -11,6 +11,7 @@ import { addHistory, showCounts, showFigures } from './figures.js';
 import { Remesher } from './remesher.js';
 import { SplatLayer } from './splats.js';
 import { LabelList } from './labels.js';
+import { MotionNotice } from './motion_notice.js';
 
 const $ = (id) => document.getElementById(id);
 const radio = (name) => document.querySelector(`input[name=${name}]:checked`).value;
@@ -21,7 +22,11 @@ const state = (window.vdbmeshView = {
 });
 
 const scene3d = new Scene3D($('view'));
-scene3d.controls.addEventListener('change', () => (state.cameraMovedAt = Date.now()));
+const motionNotice = new MotionNotice();
+scene3d.controls.addEventListener('change', () => {
+  state.cameraMovedAt = Date.now();
+  motionNotice.cameraChanged();
+});
 const model = new Model(scene3d);
 // Splat mode's close-up: the full mesh's triangles of a box (an open piece: no caps).
 const closeUp = new Model(scene3d, { caps: false });
@@ -38,6 +43,7 @@ const splatLayer = new SplatLayer(scene3d, {
 });
 scene3d.onMoving = (moving) => {
   state.moving = moving;
+  motionNotice.setMoving(moving);
   for (const shown of [model, closeUp, splatLayer]) shown.setMoving(moving);
 };
 scene3d.onFrameTime = ({ ms, frames, triangles }) => {
@@ -274,6 +280,7 @@ async function startWithSplats(splats) {
   }
   state.preparing = Boolean(info.preparing);
   if (!info.preparing) return setUpPreparedScan();
+  motionNotice.enabled = true;  // the server's background work pauses while the camera moves
   const preparing = 'histogram and coarse mesh: being prepared by the server (a pass over the grid)…';
   $('figures').textContent = splats.preview ? 'the splat tree: being fitted by the server (a pass over the grid); then the ' + preparing : preparing;
   const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
@@ -297,6 +304,7 @@ async function startWithSplats(splats) {
 
 async function setUpPreparedScan() {
   state.preparing = false;
+  motionNotice.enabled = false;
   if (info.prepare_error) throw new Error(info.prepare_error);
   $('splats').disabled = false;
   setUpScan(info.scan);

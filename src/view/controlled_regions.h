@@ -1,26 +1,27 @@
 #pragma once
-// A grid read by region whose reads give up once a flag is set: the server's background work
-// over a huge grid (the scan's preparation, the splat tree's fit) stops when the server closes.
+// A grid read by region whose reads heed the server's word to its background work (the scan's
+// preparation, the splat tree's fit over a huge grid): each read waits while the work is
+// paused (the page's camera moves) and gives up once it is stopped (the server closes).
 
-#include <atomic>
 #include <memory>
 #include <string>
 #include <utility>
 
-#include "vdbmesh/error.h"
+#include "vdbmesh/background_control.h"
 #include "vdbmesh/grid_region.h"
 
 namespace vdbmesh::view {
 
-/// @a source whose read() throws Error(@a what + " was stopped") once @a stop is set.
-class StoppableRegions final : public GridRegionSource {
+/// @a source whose read() first passes @a control's checkpoint (Error(@a what + " was
+/// stopped") once stopped).
+class ControlledRegions final : public GridRegionSource {
 public:
-    StoppableRegions(std::shared_ptr<const GridRegionSource> source, const std::atomic<bool>& stop, std::string what)
-        : source_(std::move(source)), stop_(stop), what_(std::move(what)) {}
+    ControlledRegions(std::shared_ptr<const GridRegionSource> source, const BackgroundControl& control, std::string what)
+        : source_(std::move(source)), control_(control), what_(std::move(what)) {}
     std::shared_ptr<const openvdb::FloatGrid> description() const override { return source_->description(); }
     std::vector<NodeWeight> nodes() const override { return source_->nodes(); }
     std::shared_ptr<openvdb::FloatGrid> read(const IndexBox& box) const override {
-        if (stop_) throw Error(what_ + " was stopped");
+        control_.checkpoint(what_.c_str());
         return source_->read(box);
     }
     std::uint64_t estimated_bytes(const IndexBox& box) const override { return source_->estimated_bytes(box); }
@@ -29,7 +30,7 @@ public:
 
 private:
     std::shared_ptr<const GridRegionSource> source_;
-    const std::atomic<bool>& stop_;
+    const BackgroundControl& control_;
     std::string what_;
 };
 
