@@ -122,7 +122,7 @@ TEST(ViewMotion, APausedPreparationReadsNothingMoreAndFinishesTheSame) {
     std::thread serving([&] { server.run(); });
     httplib::Client client("127.0.0.1", server.port());
     auto entered = holding->entered();
-    nlohmann::json::parse(client.Get("/api/info?prepare=1")->body);
+    ASSERT_EQ(client.Get("/api/info?prepare=1")->status, 200);  // starts the preparation
     // The camera starts moving while the work is inside its second read.
     ASSERT_EQ(entered.wait_for(kPatience), std::future_status::ready);
     EXPECT_EQ(motion(client, "1"), 200);
@@ -152,7 +152,7 @@ TEST(ViewMotion, APausedPreparationDoesNotStartUntilTheCameraIsStill) {
     std::thread serving([&] { server.run(); });
     httplib::Client client("127.0.0.1", server.port());
     EXPECT_EQ(motion(client, "1"), 200);
-    nlohmann::json::parse(client.Get("/api/info?prepare=1")->body);
+    ASSERT_EQ(client.Get("/api/info?prepare=1")->status, 200);  // starts the preparation
     std::this_thread::sleep_for(kWatched);
     EXPECT_EQ(holding->reads, 0);
     EXPECT_EQ(motion(client, "0"), 200);
@@ -171,7 +171,7 @@ TEST(ViewMotion, APauseThePageNeverEndsLapsesByItself) {
     std::thread serving([&] { server.run(); });
     httplib::Client client("127.0.0.1", server.port());
     EXPECT_EQ(motion(client, "1"), 200);
-    nlohmann::json::parse(client.Get("/api/info?prepare=1")->body);
+    ASSERT_EQ(client.Get("/api/info?prepare=1")->status, 200);  // starts the preparation
     EXPECT_TRUE(prepared_within_patience(client));  // no moving=0 ever comes
     server.stop();
     serving.join();
