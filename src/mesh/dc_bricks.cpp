@@ -21,6 +21,7 @@
 #include "vdbmesh/error.h"
 #include "vdbmesh/program_memory.h"
 #include "vdbmesh/ranks.h"
+#include "vdbmesh/temp_file.h"
 
 namespace vdbmesh::detail {
 
@@ -273,7 +274,9 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
     // one after another, each build them).
     std::optional<RankBorders> borders;
     if (bricks.ranks > 1 && bricks.collectives) borders.emplace(*bricks.collectives, run.below, run.above);
-    std::optional<std::string> deferred;  // the first column's first layer, with a rank below
+    // The first column's first layer, with a rank below: on disk until the end, as the spill,
+    // so that --memory's estimate (which does not count it) still bounds the rank.
+    std::optional<TempFile> deferred;
     // Where columns' rings reach into each other, a node one column built is kept for the next.
     const std::vector<IfcColumn> columns = columns_of(planned, bricks.shape);
     std::size_t column = 0;
@@ -291,12 +294,17 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
         if (borders) {
             column_borders.below = first == 0 && run.below >= 0;
             column_borders.above = last + 1 == planned.size() && run.above >= 0;
-            if (column_borders.below) column_borders.first_layer_built = [&](std::string rows) { borders->post_bottom_rows(std::move(rows)); };
+            if (column_borders.below) {
+                column_borders.first_layer_built = [&](std::string rows) { borders->post_bottom_rows(std::move(rows)); };
+                column_borders.first_layer_left = [&](const std::string& cells) {
+                    deferred.emplace("for a rank's first layer");
+                    deferred->append(cells.data(), cells.size());
+                };
+            }
             column_borders.rows_above = [&]() -> const std::string& { return borders->rows_above(); };
         }
         IfcColumnWavefront wavefront(source, classifier, per_column, columns[column], report, cache ? &*cache : nullptr);
         wavefront.run(planned[first].layer, planned[last].layer, consume_counted, borders ? &column_borders : nullptr);
-        if (column_borders.deferred) deferred = std::move(column_borders.deferred);
         if (column_borders.above) borders->post_top_row(std::move(column_borders.top_row));
         first = last + 1;
     }
@@ -305,7 +313,10 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
     const std::string row_below = borders->row_below();
     clock.lap(report, "borders");
     IfcColumnWavefront wavefront(source, classifier, per_column, column_of(planned.front(), bricks.shape), report);
-    wavefront.contour_deferred(planned.front().layer, *deferred, row_below, consume_counted);
+    std::string cells(deferred->size(), '\0');
+    deferred->read(0, cells.data(), cells.size());
+    deferred.reset();
+    wavefront.contour_deferred(planned.front().layer, cells, row_below, consume_counted);
 }
 
 Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report) {

@@ -151,7 +151,7 @@ void IfcColumnWavefront::run(int first, int last, const std::function<void(std::
         }
         if (s == first && below) borders->first_layer_built(block_rows(layer_z(s), layer_z(s) + 2 * kLeafVoxels));
         if (s - 1 == first && below) {
-            borders->deferred = block_rows(layer_z(first), layer_z(first + 1) + kLeafVoxels);
+            borders->first_layer_left(block_rows(layer_z(first), layer_z(first + 1) + kLeafVoxels));
         } else if (s - 1 >= first) {
             consume(contour(s - 1));
         }

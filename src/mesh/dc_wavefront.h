@@ -6,7 +6,6 @@
 
 #include <functional>
 #include <limits>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,9 +30,9 @@ struct IfcColumnBorders {
     std::function<void(std::string)> first_layer_built;
     /// With @a above: the bottom two block rows of layer last + 1, as the rank above built them.
     std::function<const std::string&()> rows_above;
-    /// Out, with @a below: layer first's cells (all but its bottom block row decided) and the
-    /// bottom block row of the layer above, for contour_deferred().
-    std::optional<std::string> deferred;
+    /// With @a below: called with layer first's cells (all but its bottom block row decided)
+    /// and the bottom block row of the layer above, for contour_deferred() at the end.
+    std::function<void(const std::string&)> first_layer_left;
     /// Out, with @a above: the top block row of layer last, decided.
     std::string top_row;
 };
@@ -56,7 +55,7 @@ public:
     /// contour_deferred().
     void run(int first, int last, const std::function<void(std::vector<IfcNodeOutput>&&)>& consume, IfcColumnBorders* borders = nullptr);
 
-    /// Contours layer @a layer, left by run() in IfcColumnBorders::deferred, once the top block
+    /// Contours layer @a layer, left by run() to IfcColumnBorders::first_layer_left, once the top block
     /// row of the layer below (IfcColumnBorders::top_row of the rank below) has come.
     void contour_deferred(int layer, const std::string& deferred, const std::string& row_below,
                           const std::function<void(std::vector<IfcNodeOutput>&&)>& consume);
