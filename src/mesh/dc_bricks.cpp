@@ -21,7 +21,6 @@
 #include "vdbmesh/error.h"
 #include "vdbmesh/program_memory.h"
 #include "vdbmesh/ranks.h"
-#include "vdbmesh/temp_file.h"
 
 namespace vdbmesh::detail {
 
@@ -134,31 +133,29 @@ RankRun run_of_rank(const std::vector<IfcBrick>& planned, int rank, int ranks) {
 
 /// The cells at the borders between this rank's run and the runs under and over it in the
 /// same column, posted to the ranks owning those (docs/scale.md, "Borders between ranks"): the
-/// bottom block rows of its first layer down as soon as they are built, the top block row of
-/// its last layer up once decided; each taken only when needed, so no rank waits but for cells
-/// it reads.
+/// top block rows of its last layer up before its run starts (that layer built first), the
+/// bottom rows of its first layer down as soon as they are built; each taken only when needed,
+/// by then long posted.
 class RankBorders {
 public:
     RankBorders(const RankCollectives& ranks, int below, int above) : ranks_(ranks), below_(below), above_(above) {}
 
-    void post_bottom_rows(std::string rows) {
-        if (below_ >= 0) ranks_.post(below_, kBottomRows, std::move(rows));
-    }
-    const std::string& rows_above() {
-        if (!rows_above_) rows_above_ = ranks_.take(above_, kBottomRows);
-        return *rows_above_;
-    }
-    void post_top_row(std::string row) {
-        if (above_ >= 0) ranks_.post(above_, kTopRow, std::move(row));
-    }
-    std::string row_below() { return ranks_.take(below_, kTopRow); }
+    void post_top_rows(std::string rows) { ranks_.post(above_, kTopRows, std::move(rows)); }
+    void post_bottom_rows(std::string rows) { ranks_.post(below_, kBottomRows, std::move(rows)); }
+    const std::string& rows_above() { return taken(rows_above_, above_, kBottomRows); }
+    const std::string& rows_below() { return taken(rows_below_, below_, kTopRows); }
 
 private:
-    static constexpr int kBottomRows = 28001, kTopRow = 28002;  // message tags
+    static constexpr int kBottomRows = 28001, kTopRows = 28002;  // message tags
+
+    const std::string& taken(std::optional<std::string>& rows, int from, int tag) {
+        if (!rows) rows = ranks_.take(from, tag);
+        return *rows;
+    }
 
     const RankCollectives& ranks_;
     const int below_, above_;
-    std::optional<std::string> rows_above_;
+    std::optional<std::string> rows_above_, rows_below_;
 };
 
 /// Marching Cubes (error 0) brick by brick, into @a consume: a brick's nodes and a leaf beyond
@@ -274,18 +271,20 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
     // one after another, each build them).
     std::optional<RankBorders> borders;
     if (bricks.ranks > 1 && bricks.collectives) borders.emplace(*bricks.collectives, run.below, run.above);
-    // The first column's first layer, with a rank below: on disk until the end, as the spill,
-    // so that --memory's estimate (which does not count it) still bounds the rank.
-    std::optional<TempFile> deferred;
-    // Where columns' rings reach into each other, a node one column built is kept for the next.
+    // Where columns' rings reach into each other, a node one column built is kept for the next;
+    // and the last layer, with a rank above, is built first and kept until its turn.
     const std::vector<IfcColumn> columns = columns_of(planned, bricks.shape);
     std::size_t column = 0;
     std::optional<IfcNodeCache> cache;
-    if (columns.size() > 1) {
+    if (columns.size() > 1 || (borders && run.above >= 0)) {
         cache.emplace([&](const openvdb::Coord& node) {
             return std::any_of(columns.begin() + std::ptrdiff_t(column) + 1, columns.end(),
                                [&](const IfcColumn& later) { return within_ring(later, node); });
         });
+    }
+    if (borders && run.above >= 0) {
+        IfcColumnWavefront ahead(source, classifier, per_column, columns.back(), report, &*cache);
+        borders->post_top_rows(ahead.prebuild_last_layer(planned.back().layer));
     }
     for (std::size_t first = 0; first < planned.size(); ++column) {
         std::size_t last = first;  // the bricks of one column, consecutive layers
@@ -294,29 +293,14 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
         if (borders) {
             column_borders.below = first == 0 && run.below >= 0;
             column_borders.above = last + 1 == planned.size() && run.above >= 0;
-            if (column_borders.below) {
-                column_borders.first_layer_built = [&](std::string rows) { borders->post_bottom_rows(std::move(rows)); };
-                column_borders.first_layer_left = [&](const std::string& cells) {
-                    deferred.emplace("for a rank's first layer");
-                    deferred->append(cells.data(), cells.size());
-                };
-            }
+            column_borders.first_layer_built = [&](std::string rows) { borders->post_bottom_rows(std::move(rows)); };
+            column_borders.rows_below = [&]() -> const std::string& { return borders->rows_below(); };
             column_borders.rows_above = [&]() -> const std::string& { return borders->rows_above(); };
         }
         IfcColumnWavefront wavefront(source, classifier, per_column, columns[column], report, cache ? &*cache : nullptr);
         wavefront.run(planned[first].layer, planned[last].layer, consume_counted, borders ? &column_borders : nullptr);
-        if (column_borders.above) borders->post_top_row(std::move(column_borders.top_row));
         first = last + 1;
     }
-    if (!deferred) return;
-    PhaseClock clock;
-    const std::string row_below = borders->row_below();
-    clock.lap(report, "borders");
-    IfcColumnWavefront wavefront(source, classifier, per_column, column_of(planned.front(), bricks.shape), report);
-    std::string cells(deferred->size(), '\0');
-    deferred->read(0, cells.data(), cells.size());
-    deferred.reset();
-    wavefront.contour_deferred(planned.front().layer, cells, row_below, consume_counted);
 }
 
 Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report) {

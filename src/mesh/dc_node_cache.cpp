@@ -11,12 +11,18 @@
 
 namespace vdbmesh::detail {
 
-void IfcNodeCache::keep(const IfcCellGrid& built) {
+void IfcNodeCache::keep(const IfcCellGrid& built) { keep_where(built, read_later_); }
+
+void IfcNodeCache::keep_every(const IfcCellGrid& built) {
+    keep_where(built, [](const openvdb::Coord&) { return true; });
+}
+
+void IfcNodeCache::keep_where(const IfcCellGrid& built, const std::function<bool(const openvdb::Coord&)>& wanted) {
     // The blocks of each node, nodes in order (a node's blocks keep their origin order).
     std::map<Key, std::vector<std::size_t>> by_node;
     for (std::size_t b = 0; b < built.origins.size(); ++b) {
         const openvdb::Coord node = ifc_node_of(built.origins[b]);
-        if (!has(node) && read_later_(node)) by_node[key(node)].push_back(b);
+        if (!has(node) && wanted(node)) by_node[key(node)].push_back(b);
     }
     for (const auto& [node, blocks] : by_node) {
         const std::string bytes = ifc_blocks_bytes(built, blocks);

@@ -25,12 +25,15 @@ public:
     bool has(const openvdb::Coord& node) const { return kept_.count(key(node)) != 0; }
     /// Keeps the nodes of @a built (cells as built, before any split) that a later column reads.
     void keep(const IfcCellGrid& built);
+    /// Keeps every node of @a built not kept yet (a layer built ahead of its turn).
+    void keep_every(const IfcCellGrid& built);
     /// The kept nodes' cells among the blocks with origins in @a box, origins sorted.
     IfcCellGrid take(const openvdb::CoordBBox& box) const;
 
 private:
     using Key = std::tuple<int, int, int>;
     static Key key(const openvdb::Coord& c) { return {c.x(), c.y(), c.z()}; }
+    void keep_where(const IfcCellGrid& built, const std::function<bool(const openvdb::Coord&)>& wanted);
 
     std::function<bool(const openvdb::Coord&)> read_later_;
     TempFile file_{"for the nodes columns share"};

@@ -7,6 +7,7 @@
 #include "mesh/dc_wavefront.h"
 
 #include <algorithm>
+#include <limits>
 #include <utility>
 
 #include "mesh/dc_block_bytes.h"
@@ -79,11 +80,10 @@ void IfcColumnWavefront::read(int z_begin, int z_end) {
     clock.lap(report_, "read");
 }
 
-void IfcColumnWavefront::build(int layer) {
-    const int z0 = layer_z(layer), z1 = layer_z(layer + 1);
+IfcCellGrid IfcColumnWavefront::build_cells(int layer) {
     // The layer's nodes in the column and its ring (block origins, inclusive).
-    const openvdb::CoordBBox layer_and_ring({column_.min_x - kNodeVoxels, column_.min_y - kNodeVoxels, z0},
-                                            {column_.max_x + kNodeVoxels, column_.max_y + kNodeVoxels, z1 - 1});
+    const openvdb::CoordBBox layer_and_ring({column_.min_x - kNodeVoxels, column_.min_y - kNodeVoxels, layer_z(layer)},
+                                            {column_.max_x + kNodeVoxels, column_.max_y + kNodeVoxels, layer_z(layer + 1) - 1});
     IfcOriginFilter build_node;
     if (cache_) build_node = [&](const openvdb::Coord& node) { return !cache_->has(node); };
     IfcCellGrid built = build_ifc_cell_grid(*window_, classifier_, options_, layer_and_ring, report_, build_node);
@@ -94,15 +94,35 @@ void IfcColumnWavefront::build(int layer) {
         built = merge_cells(std::move(built), std::move(taken));
         clock.lap(report_, "cache");
     }
-    cells_ = merge_cells(std::move(cells_), std::move(built));
+    return built;
+}
+
+void IfcColumnWavefront::build(int layer) {
+    cells_ = merge_cells(std::move(cells_), build_cells(layer));
     // A block's split reads its 26 neighbours: decide those whose neighbours are all built.
-    split_where([&](const openvdb::Coord& o) { return o.z() < z1 - kLeafVoxels; });
+    split_where([&](const openvdb::Coord& o) { return o.z() < layer_z(layer + 1) - kLeafVoxels; });
+}
+
+std::string IfcColumnWavefront::prebuild_last_layer(int layer) {
+    read(layer_z(layer) - kLeafVoxels, layer_z(layer + 1) + kLeafVoxels);  // what build() reads
+    const IfcCellGrid built = build_cells(layer);
+    cache_->keep_every(built);
+    return ifc_blocks_bytes(built, [&](const openvdb::Coord& o) { return o.z() >= layer_z(layer + 1) - 2 * kLeafVoxels; });
 }
 
 void IfcColumnWavefront::take_rows_above(const std::string& rows, int layer) {
     cells_ = merge_cells(std::move(cells_), ifc_blocks_from_bytes(rows));
     // The top block row under them and their bottom row, as the rank above will decide it.
     split_where([&](const openvdb::Coord& o) { return o.z() < layer_z(layer) + kLeafVoxels; });
+}
+
+void IfcColumnWavefront::take_rows_below(const std::string& rows, int layer) {
+    cells_ = merge_cells(std::move(cells_), ifc_blocks_from_bytes(rows));
+    // This layer's bottom block row and their top row, as the rank below decides it; not their
+    // second row, whose neighbours below are not here.
+    decide_from_z_ = layer_z(layer) - kLeafVoxels;
+    split_where([&](const openvdb::Coord& o) { return o.z() < layer_z(layer) + kLeafVoxels; });
+    decide_from_z_ = std::numeric_limits<int>::min();
 }
 
 void IfcColumnWavefront::split_where(const IfcOriginFilter& decide) {
@@ -145,29 +165,15 @@ void IfcColumnWavefront::run(int first, int last, const std::function<void(std::
         read(layer_z(s + 1), layer_z(s + 1) + kLeafVoxels);
         if (s == last + 1 && above) {
             take_rows_above(borders->rows_above(), s);
-            borders->top_row = block_rows(layer_z(s) - kLeafVoxels, layer_z(s));
         } else if (s != start || !below) {
             build(s);
         }
         if (s == first && below) borders->first_layer_built(block_rows(layer_z(s), layer_z(s) + 2 * kLeafVoxels));
-        if (s - 1 == first && below) {
-            borders->first_layer_left(block_rows(layer_z(first), layer_z(first + 1) + kLeafVoxels));
-        } else if (s - 1 >= first) {
-            consume(contour(s - 1));
-        }
+        if (s - 1 == first && below) take_rows_below(borders->rows_below(), first);
+        if (s - 1 >= first) consume(contour(s - 1));
         drop_below(layer_z(s) - kLeafVoxels, layer_z(s - 1));
         if (s <= last) read(layer_z(s + 1) + kLeafVoxels, layer_z(s + 2));
     }
-}
-
-void IfcColumnWavefront::contour_deferred(int layer, const std::string& deferred, const std::string& row_below,
-                                          const std::function<void(std::vector<IfcNodeOutput>&&)>& consume) {
-    // What run() held when it would have contoured the layer: the samples of the layers under,
-    // at and over it and a leaf row more, the cells of the layer and the block rows round it.
-    read(layer_z(layer - 1), layer_z(layer + 2) + kLeafVoxels);
-    cells_ = merge_cells(ifc_blocks_from_bytes(row_below), ifc_blocks_from_bytes(deferred));
-    split_where([](const openvdb::Coord&) { return true; });  // the layer's bottom row, now that its neighbours are here
-    consume(contour(layer));
 }
 
 }  // namespace vdbmesh::detail

@@ -28,13 +28,11 @@ struct IfcColumnBorders {
     /// With @a below: called once layer first is built, with its bottom two block rows (as
     /// built, the bottom one not yet decided by the split).
     std::function<void(std::string)> first_layer_built;
+    /// With @a below: the top two block rows of layer first - 1, as the rank below built them
+    /// (prebuild_last_layer()).
+    std::function<const std::string&()> rows_below;
     /// With @a above: the bottom two block rows of layer last + 1, as the rank above built them.
     std::function<const std::string&()> rows_above;
-    /// With @a below: called with layer first's cells (all but its bottom block row decided)
-    /// and the bottom block row of the layer above, for contour_deferred() at the end.
-    std::function<void(const std::string&)> first_layer_left;
-    /// Out, with @a above: the top block row of layer last, decided.
-    std::string top_row;
 };
 
 /// Contours the column's node layers from bottom to top. Held at any time: the samples of
@@ -51,20 +49,20 @@ public:
 
     /// Calls @a consume with the nodes of each node layer @a first .. @a last (node z
     /// indices, z / kNodeVoxels) in turn, in z-major order within a layer.
-    /// With @a borders (may be null), as IfcColumnBorders says: layer first is then left to
-    /// contour_deferred().
+    /// With @a borders (may be null), as IfcColumnBorders says.
     void run(int first, int last, const std::function<void(std::vector<IfcNodeOutput>&&)>& consume, IfcColumnBorders* borders = nullptr);
 
-    /// Contours layer @a layer, left by run() to IfcColumnBorders::first_layer_left, once the top block
-    /// row of the layer below (IfcColumnBorders::top_row of the rank below) has come.
-    void contour_deferred(int layer, const std::string& deferred, const std::string& row_below,
-                          const std::function<void(std::vector<IfcNodeOutput>&&)>& consume);
+    /// Builds layer @a layer (this column's last, under another rank's run) into the cache the
+    /// wavefront was made with, ahead of run(), and returns its top two block rows for that rank.
+    std::string prebuild_last_layer(int layer);
 
 private:
     bool in_column(const openvdb::Coord& origin) const;
     void read(int z_begin, int z_end);
     void build(int layer);
+    IfcCellGrid build_cells(int layer);
     void take_rows_above(const std::string& rows, int layer);
+    void take_rows_below(const std::string& rows, int layer);
     void split_where(const IfcOriginFilter& decide);
     std::string block_rows(int z_begin, int z_end) const;
     std::vector<IfcNodeOutput> contour(int layer);
