@@ -9,6 +9,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "base/byte_codec.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::detail {
@@ -25,13 +26,12 @@ public:
     explicit ByteWriter(std::string& out) : out_(out) {}
     template <typename T>
     void value(const T& v) {
-        static_assert(std::is_trivially_copyable_v<T>);
-        out_.append(reinterpret_cast<const char*>(&v), sizeof(T));
+        append_value(out_, v);
     }
     template <typename T>
     void vector(const std::vector<T>& values) {
-        value(std::uint64_t(values.size()));
-        out_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+        append_value(out_, std::uint64_t(values.size()));
+        append_values(out_, values);
     }
     void leaves(const IfcLeaves& leaves) {
         value(leaves.level);
@@ -57,7 +57,7 @@ public:
     template <typename T>
     void value(T& v) {
         static_assert(std::is_trivially_copyable_v<T>);
-        take(&v, sizeof(T));
+        take(&v, sizeof(T));  // a memory image, padding included: written again, the same bytes
     }
     template <typename T>
     void vector(std::vector<T>& values) {

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <set>
 
+#include "base/byte_codec.h"
 #include "mesh/dc_key_index.h"
 #include "mesh/dc_spill.h"
 #include "vdbmesh/error.h"
@@ -29,17 +30,6 @@ struct NodeBytes {
     std::uint64_t vertex_bytes, triangle_bytes;
 };
 
-template <typename T>
-std::string bytes_of(const std::vector<T>& records) {
-    return std::string(reinterpret_cast<const char*>(records.data()), records.size() * sizeof(T));
-}
-
-template <typename T>
-std::vector<T> records_of(const std::string& bytes) {
-    std::vector<T> records(bytes.size() / sizeof(T));
-    if (!records.empty()) std::memcpy(records.data(), bytes.data(), records.size() * sizeof(T));
-    return records;
-}
 
 /// A node of the whole mesh: its owner and its place among the owner's nodes.
 struct GlobalNode {
@@ -90,7 +80,7 @@ IfcSpill::Foreign IfcSpill::swap_borders(const std::map<std::tuple<int, int, int
         const NodeSummary summary{{node.origin.x(), node.origin.y(), node.origin.z()}, node.vertex_count, 0};
         for (const int q : readers) {
             to_each[std::size_t(q)].append(reinterpret_cast<const char*>(&summary), sizeof(summary));
-            to_each[std::size_t(q)] += bytes_of(vertices);
+            append_values(to_each[std::size_t(q)], vertices);
         }
     }
     Foreign foreign;
@@ -104,7 +94,7 @@ IfcSpill::Foreign IfcSpill::swap_borders(const std::map<std::tuple<int, int, int
             const auto key = ifc_z_major(openvdb::Coord(summary.origin[0], summary.origin[1], summary.origin[2]));
             ForeignNode& node = foreign[key];
             node.first_vertex = owners.at(key).second;
-            node.vertices = records_of<VertexRecord>(message.substr(at, bytes));
+            node.vertices = values_of<VertexRecord>(message.substr(at, bytes));
             at += bytes;
         }
     }
@@ -116,7 +106,7 @@ void IfcSpill::emit_on_ranks(MeshRangeSink& sink, bool with_corners, bool mirror
     std::vector<NodeSummary> mine;
     for (const NodeRecord& node : nodes_) mine.push_back({{node.origin.x(), node.origin.y(), node.origin.z()}, node.vertex_count, node.triangle_count});
     std::vector<std::vector<NodeSummary>> each;
-    for (const std::string& bytes : ranks.allgather(bytes_of(mine))) each.push_back(records_of<NodeSummary>(bytes));
+    for (const std::string& bytes : ranks.allgather(bytes_of(mine))) each.push_back(values_of<NodeSummary>(bytes));
     const std::vector<GlobalNode> all = merged_nodes(each);
 
     // Every node's first vertex number, as one spill of all would number them (emit()).
@@ -182,7 +172,7 @@ void IfcSpill::emit_on_ranks(MeshRangeSink& sink, bool with_corners, bool mirror
 
     // Each node's place in the file: the header, every node's vertices, every node's triangles.
     std::vector<std::vector<NodeBytes>> bytes_each;
-    for (const std::string& bytes : ranks.allgather(bytes_of(my_bytes))) bytes_each.push_back(records_of<NodeBytes>(bytes));
+    for (const std::string& bytes : ranks.allgather(bytes_of(my_bytes))) bytes_each.push_back(values_of<NodeBytes>(bytes));
     std::uint64_t vertices_end = header.size();
     for (const GlobalNode& node : all) vertices_end += bytes_each[std::size_t(node.owner)][node.index].vertex_bytes;
     std::uint64_t vertex_at = header.size(), triangle_at = vertices_end, my_vertex_at = 0, my_triangle_at = 0;

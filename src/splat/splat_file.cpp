@@ -22,6 +22,7 @@
 #include <cstring>
 #include <fstream>
 
+#include "base/byte_codec.h"
 #include "vdbmesh/atomic_file.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/splats.h"
@@ -37,20 +38,6 @@ constexpr std::size_t kNodeBytes = 12;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kSteps = 65535;
 
-template <typename T>
-void put(std::string& out, T value) {
-    char bytes[sizeof(T)];
-    std::memcpy(bytes, &value, sizeof(T));
-    out.append(bytes, sizeof(T));
-}
-
-template <typename T>
-T get(const std::string& in, std::size_t& at) {
-    T value;
-    std::memcpy(&value, in.data() + at, sizeof(T));
-    at += sizeof(T);
-    return value;
-}
 
 /// The box the centres are quantised over: its minimum and its largest edge.
 struct QuantBox {
@@ -78,15 +65,15 @@ std::uint16_t steps16(double steps) { return static_cast<std::uint16_t>(std::cla
 
 void put_node(std::string& out, const SplatNode& n, const QuantBox& box) {
     const double step = box.step();
-    for (int a = 0; a < 3; ++a) put(out, steps16(std::round((n.centre[a] - box.min[a]) / step)));
+    for (int a = 0; a < 3; ++a) detail::append_value(out, steps16(std::round((n.centre[a] - box.min[a]) / step)));
     // Rounded centres move by up to half a step on each axis: the radius grows by that much.
-    put(out, steps16(std::ceil((n.radius + step * std::sqrt(3.0) / 2) / (2 * step))));
+    detail::append_value(out, steps16(std::ceil((n.radius + step * std::sqrt(3.0) / 2) / (2 * step))));
     const auto code = detail::encode_splat_normal(n.normal);
-    put(out, code[0]);
-    put(out, code[1]);
+    detail::append_value(out, code[0]);
+    detail::append_value(out, code[1]);
     const double cone = std::ceil((n.cone + 2 * detail::kSplatNormalRounding) / (kPi / 255));
-    put(out, static_cast<std::uint8_t>(std::min(cone, 255.0)));
-    put(out, static_cast<std::uint8_t>(std::min<std::uint32_t>(n.child_count, 255)));
+    detail::append_value(out, static_cast<std::uint8_t>(std::min(cone, 255.0)));
+    detail::append_value(out, static_cast<std::uint8_t>(std::min<std::uint32_t>(n.child_count, 255)));
 }
 
 /// The file's bytes in one read (a huge tree's file is a hundred megabytes or more).
@@ -107,14 +94,14 @@ void decode_nodes(std::vector<SplatNode>& nodes, const std::string& in, std::siz
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             SplatNode& n = nodes[i];
             std::size_t from = at + kNodeBytes * i;
-            for (int a = 0; a < 3; ++a) n.centre[a] = static_cast<float>(box.min[a] + get<std::uint16_t>(in, from) * step);
-            n.radius = static_cast<float>(get<std::uint16_t>(in, from) * 2 * step);
+            for (int a = 0; a < 3; ++a) n.centre[a] = static_cast<float>(box.min[a] + detail::read_value<std::uint16_t>(in, from) * step);
+            n.radius = static_cast<float>(detail::read_value<std::uint16_t>(in, from) * 2 * step);
             std::array<std::uint8_t, 2> code{};
-            code[0] = get<std::uint8_t>(in, from);
-            code[1] = get<std::uint8_t>(in, from);
+            code[0] = detail::read_value<std::uint8_t>(in, from);
+            code[1] = detail::read_value<std::uint8_t>(in, from);
             n.normal = detail::decode_splat_normal(code);
-            n.cone = static_cast<float>(get<std::uint8_t>(in, from) * kPi / 255);
-            n.child_count = get<std::uint8_t>(in, from);
+            n.cone = static_cast<float>(detail::read_value<std::uint8_t>(in, from) * kPi / 255);
+            n.child_count = detail::read_value<std::uint8_t>(in, from);
         }
     });
 }
@@ -150,7 +137,7 @@ void link_children(std::vector<SplatNode>& nodes, std::uint32_t root_children, c
             const auto childless = std::count_if(nodes.begin(), nodes.end(), [](const SplatNode& m) { return m.child_count == 0; });
             throw size_error(std::size_t(childless));
         }
-        n.weight = get<std::uint16_t>(in, at);
+        n.weight = detail::read_value<std::uint16_t>(in, at);
     }
     if (next != nodes.size())
         throw FormatError(file, "child counts", "a total of " + std::to_string(nodes.size() - 1), std::to_string(next - 1));
@@ -170,11 +157,11 @@ void sum_weights(std::vector<SplatNode>& nodes) {
 }
 
 void put_grid_id(std::string& out, const SplatGridId& id) {
-    put(out, id.file_bytes);
-    put(out, id.topology);
-    put(out, id.modified);
+    detail::append_value(out, id.file_bytes);
+    detail::append_value(out, id.topology);
+    detail::append_value(out, id.modified);
     const std::string checksum = id.checksum.substr(0, 255);
-    put(out, static_cast<std::uint8_t>(checksum.size()));
+    detail::append_value(out, static_cast<std::uint8_t>(checksum.size()));
     out += checksum;
 }
 
@@ -213,17 +200,17 @@ void write_splat_file(const SplatTree& tree, const std::filesystem::path& path) 
     std::string out;
     out.reserve(kHeaderBytes + kNodeBytes * tree.nodes.size());
     out.append(kMagic, sizeof(kMagic));
-    put(out, static_cast<std::uint32_t>(tree.nodes.size()));
-    put(out, static_cast<std::uint32_t>(tree.nodes.empty() ? 0 : tree.nodes[0].child_count));
-    for (float m : box.min) put(out, m);
-    put(out, box.extent);
-    put(out, tree.iso);
-    put(out, static_cast<std::uint8_t>(tree.inside == Inside::below));
-    put(out, static_cast<float>(tree.tolerance));
+    detail::append_value(out, static_cast<std::uint32_t>(tree.nodes.size()));
+    detail::append_value(out, static_cast<std::uint32_t>(tree.nodes.empty() ? 0 : tree.nodes[0].child_count));
+    for (float m : box.min) detail::append_value(out, m);
+    detail::append_value(out, box.extent);
+    detail::append_value(out, tree.iso);
+    detail::append_value(out, static_cast<std::uint8_t>(tree.inside == Inside::below));
+    detail::append_value(out, static_cast<float>(tree.tolerance));
     put_grid_id(out, tree.grid);
     for (const SplatNode& n : tree.nodes) put_node(out, n, box);
     for (const SplatNode& n : tree.nodes)
-        if (n.child_count == 0) put(out, static_cast<std::uint16_t>(std::min<std::uint32_t>(n.weight, UINT16_MAX)));
+        if (n.child_count == 0) detail::append_value(out, static_cast<std::uint16_t>(std::min<std::uint32_t>(n.weight, UINT16_MAX)));
     AtomicFile file(path);
     std::ofstream stream(file.temp_path(), std::ios::binary);
     stream.write(out.data(), std::streamsize(out.size()));
@@ -238,25 +225,25 @@ SplatTree read_splat_file(const std::filesystem::path& path) {
     if (in.size() < kHeaderBytes || std::memcmp(in.data(), kMagic, sizeof(kMagic)) != 0)
         throw FormatError(file, "header", "a splat file starting with VDBSPLT2", in.size() < kHeaderBytes ? "a shorter file" : "other bytes");
     std::size_t at = sizeof(kMagic);
-    const auto count = get<std::uint32_t>(in, at);
-    const auto root_children = get<std::uint32_t>(in, at);
+    const auto count = detail::read_value<std::uint32_t>(in, at);
+    const auto root_children = detail::read_value<std::uint32_t>(in, at);
     const std::size_t checksum_chars = std::uint8_t(in[kHeaderBytes - 1]);
     const std::uint64_t nodes_end = kHeaderBytes + checksum_chars + kNodeBytes * std::uint64_t(count);
     if (in.size() < nodes_end)
         throw FormatError(file, "size", "at least " + std::to_string(nodes_end) + " bytes for " + std::to_string(count) + " nodes",
                           std::to_string(in.size()));
     QuantBox box;
-    for (float& m : box.min) m = get<float>(in, at);
-    box.extent = get<float>(in, at);
+    for (float& m : box.min) m = detail::read_value<float>(in, at);
+    box.extent = detail::read_value<float>(in, at);
     SplatTree tree;
-    tree.iso = get<double>(in, at);
-    const auto inside = get<std::uint8_t>(in, at);
+    tree.iso = detail::read_value<double>(in, at);
+    const auto inside = detail::read_value<std::uint8_t>(in, at);
     if (inside > 1) throw FormatError(file, "inside", "0 or 1", std::to_string(inside));
     tree.inside = inside ? Inside::below : Inside::above;
-    tree.tolerance = get<float>(in, at);
-    tree.grid.file_bytes = get<std::uint64_t>(in, at);
-    tree.grid.topology = get<std::uint64_t>(in, at);
-    tree.grid.modified = get<std::int64_t>(in, at);
+    tree.tolerance = detail::read_value<float>(in, at);
+    tree.grid.file_bytes = detail::read_value<std::uint64_t>(in, at);
+    tree.grid.topology = detail::read_value<std::uint64_t>(in, at);
+    tree.grid.modified = detail::read_value<std::int64_t>(in, at);
     at += 1;
     tree.grid.checksum = in.substr(at, checksum_chars);
     at += checksum_chars;
