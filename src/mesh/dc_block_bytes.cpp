@@ -9,7 +9,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "base/byte_codec.h"
+#include "vdbmesh/byte_codec.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::detail {

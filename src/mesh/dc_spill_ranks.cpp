@@ -12,9 +12,9 @@
 #include <cstring>
 #include <set>
 
-#include "base/byte_codec.h"
 #include "mesh/dc_key_index.h"
 #include "mesh/dc_spill.h"
+#include "vdbmesh/byte_codec.h"
 #include "vdbmesh/error.h"
 
 namespace vdbmesh::detail {

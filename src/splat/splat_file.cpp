@@ -22,8 +22,8 @@
 #include <cstring>
 #include <fstream>
 
-#include "base/byte_codec.h"
 #include "vdbmesh/atomic_file.h"
+#include "vdbmesh/byte_codec.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/splats.h"
 

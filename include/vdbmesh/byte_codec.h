@@ -1,7 +1,8 @@
 #pragma once
-// Private: values as their bytes in a string and back (memory images of trivially copyable
-// types), for bytes that stay within one build of the program (a rank's messages, the mesher's
-// spill) or whose file format fixes the layout (the splat file).
+/// @file byte_codec.h
+/// @brief Values as their bytes in a string and back (memory images of trivially copyable
+/// types), shared by the stages whose bytes stay within one build of the program (a rank's
+/// messages, the mesher's spill) or whose file format fixes the layout (the splat file).
 
 #include <cstddef>
 #include <cstring>
