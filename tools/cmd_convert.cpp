@@ -60,7 +60,8 @@ void refuse_beyond_estimate(const ConvertCommandOptions& o, const ReadOptions& r
     ConvertOptions survey = options;
     survey.progress = [&](double f) { progress(f); };
     const std::string first = o.inputs.front();
-    const auto source = open_scan_regions([first, read] { return std::unique_ptr<SliceReader>(open_volume(first, read)); }, survey);
+    const auto source =
+        open_scan_regions([first, read] { return std::unique_ptr<SliceReader>(open_volume(first, read)); }, survey, ScanRegionReads::none);
     refuse_beyond_memory(o.memory, "--memory", "the grid of " + first + " (a .vdb is written whole) and the converter's windows",
                          whole_grid_bytes(*source, true));
 }

@@ -19,9 +19,14 @@ void append_value(std::string& out, const T& value) {
 }
 
 template <typename T>
-void append_values(std::string& out, const std::vector<T>& values) {
+void append_values(std::string& out, const T* values, std::size_t count) {
     static_assert(std::is_trivially_copyable_v<T>);
-    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+    out.append(reinterpret_cast<const char*>(values), count * sizeof(T));
+}
+
+template <typename T>
+void append_values(std::string& out, const std::vector<T>& values) {
+    append_values(out, values.data(), values.size());
 }
 
 template <typename T>

@@ -440,15 +440,15 @@ openvdb::math::Transform::Ptr make_transform(const VolumeHeader& header) {
 
 }  // namespace
 
-void Converter::fill_outside(ConvertedRow& row, float background_value) const {
+void fill_outside(ConvertedRow& row, const int (&dims)[3], float background_value) {
     std::vector<Leaf*> border_leaves;  // leaves reaching outside the scan
     for (const auto& leaf : row.leaves)
-        if (!block_in_scan(leaf->origin().x(), leaf->origin().y(), leaf->origin().z())) border_leaves.push_back(leaf.get());
+        if (!block_in_scan(dims, leaf->origin().x(), leaf->origin().y(), leaf->origin().z())) border_leaves.push_back(leaf.get());
     tbb::parallel_for(std::size_t{0}, border_leaves.size(), [&](std::size_t b) {
         Leaf& leaf = *border_leaves[b];
         for (openvdb::Index n = 0; n < Leaf::SIZE; ++n) {
             const openvdb::Coord xyz = leaf.offsetToGlobalCoord(n);
-            if (!in_scan(xyz.x(), xyz.y(), xyz.z())) leaf.setValueOnly(n, background_value);
+            if (!in_scan(dims, xyz.x(), xyz.y(), xyz.z())) leaf.setValueOnly(n, background_value);
         }
     });
 }
@@ -465,7 +465,7 @@ openvdb::FloatTree::Ptr tree_of_rows(std::vector<ConvertedRow>& rows, float back
 
 openvdb::FloatGrid::Ptr Converter::assemble(std::vector<ConvertedRow>& rows, const ScanValues& values) const {
     const float background_value = background(values);
-    for (ConvertedRow& row : rows) fill_outside(row, background_value);
+    for (ConvertedRow& row : rows) fill_outside(row, dims_, background_value);
     const openvdb::FloatTree::Ptr tree = tree_of_rows(rows, background_value);
 
     auto grid = openvdb::FloatGrid::create(tree);

@@ -80,6 +80,20 @@ struct ScanValues {
 /// Throws UsageError on bad options, FormatError on dims a grid cannot hold (convert_to_grid()'s checks).
 void check_convert_options(const VolumeHeader& header, const ConvertOptions& options);
 
+/// Whether voxel (x, y, z) lies in a scan of @a dims samples.
+inline bool in_scan(const int (&dims)[3], int x, int y, int z) {
+    return x >= 0 && y >= 0 && z >= 0 && x < dims[0] && y < dims[1] && z < dims[2];
+}
+
+/// Whether the whole 8^3 block at (x0, y0, z0) lies in a scan of @a dims samples.
+inline bool block_in_scan(const int (&dims)[3], int x0, int y0, int z0) {
+    return in_scan(dims, x0, y0, z0) && in_scan(dims, x0 + kLeafDim - 1, y0 + kLeafDim - 1, z0 + kLeafDim - 1);
+}
+
+/// Sets the voxels of @a row's leaves that lie outside a scan of @a dims samples to
+/// @a background_value (what Converter::assemble() does to every row).
+void fill_outside(ConvertedRow& row, const int (&dims)[3], float background_value);
+
 /// A tree of @a rows (their leaves moved into it, @a rows emptied) over @a background_value.
 openvdb::FloatTree::Ptr tree_of_rows(std::vector<ConvertedRow>& rows, float background_value);
 
@@ -90,38 +104,27 @@ openvdb::FloatTree::Ptr tree_of_rows(std::vector<ConvertedRow>& rows, float back
 class Converter {
 public:
     /// @a options checked by check_convert_options(). @a source at its slice 0, or, when the
-    /// first row made is not first_row(), at or before first_slice(that row).
+    /// first row made is not first_row(), at or before the first slice that row reads.
     Converter(SliceReader& source, const ConvertOptions& options);
     /// The rows of the whole conversion: z0 from first_row() to last_row(), step 8.
     int first_row() const { return floor_div(-pad_, kLeafDim) * kLeafDim; }
     int last_row() const { return floor_div(dims_[2] + band_, kLeafDim) * kLeafDim; }
-    /// The first scan slice that making row @a z0 first reads.
-    std::int64_t first_slice(int z0) const { return std::clamp<std::int64_t>(z0 - pad_, 0, dims_[2]); }
     /// Makes row @a z0 (TBB-parallel); rows are made in increasing z0.
     ConvertedRow make_row(int z0);
     /// The range of the samples read so far: of the whole scan once every row was made.
     const ScanValues& values() const { return values_; }
+    /// The bytes of the slice windows of a converter of a scan @a width x @a height samples across.
+    static std::size_t window_bytes(std::int64_t width, std::int64_t height, int band);
     /// The grid of @a rows (their leaves moved into it): the background, and the metadata,
     /// from the whole scan's @a values.
     openvdb::FloatGrid::Ptr assemble(std::vector<ConvertedRow>& rows, const ScanValues& values) const;
     /// The background of a grid of this scan whose samples range over @a values.
     float background(const ScanValues& values) const;
-    /// Sets the voxels of @a row's leaves that lie outside the scan to @a background_value (what
-    /// assemble() does to every row).
-    void fill_outside(ConvertedRow& row, float background_value) const;
-    /// The bytes of the slice windows this converter holds.
-    std::size_t window_bytes() const { return window_bytes(dims_[0], dims_[1], band_); }
-    /// The bytes of the slice windows of a converter of a scan @a width x @a height samples across.
-    static std::size_t window_bytes(std::int64_t width, std::int64_t height, int band);
 
 private:
     std::int64_t frame_index(int x, int y) const { return (x + pad_) + width_ * static_cast<std::int64_t>(y + pad_); }
-    bool in_scan(int x, int y, int z) const {
-        return x >= 0 && y >= 0 && z >= 0 && x < dims_[0] && y < dims_[1] && z < dims_[2];
-    }
-    bool block_in_scan(int x0, int y0, int z0) const {
-        return in_scan(x0, y0, z0) && in_scan(x0 + kLeafDim - 1, y0 + kLeafDim - 1, z0 + kLeafDim - 1);
-    }
+    bool in_scan(int x, int y, int z) const { return detail::in_scan(dims_, x, y, z); }
+    bool block_in_scan(int x0, int y0, int z0) const { return detail::block_in_scan(dims_, x0, y0, z0); }
 
     void advance_samples(int z0);
     /// Slice z of the padded frame from @a samples (the scan's slice z), or virtual outside
@@ -151,7 +154,7 @@ private:
     int band_;
     double iso_lo_, iso_hi_;
     float iso_lo_f_, iso_hi_f_;  ///< float_at_or_below() of the isovalues
-    int dims_[3];
+    int dims_[3];  ///< the scan's samples in x, y, z
     int pad_;  ///< the frame holds voxels [-pad, dim + pad) in x and y: the band around the virtual ring
     std::int64_t width_, height_;
     int block_x_first_, block_x_count_, block_y_first_, block_y_count_;
