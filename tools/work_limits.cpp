@@ -70,7 +70,7 @@ void refuse_beyond_memory(const MemoryLimit& limit, const std::string& option, c
                      std::to_string(std::uint64_t(std::ceil(needed / kMiB))) + "M");
 }
 
-double whole_grid_bytes(const GridRegionSource& source, bool reading) {
+double whole_grid_bytes(const GridRegionSource& source, bool converting) {
     const std::vector<NodeWeight> nodes = source.nodes();
     if (nodes.empty()) return 0;
     IndexBox box{nodes.front().origin, nodes.front().origin};
@@ -80,7 +80,7 @@ double whole_grid_bytes(const GridRegionSource& source, bool reading) {
             box.max[a] = std::max(box.max[a], node.origin[a] + kNodeVoxels);
         }
     }
-    return double(reading ? source.estimated_bytes(box) : source.grid_bytes(box));
+    return double(source.grid_bytes(box) + (converting ? source.opening_bytes() : 0));
 }
 
 }  // namespace vdbmesh::cli

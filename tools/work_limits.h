@@ -73,8 +73,9 @@ void add_memory_option(CLI::App& command, MemoryLimit& limit, const std::string&
 void refuse_beyond_memory(const MemoryLimit& limit, const std::string& option, const std::string& what, double bytes);
 
 /// The whole grid of @a source: the bytes read() of its every node would hold (its
-/// grid_bytes(); with @a reading, estimated_bytes(), what the source holds while reading too),
-/// from the tree's topology (a .vdb's, a scan's survey) without reading a voxel.
-double whole_grid_bytes(const GridRegionSource& source, bool reading = false);
+/// grid_bytes(); with @a converting, opening_bytes() too: a conversion holds the converter's
+/// windows beside the grid it makes), from the tree's topology (a .vdb's, a scan's survey)
+/// without reading a voxel.
+double whole_grid_bytes(const GridRegionSource& source, bool converting = false);
 
 }  // namespace vdbmesh::cli

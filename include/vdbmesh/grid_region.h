@@ -65,9 +65,13 @@ public:
     virtual std::uint64_t estimated_bytes(const IndexBox& box) const = 0;
 
     /// An upper estimate of the bytes of the grid read(box) returns alone, without what the
-    /// source holds while reading (a scan's band and converter windows): what a reader keeping
-    /// that grid after the read holds.
+    /// source holds while reading (a scan's read buffer): what a reader keeping that grid after
+    /// the read holds.
     virtual std::uint64_t grid_bytes(const IndexBox& box) const { return estimated_bytes(box); }
+
+    /// The bytes opening the source held at most and no longer holds (a scan's survey: the
+    /// converter's slice windows across the whole scan): a peak no plan of reads can go below.
+    virtual std::uint64_t opening_bytes() const { return 0; }
 
     /// The leaves that hold an active voxel inside @a box, each with its mask cleared outside
     /// the box, in z-major order of their origins (as nodes()): where the active band round a

@@ -115,12 +115,12 @@ public:
     }
 
     /// The leaves read back (those of the box's node columns over its rows) and the buffer of
-    /// one node row's stretch of the file; at least the survey's slice windows, which opening
-    /// held (a limit below them cannot be met, however small the bricks).
+    /// one node row's stretch of the file.
     std::uint64_t estimated_bytes(const IndexBox& box) const override {
-        const std::uint64_t reading = grid_bytes(rows_of(box), box) + (kept_ ? kept_->buffer_bytes() : 0);
-        return std::max<std::uint64_t>(reading, survey_windows_);
+        return grid_bytes(rows_of(box), box) + (kept_ ? kept_->buffer_bytes() : 0);
     }
+
+    std::uint64_t opening_bytes() const override { return survey_windows_; }
 
     std::uint64_t grid_bytes(const IndexBox& box) const override { return grid_bytes(rows_of(box), box); }
 

@@ -347,7 +347,7 @@ void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOpti
 namespace vdbmesh {
 
 std::uint64_t brick_peak_bytes(const GridRegionSource& source, const BrickShape& shape) {
-    std::uint64_t peak = kProgramBytes;
+    std::uint64_t peak = kProgramBytes + source.opening_bytes();
     for (const detail::IfcBrick& brick : detail::plan_ifc_bricks(source, shape)) {
         // The grid held, the mesher's cells on it, and the next layer being read.
         const detail::WavefrontBoxes boxes = detail::wavefront_boxes(brick, shape);
