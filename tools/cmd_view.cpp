@@ -18,11 +18,13 @@
 #include "report_json.h"
 #include "serve_view.h"
 #include "view_splat_file.h"
+#include "work_limits.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/grid_region.h"
 #include "vdbmesh/json_text.h"
 #include "vdbmesh/mesh_io.h"
+#include "vdbmesh/program_memory.h"
 #include "vdbmesh/splats.h"
 #include "vdbmesh/view.h"
 
@@ -37,6 +39,7 @@ struct ViewCommandOptions {
     ViewServerOptions server;
     bool no_open = false;
     LabelFlags label;  ///< --labels: the input is a label map, shown label by label
+    MemoryLimit memory;  ///< --memory: grids read by region, close-ups within it
     ReadFlags read;
     CommonOptions common;
 };
@@ -63,11 +66,37 @@ std::function<std::shared_ptr<const ViewScan>(const BackgroundControl&)> prepare
     };
 }
 
+/// A grid read by region with its isovalue known: the topology preview at once (seconds, no
+/// value read of a .vdb); the fit, then the histogram and coarse grid, in the background.
+ViewSource regions_source(std::string name, std::shared_ptr<const GridRegionSource> regions, double iso, bool quiet) {
+    ViewSource source;
+    source.name = std::move(name);
+    source.splats = topology_preview_splats(*regions, iso);
+    source.initial_iso = iso;
+    source.fit_splats = [regions, iso](const BackgroundControl& control) { return fit_view_splats(regions, iso, control); };
+    source.prepare_scan = prepare_in_background(regions);
+    if (!quiet)
+        std::cerr << "vdbmesh view: the topology preview: " << source.splats->tree->leaf_count() << " splats in " << source.splats->seconds
+                  << " s; the splat tree is fitted in the background\n";
+    return source;
+}
+
+/// With --memory, a scan (not a .vdb, a mesh or a splat file): surveyed, then read by region
+/// as a .vdb is (scan_regions.h), never converted whole. Its isovalue must be given: the
+/// survey needs it to know where the surface is.
+ViewSource scan_by_region(const ViewCommandOptions& options) {
+    if (!options.iso) throw UsageError("--iso: required to view a scan with --memory (it is read by region around that surface)");
+    GridRegionsInput opened = open_grid_regions(options.inputs, options.iso, options.read, "view", ConvertOptions{});
+    return regions_source(std::filesystem::path(options.inputs.front()).filename().string(), std::move(opened.source), opened.iso,
+                          options.common.quiet);
+}
+
 /// Reads the input before anything is served, so that a bad file is reported at once.
 ViewSource load_source(const ViewCommandOptions& options) {
     const std::string& input = options.inputs.front();
     if (lowercase_extension(input) == ".splat") return splats_alone_source(options);
     if (options.label.labels) {
+        if (options.memory.given()) throw UsageError("--memory: not with --labels (each label is meshed from the whole label map)");
         if (options.iso) throw UsageError("--iso: not with --labels (a label map is meshed label by label)");
         if (!options.splat_file.empty()) throw UsageError("--splats: not with --labels (only a .vdb scan's splat tree is kept)");
         return label_view_source(options.inputs, options.read, options.label);
@@ -78,6 +107,9 @@ ViewSource load_source(const ViewCommandOptions& options) {
     ViewSource source;
     source.name = std::filesystem::path(input).filename().string();
     if (is_mesh_file(input)) {
+        if (options.memory.given())
+            throw UsageError("--memory: a mesh file is shown whole, every triangle in memory; view " + input +
+                             " without --memory (or check it as a stream: vdbmesh check MESH --memory SIZE)");
         if (options.iso) throw UsageError("--iso: only for a scan or .vdb input, got the mesh " + input);
         options.read.refuse_for("the mesh " + input);
         if (options.inputs.size() > 1) throw UsageError("a mesh input takes no further input files");
@@ -103,19 +135,11 @@ ViewSource load_source(const ViewCommandOptions& options) {
             source.prepare_scan = prepare_in_background(regions);
             return source;
         }
-        if (const std::optional<double> iso = options.iso ? options.iso : stored_iso) {
-            // The topology preview at once (seconds, no value read); the fit, then the
-            // histogram and coarse grid, in the background.
-            source.splats = topology_preview_splats(*regions, *iso);
-            source.initial_iso = *iso;
-            source.fit_splats = [regions, iso = *iso](const BackgroundControl& control) { return fit_view_splats(regions, iso, control); };
-            source.prepare_scan = prepare_in_background(regions);
-            if (!options.common.quiet)
-                std::cerr << "vdbmesh view: the topology preview: " << source.splats->tree->leaf_count() << " splats in "
-                          << source.splats->seconds << " s; the splat tree is fitted in the background\n";
-            return source;
-        }
+        if (const std::optional<double> iso = options.iso ? options.iso : stored_iso)
+            return regions_source(source.name, std::move(regions), *iso, options.common.quiet);
         source.scan = std::make_shared<const ViewScan>(prepare_grid_regions(std::move(regions)));
+    } else if (options.memory.given()) {
+        return scan_by_region(options);
     } else {
         source.scan = std::make_shared<const ViewScan>(prepare_scan([&] { return open_scan(options.inputs, options.read); }));
     }
@@ -132,15 +156,26 @@ std::string check_figures(const Mesh& mesh) { return detail::json_text(report_js
 /// picture on a busy machine, issue 30); a bad file is still an error of the command, the page
 /// showing it too. (A .vdb stating no isovalue, without --iso, is prepared before the page's
 /// API answers: Otsu's suggestion needs its values.) A .vdb's splat file fitted now is not.
+/// A scan with --memory is served while its survey runs (a pass over the whole file).
 bool read_while_serving(const ViewCommandOptions& options) {
     if (options.label.labels) return false;
     const std::string extension = lowercase_extension(options.inputs.front());
     if (extension == ".splat") return true;
+    if (options.memory.given() && extension != ".vdb") return !is_mesh_file(options.inputs.front());  // a scan's survey
     if (extension != ".vdb") return false;
     return options.splat_file.empty() || std::filesystem::exists(options.splat_file);
 }
 
+/// With --memory: half of what the limit leaves beside the program for one close-up's read by
+/// region (the other half for the splat tree, the coarse grid and the meshes the page holds).
+void bound_close_ups(ViewCommandOptions& options) {
+    if (!options.memory.given()) return;
+    refuse_beyond_memory(options.memory, "--memory", "one close-up's read by region (at least 64M)", double(std::uint64_t(64) << 20));
+    options.server.region_read_bytes = std::uint64_t((options.memory.bytes() - double(kProgramBytes)) / 2);
+}
+
 void run_view(ViewCommandOptions& options) {
+    bound_close_ups(options);
     const ThreadLimit limit(options.common);
     if (!options.common.quiet) std::cerr << "vdbmesh view: reading " << options.inputs.front() << "\n";
     options.server.mesh_figures = check_figures;
@@ -177,6 +212,9 @@ void add_view_command(CLI::App& command, CommandResult& result) {
                        "Full meshes with more triangles are shown coarse until asked for")
         ->capture_default_str();
     command.add_flag("--no-open", options->no_open, "Do not open a browser");
+    add_memory_option(command, options->memory,
+                      "the program and one close-up's read (a scan is then read by region: surveyed once, never converted "
+                      "whole, --iso needed; a close-up reads at most half of SIZE; not with a mesh file or --labels)");
     add_label_flags(command, options->label, "Show a label map: all, or a list like 3,5,10-12; each label meshed (as mesh --labels), coloured and switchable");
     add_read_flags(command, options->read);
     add_common_options(command, options->common);

@@ -142,6 +142,9 @@ struct ViewServerOptions {
     /// Larger meshes are shown coarse until the user asks; a grid read by region is never
     /// meshed whole beyond it.
     std::size_t triangle_budget = 2'000'000;
+    /// The most one close-up's read by region may hold (GridRegionSource::estimated_bytes()):
+    /// a close-up beyond it is not offered, the page keeping its splats there.
+    std::uint64_t region_read_bytes = std::uint64_t(1) << 30;
     /// The figures of a mesh as a JSON object's text (GET /api/figures), e.g. what
     /// `vdbmesh check --json` prints; empty: none.
     std::function<std::string(const Mesh&)> mesh_figures;

@@ -19,8 +19,11 @@ MeshResult whole_by_region(const GridRegionSource& regions, const MeshOptions& o
 
 }  // namespace
 
-MeshStore::MeshStore(ViewSource source, GridMesher mesher, std::size_t triangle_budget)
-    : source_(std::move(source)), mesher_(mesher ? std::move(mesher) : GridMesher(mesh_grid)), triangle_budget_(triangle_budget) {}
+MeshStore::MeshStore(ViewSource source, GridMesher mesher, std::size_t triangle_budget, std::uint64_t region_read_bytes)
+    : source_(std::move(source)),
+      mesher_(mesher ? std::move(mesher) : GridMesher(mesh_grid)),
+      triangle_budget_(triangle_budget),
+      region_read_bytes_(region_read_bytes) {}
 
 std::size_t MeshStore::estimated_full_triangles(const ViewScan& scan, const MeshRequest& request) const {
     MeshOptions options = request.options;
@@ -63,7 +66,7 @@ std::shared_ptr<StoredMesh> MeshStore::make(const MeshRequest& request, std::uin
     const auto scan = prepared_scan();
     if (request.level == MeshLevel::region) {
         const auto start = std::chrono::steady_clock::now();
-        stored->mesh = std::make_shared<const Mesh>(region_mesh(*scan->regions, request.box, request.options));
+        stored->mesh = std::make_shared<const Mesh>(region_mesh(*scan->regions, request.box, request.options, region_read_bytes_));
         stored->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return stored;
     }

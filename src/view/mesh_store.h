@@ -61,8 +61,8 @@ inline constexpr std::uint64_t kWholeMeshMemory = std::uint64_t(1) << 30;
 class MeshStore {
 public:
     /// Meshes with @a mesher, mesh_grid() when empty; a grid read by region only within
-    /// @a triangle_budget.
-    MeshStore(ViewSource source, GridMesher mesher, std::size_t triangle_budget);
+    /// @a triangle_budget, its close-ups each reading at most @a region_read_bytes.
+    MeshStore(ViewSource source, GridMesher mesher, std::size_t triangle_budget, std::uint64_t region_read_bytes);
     /// The source as given (never changed; its scan null when prepared later: see scan()).
     const ViewSource& source() const { return source_; }
     /// The scan: the source's, else the one prepare_scan made (null until then).
@@ -89,6 +89,7 @@ private:
     std::shared_ptr<const ViewScan> prepared_;  ///< set once by set_scan(), read atomically
     GridMesher mesher_;
     std::size_t triangle_budget_;
+    std::uint64_t region_read_bytes_;
     std::atomic<std::uint64_t> coarse_requests_{0};
     std::mutex mutex_;
     std::deque<std::pair<std::string, std::shared_ptr<StoredMesh>>> kept_;  ///< newest first

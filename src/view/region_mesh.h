@@ -10,9 +10,6 @@
 
 namespace vdbmesh::view {
 
-/// The most a close-up may read: the server stays bounded whatever box is asked for.
-inline constexpr std::uint64_t kRegionReadBytes = std::uint64_t(1) << 30;
-
 /// What region_mesh() of @a box reads: the box's nodes and the nodes one below and two above
 /// them, with the two leaves of sample windows round them.
 IndexBox region_read_box(const IndexBox& box);
@@ -23,7 +20,6 @@ IndexBox region_read_box(const IndexBox& box);
 /// the nodes one below and two above them (docs/dmc.md, "Bricks": what decides a triangle).
 /// @throw UsageError naming the box when that read would hold more than @a max_read_bytes
 /// (GridRegionSource::estimated_bytes()), before reading anything.
-Mesh region_mesh(const GridRegionSource& source, const IndexBox& box, const MeshOptions& options,
-                 std::uint64_t max_read_bytes = kRegionReadBytes);
+Mesh region_mesh(const GridRegionSource& source, const IndexBox& box, const MeshOptions& options, std::uint64_t max_read_bytes);
 
 }  // namespace vdbmesh::view

@@ -312,7 +312,7 @@ private:
         const GridRegionSource& regions = *scan->regions;
         const auto grid = regions.description();
         const auto close = view::find_close_up(*stored.tree, selection, request.view, *grid, *request.close_up_triangles);
-        if (!close || regions.estimated_bytes(view::region_read_box(close->box)) > view::kRegionReadBytes) return;
+        if (!close || regions.estimated_bytes(view::region_read_box(close->box)) > options_.region_read_bytes) return;
         std::string box;
         for (auto bound : {close->box.min, close->box.max})
             for (std::int32_t v : bound) box += (box.empty() ? "" : ",") + std::to_string(v);
@@ -332,7 +332,7 @@ private:
     /// What serves the source, made once it is there.
     struct Loaded {
         Loaded(ViewSource source, const ViewServerOptions& options)
-            : store(std::move(source), options.mesher, options.triangle_budget),
+            : store(std::move(source), options.mesher, options.triangle_budget, options.region_read_bytes),
               splats(store.source().scan, store.source().splats, store.source().initial_iso) {}
         view::MeshStore store;
         view::SplatStore splats;

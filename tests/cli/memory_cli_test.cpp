@@ -112,6 +112,26 @@ TEST(MeasureMemoryTest, ScanLimitsAndOptionsTheBricksCannotTakeAreRefused) {
     EXPECT_EQ(run_capturing_both({"measure", torus, "--iso", "0.5", "--error", "0.25", "--refine", "--memory", "128M"}).status, kUsageError);
 }
 
+/// view --memory: what it cannot bound is refused before anything is read or served (exit 2,
+/// naming why): a mesh file (shown whole), a label map, a scan without --iso (its survey needs
+/// the surface), and a limit below the program and one close-up's read.
+TEST(ViewMemoryTest, WhatTheLimitCannotBoundIsRefusedBeforeServing) {
+    const test::ScratchDir dir;
+    const std::string torus = write_torus_phantom(dir).string();
+    ASSERT_EQ(run_capturing_both({"mesh", torus, "--iso", "0.5", "-o", (dir / "torus.stl").string(), "-q"}).status, kSuccess);
+    const std::vector<std::pair<std::vector<std::string>, std::string>> refusals = {
+        {{"view", (dir / "torus.stl").string(), "--memory", "1G", "--no-open"}, "a mesh file is shown whole"},
+        {{"view", torus, "--labels", "all", "--memory", "1G", "--no-open"}, "not with --labels"},
+        {{"view", torus, "--memory", "1G", "--no-open"}, "--iso: required to view a scan with --memory"},
+        {{"view", torus, "--iso", "0.5", "--memory", "100M", "--no-open"}, "the smallest limit that could work is 128M"},
+    };
+    for (const auto& [args, why] : refusals) {
+        const OutAndErr refused = run_capturing_both(args);
+        EXPECT_EQ(refused.status, kUsageError) << args[1] << " " << args[2];
+        EXPECT_NE(refused.err.find(why), std::string::npos) << refused.err;
+    }
+}
+
 /// section --json of @a args with and without --memory @a memory: the same bytes (edges named by
 /// vertex numbers both ways: SectionStream).
 void expect_bounded_section_is_whole(const std::vector<std::string>& args, const std::string& memory) {

@@ -16,6 +16,9 @@
 #include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/phantom.h"
+#include "vdbmesh/read.h"
+#include "vdbmesh/scan_regions.h"
+#include "vdbmesh/write_volume.h"
 #include "vdbmesh/view.h"
 #include "view/region_mesh.h"
 
@@ -24,16 +27,20 @@ namespace {
 
 using Triangle = std::array<std::array<float, 3>, 3>;
 
-/// A cylinder along x through six 128^3 nodes (more than a region reads), converted like a
-/// scan (isovalue 0.5, with its scan box), and written to a .vdb.
+/// A cylinder along x through six 128^3 nodes (more than a region reads).
+PhantomSpec cylinder_along_x() {
+    PhantomSpec spec = phantom_preset("cylinder", {760, 48, 60});
+    spec.radius = 17;
+    spec.height = 700;
+    spec.rotation_degrees = {0, 90, 0};
+    return spec;
+}
+
+/// The cylinder converted like a scan (isovalue 0.5, with its scan box), and written to a .vdb.
 class RegionViewTest : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
-        PhantomSpec spec = phantom_preset("cylinder", {760, 48, 60});
-        spec.radius = 17;
-        spec.height = 700;
-        spec.rotation_degrees = {0, 90, 0};
-        grid_ = test::phantom_scan_grid(spec);
+        grid_ = test::phantom_scan_grid(cylinder_along_x());
         dir_ = new test::ScratchDir;
         write_vdb(*grid_, *dir_ / "sphere.vdb");
         scan_ = std::make_shared<const ViewScan>(prepare_grid_regions(open_vdb_regions(*dir_ / "sphere.vdb")));
@@ -226,6 +233,33 @@ TEST_F(RegionViewTest, ABoxReadingMoreThanAllowedIsRefusedBeforeReading) {
     } catch (const UsageError& e) {
         EXPECT_NE(std::string(e.what()).find("box"), std::string::npos) << e.what();
     }
+}
+
+/// `view SCAN --memory`: the scan itself read by region (surveyed, its rows kept) prepares and
+/// meshes a close-up as the .vdb read by region does (open_scan_regions, not the conversion).
+TEST_F(RegionViewTest, AScanReadByRegionGivesWhatItsVdbGives) {
+    const PhantomSpec spec = cylinder_along_x();
+    VolumeHeader header;
+    header.dims = spec.dims;
+    header.type = SampleType::f32;
+    write_volume(*dir_ / "cylinder.nii", header, [&](std::int64_t z, float* slice) { fill_phantom_slice(spec, z, slice); });
+    ConvertOptions convert;
+    convert.iso = 0.5;
+    const std::shared_ptr<const GridRegionSource> scan =
+        open_scan_regions([] { return std::unique_ptr<SliceReader>(open_volume(*dir_ / "cylinder.nii")); }, convert);
+    const ViewScan prepared = prepare_grid_regions(scan);
+    EXPECT_EQ(prepared.histogram.counts, scan_->histogram.counts);
+    EXPECT_EQ(prepared.suggested_iso, scan_->suggested_iso);
+    EXPECT_EQ(prepared.coarse->activeVoxelCount(), scan_->coarse->activeVoxelCount());
+    MeshOptions options;
+    options.iso = 0.5;
+    options.error = 0.25;
+    const IndexBox box{{350, 10, 0}, {400, 40, 60}};
+    const Mesh from_scan = view::region_mesh(*scan, box, options, std::uint64_t(1) << 30);
+    const Mesh from_vdb = view::region_mesh(*scan_->regions, box, options, std::uint64_t(1) << 30);
+    ASSERT_GT(from_vdb.triangles.size(), 100u);
+    EXPECT_EQ(from_scan.triangles, from_vdb.triangles);
+    EXPECT_EQ(from_scan.vertices, from_vdb.vertices);
 }
 
 }  // namespace
