@@ -22,6 +22,7 @@
 // them all; a scan read by region (scan_regions.cpp) makes those its bands need.
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -174,6 +175,28 @@ void Converter::skip_to(std::int64_t slice) {
     }
 }
 
+void Converter::take_slices(std::int64_t first, std::int64_t count) {
+    if (ahead_.valid()) {
+        ahead_.get();  // rethrows the read's error
+        if (ahead_first_ == first && ahead_count_ == count) {
+            std::swap(read_buffer_, ahead_buffer_);
+            return;
+        }
+    }
+    skip_to(first);
+    read_buffer_.resize(static_cast<std::size_t>(header_.slice_voxels()) * static_cast<std::size_t>(count));
+    source_.read_slices(count, read_buffer_.data());
+}
+
+void Converter::read_ahead(std::int64_t first, std::int64_t count) {
+    // A second thread only where more than one may run: with --threads 1, one.
+    if (count <= 0 || tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) < 2) return;
+    ahead_first_ = first;
+    ahead_count_ = count;
+    ahead_buffer_.resize(static_cast<std::size_t>(header_.slice_voxels()) * static_cast<std::size_t>(count));
+    ahead_ = std::async(std::launch::async, [this, count] { source_.read_slices(count, ahead_buffer_.data()); });
+}
+
 void Converter::fill_sample_slice(std::int64_t z, const float* samples) {
     float* out = samples_.slice(z);
     if (!samples) {
@@ -211,9 +234,8 @@ void Converter::advance_samples(int z0) {
     const std::int64_t scan_end = std::clamp<std::int64_t>(end, 0, dims_[2]);
     const auto slice_voxels = static_cast<std::size_t>(header_.slice_voxels());
     if (scan_end > scan_first) {
-        skip_to(scan_first);
-        read_buffer_.resize(slice_voxels * static_cast<std::size_t>(scan_end - scan_first));
-        source_.read_slices(scan_end - scan_first, read_buffer_.data());
+        take_slices(scan_first, scan_end - scan_first);
+        read_ahead(scan_end, std::min<std::int64_t>(kLeafDim, dims_[2] - scan_end));  // the next row's
     }
     tbb::parallel_for(first, end, [&](std::int64_t z) {
         const bool in_scan = z >= scan_first && z < scan_end;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <future>
 #include <limits>
 #include <memory>
 #include <utility>
@@ -127,6 +128,12 @@ private:
     bool block_in_scan(int x0, int y0, int z0) const { return detail::block_in_scan(dims_, x0, y0, z0); }
 
     void advance_samples(int z0);
+    /// Slices [first, first + count) of the source into read_buffer_: the ones read ahead, if
+    /// they are those, else read now (skipping to first).
+    void take_slices(std::int64_t first, std::int64_t count);
+    /// Starts reading slices [first, first + count), the source's next, on another thread: the
+    /// source's reading and decoding then overlap this row's conversion.
+    void read_ahead(std::int64_t first, std::int64_t count);
     /// Slice z of the padded frame from @a samples (the scan's slice z), or virtual outside
     /// the scan (@a samples null), with the value range of each 8 x 8 square of blocks in it.
     void fill_sample_slice(std::int64_t z, const float* samples);
@@ -167,6 +174,9 @@ private:
     /// Per slice of samples_ in the scan and 8 x 8 square of blocks: the least and greatest sample.
     SliceWindow<float> square_lo_, square_hi_;
     std::vector<float> read_buffer_;
+    std::vector<float> ahead_buffer_;  ///< slices being read ahead: [ahead_first_, + ahead_count_)
+    std::future<void> ahead_;          ///< declared after what it writes: waited for first on destruction
+    std::int64_t ahead_first_ = 0, ahead_count_ = 0;
 
     std::vector<BlockResult> blocks_;  ///< of the row being made, y then x
     ScanValues values_;
