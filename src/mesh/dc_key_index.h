@@ -15,7 +15,7 @@ namespace vdbmesh::detail {
 class IfcKeyIndex {
 public:
     /// Indexes @a keys (unique; a key's index is its position), built in parallel: 16 bytes
-    /// per slot, at most half full.
+    /// per slot, at most three quarters full.
     explicit IfcKeyIndex(const std::vector<std::uint64_t>& keys);
     /// The index of the vertex with @a key, or kMissing.
     std::uint32_t find(std::uint64_t key) const;
