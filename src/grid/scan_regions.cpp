@@ -33,7 +33,6 @@ using detail::ConvertedRow;
 using detail::Converter;
 using detail::kLeafDim;
 using detail::region_walk::Leaf;
-using detail::region_walk::TreeRegion;
 
 constexpr std::uint64_t kLeafBytes = sizeof(Leaf) + Leaf::SIZE * sizeof(float);
 
@@ -85,10 +84,7 @@ struct Survey {
 
 class ScanRegionSource final : public GridRegionSource {
 public:
-    ScanRegionSource(OpenSlices open, const ConvertOptions& options, ScanRegionReads reads) : options_(options) {
-        options_.progress = nullptr;
-        survey(std::move(open), options.progress, reads);
-    }
+    ScanRegionSource(const OpenSlices& open, const ConvertOptions& options, ScanRegionReads reads) { survey(open, options, reads); }
 
     std::shared_ptr<const openvdb::FloatGrid> description() const override { return survey_.description; }
     std::vector<NodeWeight> nodes() const override { return survey_.nodes; }
@@ -137,16 +133,18 @@ private:
         return {first, last};
     }
 
-    void survey(const OpenSlices& open, const std::function<void(double)>& progress, ScanRegionReads reads) {
+    void survey(const OpenSlices& open, const ConvertOptions& options, ScanRegionReads reads) {
+        ConvertOptions converting = options;
+        converting.progress = nullptr;  // the survey reports its own
         const std::unique_ptr<SliceReader> reader = open();
         const VolumeHeader& header = reader->header();
         for (int axis = 0; axis < 3; ++axis) dims_[axis] = static_cast<int>(header.dims[axis]);
-        Converter whole(*reader, options_);
-        survey_windows_ = Converter::window_bytes(header.dims[0], header.dims[1], options_.band);
+        Converter whole(*reader, converting);
+        survey_windows_ = Converter::window_bytes(header.dims[0], header.dims[1], options.band);
         first_row_ = whole.first_row();
         last_row_ = whole.last_row();
         // Node columns of every leaf the conversion can make: the scan and its virtual ring.
-        const int pad = options_.band + 1;
+        const int pad = options.band + 1;
         const int first_column = detail::floor_div(-pad, kNodeVoxels);
         auto columns = [&](std::int64_t dim) { return detail::floor_div(dim + pad, kNodeVoxels) - first_column + 1; };
         survey_.leaves = std::make_unique<LeafCounts>(first_column, columns(header.dims[0]), columns(header.dims[1]));
@@ -161,7 +159,7 @@ private:
                     leaf->onVoxelCount();
             survey_.leaves->add_row(z0, row.leaves);
             if (kept_) kept_->add(row);
-            if (progress) progress(std::clamp((z0 + kLeafDim) / slices, 0.0, 1.0));
+            if (options.progress) options.progress(std::clamp((z0 + kLeafDim) / slices, 0.0, 1.0));
         }
         for (const auto& [zyx, count] : active) survey_.nodes.push_back({{std::get<2>(zyx), std::get<1>(zyx), std::get<0>(zyx)}, count});
         survey_.values = whole.values();
@@ -170,7 +168,6 @@ private:
         survey_.description = whole.assemble(no_rows, survey_.values);
     }
 
-    ConvertOptions options_;
     Survey survey_;
     std::unique_ptr<detail::KeptRows> kept_;  ///< null when surveyed for the estimates only
     int dims_[3] = {0, 0, 0};
@@ -186,7 +183,7 @@ std::unique_ptr<GridRegionSource> open_scan_regions(OpenSlices open, const Conve
         const std::unique_ptr<SliceReader> first = open();
         detail::check_convert_options(first->header(), options);
     }
-    return std::make_unique<ScanRegionSource>(std::move(open), options, reads);
+    return std::make_unique<ScanRegionSource>(open, options, reads);
 }
 
 }  // namespace vdbmesh
