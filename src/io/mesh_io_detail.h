@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <ostream>
 #include <string>
 #include <string_view>
@@ -39,6 +40,11 @@ void write_obj_header(OutputBuffer& out);
 void write_obj_vertex(OutputBuffer& out, const std::array<float, 3>& position);
 void write_obj_normal(OutputBuffer& out, const std::array<float, 3>& normal);
 void write_obj_face(OutputBuffer& out, const std::array<std::uint32_t, 3>& triangle, bool normals);
+
+/// Writes records [0, @a count) to @a out in order, record i formatted by @a write(buffer, i):
+/// formatted in parallel, a batch of chunks at a time (the bytes do not depend on the threads).
+/// The buffer of each chunk is its own: @a write must not keep state between records.
+void write_records(std::ostream& out, std::size_t count, const std::function<void(OutputBuffer&, std::size_t)>& write);
 
 void write_stl(const Mesh& mesh, std::ostream& out, bool ascii);
 void write_ply(const Mesh& mesh, std::ostream& out, bool ascii, bool normals);

@@ -34,13 +34,16 @@ void write_obj_face(OutputBuffer& out, const std::array<std::uint32_t, 3>& trian
 }
 
 void write_obj(const Mesh& mesh, std::ostream& stream, bool normals) {
-    OutputBuffer out(stream);
-    write_obj_header(out);
-    for (const auto& v : mesh.vertices) write_obj_vertex(out, v);
-    if (normals) {
-        for (const auto& n : detail::vertex_normals(mesh)) write_obj_normal(out, n);
+    {
+        OutputBuffer out(stream);
+        write_obj_header(out);
     }
-    for (const auto& t : mesh.triangles) write_obj_face(out, t, normals);
+    write_records(stream, mesh.vertices.size(), [&](OutputBuffer& out, std::size_t v) { write_obj_vertex(out, mesh.vertices[v]); });
+    if (normals) {
+        const std::vector<std::array<float, 3>> vertex_normal = detail::vertex_normals(mesh);
+        write_records(stream, vertex_normal.size(), [&](OutputBuffer& out, std::size_t v) { write_obj_normal(out, vertex_normal[v]); });
+    }
+    write_records(stream, mesh.triangles.size(), [&](OutputBuffer& out, std::size_t t) { write_obj_face(out, mesh.triangles[t], normals); });
 }
 
 }  // namespace vdbmesh::detail

@@ -51,11 +51,15 @@ void write_ply_face(OutputBuffer& out, const std::array<std::uint32_t, 3>& trian
 }
 
 void write_ply(const Mesh& mesh, std::ostream& stream, bool ascii, bool normals) {
-    OutputBuffer out(stream);
-    write_ply_header(out, mesh.vertices.size(), mesh.triangles.size(), ascii, normals);
+    {
+        OutputBuffer out(stream);
+        write_ply_header(out, mesh.vertices.size(), mesh.triangles.size(), ascii, normals);
+    }
     const std::vector<std::array<float, 3>> vertex_normal = normals ? detail::vertex_normals(mesh) : std::vector<std::array<float, 3>>{};
-    for (std::size_t v = 0; v < mesh.vertices.size(); ++v) write_ply_vertex(out, mesh.vertices[v], normals ? &vertex_normal[v] : nullptr, ascii);
-    for (const auto& t : mesh.triangles) write_ply_face(out, t, ascii);
+    write_records(stream, mesh.vertices.size(), [&](OutputBuffer& out, std::size_t v) {
+        write_ply_vertex(out, mesh.vertices[v], normals ? &vertex_normal[v] : nullptr, ascii);
+    });
+    write_records(stream, mesh.triangles.size(), [&](OutputBuffer& out, std::size_t t) { write_ply_face(out, mesh.triangles[t], ascii); });
 }
 
 }  // namespace vdbmesh::detail

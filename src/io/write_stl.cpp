@@ -55,9 +55,15 @@ void write_stl_footer(OutputBuffer& out, bool ascii) {
 }
 
 void write_stl(const Mesh& mesh, std::ostream& stream, bool ascii) {
+    {
+        OutputBuffer out(stream);
+        write_stl_header(out, mesh.triangles.size(), ascii);
+    }
+    write_records(stream, mesh.triangles.size(), [&](OutputBuffer& out, std::size_t i) {
+        const auto& t = mesh.triangles[i];
+        write_stl_facet(out, {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]}, ascii);
+    });
     OutputBuffer out(stream);
-    write_stl_header(out, mesh.triangles.size(), ascii);
-    for (const auto& t : mesh.triangles) write_stl_facet(out, {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]}, ascii);
     write_stl_footer(out, ascii);
 }
 
