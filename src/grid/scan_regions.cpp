@@ -19,6 +19,7 @@
 
 #include "converter.h"
 #include "kept_rows.h"
+#include "leaf_masks.h"
 #include "region_walk.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
@@ -117,6 +118,20 @@ public:
     }
 
     std::uint64_t opening_bytes() const override { return survey_windows_; }
+
+    /// Row by row from the kept rows: one row's leaves held at a time, never the region.
+    std::vector<LeafMask> active_leaves(const IndexBox& box) const override {
+        if (!kept_) throw std::logic_error("scan_regions: active_leaves() of a scan surveyed without keeping its rows");
+        std::vector<LeafMask> masks;
+        const auto [first, last] = rows_of(box);
+        for (int z0 = first; z0 <= last; z0 += kLeafDim) {
+            std::vector<ConvertedRow> row = kept_->read(z0, z0, kept_->column(box.min[0]), kept_->column(box.max[0] - 1) + 1,
+                                                        kept_->column(box.min[1]), kept_->column(box.max[1] - 1) + 1);
+            const std::vector<LeafMask> of_row = detail::leaf_masks(*detail::tree_of_rows(row, survey_.background), box);
+            masks.insert(masks.end(), of_row.begin(), of_row.end());
+        }
+        return masks;
+    }
 
     std::uint64_t grid_bytes(const IndexBox& box) const override { return grid_bytes(rows_of(box), box); }
 

@@ -42,6 +42,18 @@ void expect_same_description(const openvdb::FloatGrid& whole, const openvdb::Flo
     EXPECT_EQ(description.tree().leafCount(), 0u);
 }
 
+/// The scan source's active leaves in @a box (row by row from its kept rows) against those of
+/// its whole conversion held in memory (the default, which reads the region: LeafMasksTest).
+void expect_same_active_leaves(const openvdb::FloatGrid::Ptr& whole, const GridRegionSource& source, const IndexBox& box) {
+    const std::vector<LeafMask> expected = grid_regions_in_memory(whole)->active_leaves(box);
+    const std::vector<LeafMask> actual = source.active_leaves(box);
+    ASSERT_EQ(actual.size(), expected.size());
+    for (std::size_t i = 0; i < actual.size(); ++i) {
+        EXPECT_EQ(actual[i].origin, expected[i].origin) << "leaf " << i;
+        EXPECT_EQ(actual[i].on, expected[i].on) << "leaf " << i;
+    }
+}
+
 /// The scan @a name by region against its whole conversion: description, nodes, then @a boxes
 /// in order, then the first again (back in z: the scan is reopened), then all from two threads.
 void expect_regions_equal_the_whole(const std::string& name, const std::vector<IndexBox>& boxes) {
@@ -59,6 +71,8 @@ void expect_regions_equal_the_whole(const std::string& name, const std::vector<I
         EXPECT_GT(source->estimated_bytes(box), 0u);
     }
     expect_same_inside(*whole, *source->read(boxes.front()), boxes.front());
+    expect_same_active_leaves(whole, *source, boxes.front());
+    expect_same_active_leaves(whole, *source, kEverything);
     std::vector<std::shared_ptr<openvdb::FloatGrid>> parts(boxes.size());
     tbb::parallel_for(std::size_t{0}, boxes.size(), [&](std::size_t i) { parts[i] = source->read(boxes[i]); });
     for (std::size_t i = 0; i < boxes.size(); ++i) expect_same_inside(*whole, *parts[i], boxes[i]);
@@ -94,7 +108,10 @@ TEST(ScanRegionsTest, ASmallRawScanByBoxesAndABoxOutsideIt) {
     const auto far = source->read(IndexBox{{0, 0, 500}, {10, 10, 510}});
     EXPECT_EQ(far->tree().leafCount(), 0u);
     EXPECT_EQ(far->background(), whole->background());
-    for (const IndexBox& box : {IndexBox{{-3, -3, -3}, {25, 35, 17}}, IndexBox{{5, 5, 16}, {12, 40, 45}}, kEverything}) expect_same_inside(*whole, *source->read(box), box);
+    for (const IndexBox& box : {IndexBox{{-3, -3, -3}, {25, 35, 17}}, IndexBox{{5, 5, 16}, {12, 40, 45}}, kEverything}) {
+        expect_same_inside(*whole, *source->read(box), box);
+        expect_same_active_leaves(whole, *source, box);
+    }
 }
 
 TEST(ScanRegionsTest, ColumnsOfASmallScanEqualTheWholeForEveryBand) {
