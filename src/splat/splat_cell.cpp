@@ -20,14 +20,17 @@ constexpr double kCrossingMargin = 1e-3;  // as the meshers: no crossing on a sa
 
 struct Crossing {
     Eigen::Vector3d point;    // index space
-    Eigen::Vector3d outward;  // the field's gradient, turned to point out of the object
+    Eigen::Vector3d outward;  // unit: the field's gradient, turned to point out of the object
 };
 
-/// The samples of the cube [origin - 1, origin + 9]^3, and whether each is inside.
+/// The samples of the cube [origin - 1, origin + 9]^3, and whether each is inside; one
+/// thread's, loaded cell after cell.
 class CellSamples {
 public:
-    CellSamples(const openvdb::FloatGrid& grid, const openvdb::Coord& origin, const SampleRule& rule)
-        : rule_(rule), origin_(origin.x(), origin.y(), origin.z()) {
+    void load(const openvdb::FloatGrid& grid, const openvdb::Coord& origin, const SampleRule& rule) {
+        rule_ = &rule;
+        origin_ = Eigen::Vector3d(origin.x(), origin.y(), origin.z());
+        any_inside_ = any_outside_ = false;
         read_values(grid, origin);
         const openvdb::CoordBBox padded(origin.offsetBy(-1), origin.offsetBy(kPad - 2));
         if (!rule.scan_box || rule.scan_box->isInside(padded)) {
@@ -65,12 +68,13 @@ public:
         const std::size_t a = index(p[0], p[1], p[2]), b = index(q[0], q[1], q[2]);
         double t = 0.5;  // an end outside the scan box: the surface closes at the midpoint
         if (in_scan_[a] && in_scan_[b])
-            t = std::clamp((rule_.iso - value_[a]) / (double(value_[b]) - value_[a]), kCrossingMargin, 1 - kCrossingMargin);
+            t = std::clamp((rule_->iso - value_[a]) / (double(value_[b]) - value_[a]), kCrossingMargin, 1 - kCrossingMargin);
         Crossing c;
         c.point = origin_ + Eigen::Vector3d(p[0] - 1, p[1] - 1, p[2] - 1);
         c.point[axis] += t;
         const Eigen::Vector3d gradient = (1 - t) * gradient_at(p) + t * gradient_at(q);
-        c.outward = rule_.inside_above ? -gradient : gradient;
+        const Eigen::Vector3d outward = rule_->inside_above ? Eigen::Vector3d(-gradient) : gradient;
+        c.outward = outward.normalized();
         return c;
     }
 
@@ -124,15 +128,16 @@ private:
     double sample(const std::array<int, 3>& p) const {
         const std::size_t i = index(p[0], p[1], p[2]);
         if (in_scan_[i]) return value_[i];
-        return rule_.inside_above ? rule_.iso - 1 : rule_.iso + 1;
+        return rule_->inside_above ? rule_->iso - 1 : rule_->iso + 1;
     }
 
-    const SampleRule& rule_;
+    const SampleRule* rule_ = nullptr;
     Eigen::Vector3d origin_;
     bool any_inside_ = false, any_outside_ = false;
-    std::array<float, kPad * kPad * kPad> value_{};
-    std::array<bool, kPad * kPad * kPad> inside_{};
-    std::array<bool, kPad * kPad * kPad> in_scan_{};
+    // Every element is written by load(): no initialisation per cell.
+    std::array<float, kPad * kPad * kPad> value_;
+    std::array<bool, kPad * kPad * kPad> inside_;
+    std::array<bool, kPad * kPad * kPad> in_scan_;
 };
 
 /// The crossings of the closed 8^3 cube, and for each finest (2^3) cube the crossings in
@@ -141,12 +146,20 @@ struct CellCrossings {
     static constexpr int kCubes = kCell / kFine;
     /// The edges of a closed finest cube: 2 x 3 x 3 along each axis.
     static constexpr int kCubeEdges = 3 * kFine * (kFine + 1) * (kFine + 1);
+    /// The edges of the closed cell: 8 x 9 x 9 along each axis.
+    static constexpr int kCellEdges = 3 * kCell * (kCell + 1) * (kCell + 1);
     struct CubeCrossings {
         std::array<std::uint16_t, kCubeEdges> index;
         int count = 0;
     };
-    std::vector<Crossing> all;
+    std::array<Crossing, kCellEdges> all;
+    int count = 0;
     std::array<CubeCrossings, kCubes * kCubes * kCubes> by_cube;
+
+    void clear() {
+        count = 0;
+        for (CubeCrossings& cube : by_cube) cube.count = 0;
+    }
 };
 
 /// The finest cubes along one axis holding local sample coordinate @a l (0..8): l / 2, and the
@@ -160,6 +173,7 @@ int cubes_holding(int l, std::array<int, 2>& out) {
 
 /// Every crossed edge with both ends in the closed cube [origin, origin + 8]^3.
 void cell_crossings(const CellSamples& samples, CellCrossings& crossings) {
+    crossings.clear();
     if (!samples.straddles()) return;
     constexpr std::size_t kStride[3] = {1, kPad, kPad * kPad};
     for (int z = 1; z <= kCell + 1; ++z)
@@ -171,8 +185,8 @@ void cell_crossings(const CellSamples& samples, CellCrossings& crossings) {
                 for (int axis = 0; axis < 3; ++axis) {
                     if (p_axis[axis] == kCell + 1 || samples.inside(i + kStride[axis]) == inside) continue;
                     const std::array<int, 3> p{x, y, z};
-                    const auto index = static_cast<std::uint16_t>(crossings.all.size());
-                    crossings.all.push_back(samples.crossing(p, axis));
+                    const auto index = static_cast<std::uint16_t>(crossings.count);
+                    crossings.all[crossings.count++] = samples.crossing(p, axis);
                     std::array<std::array<int, 2>, 3> cubes{};
                     std::array<int, 3> count{};
                     for (int a = 0; a < 3; ++a) {
@@ -198,20 +212,22 @@ std::array<float, 3> floats(const Eigen::Vector3d& v) {
     return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
 }
 
-/// The least-squares splat of @a points (at least one): centre their mean, normal the
-/// direction of least variance, oriented by the gradients (their sum alone where the points
-/// do not span a plane), radius reaching the farthest point.
-BuildNode fit_splat(const std::vector<const Crossing*>& points, const std::array<std::int32_t, 3>& origin) {
+/// The least-squares splat of @a cube's crossings (at least one): centre their mean, normal
+/// the direction of least variance, oriented by the gradients (their sum alone where the
+/// points do not span a plane), radius reaching the farthest point.
+BuildNode fit_splat(const CellCrossings& crossings, const CellCrossings::CubeCrossings& cube,
+                    const std::array<std::int32_t, 3>& origin) {
+    const auto point = [&](int i) -> const Crossing& { return crossings.all[cube.index[i]]; };
     Eigen::Vector3d centre = Eigen::Vector3d::Zero(), outward = Eigen::Vector3d::Zero();
-    for (const Crossing* c : points) {
-        centre += c->point;
-        outward += c->outward.normalized();
+    for (int i = 0; i < cube.count; ++i) {
+        centre += point(i).point;
+        outward += point(i).outward;
     }
-    centre /= double(points.size());
+    centre /= double(cube.count);
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-    for (const Crossing* c : points) covariance += (c->point - centre) * (c->point - centre).transpose();
+    for (int i = 0; i < cube.count; ++i) covariance += (point(i).point - centre) * (point(i).point - centre).transpose();
     Eigen::Vector3d normal = outward.norm() > 0 ? outward.normalized() : Eigen::Vector3d::UnitZ();
-    if (points.size() >= 3) {
+    if (cube.count >= 3) {
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
         eigen.computeDirect(covariance);  // closed form for 3 x 3: several times the iterative solver's speed
         // A plane needs two directions of spread; collinear crossings keep the gradient.
@@ -221,68 +237,96 @@ BuildNode fit_splat(const std::vector<const Crossing*>& points, const std::array
         }
     }
     double radius = 0;
-    for (const Crossing* c : points) radius = std::max(radius, (c->point - centre).norm());
+    for (int i = 0; i < cube.count; ++i) radius = std::max(radius, (point(i).point - centre).norm());
     BuildNode node;
     node.centre = floats(centre);
     node.normal = floats(normal);
     node.radius = static_cast<float>(radius * (1 + 1e-6) + 1e-6);  // float centre: stay covering
-    node.weight = static_cast<std::uint32_t>(points.size());
+    node.weight = static_cast<std::uint32_t>(cube.count);
     node.origin = origin;
     return node;
 }
 
-/// Merges the nodes of @a below (cubes of size/2, z-major) into cubes of @a size inside the cell;
-/// children collapsed into a coplanar parent are dropped from @a below.
-std::vector<BuildNode> merge_level(std::vector<BuildNode>& below, const std::array<std::int32_t, 3>& cell, int size,
-                                   double tolerance) {
-    std::vector<BuildNode> kept, parents;
+/// Nodes of one level of a cell: at most one per finest cube.
+struct CellLevel {
+    std::array<BuildNode, CellCrossings::kCubes * CellCrossings::kCubes * CellCrossings::kCubes> node;
+    int count = 0;
+};
+
+/// Merges the nodes of @a below (cubes of size/2, z-major) into @a parents, cubes of @a size
+/// inside the cell; @a kept: the children not collapsed into a coplanar parent.
+void merge_level(const CellLevel& below, CellLevel& kept, CellLevel& parents, const std::array<std::int32_t, 3>& cell,
+                 int size, double tolerance) {
+    kept.count = parents.count = 0;
     for (int z = 0; z < kCell; z += size)
         for (int y = 0; y < kCell; y += size)
             for (int x = 0; x < kCell; x += size) {
                 const std::array<std::int32_t, 3> origin{cell[0] + x, cell[1] + y, cell[2] + z};
-                std::vector<BuildNode> children;
-                for (const BuildNode& n : below)
+                std::array<BuildNode, 8> children;
+                std::uint32_t count = 0;
+                for (int i = 0; i < below.count; ++i) {
+                    const BuildNode& n = below.node[i];
                     if (n.origin[0] - origin[0] >= 0 && n.origin[0] - origin[0] < size && n.origin[1] - origin[1] >= 0 &&
                         n.origin[1] - origin[1] < size && n.origin[2] - origin[2] >= 0 && n.origin[2] - origin[2] < size)
-                        children.push_back(n);
-                if (children.empty()) continue;
-                BuildNode parent = merge_children(children.data(), std::uint32_t(children.size()), origin);
-                if (coplanar_within(parent, children.data(), parent.child_count, tolerance)) {
+                        children[count++] = n;
+                }
+                if (count == 0) continue;
+                BuildNode parent = merge_children(children.data(), count, origin);
+                if (coplanar_within(parent, children.data(), count, tolerance)) {
                     parent.child_count = 0;
                 } else {
-                    parent.first_child = std::uint32_t(kept.size());
-                    kept.insert(kept.end(), children.begin(), children.end());
+                    parent.first_child = std::uint32_t(kept.count);
+                    std::copy(children.begin(), children.begin() + count, kept.node.begin() + kept.count);
+                    kept.count += int(count);
                 }
-                parents.push_back(parent);
+                parents.node[parents.count++] = parent;
             }
-    below = std::move(kept);
-    return parents;
 }
+
+/// One thread's working memory for fit_cell() (about 110 KB: reused, not allocated per cell).
+struct CellScratch {
+    CellSamples samples;
+    CellCrossings crossings;
+    CellLevel finest, middle, leaf;
+    CellLevel finest_kept, middle_kept;  // the children not collapsed
+};
 
 }  // namespace
 
-CellNodes fit_cell(const openvdb::FloatGrid& grid, const openvdb::Coord& origin, const SampleRule& rule,
-                   double tolerance) {
-    const CellSamples samples(grid, origin, rule);
-    CellCrossings crossings;
-    cell_crossings(samples, crossings);
-    CellNodes nodes;
-    if (crossings.all.empty()) return nodes;
+void fit_cell(const openvdb::FloatGrid& grid, const openvdb::Coord& origin, const SampleRule& rule, double tolerance,
+              CellNodes& nodes) {
+    nodes.finest.clear();
+    nodes.middle.clear();
+    nodes.leaf.reset();
+    thread_local CellScratch scratch;
+    scratch.samples.load(grid, origin, rule);
+    CellCrossings& crossings = scratch.crossings;
+    cell_crossings(scratch.samples, crossings);
+    if (crossings.count == 0) return;
     const std::array<std::int32_t, 3> cell{origin.x(), origin.y(), origin.z()};
-    std::vector<const Crossing*> points;
+    CellLevel& finest = scratch.finest;
+    finest.count = 0;
     for (int z = 0; z < kCell; z += kFine)
         for (int y = 0; y < kCell; y += kFine)
             for (int x = 0; x < kCell; x += kFine) {
                 constexpr int n = CellCrossings::kCubes;
                 const auto& cube = crossings.by_cube[((z / kFine) * n + y / kFine) * n + x / kFine];
                 if (cube.count == 0) continue;
-                points.clear();
-                for (int i = 0; i < cube.count; ++i) points.push_back(&crossings.all[cube.index[i]]);
-                nodes.finest.push_back(fit_splat(points, {cell[0] + x, cell[1] + y, cell[2] + z}));
+                finest.node[finest.count++] = fit_splat(crossings, cube, {cell[0] + x, cell[1] + y, cell[2] + z});
             }
-    nodes.middle = merge_level(nodes.finest, cell, 2 * kFine, tolerance);
-    std::vector<BuildNode> leaf = merge_level(nodes.middle, cell, kCell, tolerance);
-    nodes.leaf = leaf.front();
+    merge_level(finest, scratch.finest_kept, scratch.middle, cell, 2 * kFine, tolerance);
+    merge_level(scratch.middle, scratch.middle_kept, scratch.leaf, cell, kCell, tolerance);
+    const auto assign = [](std::vector<BuildNode>& out, const CellLevel& level) {
+        out.assign(level.node.begin(), level.node.begin() + level.count);
+    };
+    assign(nodes.finest, scratch.finest_kept);
+    assign(nodes.middle, scratch.middle_kept);
+    nodes.leaf = scratch.leaf.node[0];
+}
+
+CellNodes fit_cell(const openvdb::FloatGrid& grid, const openvdb::Coord& origin, const SampleRule& rule, double tolerance) {
+    CellNodes nodes;
+    fit_cell(grid, origin, rule, tolerance, nodes);
     return nodes;
 }
 
