@@ -23,19 +23,17 @@ struct Crossing {
     Eigen::Vector3d outward;  // unit: the field's gradient, turned to point out of the object
 };
 
-/// The samples of the cube [origin - 1, origin + 9]^3, and whether each is inside; one
-/// thread's, loaded cell after cell.
+/// The samples of the cube [origin - 1, origin + 9]^3, and which of the closed cube's are
+/// inside; one thread's, loaded cell after cell.
 class CellSamples {
 public:
     void load(const openvdb::FloatGrid& grid, const openvdb::Coord& origin, const SampleRule& rule) {
         rule_ = &rule;
         origin_ = Eigen::Vector3d(origin.x(), origin.y(), origin.z());
-        any_inside_ = any_outside_ = false;
         read_values(grid, origin);
         const openvdb::CoordBBox padded(origin.offsetBy(-1), origin.offsetBy(kPad - 2));
         if (!rule.scan_box || rule.scan_box->isInside(padded)) {
             in_scan_.fill(true);  // the common case: no sample outside the scan box
-            for (std::size_t i = 0; i < value_.size(); ++i) inside_[i] = rule.inside_above ? value_[i] > rule.iso : value_[i] < rule.iso;
         } else {
             std::array<std::array<bool, kPad>, 3> in_scan_axis;
             for (int a = 0; a < 3; ++a)
@@ -43,23 +41,27 @@ public:
                     in_scan_axis[a][l] = origin[a] + l - 1 >= rule.scan_box->min()[a] && origin[a] + l - 1 <= rule.scan_box->max()[a];
             for (int z = 0; z < kPad; ++z)
                 for (int y = 0; y < kPad; ++y)
-                    for (int x = 0; x < kPad; ++x) {
-                        const std::size_t i = index(x, y, z);
-                        in_scan_[i] = in_scan_axis[0][x] && in_scan_axis[1][y] && in_scan_axis[2][z];
-                        inside_[i] = in_scan_[i] && (rule.inside_above ? value_[i] > rule.iso : value_[i] < rule.iso);
-                    }
+                    for (int x = 0; x < kPad; ++x)
+                        in_scan_[index(x, y, z)] = in_scan_axis[0][x] && in_scan_axis[1][y] && in_scan_axis[2][z];
         }
         for (int z = 1; z <= kCell + 1; ++z)
-            for (int y = 1; y <= kCell + 1; ++y)
-                for (int x = 1; x <= kCell + 1; ++x) (inside_[index(x, y, z)] ? any_inside_ : any_outside_) = true;
+            for (int y = 1; y <= kCell + 1; ++y) {
+                std::uint16_t row = 0;
+                for (int x = 1; x <= kCell + 1; ++x) {
+                    const std::size_t i = index(x, y, z);
+                    const bool inside = in_scan_[i] && (rule.inside_above ? value_[i] > rule.iso : value_[i] < rule.iso);
+                    row |= std::uint16_t(inside) << (x - 1);
+                }
+                inside_rows_[z - 1][y - 1] = row;
+            }
     }
 
-    /// Whether the closed cube has samples on both sides (else no edge in it is crossed).
-    bool straddles() const { return any_inside_ && any_outside_; }
+    /// Padded coordinates (0 is origin - 1); z fastest, as in a leaf's buffer.
+    static std::size_t index(int x, int y, int z) { return (static_cast<std::size_t>(x) * kPad + y) * kPad + z; }
 
-    /// Padded coordinates (0 is origin - 1).
-    static std::size_t index(int x, int y, int z) { return (static_cast<std::size_t>(z) * kPad + y) * kPad + x; }
-    bool inside(std::size_t i) const { return inside_[i]; }
+    /// Which samples of the closed cube's row (padded y and z, 1 .. 9) are inside: bit x - 1
+    /// for padded x.
+    std::uint16_t inside_row(int y, int z) const { return inside_rows_[z - 1][y - 1]; }
 
     /// The crossing on the edge from padded sample @a p along @a axis, as the meshers place it.
     Crossing crossing(const std::array<int, 3>& p, int axis) const {
@@ -97,18 +99,18 @@ private:
                     const auto* leaf = accessor.probeConstLeaf(leaf_origin);
                     if (!leaf) {
                         const float tile = accessor.getValue(leaf_origin);
-                        for (int z = lo[2]; z <= hi[2]; ++z)
+                        for (int x = lo[0]; x <= hi[0]; ++x)
                             for (int y = lo[1]; y <= hi[1]; ++y)
-                                for (int x = lo[0]; x <= hi[0]; ++x) value_[index(x, y, z)] = tile;
+                                std::fill_n(&value_[index(x, y, lo[2])], hi[2] - lo[2] + 1, tile);
                         continue;
                     }
                     const float* data = leaf->buffer().data();  // loads a delayed leaf once
-                    for (int z = lo[2]; z <= hi[2]; ++z)
-                        for (int y = lo[1]; y <= hi[1]; ++y)
-                            for (int x = lo[0]; x <= hi[0]; ++x) {
-                                const int ox = x - 1 - lx * kCell, oy = y - 1 - ly * kCell, oz = z - 1 - lz * kCell;
-                                value_[index(x, y, z)] = data[(ox << 6) | (oy << 3) | oz];  // LeafNode::coordToOffset
-                            }
+                    for (int x = lo[0]; x <= hi[0]; ++x)
+                        for (int y = lo[1]; y <= hi[1]; ++y) {
+                            const int ox = x - 1 - lx * kCell, oy = y - 1 - ly * kCell, oz = lo[2] - 1 - lz * kCell;
+                            // A run along z, contiguous in both (LeafNode::coordToOffset).
+                            std::copy_n(data + ((ox << 6) | (oy << 3) | oz), hi[2] - lo[2] + 1, &value_[index(x, y, lo[2])]);
+                        }
                 }
     }
 
@@ -133,11 +135,10 @@ private:
 
     const SampleRule* rule_ = nullptr;
     Eigen::Vector3d origin_;
-    bool any_inside_ = false, any_outside_ = false;
     // Every element is written by load(): no initialisation per cell.
     std::array<float, kPad * kPad * kPad> value_;
-    std::array<bool, kPad * kPad * kPad> inside_;
     std::array<bool, kPad * kPad * kPad> in_scan_;
+    std::array<std::array<std::uint16_t, kCell + 1>, kCell + 1> inside_rows_;
 };
 
 /// The crossings of the closed 8^3 cube, and for each finest (2^3) cube the crossings in
@@ -171,41 +172,52 @@ int cubes_holding(int l, std::array<int, 2>& out) {
     return n;
 }
 
-/// Every crossed edge with both ends in the closed cube [origin, origin + 8]^3.
+/// Files the crossing @a index, on the edge from padded sample @a p along @a axis, under
+/// each finest cube whose closed cube holds the edge.
+void file_crossing(const std::array<int, 3>& p, int axis, std::uint16_t index, CellCrossings& crossings) {
+    std::array<std::array<int, 2>, 3> cubes{};
+    std::array<int, 3> count{};
+    for (int a = 0; a < 3; ++a) {
+        if (a == axis) {
+            cubes[a][0] = (p[a] - 1) / kFine;
+            count[a] = 1;
+        } else {
+            count[a] = cubes_holding(p[a] - 1, cubes[a]);
+        }
+    }
+    constexpr int n = CellCrossings::kCubes;
+    for (int i = 0; i < count[0]; ++i)
+        for (int j = 0; j < count[1]; ++j)
+            for (int k = 0; k < count[2]; ++k) {
+                auto& cube = crossings.by_cube[(cubes[2][k] * n + cubes[1][j]) * n + cubes[0][i]];
+                cube.index[cube.count++] = index;
+            }
+}
+
+/// Every crossed edge with both ends in the closed cube [origin, origin + 8]^3, z-major by its
+/// first end, then by axis. Row by row: an edge along x is crossed where neighbouring bits of
+/// a row differ, along y or z where the bits of neighbouring rows do.
 void cell_crossings(const CellSamples& samples, CellCrossings& crossings) {
     crossings.clear();
-    if (!samples.straddles()) return;
-    constexpr std::size_t kStride[3] = {1, kPad, kPad * kPad};
+    constexpr std::uint16_t kEdgesAlongX = (1u << kCell) - 1;  // from x = 1 .. 8
     for (int z = 1; z <= kCell + 1; ++z)
-        for (int y = 1; y <= kCell + 1; ++y)
-            for (int x = 1; x <= kCell + 1; ++x) {
-                const std::size_t i = CellSamples::index(x, y, z);
-                const bool inside = samples.inside(i);
-                const int p_axis[3] = {x, y, z};
+        for (int y = 1; y <= kCell + 1; ++y) {
+            const std::uint16_t row = samples.inside_row(y, z);
+            const std::uint16_t crossed[3] = {
+                std::uint16_t((row ^ (row >> 1)) & kEdgesAlongX),
+                std::uint16_t(y <= kCell ? row ^ samples.inside_row(y + 1, z) : 0),
+                std::uint16_t(z <= kCell ? row ^ samples.inside_row(y, z + 1) : 0)};
+            for (unsigned any = crossed[0] | crossed[1] | crossed[2]; any != 0; any &= any - 1) {
+                const int bit = __builtin_ctz(any);
+                const std::array<int, 3> p{bit + 1, y, z};
                 for (int axis = 0; axis < 3; ++axis) {
-                    if (p_axis[axis] == kCell + 1 || samples.inside(i + kStride[axis]) == inside) continue;
-                    const std::array<int, 3> p{x, y, z};
+                    if (!(crossed[axis] >> bit & 1)) continue;
                     const auto index = static_cast<std::uint16_t>(crossings.count);
                     crossings.all[crossings.count++] = samples.crossing(p, axis);
-                    std::array<std::array<int, 2>, 3> cubes{};
-                    std::array<int, 3> count{};
-                    for (int a = 0; a < 3; ++a) {
-                        if (a == axis) {
-                            cubes[a][0] = (p[a] - 1) / kFine;
-                            count[a] = 1;
-                        } else {
-                            count[a] = cubes_holding(p[a] - 1, cubes[a]);
-                        }
-                    }
-                    constexpr int n = CellCrossings::kCubes;
-                    for (int i = 0; i < count[0]; ++i)
-                        for (int j = 0; j < count[1]; ++j)
-                            for (int k = 0; k < count[2]; ++k) {
-                                auto& cube = crossings.by_cube[(cubes[2][k] * n + cubes[1][j]) * n + cubes[0][i]];
-                                cube.index[cube.count++] = index;
-                            }
+                    file_crossing(p, axis, index, crossings);
                 }
             }
+        }
 }
 
 std::array<float, 3> floats(const Eigen::Vector3d& v) {
