@@ -2,10 +2,10 @@
 // level up to the 4096^3 nodes and the root, then laid out breadth-first in world space.
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <future>
 #include <optional>
 #include <tuple>
@@ -27,19 +27,82 @@ bool z_major(const openvdb::Coord& a, const openvdb::Coord& b) {
 
 }  // namespace
 
+namespace {
+
+/// Which sides of the isovalue a block's samples lie on (bits).
+constexpr std::uint8_t kInsideSide = 1, kOutsideSide = 2;
+
+std::uint8_t sides_of(const float* values, std::size_t count, const SampleRule& rule) {
+    std::uint8_t sides = 0;
+    for (std::size_t i = 0; i < count; ++i)
+        sides |= (rule.inside_above ? values[i] > rule.iso : values[i] < rule.iso) ? kInsideSide : kOutsideSide;
+    return sides;
+}
+
+/// The 8^3 blocks a cell's closed cube reaches: its own and those one block above on each
+/// axis; block d lies at the cell's origin plus 8 * (d & 1, d >> 1 & 1, d >> 2).
+openvdb::Coord block_offset(int d) { return openvdb::Coord((d & 1) * kCell, (d >> 1 & 1) * kCell, (d >> 2) * kCell); }
+
+/// A cell reached by a leaf: the sides of the leaves that reach it, and which of its blocks
+/// (bit d) they are.
+struct ReachedCell {
+    openvdb::Coord cell;
+    std::uint8_t sides = 0;
+    std::uint8_t leaves = 0;
+};
+
+/// Whether a cell's closed cube may hold a crossed edge: its blocks' samples (a leaf's, or a
+/// tile's value where there is no leaf) lie on both sides, or some of its samples lie
+/// outside the scan box (they are outside whatever their value).
+bool may_cross(const ReachedCell& reached, const openvdb::FloatGrid::ConstAccessor& accessor, const SampleRule& rule) {
+    if (rule.scan_box && !rule.scan_box->isInside(openvdb::CoordBBox(reached.cell, reached.cell.offsetBy(kCell)))) return true;
+    std::uint8_t sides = reached.sides;
+    for (int d = 0; d < 8 && sides != (kInsideSide | kOutsideSide); ++d)
+        if (!(reached.leaves >> d & 1)) {
+            const float tile = accessor.getValue(reached.cell + block_offset(d));
+            sides |= sides_of(&tile, 1, rule);
+        }
+    return sides == (kInsideSide | kOutsideSide);
+}
+
+}  // namespace
+
 /// The leaves, and the cells just below them on each axis (their cube reaches the leaf's first
-/// samples).
-std::vector<openvdb::Coord> candidate_cells(const openvdb::FloatGrid& grid, const std::optional<openvdb::CoordBBox>& within) {
+/// samples); of those, the ones whose blocks' samples lie on both sides (a leaf's sides are
+/// found in one pass over its values: most cells reached by a leaf hold no crossing).
+std::vector<openvdb::Coord> candidate_cells(const openvdb::FloatGrid& grid, const std::optional<openvdb::CoordBBox>& within,
+                                            const SampleRule& rule) {
+    std::vector<const openvdb::FloatTree::LeafNodeType*> leaves;
+    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf) leaves.push_back(leaf.getLeaf());
+    std::vector<ReachedCell> reached(leaves.size() * 8);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            const auto& leaf = *leaves[i];
+            const std::uint8_t sides = sides_of(leaf.buffer().data(), leaf.SIZE, rule);  // loads a delayed leaf once
+            for (int d = 0; d < 8; ++d) reached[i * 8 + d] = {leaf.origin() - block_offset(d), sides, std::uint8_t(1 << d)};
+        }
+    });
+    tbb::parallel_sort(reached.begin(), reached.end(), [](const ReachedCell& a, const ReachedCell& b) { return z_major(a.cell, b.cell); });
+    // The same cell reached by several leaves: one entry, their sides and blocks joined.
+    std::size_t merged = 0;
+    for (std::size_t i = 0; i < reached.size(); ++merged) {
+        ReachedCell cell = reached[i];
+        for (++i; i < reached.size() && reached[i].cell == cell.cell; ++i) {
+            cell.sides |= reached[i].sides;
+            cell.leaves |= reached[i].leaves;
+        }
+        reached[merged] = cell;
+    }
+    reached.resize(merged);
+    std::vector<std::uint8_t> keep(reached.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, reached.size()), [&](const auto& range) {
+        const auto accessor = grid.getConstAccessor();
+        for (std::size_t i = range.begin(); i != range.end(); ++i)
+            keep[i] = (!within || within->isInside(reached[i].cell)) && may_cross(reached[i], accessor, rule);
+    });
     std::vector<openvdb::Coord> cells;
-    for (auto leaf = grid.tree().cbeginLeaf(); leaf; ++leaf)
-        for (int dz = 0; dz <= 1; ++dz)
-            for (int dy = 0; dy <= 1; ++dy)
-                for (int dx = 0; dx <= 1; ++dx) {
-                    const openvdb::Coord cell = leaf->origin() - openvdb::Coord(dx * kCell, dy * kCell, dz * kCell);
-                    if (!within || within->isInside(cell)) cells.push_back(cell);
-                }
-    std::sort(cells.begin(), cells.end(), z_major);
-    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    for (std::size_t i = 0; i < reached.size(); ++i)
+        if (keep[i]) cells.push_back(reached[i].cell);
     return cells;
 }
 
@@ -61,14 +124,14 @@ std::array<std::int32_t, 3> parent_origin(const std::array<std::int32_t, 3>& ori
 /// matter (merge_up() sorts it by position), so nor does that of @a cells.
 void append_cells(Levels& levels, const openvdb::FloatGrid& grid, const std::vector<openvdb::Coord>& cells,
                   const SampleRule& rule, double tolerance) {
-    std::vector<CellNodes> fitted;
+    // Kept from chunk to chunk: a cell's vectors, once grown, hold the next chunk's cell too.
+    std::vector<CellNodes> fitted(std::min(cells.size(), kCellsAtATime));
     for (std::size_t begin = 0; begin < cells.size(); begin += kCellsAtATime) {
         const std::size_t end = std::min(cells.size(), begin + kCellsAtATime);
-        fitted.assign(end - begin, CellNodes{});
         tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 64), [&](const auto& range) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i) fitted[i - begin] = fit_cell(grid, cells[i], rule, tolerance);
+            for (std::size_t i = range.begin(); i != range.end(); ++i) fit_cell(grid, cells[i], rule, tolerance, fitted[i - begin]);
         });
-        for (CellNodes& cell : fitted) append_cell(levels, cell);
+        for (std::size_t i = 0; i < end - begin; ++i) append_cell(levels, fitted[i]);
     }
 }
 
@@ -90,7 +153,8 @@ void merge_up(Levels& levels, int level, bool unsigned_normals) {
         const auto p = root ? std::array<std::int32_t, 3>{} : parent_origin(n.origin, level);
         return std::make_tuple(p[2], p[1], p[0], n.origin[2], n.origin[1], n.origin[0]);
     };
-    std::sort(below.begin(), below.end(), [&](const BuildNode& a, const BuildNode& b) { return key(a) < key(b); });
+    // Every node of a level has its own cube: any sort gives the same order.
+    tbb::parallel_sort(below.begin(), below.end(), [&](const BuildNode& a, const BuildNode& b) { return key(a) < key(b); });
     for (std::size_t begin = 0; begin < below.size();) {
         const auto origin = root ? std::array<std::int32_t, 3>{} : parent_origin(below[begin].origin, level);
         std::size_t end = begin + 1;
@@ -125,24 +189,30 @@ SplatNode to_world(const BuildNode& n, const openvdb::math::Transform& transform
 
 std::vector<SplatNode> breadth_first(const Levels& levels, int top, const openvdb::math::Transform& transform,
                                      std::vector<std::pair<int, std::uint32_t>>* sources) {
-    std::vector<SplatNode> nodes;
-    if (levels[top].empty()) return nodes;
+    if (levels[top].empty()) return {};
+    // The order first (each node's level and index, and where its children start), then the
+    // nodes in world space, in parallel.
+    std::vector<std::pair<int, std::uint32_t>> order{{top, 0}};
+    std::vector<std::uint32_t> first_child;
+    for (std::size_t out = 0; out < order.size(); ++out) {
+        const auto [level, index] = order[out];
+        const BuildNode& n = levels[level][index];
+        first_child.push_back(std::uint32_t(order.size()));
+        for (std::uint32_t c = 0; c < n.child_count; ++c) order.emplace_back(level - 1, n.first_child + c);
+    }
     const openvdb::Vec3d voxel_size = transform.voxelSize();
     const double voxel = std::max({voxel_size.x(), voxel_size.y(), voxel_size.z()});
-    std::deque<std::pair<int, std::uint32_t>> queue{{top, 0}};
-    nodes.push_back(to_world(levels[top][0], transform, voxel, std::uint8_t(top)));
-    for (std::size_t out = 0; !queue.empty(); ++out) {
-        const auto [level, index] = queue.front();
-        queue.pop_front();
-        if (sources) sources->emplace_back(level, index);
-        const BuildNode& n = levels[level][index];
-        nodes[out].first_child = std::uint32_t(nodes.size());
-        nodes[out].child_count = n.child_count;
-        for (std::uint32_t c = 0; c < n.child_count; ++c) {
-            queue.emplace_back(level - 1, n.first_child + c);
-            nodes.push_back(to_world(levels[level - 1][n.first_child + c], transform, voxel, std::uint8_t(level - 1)));
+    std::vector<SplatNode> nodes(order.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order.size()), [&](const auto& range) {
+        for (std::size_t out = range.begin(); out != range.end(); ++out) {
+            const auto [level, index] = order[out];
+            const BuildNode& n = levels[level][index];
+            nodes[out] = to_world(n, transform, voxel, std::uint8_t(level));
+            nodes[out].first_child = first_child[out];
+            nodes[out].child_count = n.child_count;
         }
-    }
+    });
+    if (sources) *sources = std::move(order);
     return nodes;
 }
 
@@ -213,7 +283,7 @@ IndexBox node_region(const openvdb::Coord& node) {
 SplatTree build_splat_tree(const openvdb::FloatGrid& grid, const SplatOptions& options) {
     const splat::SampleRule rule = splat::sample_rule(grid, options);
     splat::Levels levels(kSplatRootLevel + 1);
-    splat::append_cells(levels, grid, splat::candidate_cells(grid, std::nullopt), rule, options.coplanar_tolerance);
+    splat::append_cells(levels, grid, splat::candidate_cells(grid, std::nullopt, rule), rule, options.coplanar_tolerance);
     return splat::assemble(levels, grid.transform(), options);
 }
 
@@ -233,7 +303,7 @@ SplatTree build_splat_tree(const GridRegionSource& source, const SplatOptions& o
         const auto region = next.get();
         if (i + 1 < nodes.size()) next = read_async(nodes[i + 1]);
         const openvdb::CoordBBox cells_box(nodes[i], nodes[i].offsetBy(kNodeVoxels - 1));
-        splat::append_cells(levels, *region, splat::candidate_cells(*region, cells_box), rule, options.coplanar_tolerance);
+        splat::append_cells(levels, *region, splat::candidate_cells(*region, cells_box, rule), rule, options.coplanar_tolerance);
     }
     return splat::assemble(levels, description->transform(), options);
 }

@@ -44,7 +44,10 @@ struct CellNodes {
 };
 
 /// Fits the cell of origin @a origin (a multiple of 8) and merges it up to level 2,
-/// collapsing coplanar children within @a tolerance voxels.
+/// collapsing coplanar children within @a tolerance voxels, into @a nodes (their vectors
+/// reused: no allocation once they have grown).
+void fit_cell(const openvdb::FloatGrid& grid, const openvdb::Coord& origin, const SampleRule& rule, double tolerance,
+              CellNodes& nodes);
 CellNodes fit_cell(const openvdb::FloatGrid& grid, const openvdb::Coord& origin, const SampleRule& rule,
                    double tolerance);
 
@@ -65,9 +68,10 @@ bool coplanar_within(const BuildNode& parent, const BuildNode* children, std::ui
 /// one's children a range of levels[L - 1].
 using Levels = std::vector<std::vector<BuildNode>>;
 
-/// Every 8^3 cell of @a grid whose closed cube may hold a crossed edge, z-major; only those
-/// whose origin lies in @a within when given.
-std::vector<openvdb::Coord> candidate_cells(const openvdb::FloatGrid& grid, const std::optional<openvdb::CoordBBox>& within);
+/// Every 8^3 cell of @a grid whose closed cube may hold a crossed edge by @a rule, z-major;
+/// only those whose origin lies in @a within when given.
+std::vector<openvdb::Coord> candidate_cells(const openvdb::FloatGrid& grid, const std::optional<openvdb::CoordBBox>& within,
+                                            const SampleRule& rule);
 
 /// Fits @a cells of @a grid (in parallel) and appends their nodes of levels 0 to 2 to @a levels.
 void append_cells(Levels& levels, const openvdb::FloatGrid& grid, const std::vector<openvdb::Coord>& cells,

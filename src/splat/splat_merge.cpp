@@ -78,9 +78,13 @@ bool coplanar_within(const BuildNode& parent, const BuildNode* children, std::ui
     const Eigen::Vector3d normal = vec(parent.normal), centre = vec(parent.centre);
     for (std::uint32_t i = 0; i < count; ++i) {
         if (children[i].child_count != 0) return false;
+        // The offset alone beyond the tolerance decides it (the tilt's term is not negative),
+        // without the angle's atan2 and sin.
+        const double offset = std::abs(normal.dot(vec(children[i].centre) - centre));
+        if (offset > tolerance) return false;
         const Eigen::Vector3d n = vec(children[i].normal);
         const double tilt = std::min(angle_between(normal, n), kPi / 2);
-        const double deviation = std::abs(normal.dot(vec(children[i].centre) - centre)) + children[i].radius * std::sin(tilt);
+        const double deviation = offset + children[i].radius * std::sin(tilt);
         if (deviation > tolerance) return false;
     }
     return true;
