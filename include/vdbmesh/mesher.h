@@ -36,7 +36,9 @@ enum class Inside {
 struct MeshOptions {
     MeshMethod method = MeshMethod::dc;  ///< the default: clean by construction at any error
     double iso = 0.0;           ///< isovalue, in the grid's value units
-    double error = 0.0;         ///< dc: error tolerance in voxels (0: no merging, equals MC)
+    double error = 0.0;         ///< dc: error tolerance in voxels (0: no merging, a vertex per unit cell
+                                ///< on the trilinear isosurface where its surface is one disk,
+                                ///< Marching Cubes in the others; docs/dmc.md, "Error 0")
     double adaptivity = 0.0;    ///< openvdb: volumeToMesh adaptivity in [0, 1]
     Inside inside = Inside::above;
     bool open_boundary = false; ///< leave the surface open where it meets the scan's box
@@ -180,8 +182,8 @@ MeshReport mesh_bricks_to_stream(const GridRegionSource& source, const MeshOptio
 std::uint64_t brick_peak_bytes(const GridRegionSource& source, const BrickShape& shape);
 
 /// The mesh mesh_grid() makes of the grid @a source holds, read brick by brick: the same
-/// bytes for any brick size and thread count. MeshMethod::dc and mc mesh by bricks (at error 0
-/// and with mc, Marching Cubes brick by brick); with no shape and no memory limit any method meshes
+/// bytes for any brick size and thread count. MeshMethod::dc and mc mesh by bricks (with mc,
+/// Marching Cubes brick by brick); with no shape and no memory limit any method meshes
 /// the whole grid, read as one region.
 /// @throw UsageError as mesh_grid(), and for bricks with MeshMethod::openvdb, or
 /// a shape outside [1, 4096] nodes across (or one side 0); before any work, when memory_bytes is below

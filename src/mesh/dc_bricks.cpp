@@ -158,7 +158,7 @@ private:
     std::optional<std::string> rows_above_, rows_below_;
 };
 
-/// Marching Cubes (error 0) brick by brick, into @a consume: a brick's nodes and a leaf beyond
+/// Marching Cubes (--method mc) brick by brick, into @a consume: a brick's nodes and a leaf beyond
 /// them on the far sides (its blocks' cells read one sample further) read, its blocks marched.
 /// No halo: a cell needs nothing but its 8 samples.
 void march_bricks(const GridRegionSource& source, const SampleClassifier& classifier, const MeshOptions& options,
@@ -256,7 +256,7 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
     const std::size_t total = planned.size();
     planned = std::move(run.bricks);
     const SampleClassifier classifier(*source.description(), options);
-    if (options.method == MeshMethod::mc || options.error <= 0) {
+    if (options.method == MeshMethod::mc) {
         march_bricks(source, classifier, options, planned, bricks.shape, report, consume);
         return;
     }

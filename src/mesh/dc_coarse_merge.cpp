@@ -261,6 +261,7 @@ private:
 }  // namespace
 
 void merge_ifc_coarse_cells(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, double error, IfcCellGrid& cells) {
+    if (error <= 0) return;  // the dual error-0 mesh merges no cell
     // The blocks of each lower internal node, nodes in the order of their origins.
     std::vector<std::pair<openvdb::Coord, std::size_t>> by_node(cells.origins.size());
     for (std::size_t b = 0; b < cells.origins.size(); ++b) {

@@ -24,6 +24,7 @@
 #include "mesh/dc_fan.h"
 #include "mesh/dc_qef.h"
 #include "mesh/dc_topology.h"
+#include "mesh/dc_unit_vertex.h"
 #include "mesh/mc_table.h"
 #include "vdbmesh/geometry.h"
 
@@ -213,6 +214,10 @@ public:
         out.inside_rows = samples.inside_rows;
         collect_hermite(out.crossings);
         init_unit_cells();
+        if (error <= 0) {
+            assign_unit_cells(out);
+            return;
+        }
         sum_levels();
         refine(kIfcMaxLevel, 0, 0, 0);
         assign(out);
@@ -554,6 +559,51 @@ private:
             cell[a] = std::clamp(int(std::floor(local[a])), 0, kIfcBlock - 1);
         }
         return cell_surface_distance(local, cell, [&](int i, int j, int k) { return s_->at(i, j, k); }, iso_);
+    }
+
+    /// Error 0, the dual mesh (docs/dmc.md, "Error 0"): no cell merges; every unit cell whose
+    /// surface is one disk (simple_unit_cells()) gets a vertex of its own on the trilinear
+    /// isosurface (unit_cell_vertex()), the others stay Marching Cubes cells. A block's cells
+    /// are numbered in a byte (IfcLeaves::cell), so past kNoCell - 1 of them the rest stay
+    /// Marching Cubes cells too (no staged scan comes near it).
+    void assign_unit_cells(IfcBlockCells& out) const {
+        static constexpr unsigned kBlockBits = ((1u << kIfcBlock) - 1) << 1;  // z = 0..7 at bits 1..8
+        const auto& simple = simple_unit_cells();
+        out.level.fill(0);
+        out.cell.fill(IfcBlockCells::kNoCell);
+        out.cells.clear();
+        out.root_qef = Qef3();
+        for (int x = 0; x < kIfcBlock; ++x) {
+            for (int y = 0; y < kIfcBlock; ++y) {
+                for (unsigned mixed = s_->mixed_cells_row(x, y) & kBlockBits; mixed != 0; mixed &= mixed - 1) {
+                    const int z = __builtin_ctz(mixed) - 1;
+                    if (!simple[s_->config(x, y, z)] || out.cells.size() == IfcBlockCells::kNoCell) continue;
+                    const int u = IfcBlockCells::unit_index(x, y, z);
+                    out.cell[u] = std::uint8_t(out.cells.size());
+                    out.cells.push_back({0, s_->origin.offsetBy(x, y, z), unit_vertex(x, y, z), false});
+                }
+            }
+        }
+        out.root_leaf = out.cells.empty();
+    }
+
+    /// The vertex of the unit cell at local (x, y, z) (global index space): its QEF minimiser
+    /// kUnitCellMargin inside the cell (kIfcInteriorMargin on a side beyond the scan box, as
+    /// ifc_vertex_boxes()), moved onto the trilinear isosurface.
+    Point3d unit_vertex(int x, int y, int z) const {
+        std::array<double, 8> values;
+        for (int c = 0; c < 8; ++c) values[c] = s_->at(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2));
+        const openvdb::Coord min = s_->origin.offsetBy(x, y, z);
+        const Point3d minimiser = qef_[0][std::size_t(cell_index(0, x, y, z))].minimiser();
+        Point3d start, lo, hi;
+        for (int a = 0; a < 3; ++a) {
+            const openvdb::CoordBBox* box = s_->scan_box;
+            lo[a] = box && min[a] < box->min()[a] ? kIfcInteriorMargin : kUnitCellMargin;
+            hi[a] = 1 - (box && min[a] + 1 > box->max()[a] ? kIfcInteriorMargin : kUnitCellMargin);
+            start[a] = minimiser[a] - min[a];
+        }
+        const Point3d local = unit_cell_vertex(values, iso_, start, lo, hi);
+        return {min[0] + local[0], min[1] + local[1], min[2] + local[2]};
     }
 
     /// Top down: the largest leaves become the block's cells.

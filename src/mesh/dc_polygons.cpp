@@ -68,6 +68,10 @@ IfcBlockCells& IfcCellGrid::block_for_writing(std::size_t b) {
 
 namespace {
 
+/// At error 0 (the dual mesh of unit cells, docs/dmc.md "Error 0") how far (voxels) the polygon
+/// of the four cells round a crossed edge may pass from the edge's crossing, which it drops.
+constexpr double kDualPolygonReach = 0.25;
+
 /// Six times a tetrahedron's volume (voxels^3) below which a flip is not trusted.
 constexpr double kOrientationFloor = 1e-3;
 
@@ -181,7 +185,11 @@ public:
         crossings_ = &cells.crossings;
         next_crossing_ = 0;
         walk_block(
-            s_, [&](int x, int y, int z) { if (cells.level[IfcBlockCells::unit_index(x, y, z)] == 0) marching_cube(x, y, z); },
+            s_,
+            [&](int x, int y, int z) {
+                const int u = IfcBlockCells::unit_index(x, y, z);
+                if (cells.level[u] == 0 && cells.cell[u] == IfcBlockCells::kNoCell) marching_cube(x, y, z);
+            },
             [&](int x, int y, int z, int axis) {
                 crossed_edge(x, y, z, axis);
                 ++next_crossing_;
@@ -407,7 +415,7 @@ private:
     bool polygon_near(const Ring& ring, int s, const Point3d& crossing) const {
         bool feature = false;
         for (int i = 0; i < ring.count; ++i) feature |= ring.cell[i].feature;
-        const double reach = error_ + (feature ? kSharpReach : 0.0);
+        const double reach = (error_ > 0 ? error_ : kDualPolygonReach) + (feature ? kSharpReach : 0.0);
         const double limit = reach * reach;
         for (int j = 1; j + 1 < ring.count; ++j) {
             const Point3d q = closest_point_on_triangle(crossing, *ring.cell[s].vertex, *ring.cell[(s + j) % ring.count].vertex,

@@ -18,7 +18,6 @@
 #include <memory>
 
 #include "mesh/dc_polygons.h"
-#include "mesh/marching_cubes.h"
 #include "mesh/mesh_phases.h"
 #include "mesh/surface_blocks.h"
 
@@ -209,9 +208,6 @@ std::vector<IfcNodeOutput> contour_ifc_nodes(const openvdb::FloatGrid& grid, con
 }
 
 Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report) {
-    // No merging at error 0, not even of exactly flat surfaces (the faces of the scan box): the
-    // mesh is Marching Cubes, as documented.
-    if (options.error <= 0) return marching_cubes(grid, options);
     const SampleClassifier classifier(grid, options);
     std::vector<IfcNodeOutput> nodes = contour_ifc_nodes(grid, classifier, options, report);
     PhaseClock clock;

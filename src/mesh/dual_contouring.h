@@ -18,12 +18,13 @@ namespace vdbmesh::detail {
 
 /// Dual Contouring on the octree of every 8^3 leaf with Marching Cubes in the unit cells
 /// (dc_octree.cpp merges, dc_polygons.cpp triangulates), closed, manifold and free of
-/// self-intersections by construction, at any options.error (0: Marching Cubes). Adds its
+/// self-intersections by construction, at any options.error (0: no merging, a vertex per unit
+/// cell whose surface is one disk, docs/dmc.md "Error 0"). Adds its
 /// phases ("octree", "contour", "weld") to @a report.
 Mesh intersection_free_contouring(const openvdb::FloatGrid& grid, const MeshOptions& options, MeshReport& report);
 
 /// The same mesh, brick after brick of @a bricks.shape read from @a source
-/// (at error 0, and with MeshMethod::mc, Marching Cubes by bricks: marching_cubes_nodes()). The same bytes for any brick size and thread count.
+/// (with MeshMethod::mc, Marching Cubes by bricks: marching_cubes_nodes()). The same bytes for any brick size and thread count.
 Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, MeshReport& report);
 
 /// The same mesh into @a sink through a spill (dc_spill.h), never held whole; with
@@ -105,7 +106,7 @@ std::vector<IfcBlockOutput> contour_ifc_cells(const openvdb::FloatGrid& grid, co
 /// block's output is moved, not copied; blocks with no output are skipped.
 std::vector<IfcNodeOutput> group_ifc_outputs_by_node(const std::vector<openvdb::Coord>& origins, std::vector<IfcBlockOutput>& outputs);
 
-/// The contour of every block of @a grid (options.error > 0), per node in z-major order.
+/// The contour of every block of @a grid, per node in z-major order.
 std::vector<IfcNodeOutput> contour_ifc_nodes(const openvdb::FloatGrid& grid, const SampleClassifier& classifier, const MeshOptions& options,
                                              MeshReport& report);
 

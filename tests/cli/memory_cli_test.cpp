@@ -77,7 +77,7 @@ TEST(MeasureMemoryTest, PhantomScanMeshedByBricksGivesTheWholeMeasure) {
     const test::ScratchDir dir;
     const std::filesystem::path torus = write_torus_phantom(dir);
     expect_bounded_measure_is_whole({torus.string(), "--iso", "0.5", "--error", "0.25"}, "128M");
-    expect_bounded_measure_is_whole({torus.string(), "--iso", "0.5"}, "128M");  // error 0: Marching Cubes by bricks
+    expect_bounded_measure_is_whole({torus.string(), "--iso", "0.5"}, "128M");  // error 0: the dual mesh by bricks
 }
 
 TEST(MeasureMemoryTest, RealScanMeshedByBricksGivesTheWholeMeasure) {
@@ -127,7 +127,7 @@ TEST(SectionMemoryTest, PhantomScanMeshedByBricksGivesTheWholeSections) {
     const test::ScratchDir dir;
     const std::filesystem::path torus = write_torus_phantom(dir);
     expect_bounded_section_is_whole({torus.string(), "--iso", "0.5", "--error", "0.25", "--plane", "z=32", "--planes", "x=20:40:5"}, "128M");
-    expect_bounded_section_is_whole({torus.string(), "--iso", "0.5", "--plane", "z=32"}, "128M");  // error 0: Marching Cubes by bricks
+    expect_bounded_section_is_whole({torus.string(), "--iso", "0.5", "--plane", "z=32"}, "128M");  // error 0: the dual mesh by bricks
 }
 
 TEST(SectionMemoryTest, RealScanMeshedByBricksGivesTheWholeSections) {

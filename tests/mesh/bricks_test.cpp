@@ -1,4 +1,4 @@
-// Issue 28: the default mesher brick by brick (docs/dmc.md, "Bricks"; Marching Cubes at error 0) gives the same bytes as
+// Issue 28: the default mesher brick by brick (docs/dmc.md, "Bricks"; the dual mesh at error 0) gives the same bytes as
 // the whole-grid run for any brick size, thread count and number of ranks, on phantoms placed so that node
 // borders (multiples of 128 voxels) cross a sharp turn, a thin wall and coarse merges, and on
 // a real scan; CGAL (cgal_judge.h) judges the bricked mesh clean.
@@ -293,7 +293,8 @@ TEST(BricksTest, RefusesBricksWithVolumeToMeshAndBadShapes) {
               mesh_grid(*test::phantom_scan_grid(spec), openvdb).mesh.triangles.size());
 }
 
-// Marching Cubes (the default error 0, and --method mc) by bricks: a cell needs only its 8
+// The default error 0 (the dual mesh, through the same wavefront as every error) and Marching
+// Cubes (--method mc) by bricks. Marching Cubes: a cell needs only its 8
 // samples, so no halo; the blocks' order is the bricks' (node by node in z-major order), so the
 // bytes are the whole grid's, through the spill and over ranks too. A sphere where eight nodes
 // meet, a tilted cylinder through five nodes along z, and an open boundary (mc only) cut by the
@@ -301,7 +302,7 @@ TEST(BricksTest, RefusesBricksWithVolumeToMeshAndBadShapes) {
 TEST(BricksTest, MarchingCubesByBricksIsTheWholeGridsMesh) {
     PhantomSpec sphere;
     sphere.radius = 36;
-    expect_same_as_whole(phantom_on_node_corner(sphere), dc_options(0.0), "sphere, Marching Cubes at error 0");
+    expect_same_as_whole(phantom_on_node_corner(sphere), dc_options(0.0), "sphere, the dual mesh at error 0");
     MeshOptions mc = dc_options(0.0);
     mc.method = MeshMethod::mc;
     expect_same_as_whole(test::phantom_scan_grid(test::cylinder_through_five_nodes()), mc, "cylinder, --method mc", kEveryBricking, false);

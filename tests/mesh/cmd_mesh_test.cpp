@@ -222,7 +222,7 @@ TEST(CmdMeshTest, MemoryLimitGivesTheSameBytesOrIsRefused) {
     ASSERT_EQ(run_with({"-o", whole_stl.string(), "--error", "0.5"}), cli::kSuccess);
     ASSERT_EQ(run_with({"-o", bounded_stl.string(), "--error", "0.5", "--memory", "80M"}), cli::kSuccess);
     EXPECT_EQ(bytes(bounded_stl), bytes(whole_stl));
-    // The default error 0 (Marching Cubes) and --method mc: by bricks too, the same bytes.
+    // The default error 0 (the dual mesh) and --method mc: by bricks too, the same bytes.
     for (const std::vector<std::string>& method : {std::vector<std::string>{}, std::vector<std::string>{"--method", "mc"}}) {
         const auto whole_mc = scratch / "whole_mc.ply", bounded_mc = scratch / "bounded_mc.ply";
         std::vector<std::string> plain = {"-o", whole_mc.string()}, limited = {"-o", bounded_mc.string(), "--memory", "80M"};

@@ -14,7 +14,6 @@
 #include <random>
 
 #include "cgal_judge.h"
-#include "same_triangles.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/grid.h"
@@ -83,9 +82,45 @@ Mesh mc_mesh(const openvdb::FloatGrid& grid, double iso = 0.5) {
     return mesh_grid(grid, options).mesh;
 }
 
-TEST(DcTest, ErrorZeroIsMarchingCubes) {
-    const auto grid = dense_grid(40, ball(19.5, 12.3));
-    EXPECT_TRUE(test::same_triangles(mesh_grid(*grid, dc_options(0)).mesh, mc_mesh(*grid)));
+/// First-order distance |f - iso| / |grad f| of @a field's trilinear interpolant at @a p
+/// (index space), in the unit cell holding it: our own reading of the trilinear isosurface.
+double trilinear_distance(const Field& field, const std::array<float, 3>& p, double iso) {
+    const int x = int(std::floor(p[0])), y = int(std::floor(p[1])), z = int(std::floor(p[2]));
+    const double tx = p[0] - x, ty = p[1] - y, tz = p[2] - z;
+    double f = 0, gx = 0, gy = 0, gz = 0;
+    for (int c = 0; c < 8; ++c) {
+        const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
+        const double v = field(x + dx, y + dy, z + dz);
+        const double wx = dx ? tx : 1 - tx, wy = dy ? ty : 1 - ty, wz = dz ? tz : 1 - tz;
+        f += wx * wy * wz * v;
+        gx += (dx ? 1 : -1) * wy * wz * v;
+        gy += (dy ? 1 : -1) * wx * wz * v;
+        gz += (dz ? 1 : -1) * wx * wy * v;
+    }
+    return std::abs(f - iso) / std::sqrt(gx * gx + gy * gy + gz * gz);
+}
+
+// Error 0 is the dual mesh (docs/dmc.md, "Error 0"): a vertex per unit cell, on the trilinear
+// isosurface unless the cell's margin holds it off, and the polygons round the crossed edges;
+// clean (CGAL), about Marching Cubes' triangle count, and far fewer small angles.
+TEST(DcTest, ErrorZeroIsADualMeshOnTheIsosurface) {
+    const Field field = ball(19.5, 12.3);
+    const auto grid = dense_grid(40, field);
+    const Mesh dual = mesh_grid(*grid, dc_options(0)).mesh;
+    const Mesh mc = mc_mesh(*grid);
+    const test::CgalVerdict verdict = test::judge_with_cgal(dual);
+    EXPECT_TRUE(verdict.clean()) << verdict.describe();
+    // A ball: every cell's surface is one disk, so no Marching Cubes cell is left and the
+    // vertices are one per cell, not per crossed edge as Marching Cubes' are (about half as many).
+    EXPECT_LT(double(dual.vertices.size()), 0.6 * double(mc.vertices.size()));
+    EXPECT_LE(double(dual.triangles.size()), 1.01 * double(mc.triangles.size()));
+    // Newton's steps land on the isosurface: within 1e-4 voxel (the float output rounds a
+    // coordinate under 40 by at most 2e-6), except where the cell's margin (0.15 voxel,
+    // kUnitCellMargin) clamps a vertex off it; most are not clamped.
+    std::size_t on_surface = 0;
+    for (const auto& p : dual.vertices) on_surface += trilinear_distance(field, p, 0.5) <= 1e-4;
+    EXPECT_GT(double(on_surface), 0.8 * double(dual.vertices.size())) << on_surface << " of " << dual.vertices.size();
+    EXPECT_LT(analyze_mesh(dual).small_angle_share, analyze_mesh(mc).small_angle_share);
 }
 
 TEST(DcTest, SmoothBallMergesAndStaysClean) {
@@ -153,7 +188,7 @@ TEST(DcTest, NoiseIsCleanAndKeepsEveryComponentAtEveryError) {
         const auto grid = dense_grid(32, smooth_noise(32, seed));
         for (double iso : {0.45, 0.5, 0.55}) {
             const std::size_t mc_components = analyze_mesh(mc_mesh(*grid, iso)).components;
-            for (double error : {0.25, 1.0, 4.0}) {
+            for (double error : {0.0, 0.25, 1.0, 4.0}) {
                 const Mesh mesh = mesh_grid(*grid, dc_options(error, iso)).mesh;
                 const test::CgalVerdict verdict = test::judge_with_cgal(mesh);
                 EXPECT_TRUE(verdict.clean()) << "seed " << seed << " iso " << iso << " error " << error << ": " << verdict.describe();

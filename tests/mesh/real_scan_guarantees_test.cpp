@@ -18,7 +18,6 @@
 #include <vector>
 
 #include "cgal_judge.h"
-#include "same_triangles.h"
 #include "shared_scan.h"
 #include "test_data.h"
 #include "vdbmesh/analysis.h"
@@ -36,6 +35,12 @@ constexpr std::size_t kDistanceSamples = 100000;
 /// Merging must pay: at error 1 DC keeps at most this share of Marching Cubes' triangles; a DC
 /// that returned Marching Cubes keeps 100% and fails.
 constexpr double kMaxTriangleShare = 0.98;
+
+/// At error 0 (the dual mesh: a vertex per unit cell whose surface is one disk, Marching Cubes in
+/// the others) at most this share of Marching Cubes' triangles: where a polygon round a crossed
+/// edge fails its flip test, and round the Marching Cubes cells, the fans add triangles.
+/// Measured (session 22): engine 1.002, walnut 1.122, CThead ?, the noisiest scans ?.
+constexpr double kErrorZeroTriangleShare = 1.15;
 
 /// The figures `vdbmesh check` prints that tell why a mesh is not clean.
 std::string describe(const MeshAnalysis& r) {
@@ -73,9 +78,9 @@ protected:
 
 // Intersection-free DC (issue 9, point 2): clean by construction at every error, so no check
 // runs; CGAL judges it, and Marching Cubes. DC keeps every Marching Cubes component (a merged
-// cell holds one disk of surface) and, at error 0, is Marching Cubes, so CGAL (the suite's
-// slowest part) judges that mesh once. On the two costliest scans the default suite judges DC
-// at error 1 only (judges_every_setting()); every count below is still asserted there.
+// cell holds one disk of surface; at error 0, the dual mesh, a unit cell one disk). On the two
+// costliest scans the default suite judges DC at error 1 only (judges_every_setting()); every
+// count below is still asserted there.
 TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
     const SharedScan& scan = GetParam();
     openvdb::FloatGrid::Ptr grid;
@@ -90,8 +95,7 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
         EXPECT_TRUE(mc_verdict.clean()) << scan.name << " at iso " << scan.iso << ", mc: not clean: " << mc_verdict.describe()
                                         << "; vdbmesh check: " << describe(mc_report);
     }
-    EXPECT_TRUE(test::same_triangles(mesh_scan(*grid, scan, MeshMethod::dc), mc)) << scan.name << ": DC at error 0 differs from MC";
-    for (double error : every_setting ? std::vector<double>{0.25, 1.0} : std::vector<double>{1.0}) {
+    for (double error : every_setting ? std::vector<double>{0.0, 0.25, 1.0} : std::vector<double>{1.0}) {
         const Mesh dc = mesh_scan(*grid, scan, MeshMethod::dc, error);
         const MeshAnalysis report = analyze_mesh(dc);
         std::cout << "[ figures  ] " << scan.name << " dc --error " << error << ": " << describe(report) << "\n";
@@ -101,7 +105,8 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
         // Merging pays at error 1 (a DC that returned MC fails). At 0.25 the noise-bound MRIs
         // barely merge and the fans between merged and unit cells cost a little: measured
         // 98.3% of MC (headsq) to 100.8% (the SPM T1s, 132,168 of 131,160), so at most 1% more.
-        EXPECT_LE(double(report.triangles), 1.01 * double(mc_report.triangles)) << scan.name << " dc --error " << error;
+        const double most = error == 0 ? kErrorZeroTriangleShare : 1.01;
+        EXPECT_LE(double(report.triangles), most * double(mc_report.triangles)) << scan.name << " dc --error " << error;
         if (error == 1.0) {
             EXPECT_LE(double(report.triangles), kMaxTriangleShare * double(mc_report.triangles)) << scan.name << " dc --error 1";
         }

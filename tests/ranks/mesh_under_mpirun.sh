@@ -1,7 +1,7 @@
 #!/bin/sh
 # Issue 28: `vdbmesh mesh` under mpirun gives the same bytes as one plain process, on a phantom
 # it writes (a cylinder through five node layers, noisy, so that ranks split it mid-surface), at
-# --error 0.25 and at the default error 0 (Marching Cubes by bricks).
+# --error 0.25 and at the default error 0 (the dual mesh by bricks).
 # The phantom and the plain runs are made once (a ctest fixture) for the runs with 1, 2 and 3 ranks:
 #   mesh_under_mpirun.sh plain VDBMESH WORK          writes WORK/cylinder.nii.gz, WORK/plain<error>.ply and .obj
 #   mesh_under_mpirun.sh ranks VDBMESH WORK MPIEXEC RANKS [ply|obj]
