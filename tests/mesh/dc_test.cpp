@@ -115,8 +115,8 @@ TEST(DcTest, ErrorZeroIsADualMeshOnTheIsosurface) {
     EXPECT_LT(double(dual.vertices.size()), 0.6 * double(mc.vertices.size()));
     EXPECT_LE(double(dual.triangles.size()), 1.01 * double(mc.triangles.size()));
     // Newton's steps land on the isosurface: within 1e-4 voxel (the float output rounds a
-    // coordinate under 40 by at most 2e-6), except where the cell's margin (0.15 voxel,
-    // kUnitCellMargin) clamps a vertex off it; most are not clamped.
+    // coordinate under 40 by at most 2e-6), except where the cell's margin (at least 0.025
+    // voxel, kUnitCellMargins) clamps a vertex off it; most are not clamped.
     std::size_t on_surface = 0;
     for (const auto& p : dual.vertices) on_surface += trilinear_distance(field, p, 0.5) <= 1e-4;
     EXPECT_GT(double(on_surface), 0.8 * double(dual.vertices.size())) << on_surface << " of " << dual.vertices.size();
