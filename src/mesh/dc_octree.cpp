@@ -588,25 +588,21 @@ private:
     }
 
     /// The vertex of the unit cell at local (x, y, z) (global index space): its QEF minimiser
-    /// kUnitCellMargins inside the cell (kIfcInteriorMargin on a side beyond the scan box, as
+    /// kUnitCellMargin inside the cell (kIfcInteriorMargin on a side beyond the scan box, as
     /// ifc_vertex_boxes()), moved onto the trilinear isosurface.
     Point3d unit_vertex(int x, int y, int z) const {
         std::array<double, 8> values;
         for (int c = 0; c < 8; ++c) values[c] = s_->at(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2));
         const openvdb::Coord min = s_->origin.offsetBy(x, y, z);
         const Point3d minimiser = qef_[0][std::size_t(cell_index(0, x, y, z))].minimiser();
-        Point3d local;
-        for (const double margin : kUnitCellMargins) {
-            Point3d start, lo, hi;
-            for (int a = 0; a < 3; ++a) {
-                const openvdb::CoordBBox* box = s_->scan_box;
-                lo[a] = box && min[a] < box->min()[a] ? kIfcInteriorMargin : margin;
-                hi[a] = 1 - (box && min[a] + 1 > box->max()[a] ? kIfcInteriorMargin : margin);
-                start[a] = minimiser[a] - min[a];
-            }
-            local = unit_cell_vertex(values, iso_, start, lo, hi);
-            if (trilinear_surface_distance(values, local, iso_) <= kUnitCellOnSurface) break;
+        Point3d start, lo, hi;
+        for (int a = 0; a < 3; ++a) {
+            const openvdb::CoordBBox* box = s_->scan_box;
+            lo[a] = box && min[a] < box->min()[a] ? kIfcInteriorMargin : kUnitCellMargin;
+            hi[a] = 1 - (box && min[a] + 1 > box->max()[a] ? kIfcInteriorMargin : kUnitCellMargin);
+            start[a] = minimiser[a] - min[a];
         }
+        const Point3d local = unit_cell_vertex(values, iso_, start, lo, hi);
         return {min[0] + local[0], min[1] + local[1], min[2] + local[2]};
     }
 

@@ -9,17 +9,13 @@
 
 namespace vdbmesh::detail {
 
-/// How far (voxels) a unit cell's vertex stays inside its cell at error 0, in the order tried:
-/// the first whose vertex lands within kUnitCellOnSurface of the isosurface is kept (else the
-/// last). Within any of them every face test between two unit cells passes (the segment between
-/// their vertices crosses their face inside it, both ends lying within the margin across), and
-/// round a grid edge the four vertices' tetrahedra have volume at least 2 m^2 (0.00125 at the
-/// last, above kOrientationFloor, dc_polygons.cpp). A wide margin keeps the quads rounder, but
-/// holds the vertex off the surface where it cuts a corner of the cell (the quick start's
-/// sample with 0.15 alone: Hausdorff 0.23 voxel against volumeToMesh's 0.049).
-inline constexpr std::array<double, 3> kUnitCellMargins = {0.15, 0.05, 0.025};
-/// How near (voxels, first-order) the isosurface a vertex must land to keep a wider margin.
-inline constexpr double kUnitCellOnSurface = 0.02;
+/// How far (voxels) a unit cell's vertex stays inside its cell at error 0. Within this margin
+/// every face test between two unit cells passes (the segment between their vertices crosses
+/// their face inside it, both ends lying within the margin across), and round a grid edge the
+/// four vertices' tetrahedra have volume at least 2 kUnitCellMargin^2 (above kOrientationFloor,
+/// dc_polygons.cpp). A wider one keeps the quads rounder but the vertices farther from the
+/// surface where it cuts a corner of the cell.
+inline constexpr double kUnitCellMargin = 0.15;
 
 /// The vertex, in local coordinates of the unit cell ([0, 1]^3), from @a start (the QEF
 /// minimiser, local) clamped to [lo, hi] per axis, then Newton steps towards @a iso on the
