@@ -101,8 +101,9 @@ TEST(CompareCliTest, DecimateAddsRowsOfTheDecimatedErrorZeroMesh) {
         EXPECT_TRUE(row["closed"].get<bool>());
         EXPECT_TRUE(row["manifold"].get<bool>());
         EXPECT_EQ(row["self_intersecting_pairs"], 0);
-        // Coarser than the full mesh, but still near the sphere (voxels).
-        EXPECT_GT(row["hausdorff_voxels"].get<double>(), full["hausdorff_voxels"].get<double>());
+        // Still near the sphere (voxels). The full mesh's distance is no floor: the dual error-0
+        // mesh holds its vertices 0.15 voxel inside their cells (0.187 here), and the
+        // decimator's quadrics place some nearer (0.181 and 0.180 at 0.5 and 0.2, session 22).
         EXPECT_LT(row["hausdorff_voxels"].get<double>(), 1.0);
         EXPECT_TRUE(row["same_mesh_as"].is_null());
     }
