@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <iostream>
 #include <sstream>
@@ -39,7 +40,7 @@ constexpr double kMaxTriangleShare = 0.98;
 /// At error 0 (the dual mesh: a vertex per unit cell whose surface is one disk, Marching Cubes in
 /// the others) at most this share of Marching Cubes' triangles: where a polygon round a crossed
 /// edge fails its flip test, and round the Marching Cubes cells, the fans add triangles.
-/// Measured (session 22): engine 1.002, walnut 1.122, CThead ?, the noisiest scans ?.
+/// Measured (session 22): engine 1.002, CThead 1.062, walnut 1.122.
 constexpr double kErrorZeroTriangleShare = 1.15;
 
 /// The figures `vdbmesh check` prints that tell why a mesh is not clean.
@@ -120,8 +121,11 @@ TEST_P(RealScanGuaranteesTest, DcMeshesAreCleanAndKeepEveryComponent) {
         std::cout << "[ figures  ] " << scan.name << " dc --error " << error << " vs MC: two-sided Hausdorff "
                   << distance.hausdorff << " voxels\n";
         // Twice the error (the vertex is within the error of every tangent plane in its cell),
-        // plus half a voxel for points between samples.
-        EXPECT_LE(distance.hausdorff, 2 * error + 0.5) << scan.name << " dc --error " << error;
+        // plus half a voxel for points between samples. At error 0 (the dual mesh) a cell's
+        // diagonal: both meshes cross the same unit cells and stay inside them (measured engine
+        // 0.41, CThead 0.85, walnut 0.99 voxel, session 22).
+        const double bound = error == 0 ? std::sqrt(3.0) : 2 * error + 0.5;
+        EXPECT_LE(distance.hausdorff, bound) << scan.name << " dc --error " << error;
     }
 }
 
