@@ -141,12 +141,13 @@ TEST(DcSparseGridTest, SphereAtErrorZeroIsAccurate) {
     const double radius = 20.0;
     const auto grid = analytic_grid(64, ball(centre, radius, 2.0));
     const Mesh mesh = mesh_grid(*grid, dc_options()).mesh;
-    // Linear interpolation on a smooth erf ramp of curvature 1/20: vertices lie within a few
-    // hundredths of a voxel; chords between them sag by at most h^2/(8R) ~ 0.006 voxel.
-    EXPECT_LT(distance_to_sphere(mesh, centre, radius), 0.05);
+    // The dual error-0 mesh (docs/dmc.md, "Error 0") holds its vertices 0.15 voxel inside their
+    // cells, off the surface where it cuts a cell's corner: measured 0.258 voxel, volume -0.23%,
+    // area +1.41% (session 22; Marching Cubes, error 0 until then, kept 0.05 and 0.2%).
+    EXPECT_LT(distance_to_sphere(mesh, centre, radius), 0.3);
     const double pi = std::acos(-1.0);
-    EXPECT_NEAR(signed_volume(mesh) / (4.0 / 3.0 * pi * radius * radius * radius), 1.0, 0.002);
-    EXPECT_NEAR(area(mesh) / (4.0 * pi * radius * radius), 1.0, 0.002);
+    EXPECT_NEAR(signed_volume(mesh) / (4.0 / 3.0 * pi * radius * radius * radius), 1.0, 0.004);
+    EXPECT_NEAR(area(mesh) / (4.0 * pi * radius * radius), 1.0, 0.02);
 }
 
 TEST(DcSparseGridTest, MergedMeshSameBytesWithOneOrTwoThreads) {
