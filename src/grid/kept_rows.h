@@ -40,7 +40,7 @@ private:
     TempFile file_{"for the scan's surveyed rows"};
     int first_column_, columns_x_, columns_y_;
     std::vector<int> rows_;                ///< z0 of each row kept, increasing
-    std::vector<std::uint64_t> runs_;      ///< per row, node row, node column: the offset of its run; then the file's end
+    std::vector<std::uint64_t> runs_;      ///< per row, node row, node column: the offset of its run
     std::uint64_t largest_stretch_ = 0;
 };
 
