@@ -91,15 +91,12 @@ public:
     std::vector<NodeWeight> nodes() const override { return survey_.nodes; }
 
     std::shared_ptr<openvdb::FloatGrid> read(const IndexBox& box) const override {
-        if (!kept_) throw std::logic_error("scan_regions: read() of a scan surveyed without keeping its rows");
         openvdb::FloatGrid::Ptr grid = survey_.description->deepCopy();
         const auto [first, last] = rows_of(box);
         if (first > last) return grid;
         const openvdb::CoordBBox bbox = detail::region_walk::to_bbox(box);
         openvdb::FloatTree& tree = grid->tree();
-        std::vector<ConvertedRow> rows =
-            kept_->read(first, last, kept_->column(box.min[0]), kept_->column(box.max[0] - 1) + 1, kept_->column(box.min[1]),
-                        kept_->column(box.max[1] - 1) + 1);
+        std::vector<ConvertedRow> rows = kept_rows(first, last, box);
         for (ConvertedRow& row : rows) {
             detail::fill_outside(row, dims_, survey_.background);
             for (auto& leaf : row.leaves)
@@ -121,12 +118,10 @@ public:
 
     /// Row by row from the kept rows: one row's leaves held at a time, never the region.
     std::vector<LeafMask> active_leaves(const IndexBox& box) const override {
-        if (!kept_) throw std::logic_error("scan_regions: active_leaves() of a scan surveyed without keeping its rows");
         std::vector<LeafMask> masks;
         const auto [first, last] = rows_of(box);
         for (int z0 = first; z0 <= last; z0 += kLeafDim) {
-            std::vector<ConvertedRow> row = kept_->read(z0, z0, kept_->column(box.min[0]), kept_->column(box.max[0] - 1) + 1,
-                                                        kept_->column(box.min[1]), kept_->column(box.max[1] - 1) + 1);
+            std::vector<ConvertedRow> row = kept_rows(z0, z0, box);
             const std::vector<LeafMask> of_row = detail::leaf_masks(*detail::tree_of_rows(row, survey_.background), box);
             masks.insert(masks.end(), of_row.begin(), of_row.end());
         }
@@ -136,6 +131,13 @@ public:
     std::uint64_t grid_bytes(const IndexBox& box) const override { return grid_bytes(rows_of(box), box); }
 
 private:
+    /// The kept rows with z0 in [first, last], in the node columns that meet @a box.
+    std::vector<ConvertedRow> kept_rows(int first, int last, const IndexBox& box) const {
+        if (!kept_) throw std::logic_error("scan_regions: a read of a scan surveyed without keeping its rows");
+        return kept_->read(first, last, kept_->column(box.min[0]), kept_->column(box.max[0] - 1) + 1, kept_->column(box.min[1]),
+                           kept_->column(box.max[1] - 1) + 1);
+    }
+
     /// The leaves of @a rows (rows_of(box)) in the node columns the box meets.
     std::uint64_t grid_bytes(std::pair<int, int> rows, const IndexBox& box) const {
         return kLeafBytes * survey_.leaves->leaves(rows.first, rows.second, box.min[0], box.max[0], box.min[1], box.max[1]);
