@@ -3,8 +3,11 @@
 // bottom to top by one wavefront (dc_wavefront.cpp), and the nodes' outputs are welded in
 // z-major order, so the mesh is the whole-grid run's, byte for byte.
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <functional>
+#include <future>
 #include <iterator>
 #include <limits>
 #include <array>
@@ -319,11 +322,23 @@ Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& optio
 void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, bool mirrored,
                                   MeshStreamSink& sink, MeshReport& report) {
     IfcSpill spill;
-    for_each_brick(source, options, bricks, report, [&](std::vector<IfcNodeOutput>&& made) {
+    // A layer's nodes are appended to the spill (a file) while the next layer is built, one
+    // layer at most in flight; with one thread, at once. "spill" times the waits.
+    const std::launch when = tbb::this_task_arena::max_concurrency() == 1 ? std::launch::deferred : std::launch::async;
+    std::future<void> appending;
+    auto wait_for_appending = [&] {
         PhaseClock clock;
-        for (IfcNodeOutput& node : made) spill.append(std::move(node));
+        if (appending.valid()) appending.get();
         clock.lap(report, "spill");
+    };
+    for_each_brick(source, options, bricks, report, [&](std::vector<IfcNodeOutput>&& made) {
+        wait_for_appending();
+        appending = std::async(when, [&spill, made = std::move(made)]() mutable {
+            for (IfcNodeOutput& node : made) spill.append(std::move(node));
+        });
+        if (when == std::launch::deferred) wait_for_appending();
     });
+    wait_for_appending();
     PhaseClock clock;
     if (bricks.ranks > 1 && bricks.collectives && sink.ranges()) {
         spill.emit_on_ranks(*sink.ranges(), sink.needs_corners(), mirrored, *bricks.collectives);

@@ -252,6 +252,10 @@ void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
     Used used(vertex_count);
     resolve(nullptr, with_corners, used, resolved);
     const std::uint64_t used_count = used.count();
+    if (MeshRangeSink* ranges = sink.ranges()) {
+        write_ranges(*ranges, used, resolved, with_corners, mirrored, used_count, triangle_count);
+        return;
+    }
     sink.begin(used_count, triangle_count);
     for (const NodeRecord& node : nodes_) {
         const std::vector<VertexRecord> vertices = read<VertexRecord>(node.vertex_offset, node.vertex_count);

@@ -4,6 +4,7 @@
 // read back node by node in z-major order, keys resolved to vertex numbers, into a sink.
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <tuple>
@@ -26,7 +27,8 @@ public:
     /// frees them. Each node comes once, in any order.
     void append(IfcNodeOutput&& node);
     /// The mesh weld_ifc_nodes() makes of every node appended, into @a sink; with @a mirrored
-    /// every triangle wound the other way (mesh_grid()'s rule for a mirroring transform).
+    /// every triangle wound the other way (mesh_grid()'s rule for a mirroring transform). A
+    /// sink with ranges() gets its records formatted in parallel and written in order.
     void emit(MeshStreamSink& sink, bool mirrored);
     /// emit() by every rank together (BrickOptions::collectives; docs/scale.md, "Assembly on
     /// every rank"): each rank's spill holds its own nodes; the ranks learn each other's node
@@ -72,6 +74,19 @@ private:
     void resolve(const Foreign* foreign, bool with_corners, Used& used, TempFile& resolved) const;
     /// The vertex records of the nodes beside other ranks' nodes, to each rank (emit_on_ranks()).
     Foreign swap_borders(const std::map<std::tuple<int, int, int>, std::pair<int, std::uint64_t>>& owners, const RankCollectives& ranks) const;
+
+    /// Which records format_records() formats.
+    enum class Records { vertices, triangles };
+    /// Formats with @a format, for each node of nodes_ in order, its used vertices or its
+    /// triangles resolved into @a resolved (numbered among the used vertices; wound the other
+    /// way when @a mirrored), and hands @a take each node's index and bytes in that order. Runs
+    /// of nodes are formatted in parallel while the one before is taken (dc_spill_records.cpp).
+    void format_records(Records which, const MeshRangeSink& format, const Used& used, const TempFile& resolved, bool with_corners,
+                        bool mirrored, const std::function<void(std::size_t, const std::string&)>& take) const;
+    /// emit()'s end into @a sink's file (one process): the header, then every node's records
+    /// as format_records() gives them, at their places; the file committed when all are written.
+    void write_ranges(MeshRangeSink& sink, const Used& used, const TempFile& resolved, bool with_corners, bool mirrored,
+                      std::uint64_t used_count, std::uint64_t triangle_count) const;
 
     std::string records_bytes() const;
 

@@ -122,9 +122,6 @@ void IfcSpill::emit_on_ranks(MeshRangeSink& sink, bool with_corners, bool mirror
     if (vertex_count >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
 
     const Foreign foreign = swap_borders(owners, ranks);
-    using Numbers = std::array<std::uint32_t, 3>;
-    using Corners = std::array<std::array<float, 3>, 3>;
-    const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
     TempFile resolved("for the bricks' resolved triangles");
     Used used(vertex_count);
     resolve(&foreign, with_corners, used, resolved);
@@ -133,42 +130,17 @@ void IfcSpill::emit_on_ranks(MeshRangeSink& sink, bool with_corners, bool mirror
     const std::string header = sink.header(used_count, triangle_count);
     const std::string footer = sink.footer();
 
-    // This rank's records formatted, node by node, into two local files.
+    // This rank's records formatted into two local files.
     TempFile vertex_text("for this rank's vertices"), triangle_text("for this rank's triangles");
     std::vector<NodeBytes> my_bytes(nodes_.size());
-    std::uint64_t resolved_at = 0;
-    std::string text;
-    for (std::size_t n = 0; n < nodes_.size(); ++n) {
-        const NodeRecord& node = nodes_[n];
-        std::vector<std::array<float, 3>> positions;
-        const std::vector<VertexRecord> vertices = read<VertexRecord>(node.vertex_offset, node.vertex_count);
-        for (std::size_t v = 0; v < vertices.size(); ++v)
-            if (used.used(node.first_vertex + v)) positions.push_back(vertices[v].position);
-        text.clear();
-        sink.vertices(positions, text);
-        vertex_text.append(text.data(), text.size());
-        my_bytes[n].vertex_bytes = text.size();
-
-        std::vector<char> batch(std::size_t(node.triangle_count * record_bytes));
-        if (!batch.empty()) resolved.read(resolved_at, batch.data(), batch.size());
-        resolved_at += batch.size();
-        std::vector<std::array<std::uint32_t, 3>> triangles(std::size_t(node.triangle_count));
-        std::vector<Corners> corners(with_corners ? triangles.size() : 0);
-        for (std::size_t t = 0; t < triangles.size(); ++t) {
-            Numbers numbers;
-            std::memcpy(&numbers, batch.data() + t * record_bytes, sizeof(numbers));
-            for (int k = 0; k < 3; ++k) triangles[t][std::size_t(k)] = std::uint32_t(used.rank(numbers[std::size_t(k)]));
-            if (with_corners) std::memcpy(&corners[t], batch.data() + t * record_bytes + sizeof(numbers), sizeof(Corners));
-            if (mirrored) {
-                std::swap(triangles[t][1], triangles[t][2]);
-                if (with_corners) std::swap(corners[t][1], corners[t][2]);
-            }
-        }
-        text.clear();
-        sink.triangles(triangles, corners, text);
-        triangle_text.append(text.data(), text.size());
-        my_bytes[n].triangle_bytes = text.size();
-    }
+    format_records(Records::vertices, sink, used, resolved, with_corners, mirrored, [&](std::size_t n, const std::string& bytes) {
+        vertex_text.append(bytes.data(), bytes.size());
+        my_bytes[n].vertex_bytes = bytes.size();
+    });
+    format_records(Records::triangles, sink, used, resolved, with_corners, mirrored, [&](std::size_t n, const std::string& bytes) {
+        triangle_text.append(bytes.data(), bytes.size());
+        my_bytes[n].triangle_bytes = bytes.size();
+    });
 
     // Each node's place in the file: the header, every node's vertices, every node's triangles.
     std::vector<std::vector<NodeBytes>> bytes_each;

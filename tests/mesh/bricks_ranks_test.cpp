@@ -1,7 +1,8 @@
 // Issue 28: ranks that write the file together (mesher.h's BrickOptions::collectives; docs/scale.md,
 // "Assembly on every rank") give the bytes one process writes, in every format, here with each rank
 // a thread of this process and the collectives a board they meet at (what MPI does between
-// processes under mpirun: tests/ranks runs that too).
+// processes under mpirun: tests/ranks runs that too). One rank is one process writing the
+// file's ranges itself (dc_spill_records.cpp: its records formatted in parallel, in order).
 
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
@@ -20,6 +21,7 @@
 #include <vector>
 
 #include "phantom_grid.h"
+#include "shared_scan.h"
 #include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/mesh_range_file.h"
@@ -164,10 +166,11 @@ protected:
     void TearDown() override { std::filesystem::remove_all(folder_); }
 
     /// One process's file and the ranks' are byte-identical, for each format and rank count.
-    void expect_same_bytes(const openvdb::FloatGrid::Ptr& grid, const BrickShape& shape, const std::vector<int>& rank_counts) {
+    void expect_same_bytes(const openvdb::FloatGrid::Ptr& grid, const BrickShape& shape, const std::vector<int>& rank_counts,
+                           double iso = 0.5) {
         MeshOptions options;
         options.method = MeshMethod::dc;
-        options.iso = 0.5;
+        options.iso = iso;
         options.error = 0.25;
         const Mesh whole = mesh_grid(*grid, options).mesh;
         ASSERT_FALSE(whole.triangles.empty());
@@ -201,8 +204,18 @@ openvdb::FloatGrid::Ptr sphere_on_node_corner() {
 }
 
 TEST_F(BricksRanksTest, RanksWritingTogetherGiveOneProcesssBytesInEveryFormat) {
-    // Columns of one node (the ranks' runs cut across columns and layers), 2 and 3 ranks.
-    expect_same_bytes(sphere_on_node_corner(), {1, 1}, {2, 3});
+    // Columns of one node (the ranks' runs cut across columns and layers), 1, 2 and 3 ranks.
+    expect_same_bytes(sphere_on_node_corner(), {1, 1}, {1, 2, 3});
+}
+
+// A real scan's 397,340 triangles at 0.25 are many runs of the pipeline that formats them
+// (65,536 records a run at most), here in one process writing the file's ranges itself.
+TEST_F(BricksRanksTest, RealScanCTheadInEveryFormat) {
+    openvdb::FloatGrid::Ptr grid;
+    const test::SharedScan& scan = test::shared_scan("CThead");
+    ASSERT_NO_FATAL_FAILURE(test::convert_shared_scan(scan, grid));
+    if (!grid) return;
+    expect_same_bytes(grid, {2, 2}, {1}, scan.iso);
 }
 
 TEST_F(BricksRanksTest, CylinderThroughFiveNodesSplitByLayers) {
