@@ -8,7 +8,6 @@
 #include "vdbmesh/error.h"
 #include "vdbmesh/parse_util.h"
 
-#include <sstream>
 #include <string>
 
 namespace vdbmesh {
@@ -108,59 +107,44 @@ void MeshStreamWriter::commit() {
     s.file.commit();
 }
 
-namespace {
-
-/// The bytes @a write puts into an OutputBuffer.
-template <typename Write>
-std::string formatted(Write&& write) {
-    std::ostringstream text;
-    {
-        detail::OutputBuffer out(text);
-        write(out);
-    }
-    return std::move(text).str();
-}
-
-}  // namespace
-
 MeshRecordFormat::MeshRecordFormat(const std::filesystem::path& path, bool ascii) : format_(int(format_of(path))), ascii_(ascii) {}
 
 std::string MeshRecordFormat::header(std::uint64_t vertex_count, std::uint64_t triangle_count) const {
-    return formatted([&](detail::OutputBuffer& out) {
-        switch (MeshFormat(format_)) {
-            case MeshFormat::kStl: detail::write_stl_header(out, triangle_count, ascii_); break;
-            case MeshFormat::kPly: detail::write_ply_header(out, vertex_count, triangle_count, ascii_, false); break;
-            case MeshFormat::kObj: detail::write_obj_header(out); break;
-        }
-    });
+    std::string bytes;
+    detail::OutputBuffer out(bytes);
+    switch (MeshFormat(format_)) {
+        case MeshFormat::kStl: detail::write_stl_header(out, triangle_count, ascii_); break;
+        case MeshFormat::kPly: detail::write_ply_header(out, vertex_count, triangle_count, ascii_, false); break;
+        case MeshFormat::kObj: detail::write_obj_header(out); break;
+    }
+    return bytes;
 }
 
 std::string MeshRecordFormat::footer() const {
-    return formatted([&](detail::OutputBuffer& out) {
-        if (MeshFormat(format_) == MeshFormat::kStl) detail::write_stl_footer(out, ascii_);
-    });
+    std::string bytes;
+    detail::OutputBuffer out(bytes);
+    if (MeshFormat(format_) == MeshFormat::kStl) detail::write_stl_footer(out, ascii_);
+    return bytes;
 }
 
 void MeshRecordFormat::vertices(const std::vector<std::array<float, 3>>& positions, std::string& out) const {
-    out += formatted([&](detail::OutputBuffer& buffer) {
-        for (const std::array<float, 3>& p : positions) {
-            if (MeshFormat(format_) == MeshFormat::kPly) detail::write_ply_vertex(buffer, p, nullptr, ascii_);
-            else if (MeshFormat(format_) == MeshFormat::kObj) detail::write_obj_vertex(buffer, p);
-        }
-    });
+    detail::OutputBuffer buffer(out);
+    for (const std::array<float, 3>& p : positions) {
+        if (MeshFormat(format_) == MeshFormat::kPly) detail::write_ply_vertex(buffer, p, nullptr, ascii_);
+        else if (MeshFormat(format_) == MeshFormat::kObj) detail::write_obj_vertex(buffer, p);
+    }
 }
 
 void MeshRecordFormat::triangles(const std::vector<std::array<std::uint32_t, 3>>& triangles,
                                  const std::vector<std::array<std::array<float, 3>, 3>>& corners, std::string& out) const {
-    out += formatted([&](detail::OutputBuffer& buffer) {
-        for (std::size_t t = 0; t < triangles.size(); ++t) {
-            switch (MeshFormat(format_)) {
-                case MeshFormat::kStl: detail::write_stl_facet(buffer, corners.at(t), ascii_); break;
-                case MeshFormat::kPly: detail::write_ply_face(buffer, triangles[t], ascii_); break;
-                case MeshFormat::kObj: detail::write_obj_face(buffer, triangles[t], false); break;
-            }
+    detail::OutputBuffer buffer(out);
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        switch (MeshFormat(format_)) {
+            case MeshFormat::kStl: detail::write_stl_facet(buffer, corners.at(t), ascii_); break;
+            case MeshFormat::kPly: detail::write_ply_face(buffer, triangles[t], ascii_); break;
+            case MeshFormat::kObj: detail::write_obj_face(buffer, triangles[t], false); break;
         }
-    });
+    }
 }
 
 namespace {

@@ -94,42 +94,48 @@ std::vector<std::array<float, 3>> vertex_normals(const Mesh& mesh);
 /// Unit normal of a triangle (0 when degenerate).
 std::array<float, 3> facet_normal(const Corners& corners);
 
-/// Collects output in memory and hands it to the stream in large blocks.
+/// Collects output in memory and hands it to the stream in large blocks; or appends it to a
+/// string, which keeps it all (a chunk of records formatted on its own).
 class OutputBuffer {
 public:
-    explicit OutputBuffer(std::ostream& out) : out_(out) { text_.reserve(kFlushSize + 256); }
+    explicit OutputBuffer(std::ostream& out) : out_(&out), text_(&own_) { own_.reserve(kFlushSize + 256); }
+    explicit OutputBuffer(std::string& into) : text_(&into) {}
     ~OutputBuffer() { flush(); }
+    OutputBuffer(const OutputBuffer&) = delete;
+    OutputBuffer& operator=(const OutputBuffer&) = delete;
     void flush() {
-        out_.write(text_.data(), std::streamsize(text_.size()));
-        text_.clear();
+        if (!out_) return;
+        out_->write(text_->data(), std::streamsize(text_->size()));
+        text_->clear();
     }
-    void text(std::string_view s) { text_.append(s), maybe_flush(); }
+    void text(std::string_view s) { text_->append(s), maybe_flush(); }
     /// The shortest decimal form that reads back as the same float.
     void number(float value) {
         char digits[32];
         const auto end = std::to_chars(digits, digits + sizeof digits, value).ptr;
-        text_.append(digits, end), maybe_flush();
+        text_->append(digits, end), maybe_flush();
     }
     void number(std::uint64_t value) {
         char digits[32];
         const auto end = std::to_chars(digits, digits + sizeof digits, value).ptr;
-        text_.append(digits, end), maybe_flush();
+        text_->append(digits, end), maybe_flush();
     }
     /// The value's bytes in little-endian order.
     template <class T>
     void binary(T value) {
         char raw[sizeof(T)];
         std::memcpy(raw, &value, sizeof(T));
-        text_.append(raw, sizeof(T)), maybe_flush();
+        text_->append(raw, sizeof(T)), maybe_flush();
     }
 
 private:
     static constexpr std::size_t kFlushSize = 1 << 20;
     void maybe_flush() {
-        if (text_.size() >= kFlushSize) flush();
+        if (out_ && text_->size() >= kFlushSize) flush();
     }
-    std::ostream& out_;
-    std::string text_;
+    std::ostream* out_ = nullptr;  ///< none: the string given keeps everything
+    std::string own_;
+    std::string* text_;
 };
 
 /// Walks a text buffer token by token, counting lines for error messages.

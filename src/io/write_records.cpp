@@ -5,7 +5,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <sstream>
 
 #include "io/mesh_io_detail.h"
 
@@ -19,13 +18,10 @@ void write_records(std::ostream& out, std::size_t count, const std::function<voi
         const std::size_t end = std::min(count, batch + kChunks * kChunkRecords);
         const std::size_t used = (end - batch + kChunkRecords - 1) / kChunkRecords;
         tbb::parallel_for(std::size_t{0}, used, [&](std::size_t c) {
-            std::ostringstream text;
-            {
-                OutputBuffer buffer(text);
-                const std::size_t first = batch + c * kChunkRecords;
-                for (std::size_t r = first; r < std::min(end, first + kChunkRecords); ++r) write(buffer, r);
-            }
-            chunks[c] = std::move(text).str();
+            chunks[c].clear();
+            OutputBuffer buffer(chunks[c]);
+            const std::size_t first = batch + c * kChunkRecords;
+            for (std::size_t r = first; r < std::min(end, first + kChunkRecords); ++r) write(buffer, r);
         });
         for (std::size_t c = 0; c < used; ++c) out.write(chunks[c].data(), std::streamsize(chunks[c].size()));
     }
