@@ -277,6 +277,7 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
     // Where columns' rings reach into each other, a node one column built is kept for the next;
     // and the last layer, with a rank above, is built first and kept until its turn.
     const std::vector<IfcColumn> columns = columns_of(planned, bricks.shape);
+    const bool release_memory = bricks.memory_bytes > 0;
     std::size_t column = 0;
     std::optional<IfcNodeCache> cache;
     if (columns.size() > 1 || (borders && run.above >= 0)) {
@@ -286,7 +287,7 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
         });
     }
     if (borders && run.above >= 0) {
-        IfcColumnWavefront ahead(source, classifier, per_column, columns.back(), report, &*cache);
+        IfcColumnWavefront ahead(source, classifier, per_column, columns.back(), report, &*cache, release_memory);
         borders->post_top_rows(ahead.prebuild_last_layer(planned.back().layer));
     }
     for (std::size_t first = 0; first < planned.size(); ++column) {
@@ -300,7 +301,7 @@ void for_each_brick(const GridRegionSource& source, const MeshOptions& options, 
             column_borders.rows_below = [&]() -> const std::string& { return borders->rows_below(); };
             column_borders.rows_above = [&]() -> const std::string& { return borders->rows_above(); };
         }
-        IfcColumnWavefront wavefront(source, classifier, per_column, columns[column], report, cache ? &*cache : nullptr);
+        IfcColumnWavefront wavefront(source, classifier, per_column, columns[column], report, cache ? &*cache : nullptr, release_memory);
         wavefront.run(planned[first].layer, planned[last].layer, consume_counted, borders ? &column_borders : nullptr);
         first = last + 1;
     }

@@ -57,8 +57,8 @@ void drop_cells_below(IfcCellGrid& cells, int z) {
 }  // namespace
 
 IfcColumnWavefront::IfcColumnWavefront(const GridRegionSource& source, const SampleClassifier& classifier, const MeshOptions& options,
-                                       const IfcColumn& column, MeshReport& report, IfcNodeCache* cache)
-    : source_(source), classifier_(classifier), options_(options), column_(column), report_(report), cache_(cache) {
+                                       const IfcColumn& column, MeshReport& report, IfcNodeCache* cache, bool release_memory)
+    : source_(source), classifier_(classifier), options_(options), column_(column), report_(report), cache_(cache), release_memory_(release_memory) {
     std::shared_ptr<const openvdb::FloatGrid> description = source.description();
     window_ = openvdb::FloatGrid::create(description->background());
     window_->setTransform(description->transform().copy());
@@ -145,7 +145,7 @@ std::vector<IfcNodeOutput> IfcColumnWavefront::contour(int layer) {
 void IfcColumnWavefront::drop_below(int cells_z, int samples_z) {
     drop_cells_below(cells_, cells_z);
     drop_nodes_below(*window_, samples_z);
-    release_free_memory();
+    if (release_memory_) release_free_memory();
 }
 
 void IfcColumnWavefront::run(int first, int last, const std::function<void(std::vector<IfcNodeOutput>&&)>& consume,

@@ -43,9 +43,11 @@ struct IfcColumnBorders {
 class IfcColumnWavefront {
 public:
     /// With @a cache (may be null), the nodes it holds are taken from it rather than built, and
-    /// the nodes built that a later column reads are kept in it.
+    /// the nodes built that a later column reads are kept in it. With @a release_memory (a
+    /// memory limit), what a dropped layer frees goes back to the system at once; otherwise
+    /// malloc keeps it for the next layer, which spares the page faults of taking it again.
     IfcColumnWavefront(const GridRegionSource& source, const SampleClassifier& classifier, const MeshOptions& options, const IfcColumn& column,
-                       MeshReport& report, IfcNodeCache* cache = nullptr);
+                       MeshReport& report, IfcNodeCache* cache, bool release_memory);
 
     /// Calls @a consume with the nodes of each node layer @a first .. @a last (node z
     /// indices, z / kNodeVoxels) in turn, in z-major order within a layer.
@@ -75,6 +77,7 @@ private:
     MeshReport& report_;
     openvdb::FloatGrid::Ptr window_;
     IfcNodeCache* cache_;
+    const bool release_memory_;
     IfcCellGrid cells_;
     /// Blocks below this z are never decided by run() (a rank below: its cells come later).
     int decide_from_z_ = std::numeric_limits<int>::min();
