@@ -248,7 +248,7 @@ void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
     using Corners = std::array<std::array<float, 3>, 3>;
     const bool with_corners = sink.needs_corners();
     const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
-    TempFile resolved("for the bricks' resolved triangles");
+    TempFile resolved("for the bricks' resolved triangles", held_);
     Used used(vertex_count);
     resolve(nullptr, with_corners, used, resolved);
     const std::uint64_t used_count = used.count();

@@ -22,6 +22,8 @@ inline std::tuple<int, int, int> ifc_z_major(const openvdb::Coord& c) { return {
 
 class IfcSpill {
 public:
+    /// Its file, and the emit's, on disk (a memory limit) or held in memory (none).
+    explicit IfcSpill(TempFile::Held held = TempFile::Held::on_disk) : held_(held), file_("for the bricks' spill", held) {}
 
     /// Writes @a node's vertices (its blocks' lists, then its coarse cells) and triangles, and
     /// frees them. Each node comes once, in any order.
@@ -90,7 +92,8 @@ private:
 
     std::string records_bytes() const;
 
-    TempFile file_{"for the bricks' spill"};
+    TempFile::Held held_;
+    TempFile file_;
     std::vector<NodeRecord> nodes_;
 };
 

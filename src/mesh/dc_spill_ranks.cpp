@@ -122,7 +122,7 @@ void IfcSpill::emit_on_ranks(MeshRangeSink& sink, bool with_corners, bool mirror
     if (vertex_count >= IfcKeyIndex::kMissing) throw Error("contouring: more than 2^32 vertices");
 
     const Foreign foreign = swap_borders(owners, ranks);
-    TempFile resolved("for the bricks' resolved triangles");
+    TempFile resolved("for the bricks' resolved triangles", held_);
     Used used(vertex_count);
     resolve(&foreign, with_corners, used, resolved);
     ranks.or_words(used.words());
@@ -131,7 +131,7 @@ void IfcSpill::emit_on_ranks(MeshRangeSink& sink, bool with_corners, bool mirror
     const std::string footer = sink.footer();
 
     // This rank's records formatted into two local files.
-    TempFile vertex_text("for this rank's vertices"), triangle_text("for this rank's triangles");
+    TempFile vertex_text("for this rank's vertices", held_), triangle_text("for this rank's triangles", held_);
     std::vector<NodeBytes> my_bytes(nodes_.size());
     format_records(Records::vertices, sink, used, resolved, with_corners, mirrored, [&](std::size_t n, const std::string& bytes) {
         vertex_text.append(bytes.data(), bytes.size());
