@@ -43,12 +43,22 @@ public:
     };
 
     /// Loads the tables of @a nodes and of the nodes next to them: every table their
-    /// triangles can name.
+    /// triangles can name. The tables not loaded yet are made in parallel.
     void load_around(const NodeRecord* nodes, std::size_t count) {
+        std::vector<openvdb::Coord> missing;
         for (std::size_t n = 0; n < count; ++n)
             for (int dz = -1; dz <= 1; ++dz)
                 for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) load(nodes[n].origin.offsetBy(dx * kNodeVoxels, dy * kNodeVoxels, dz * kNodeVoxels));
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const openvdb::Coord node = nodes[n].origin.offsetBy(dx * kNodeVoxels, dy * kNodeVoxels, dz * kNodeVoxels);
+                        if (loaded_.emplace(ifc_z_major(node), nullptr).second) missing.push_back(node);
+                    }
+        std::vector<std::unique_ptr<Table>> made(missing.size());
+        tbb::parallel_for(std::size_t{0}, missing.size(), [&](std::size_t m) { made[m] = table_of(missing[m]); });
+        for (std::size_t m = 0; m < missing.size(); ++m) {
+            if (made[m]) loaded_[ifc_z_major(missing[m])] = std::move(made[m]);
+            else loaded_.erase(ifc_z_major(missing[m]));  // no node there
+        }
     }
 
     /// The vertex @a key names: its number (before unused ones are dropped) and position,
@@ -70,12 +80,13 @@ public:
     }
 
 private:
-    void load(const openvdb::Coord& node) {
+    /// The table of the node at @a node, from the spill or another rank's; null when neither
+    /// holds that node.
+    std::unique_ptr<Table> table_of(const openvdb::Coord& node) const {
         const auto key = ifc_z_major(node);
-        if (loaded_.count(key) != 0) return;
         const auto record = by_origin_.find(key);
         const auto other = foreign_ ? foreign_->find(key) : Foreign::const_iterator();
-        if (record == by_origin_.end() && (!foreign_ || other == foreign_->end())) return;
+        if (record == by_origin_.end() && (!foreign_ || other == foreign_->end())) return nullptr;
         auto table = std::make_unique<Table>();
         table->origin = node;
         std::vector<VertexRecord> vertices;
@@ -94,7 +105,7 @@ private:
             table->positions[v] = vertices[v].position;
         }
         table->index = std::make_unique<IfcKeyIndex>(keys);
-        loaded_[key] = std::move(table);
+        return table;
     }
 
     const IfcSpill& spill_;
