@@ -323,7 +323,7 @@ Mesh bricked_contouring(const GridRegionSource& source, const MeshOptions& optio
 void bricked_contouring_to_stream(const GridRegionSource& source, const MeshOptions& options, const BrickOptions& bricks, bool mirrored,
                                   MeshStreamSink& sink, MeshReport& report) {
     IfcSpill spill(bricks.memory_bytes > 0 ? TempFile::Held::on_disk : TempFile::Held::in_memory);
-    // A layer's nodes are appended to the spill (a file) while the next layer is built, one
+    // A layer's nodes are appended to the spill while the next layer is built, one
     // layer at most in flight; with one thread, at once. "spill" times the waits.
     const std::launch when = tbb::this_task_arena::max_concurrency() == 1 ? std::launch::deferred : std::launch::async;
     std::future<void> appending;
