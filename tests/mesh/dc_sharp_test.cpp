@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <openvdb/openvdb.h>
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -28,6 +29,7 @@
 #include "test_data.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/phantom.h"
@@ -179,22 +181,23 @@ std::array<SharpRun, 3> expect_sharp_no_worse(const char* name) {
 }
 
 // Issue 29 asks `--sharp --error 0.1` within 0.2 voxel of the exact cube with 10x fewer
-// triangles than at error 0: NOT met (docs/dmc.md, "Sharp features"). The edges come within 0.2
-// on the axis-aligned cube, its corners do not: each corner's QEF point lies about 0.4 voxel
-// inside along the cube's diagonal, pulled by the crossings near the corner, which lie on the
-// rounded trilinear isosurface with its normals. Measured (this test, 128^3): axis-aligned
-// error 0 76,796 triangles, Hausdorff 0.577; error 0.1 8,348, 0.577; --sharp 3,228, 0.413.
-// Tilted: 72,188, 0.758; 14,428, 0.758; 10,152, 0.689. What is held here: clean, closer than
-// without --sharp, the axis-aligned cube more than 0.1 voxel closer and 10x lighter than error 0.
+// triangles than at error 0 (docs/dmc.md, "Sharp features"): met on the axis-aligned cube, NOT
+// on the tilted one. A feature cell's point is where the faces found in a window 3 voxels wider
+// than the cell meet (dc_feature_window.cpp); along the tilted cube's edges many cells of 2
+// voxels fail the topology tests (the edge pokes through the middle sample of a cell edge) and
+// stay Marching Cubes cells on the rounded surface. Measured (this test, 128^3): axis-aligned
+// error 0 76,796 triangles, Hausdorff 0.577; error 0.1 8,348, 0.577; --sharp 3,228, 0.167.
+// Tilted: 72,188, 0.758; 14,428, 0.758; 9,984, 0.739. What is held here: clean, no farther
+// than without --sharp, the axis-aligned cube within the issue's 0.2 voxel and 10x lighter.
 TEST(DcSharpTest, CubesAreCleanAndCloserToTheExactCubeThanWithoutSharp) {
     const auto aligned = expect_sharp_no_worse("cube");
-    EXPECT_LE(aligned[2].distance.hausdorff, aligned[1].distance.hausdorff - 0.1);
+    EXPECT_LE(aligned[2].distance.hausdorff, 0.2);  // the issue's bar
     EXPECT_LE(10 * aligned[2].mesh.triangles.size(), aligned[0].mesh.triangles.size());
     expect_sharp_no_worse("rotated-cube");
 }
 
 // Measured (128^3): cube minus sphere error 0 80,608 triangles, Hausdorff 0.830; error 0.1
-// 37,010, 0.871; --sharp 29,082, 0.871. Cylinder: 96,892, 0.476; 10,052, 0.476; 6,776, 0.436.
+// 37,010, 0.871; --sharp 29,090, 0.871. Cylinder: 96,892, 0.476; 10,052, 0.476; 6,780, 0.436.
 TEST(DcSharpTest, CubeMinusSphereAndCylinderAreCleanAndNoFartherFromTheirExactSurfaces) {
     expect_sharp_no_worse("cube-minus-sphere");
     expect_sharp_no_worse("cylinder");
@@ -224,6 +227,28 @@ TEST(DcSharpTest, OneAndTwoThreadsGiveTheSameMesh) {
     }
     EXPECT_EQ(meshes[0].vertices, meshes[1].vertices);
     EXPECT_EQ(meshes[0].triangles, meshes[1].triangles);
+}
+
+// The feature point reads samples up to 4 voxels beyond its cell (dc_feature_window.h): by
+// bricks of one and two nodes, 1 and 2 threads, the same bytes as the whole grid, on the tilted
+// cube placed where eight nodes meet (its edges and corners cross the node borders).
+TEST(DcSharpTest, BricksGiveTheWholeGridsMesh) {
+    PhantomSpec spec = phantom_preset("rotated-cube", {168, 168, 168});
+    spec.centre = std::array<double, 3>{128.3, 127.6, 128.45};
+    const auto grid = test::phantom_scan_grid(spec);
+    const MeshOptions options = dc_at(0.1, true);
+    Mesh whole;
+    tbb::task_arena(2).execute([&] { whole = mesh_grid(*grid, options).mesh; });
+    const std::unique_ptr<GridRegionSource> source = grid_regions_in_memory(grid);
+    for (const auto& [nodes_x, threads] : std::vector<std::pair<int, int>>{{1, 1}, {1, 2}, {2, 2}}) {
+        BrickShape shape;
+        shape.nodes_x = nodes_x;
+        shape.nodes_y = 1;
+        Mesh bricked;
+        tbb::task_arena(threads).execute([&] { bricked = mesh_bricks(*source, options, BrickOptions{shape}).mesh; });
+        EXPECT_EQ(bricked.vertices, whole.vertices) << nodes_x << " node(s) a brick, " << threads << " thread(s)";
+        EXPECT_EQ(bricked.triangles, whole.triangles) << nodes_x << " node(s) a brick, " << threads << " thread(s)";
+    }
 }
 
 /// The triangles of @a mesh whose corners all lie more than @a away voxels from every edge of
