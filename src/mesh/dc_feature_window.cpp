@@ -2,6 +2,9 @@
 
 #include "mesh/dc_feature_window.h"
 
+#include <Eigen/Eigenvalues>
+
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -21,6 +24,11 @@ constexpr double kSameFaceOffset = 0.02;
 /// A face is taken from at least this many crossings: the rounded zone's few agreeing
 /// neighbours do not make one.
 constexpr int kFaceMinCrossings = 6;
+/// A face's crossings spread over an area: the smaller spread of their positions across its
+/// normal at least this (voxels; the square root of the covariance's middle eigenvalue). Along
+/// an axis-aligned edge the rounded zone's crossings repeat along the edge, the same plane each,
+/// and would make a face of one line.
+constexpr double kFaceMinSpread = 0.5;
 /// A face takes part in the cell's feature when its plane passes this close (voxels) to the
 /// cell's own estimate, which the rounding moves at most 0.45 voxel off the feature
 /// (docs/dmc.md); a face farther away belongs to another edge or corner in the window.
@@ -102,7 +110,20 @@ struct Face {
     Plane seed;
     Point3d normal_sum{};
     double offset_sum = 0;
+    Point3d point_sum{};
+    std::array<double, 6> point_products{};  ///< xx, xy, xz, yy, yz, zz
     int count = 0;
+    /// Whether the crossings spread over an area (kFaceMinSpread), not along a line.
+    bool spread() const {
+        Eigen::Matrix3d covariance;
+        const auto& p = point_products;
+        covariance << p[0], p[1], p[2], p[1], p[3], p[4], p[2], p[4], p[5];
+        const Eigen::Vector3d mean(point_sum[0] / count, point_sum[1] / count, point_sum[2] / count);
+        covariance = covariance / count - mean * mean.transpose();
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+        eigen.computeDirect(covariance, Eigen::EigenvaluesOnly);
+        return eigen.eigenvalues()[1] >= kFaceMinSpread * kFaceMinSpread;  // ascending
+    }
     Point3d normal() const {
         const double length = std::sqrt(dot(normal_sum, normal_sum));
         return {normal_sum[0] / length, normal_sum[1] / length, normal_sum[2] / length};
@@ -128,6 +149,10 @@ std::vector<Face> group_faces(const std::vector<Plane>& planes) {
         }
         for (int a = 0; a < 3; ++a) home->normal_sum[a] += plane.normal[a];
         home->offset_sum += dot(plane.normal, plane.point);
+        const Point3d& p = plane.point;
+        const double products[6] = {p[0] * p[0], p[0] * p[1], p[0] * p[2], p[1] * p[1], p[1] * p[2], p[2] * p[2]};
+        for (int i = 0; i < 6; ++i) home->point_products[i] += products[i];
+        for (int a = 0; a < 3; ++a) home->point_sum[a] += p[a];
         ++home->count;
     }
     return faces;
@@ -144,7 +169,7 @@ std::optional<Point3d> window_feature_point(const FeatureWindowSource& source, d
     const std::vector<Face> faces = group_faces(window_planes(samples, iso, *source.classifier, 1, dim - 2));
     Qef3 feature;
     for (const Face& face : faces) {
-        if (face.count < kFaceMinCrossings) continue;
+        if (face.count < kFaceMinCrossings || !face.spread()) continue;
         const Point3d n = face.normal();
         const double distance = dot(n, estimate) - face.offset();
         if (std::abs(distance) > kFaceNearEstimate) continue;
