@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "mesh/edge_crossing.h"
+#include "mesh/dc_feature_window.h"
 #include "mesh/dc_qef.h"
 #include "mesh/sample_classifier.h"
 
@@ -60,6 +61,8 @@ struct IfcSamples {
     /// The scanned box (the classifier's), where the grid has one; samples beyond it take its
     /// outside value.
     const openvdb::CoordBBox* scan_box = nullptr;
+    /// Where the samples were read from: `--sharp` reads a wider window round a feature cell.
+    FeatureWindowSource source;
     /// Whether every sample is on the same side.
     bool uniform() const;
     /// Marching Cubes configuration of the unit cell at local (x, y, z): bit c for corner c inside.

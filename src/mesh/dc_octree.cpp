@@ -19,6 +19,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <optional>
 
 #include "mesh/dc_block.h"
 #include "mesh/dc_fan.h"
@@ -87,6 +88,7 @@ void load_ifc_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleC
         }
     }
     samples.scan_box = classifier.scan_box() ? &*classifier.scan_box() : nullptr;
+    samples.source = {&accessor, &classifier};
     const openvdb::CoordBBox window(samples.origin.offsetBy(-1), samples.origin.offsetBy(kIfcSampleDim - 2));
     if (samples.scan_box && !samples.scan_box->isInside(window)) {
         // Samples beyond the scanned box take its outside value: whole rows where x or y is
@@ -413,17 +415,23 @@ private:
                surface_near_fan(vertex, min, size, slack);
     }
 
-    /// `--sharp`: the QEF minimiser of a feature cell (the edge's or corner's point), clamped
-    /// into the cell kIfcInteriorMargin from its faces, into @a vertex if it passes the
-    /// accuracy tests kSharpReach beyond the error.
+    /// `--sharp`: the feature point of a feature cell into @a vertex if it passes the accuracy
+    /// tests kSharpReach beyond the error, clamped into the cell kIfcInteriorMargin from its
+    /// faces: first where the faces of a wider window meet (window_feature_point()), then the
+    /// cell's own QEF minimiser.
     bool place_feature_vertex(const openvdb::Coord& origin, const std::array<int, 3>& min, int size, const Qef3& qef,
                               Point3d& vertex) const {
         std::array<IfcVertexBox, 3> boxes;
         ifc_vertex_boxes(origin, size, s_->scan_box, boxes);
-        const Point3d candidate = boxes.back().clamp(qef.minimiser());
-        if (!accurate(candidate, min, size, kSharpReach)) return false;
-        vertex = candidate;
-        return true;
+        const Point3d estimate = qef.minimiser();
+        const auto offer = [&](const Point3d& point) {
+            const Point3d candidate = boxes.back().clamp(point);
+            if (!accurate(candidate, min, size, kSharpReach)) return false;
+            vertex = candidate;
+            return true;
+        };
+        const std::optional<Point3d> from_window = window_feature_point(s_->source, iso_, origin, size, estimate);
+        return (from_window && offer(*from_window)) || offer(estimate);
     }
 
     /// Bit 2 * axis + side for each face of the whole block the surface only clips (ifc_chord_spans_face()).

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <openvdb/openvdb.h>
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -16,18 +17,22 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "cgal_judge.h"
 #include "cli.h"
+#include "mesh/dc_feature_window.h"
+#include "mesh/sample_classifier.h"
 #include "mesh_checks.h"
 #include "phantom_grid.h"
 #include "shared_scan.h"
 #include "test_data.h"
 #include "vdbmesh/analysis.h"
 #include "vdbmesh/grid.h"
+#include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesh_io.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/phantom.h"
@@ -179,22 +184,23 @@ std::array<SharpRun, 3> expect_sharp_no_worse(const char* name) {
 }
 
 // Issue 29 asks `--sharp --error 0.1` within 0.2 voxel of the exact cube with 10x fewer
-// triangles than at error 0: NOT met (docs/dmc.md, "Sharp features"). The edges come within 0.2
-// on the axis-aligned cube, its corners do not: each corner's QEF point lies about 0.4 voxel
-// inside along the cube's diagonal, pulled by the crossings near the corner, which lie on the
-// rounded trilinear isosurface with its normals. Measured (this test, 128^3): axis-aligned
-// error 0 76,796 triangles, Hausdorff 0.577; error 0.1 8,348, 0.577; --sharp 3,228, 0.413.
-// Tilted: 72,188, 0.758; 14,428, 0.758; 10,152, 0.689. What is held here: clean, closer than
-// without --sharp, the axis-aligned cube more than 0.1 voxel closer and 10x lighter than error 0.
+// triangles than at error 0 (docs/dmc.md, "Sharp features"): met on the axis-aligned cube, NOT
+// on the tilted one. A feature cell's point is where the faces found in a window 3 voxels wider
+// than the cell meet (dc_feature_window.cpp); along the tilted cube's edges many cells of 2
+// voxels fail the topology tests (the edge pokes through the middle sample of a cell edge) and
+// stay Marching Cubes cells on the rounded surface. Measured (this test, 128^3): axis-aligned
+// error 0 76,796 triangles, Hausdorff 0.577; error 0.1 8,348, 0.577; --sharp 3,228, 0.000.
+// Tilted: 72,188, 0.758; 14,428, 0.758; 9,986, 0.739. What is held here: clean, no farther
+// than without --sharp, the axis-aligned cube within the issue's 0.2 voxel and 10x lighter.
 TEST(DcSharpTest, CubesAreCleanAndCloserToTheExactCubeThanWithoutSharp) {
     const auto aligned = expect_sharp_no_worse("cube");
-    EXPECT_LE(aligned[2].distance.hausdorff, aligned[1].distance.hausdorff - 0.1);
+    EXPECT_LE(aligned[2].distance.hausdorff, 0.2);  // the issue's bar
     EXPECT_LE(10 * aligned[2].mesh.triangles.size(), aligned[0].mesh.triangles.size());
     expect_sharp_no_worse("rotated-cube");
 }
 
 // Measured (128^3): cube minus sphere error 0 80,608 triangles, Hausdorff 0.830; error 0.1
-// 37,010, 0.871; --sharp 29,082, 0.871. Cylinder: 96,892, 0.476; 10,052, 0.476; 6,776, 0.436.
+// 37,010, 0.871; --sharp 29,082, 0.871. Cylinder: 96,892, 0.476; 10,052, 0.476; 6,770, 0.436.
 TEST(DcSharpTest, CubeMinusSphereAndCylinderAreCleanAndNoFartherFromTheirExactSurfaces) {
     expect_sharp_no_worse("cube-minus-sphere");
     expect_sharp_no_worse("cylinder");
@@ -214,6 +220,43 @@ TEST(DcSharpTest, SmoothSurfacesGiveTheSameMesh) {
     }
 }
 
+/// window_feature_point() for the cell of @a size holding @a point of @a grid (its minimum
+/// corner a multiple of @a size), from the estimate @a estimate.
+std::optional<std::array<double, 3>> feature_point_near(const openvdb::FloatGrid& grid, const Vec3& point, int size, const Vec3& estimate) {
+    const detail::SampleClassifier classifier(grid, dc_at(0.1, true));
+    auto accessor = grid.getConstAccessor();
+    openvdb::Coord min;
+    for (int a = 0; a < 3; ++a) min[a] = int(std::floor(point[a] / size)) * size;
+    return detail::window_feature_point({&accessor, &classifier}, 0.5, min, size, {estimate[0], estimate[1], estimate[2]});
+}
+
+// The window's faces meet at the exact corner (the phantoms' own geometry, placed() above): on
+// the axis-aligned cube (cells of 2 and 8) and on the tilted one (cells of 8: a cell of 2 at a
+// tilted corner may see too few exact crossings of a face within its window), from an estimate
+// 0.4 voxel inside along the diagonal (where the cell's own QEF puts it, docs/dmc.md). 0.02
+// voxel: the faces' crossings are exact to the floats' 1e-6, but a face's plane is averaged over
+// crossings whose normals agree within 1.8 degrees. On the sphere no two faces pin down a feature.
+TEST(DcSharpTest, TheWindowsFacesMeetAtTheExactCorner) {
+    for (const char* name : {"cube", "rotated-cube"}) {
+        const PhantomSpec spec = preset(name);
+        const auto grid = test::phantom_scan_grid(spec);
+        const Vec3 centre = placed(spec, Vec3(0, 0, 0));
+        for (const Vec3& local : {Vec3(-1, -1, -1), Vec3(1, -1, 1), Vec3(1, 1, 1)}) {
+            const Vec3 corner = placed(spec, local * (spec.side / 2));
+            const Vec3 inward = (centre - corner).unitSafe();
+            for (int size : std::string(name) == "cube" ? std::vector<int>{2, 8} : std::vector<int>{8}) {
+                const auto point = feature_point_near(*grid, corner, size, corner + 0.4 * inward);
+                ASSERT_TRUE(point) << name << " corner " << corner << ", cell of " << size;
+                EXPECT_LT((Vec3((*point)[0], (*point)[1], (*point)[2]) - corner).length(), 0.02) << name << " corner " << corner;
+            }
+        }
+    }
+    const PhantomSpec sphere = preset("sphere");
+    const auto grid = test::phantom_scan_grid(sphere);
+    const Vec3 on_surface = placed(sphere, Vec3(1, 2, 2) * (sphere.radius / 3));
+    EXPECT_FALSE(feature_point_near(*grid, on_surface, 4, on_surface));
+}
+
 // The same bytes for any thread count, as without --sharp.
 TEST(DcSharpTest, OneAndTwoThreadsGiveTheSameMesh) {
     const auto grid = test::phantom_scan_grid(preset("rotated-cube"));
@@ -224,6 +267,28 @@ TEST(DcSharpTest, OneAndTwoThreadsGiveTheSameMesh) {
     }
     EXPECT_EQ(meshes[0].vertices, meshes[1].vertices);
     EXPECT_EQ(meshes[0].triangles, meshes[1].triangles);
+}
+
+// The feature point reads samples up to 4 voxels beyond its cell (dc_feature_window.h): by
+// bricks of one and two nodes, 1 and 2 threads, the same bytes as the whole grid, on the tilted
+// cube placed where eight nodes meet (its edges and corners cross the node borders).
+TEST(DcSharpTest, BricksGiveTheWholeGridsMesh) {
+    PhantomSpec spec = phantom_preset("rotated-cube", {168, 168, 168});
+    spec.centre = std::array<double, 3>{128.3, 127.6, 128.45};
+    const auto grid = test::phantom_scan_grid(spec);
+    const MeshOptions options = dc_at(0.1, true);
+    Mesh whole;
+    tbb::task_arena(2).execute([&] { whole = mesh_grid(*grid, options).mesh; });
+    const std::unique_ptr<GridRegionSource> source = grid_regions_in_memory(grid);
+    for (const auto& [nodes_x, threads] : std::vector<std::pair<int, int>>{{1, 1}, {1, 2}, {2, 2}}) {
+        BrickShape shape;
+        shape.nodes_x = nodes_x;
+        shape.nodes_y = 1;
+        Mesh bricked;
+        tbb::task_arena(threads).execute([&] { bricked = mesh_bricks(*source, options, BrickOptions{shape}).mesh; });
+        EXPECT_EQ(bricked.vertices, whole.vertices) << nodes_x << " node(s) a brick, " << threads << " thread(s)";
+        EXPECT_EQ(bricked.triangles, whole.triangles) << nodes_x << " node(s) a brick, " << threads << " thread(s)";
+    }
 }
 
 /// The triangles of @a mesh whose corners all lie more than @a away voxels from every edge of
