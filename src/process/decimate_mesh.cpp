@@ -550,6 +550,27 @@ struct Scratch {
     std::array<std::vector<std::uint32_t>, 2> neighbours;  ///< the neighbours of a plan's ends (link condition)
 };
 
+/// The points between two planes across an axis, as far apart as the points added need (each
+/// widened by the rounding of its distance along the axis, so a point added is certainly within).
+struct Slab {
+    Vec3d axis{}, origin{};
+    double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
+    void add(const Vec3d& p) {
+        const detail::SignedDistance d = detail::along(axis, origin, p);
+        lo = std::min(lo, d.value - d.error), hi = std::max(hi, d.value + d.error);
+    }
+    /// Whether the points of @a t certainly all lie beyond one of the planes (then the triangle
+    /// misses the slab).
+    bool misses(const FloatTriangle& t) const {
+        int below = 0, above = 0;
+        for (const auto& q : t) {
+            const detail::SignedDistance d = detail::along(axis, origin, to_double(q));
+            below += d.value + d.error < lo, above += d.value - d.error > hi;
+        }
+        return below == 3 || above == 3;
+    }
+};
+
 class Decimator {
 public:
     Decimator(const Mesh& mesh, const DecimateOptions& options)
@@ -1189,11 +1210,13 @@ private:
     /// The new triangles cross neither each other nor any triangle near them off the old star.
     ///
     /// Most collapses are settled without a test between triangles: the new star crosses
-    /// nothing when some direction d is faced by all its triangles and by all those whose boxes
-    /// meet the box R of the old and the new star, and those all belong to one component:
+    /// nothing when some direction d is faced by all its triangles and by all those that meet a
+    /// convex region R holding the old and the new star, and those all belong to one component
+    /// (R: first the box of both stars, taken a grid cell at a time; then that box cut to the
+    /// slab of slab_around(), which leaves out most of a thin wall's far side):
     /// - Along a line the winding number of a closed embedded surface changes by one at each
     ///   crossing, up or down as the triangle faces; one component's takes two values only. So a
-    ///   segment along d within R (a box: convex) crosses the surface at most once, and the
+    ///   segment along d within R (convex) crosses the surface at most once, and the
     ///   surface in R projects one-to-one onto a plane across d, the old star too; its rim L
     ///   projects to a simple loop and the old star onto the inside of it.
     /// - Each triangle of the new fan (from the new vertex to L) turns the same way seen along d,
@@ -1224,10 +1247,15 @@ private:
         Summary in_cells = settled_grid_.summary(region);
         in_cells.add(moved_grid_.summary(region));
         if (apart(in_cells)) return true;
+        const Slab slab = slab_around(p, s);
         // (the triangles met: the visit stops as soon as they cannot clear the collapse)
         Summary met;
         const auto may_clear = [&](Summary near) { return near.add(p.fan), near.clears(); };
-        if (visit_triangles(region, [&](const GridTriangle& t, const Box&) { return met.add(t.summary), may_clear(met); }) && apart(met)) return true;
+        const auto add_met = [&](const GridTriangle& t, const Box&) {
+            if (!slab.misses(points_of(triangles_[t.triangle]))) met.add(t.summary);
+            return may_clear(met);
+        };
+        if (visit_triangles(region, add_met) && apart(met)) return true;
         prepare_star(s);
         if (!star_is_a_graph(a, s)) {
             for (std::size_t i = 0; i < s.star.size(); ++i) {
@@ -1242,10 +1270,31 @@ private:
                 return true;  // the old star, replaced
             }
             const Ids& ids = triangles_[t.triangle];
-            const detail::PreparedTriangle other({to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])});
+            const FloatTriangle points = points_of(ids);
+            if (slab.misses(points)) return true;  // (the new star lies within the slab)
+            const detail::PreparedTriangle other(to_double(points));
             return s.box_columns.for_meeting(box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], ids, other); });
         });
     }
+
+    /// The slab across the new fan's normal (the sum of its triangles' cross products) that
+    /// holds the old and the new star: their points are the new star's corners (the link and the
+    /// new position) and the edge's ends. Convex, so the box of both stars cut to it is too.
+    Slab slab_around(const Plan& p, const Scratch& s) const {
+        Slab slab;
+        for (const detail::Triangle3& t : s.corners) {
+            const Vec3d c = cross(sub(t[1], t[0]), sub(t[2], t[0]));
+            for (int k = 0; k < 3; ++k) slab.axis[k] += c[k];
+        }
+        slab.origin = to_double(position_[p.corner]);
+        for (const detail::Triangle3& t : s.corners) {
+            for (const Vec3d& q : t) slab.add(q);
+        }
+        slab.add(point(vertex(next(p.corner)))), slab.add(point(vertex(prev(p.corner))));
+        return slab;
+    }
+
+    FloatTriangle points_of(const Ids& t) const { return {positions_[t[0]], positions_[t[1]], positions_[t[2]]}; }
 
     /// Each vertex's component (triangles joined by shared vertices) and each component's
     /// enclosed volume (six times, the sum of its triangles' determinants).
