@@ -43,8 +43,13 @@
 #include <numeric>
 #include <string>
 
-#include "vdbmesh/separating_plane.h"
+#include "process/decimate_arrays.h"
+#include "process/decimate_box_grid.h"
+#include "process/decimate_candidates.h"
+#include "process/decimate_facing.h"
+#include "process/decimate_geometry.h"
 #include "process/quadric.h"
+#include "vdbmesh/separating_plane.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/geometry.h"
 #include "vdbmesh/process.h"
@@ -56,42 +61,41 @@ namespace {
 using detail::Quadric;
 using detail::Vec3d;
 using Ids = std::array<std::uint32_t, 3>;
-using Box = detail::Box;
-
-constexpr std::uint32_t kNone = ~0u;
+using detail::decimation::Array;
+using detail::decimation::Box;
+using detail::decimation::BoxColumns;
+using detail::decimation::BoxGrid;
+using detail::decimation::Candidate;
+using detail::decimation::FloatTriangle;
+using detail::decimation::Slab;
+using detail::decimation::Summary;
+using detail::decimation::cross;
+using detail::decimation::dot;
+using detail::decimation::empty_box;
+using detail::decimation::facing_directions;
+using detail::decimation::grow;
+using detail::decimation::holds_nothing;
+using detail::decimation::kAboveAll;
+using detail::decimation::kNone;
+using detail::decimation::parallel_array;
+using detail::decimation::sort_by_cost;
+using detail::decimation::sub;
+using detail::decimation::to_double;
+using detail::decimation::to_float;
 constexpr double kMaxTurnDegrees = 75;  ///< largest change of a triangle's normal in one collapse
 const double kMinTurnCosine = std::cos(kMaxTurnDegrees * 3.14159265358979323846 / 180);
 /// Ties of the quadric error (flat regions, where it is 0) go to the shorter edge, which keeps
 /// the triangles there from growing into needles.
 constexpr double kLengthWeight = 1e-3;
 constexpr double kNever = std::numeric_limits<double>::infinity();  ///< the cost of an edge that may not collapse
-constexpr std::size_t kCellsPerBox = 8;  ///< a grid has at most about this many cells per box
-constexpr double kCellEdges = 1;       ///< triangle grid cell size in mean triangle extents
 constexpr std::size_t kMinRound = 64;  ///< candidates a round takes at least
 /// ... and at least this share of the triangles: near the target a round applies only about a
 /// fifth of the few collapses still wanted, and every round costs passes over the whole mesh
 /// (CThead: 38 rounds without, 19 with, the largest quadric error 1% higher).
 constexpr std::size_t kMinRoundDivisor = 32;
 
-Vec3d sub(const Vec3d& a, const Vec3d& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3d cross(const Vec3d& a, const Vec3d& b) { return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; }
-double dot(const Vec3d& a, const Vec3d& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3d to_double(const std::array<float, 3>& p) { return {p[0], p[1], p[2]}; }
-std::array<float, 3> to_float(const Vec3d& p) { return {float(p[0]), float(p[1]), float(p[2])}; }
-using FloatTriangle = std::array<std::array<float, 3>, 3>;
-detail::Triangle3 to_double(const FloatTriangle& t) { return {to_double(t[0]), to_double(t[1]), to_double(t[2])}; }
-
 std::uint32_t next(std::uint32_t c) { return c % 3 == 2 ? c - 2 : c + 1; }
 std::uint32_t prev(std::uint32_t c) { return c % 3 == 0 ? c + 2 : c - 1; }
-
-Box empty_box() {
-    constexpr float inf = std::numeric_limits<float>::infinity();
-    return {{inf, inf, inf}, {-inf, -inf, -inf}};
-}
-bool holds_nothing(const Box& box) { return !(box.lo[0] <= box.hi[0]); }  ///< (as empty_box())
-void grow(Box& box, const std::array<float, 3>& p) {
-    for (int k = 0; k < 3; ++k) box.lo[k] = std::min(box.lo[k], p[k]), box.hi[k] = std::max(box.hi[k], p[k]);
-}
 
 void check_closed_manifold(const Mesh& mesh) {
     const detail::Topology topology = detail::analyze_topology(mesh);
@@ -103,402 +107,11 @@ void check_closed_manifold(const Mesh& mesh) {
     }
 }
 
-/// What the triangles in a part of space have in common: the directions they all face and the
-/// component they all belong to (kNone: no triangle; kMixed: more than one).
-struct Summary {
-    static constexpr std::uint32_t kMixed = kNone - 1;
-    std::uint32_t facing = ~0u;  ///< bit k: direction k of kDirections
-    std::uint32_t component = kNone;
-    void add(const Summary& o) {
-        facing &= o.facing;
-        component = component == kNone ? o.component : o.component == kNone || o.component == component ? component : kMixed;
-    }
-    /// Whether triangles with this in common clear a collapse (intersection_free()'s proof):
-    /// they all face a common direction, in one component.
-    bool clears() const { return component != kMixed && facing != 0; }
-};
-
-/// 32 directions spread evenly over the sphere (a golden-angle spiral).
-const std::array<Vec3d, 32> kDirections = [] {
-    std::array<Vec3d, 32> directions{};
-    for (std::size_t k = 0; k < directions.size(); ++k) {
-        const double z = 1 - (2 * double(k) + 1) / double(directions.size()), r = std::sqrt(1 - z * z), phi = double(k) * 2.399963229728653;
-        directions[k] = {r * std::cos(phi), r * std::sin(phi), z};
-    }
-    return directions;
-}();
-
-/// The directions of kDirections that every normal in a part of the sphere faces, for normals
-/// binned by the cube face their largest component points to and a kBins x kBins square there.
-class FacingTable {
-public:
-    static constexpr int kBins = 16;
-
-    FacingTable() {
-        for (int face = 0; face < 6; ++face) {
-            for (int i = 0; i < kBins; ++i) {
-                for (int j = 0; j < kBins; ++j) table_[(face * kBins + i) * kBins + j] = facing_all(face, i, j);
-            }
-        }
-    }
-
-    /// The directions that @a n certainly faces (the triangle's normal, from edges whose
-    /// squared lengths multiply to @a scale_squared): none when it is so short that its rounding
-    /// (2^-49 times the edges' lengths at most) could turn it by more than 1e-6.
-    std::uint32_t facing(const Vec3d& n, double scale_squared) const {
-        const double m[3] = {std::abs(n[0]), std::abs(n[1]), std::abs(n[2])};
-        const int axis = m[0] >= m[1] && m[0] >= m[2] ? 0 : m[1] >= m[2] ? 1 : 2;
-        if (!(m[axis] * m[axis] > 1e-12 * scale_squared)) return 0;
-        const int face = 2 * axis + (n[axis] < 0);
-        const double inverse = 1 / m[axis];
-        return table_[(face * kBins + bin(n[(axis + 1) % 3] * inverse)) * kBins + bin(n[(axis + 2) % 3] * inverse)];
-    }
-
-private:
-    static int bin(double t) { return std::clamp(int(std::floor((t + 1) / 2 * kBins)), 0, kBins - 1); }
-
-    /// The directions faced by every ray through the square (i, j) of @a face, and by rays
-    /// within 1e-6 of it: the dot product is linear over the square, least at a corner.
-    static std::uint32_t facing_all(int face, int i, int j) {
-        const int axis = face / 2;
-        const double sign = face % 2 ? -1 : 1;
-        std::uint32_t facing = ~0u;
-        for (const int di : {0, 1}) {
-            for (const int dj : {0, 1}) {
-                Vec3d corner{};
-                corner[std::size_t(axis)] = sign;
-                corner[std::size_t((axis + 1) % 3)] = -1 + 2.0 * (i + di) / kBins;
-                corner[std::size_t((axis + 2) % 3)] = -1 + 2.0 * (j + dj) / kBins;
-                const double length = std::sqrt(dot(corner, corner));
-                std::uint32_t faced = 0;
-                for (std::size_t k = 0; k < kDirections.size(); ++k) {
-                    if (dot(kDirections[k], corner) > 1e-5 * length) faced |= 1u << k;
-                }
-                facing &= faced;
-            }
-        }
-        return facing;
-    }
-
-    std::array<std::uint32_t, 6 * kBins * kBins> table_;
-};
-
-const FacingTable kFacingTable;
-
-/// The directions of kDirections that triangle @a t certainly faces (its normal's dot product
-/// with them is positive); none for a degenerate one.
-std::uint32_t facing_directions(const detail::Triangle3& t) {
-    const Vec3d e1 = sub(t[1], t[0]), e2 = sub(t[2], t[0]);
-    return kFacingTable.facing(cross(e1, e2), dot(e1, e1) * dot(e2, e2));
-}
-
-/// Leaves the elements it makes default-initialized (a float or an index is not zeroed): the
-/// decimator's arrays, about 650 MB for the bunny CT's 3 million triangles, are first written
-/// by all threads, not zeroed by one when made.
-template <class T>
-struct Unzeroed : std::allocator<T> {
-    template <class U>
-    struct rebind {
-        using other = Unzeroed<U>;
-    };
-    Unzeroed() = default;
-    template <class U>
-    Unzeroed(const Unzeroed<U>&) noexcept {}
-    template <class U>
-    void construct(U* p) noexcept(noexcept(U())) {
-        ::new (static_cast<void*>(p)) U;
-    }
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-};
-template <class T>
-using Array = std::vector<T, Unzeroed<T>>;
-
-/// @a count elements made by @a make(i), in parallel.
-template <class T, class Make>
-Array<T> parallel_array(std::size_t count, Make&& make) {
-    Array<T> array(count);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, std::size_t(1) << 16), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i != range.end(); ++i) array[i] = make(i);
-    });
-    return array;
-}
-
-/// Boxes with payloads (what a query needs of each, and a Summary) in a uniform grid, each in
-/// the cell of its low corner (one larger than a cell: in every cell it meets), for finding the
-/// boxes that meet a box, or what all those near a box have in common. Built at once and
-/// read-only after.
-template <class Payload>
-class BoxGrid {
-public:
-    /// The boxes box_of(i) with payloads payload_of(i), i < @a count, but the empty ones
-    /// (lo > hi), in cells of kCellEdges mean extents, made at least the largest extent of 99% of
-    /// the boxes, and coarser where the boxes are spread thin (at most about eight cells per box).
-    /// @a domain: the box the cells cover, when given (a box out of it is kept in the cells at
-    /// its rim, and queries clamp the same way); else the boxes' box.
-    template <class BoxOf, class PayloadOf>
-    void build(std::size_t count, BoxOf&& box_of, PayloadOf&& payload_of, const Box* domain = nullptr) {
-        struct Bounds {
-            Box box = empty_box();
-            std::size_t boxes = 0;  ///< not empty
-        };
-        const Bounds bounds = domain ? Bounds{*domain, count} : tbb::parallel_reduce(
-            tbb::blocked_range<std::size_t>(0, count, 16384), Bounds{},
-            [&](const auto& range, Bounds bounds) {
-                for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                    const Box b = box_of(i);
-                    if (!holds_nothing(b)) grow(bounds.box, b.lo), grow(bounds.box, b.hi), ++bounds.boxes;
-                }
-                return bounds;
-            },
-            [](Bounds a, const Bounds& b) { return grow(a.box, b.box.lo), grow(a.box, b.box.hi), a.boxes += b.boxes, a; });
-        // (the extents of a regular sample: the cell size sets only the speed of the queries)
-        constexpr std::size_t kExtentSamples = 65536;
-        std::vector<float> extents;
-        for (std::size_t i = 0; i < count; i += std::max<std::size_t>(1, count / kExtentSamples)) {
-            const Box& b = box_of(i);
-            if (!holds_nothing(b)) extents.push_back(std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]}));
-        }
-        double cell = extents.empty() ? 0 : kCellEdges * std::accumulate(extents.begin(), extents.end(), 0.0) / double(extents.size());
-        if (!extents.empty()) {
-            const auto most = extents.begin() + std::ptrdiff_t(std::size_t(0.99 * double(extents.size() - 1)));
-            std::nth_element(extents.begin(), most, extents.end());
-            cell = std::max(cell, double(*most));
-        }
-        cell_ = cell > 0 ? cell : 1;
-        const bool none = bounds.boxes == 0;
-        for (;;) {
-            std::uint64_t cells = 1;
-            for (int k = 0; k < 3; ++k) {
-                origin_[k] = none ? 0 : bounds.box.lo[k];
-                dims_[k] = none ? 1 : std::int64_t(std::floor((double(bounds.box.hi[k]) - origin_[k]) / cell_)) + 1;
-                cells *= std::uint64_t(dims_[k]);
-            }
-            if (cells <= kCellsPerBox * bounds.boxes + 64) break;
-            cell_ *= 1.25;
-        }
-        const std::size_t cells = std::size_t(dims_[0] * dims_[1] * dims_[2]);
-        // A counting sort by cell: start_[c] counts up to the end of cell c, then down to its
-        // start as its boxes are put in (from the last), so a cell keeps them in order.
-        start_.assign(cells + 1, 0);
-        // The cell of each box of a cell or less (found once, in parallel); kLarge for larger
-        // ones, kNone for empty ones.
-        constexpr std::uint32_t kLarge = kNone - 1;
-        cell_of_.resize(count);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 8192), [&](const auto& range) {
-            for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                const Box& b = box_of(i);
-                cell_of_[i] = holds_nothing(b) ? kNone : small(b) ? std::uint32_t(index(cell_coordinates(b.lo))) : kLarge;
-            }
-        });
-        for (std::size_t i = 0; i < count; ++i) {
-            if (cell_of_[i] < kLarge) ++start_[cell_of_[i]];
-            else if (cell_of_[i] == kLarge) for_cells(box_of(i), [&](std::size_t c) { ++start_[c]; });
-        }
-        for (std::size_t c = 1; c <= cells; ++c) start_[c] += start_[c - 1];
-        entries_.resize(start_[cells]);
-        for (std::size_t i = count; i-- > 0;) {
-            if (cell_of_[i] == kNone) continue;
-            const Box& b = box_of(i);
-            const auto put = [&](std::size_t c) {
-                const std::uint32_t at = --start_[c];
-                entries_[at] = {b, payload_of(i)};
-            };
-            if (cell_of_[i] != kLarge) put(cell_of_[i]);
-            else for_cells(b, put);
-        }
-        // Each cell's summary at its first entry.
-        summaries_.resize(start_[cells]);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells, 65536), [&](const auto& range) {
-            for (std::size_t c = range.begin(); c != range.end(); ++c) {
-                if (start_[c] == start_[c + 1]) continue;
-                Summary common;
-                for (std::uint32_t i = start_[c]; i < start_[c + 1]; ++i) common.add(entries_[i].payload.summary);
-                summaries_[start_[c]] = common;
-            }
-        });
-    }
-
-    bool empty() const { return start_.empty(); }  ///< never built
-
-    /// What the payloads of the boxes that meet @a box have in common (their summaries), with
-    /// more (those of the cells visit() passes over).
-    Summary summary(const Box& box) const {
-        assert(summaries_.size() == entries_.size());
-        Summary common;
-        for_query_rows(box, [&](std::size_t first, std::size_t last) {
-            for (std::size_t c = first; c <= last; ++c) {
-                if (start_[c] != start_[c + 1]) common.add(summaries_[start_[c]]);
-            }
-            return true;
-        });
-        return common;
-    }
-
-    /// Calls visit(payload, box) for each entry whose box meets @a box (one larger than a cell may
-    /// come more than once); stops when visit returns false. Returns whether it went through.
-    template <class Visit>
-    bool visit(const Box& box, Visit&& visit) const {
-        return for_query_rows(box, [&](std::size_t first, std::size_t last) {
-            for (std::uint32_t i = start_[first]; i < start_[last + 1]; ++i) {
-                if (detail::boxes_overlap(entries_[i].box, box) && !visit(entries_[i].payload, entries_[i].box)) return false;
-            }
-            return true;
-        });
-    }
-
-private:
-    /// Calls rows(first, last) for each row of cells [first, last] that may hold a box meeting
-    /// @a box, until it returns false; returns whether it went through. A box of a cell or less
-    /// that meets @a box has its low corner in [box.lo - cell, box.hi], so in the cells from the
-    /// one before box.lo's; a larger one is in the cells of a point they share.
-    template <class Rows>
-    bool for_query_rows(const Box& box, Rows&& rows) const {
-        std::array<std::int64_t, 3> from = cell_coordinates(box.lo);
-        for (std::int64_t& c : from) c = std::max<std::int64_t>(c - 1, 0);
-        const std::array<std::int64_t, 3> to = cell_coordinates(box.hi);
-        for (std::int64_t z = from[2]; z <= to[2]; ++z) {
-            for (std::int64_t y = from[1]; y <= to[1]; ++y) {
-                const std::size_t row = index({0, y, z});
-                if (!rows(row + std::size_t(from[0]), row + std::size_t(to[0]))) return false;
-            }
-        }
-        return true;
-    }
-
-    /// Calls call(cell) for each cell a box larger than a cell meets (a smaller box is kept in
-    /// the cell of its low corner alone).
-    template <class Call>
-    void for_cells(const Box& box, Call&& call) const {
-        const std::array<std::int64_t, 3> from = cell_coordinates(box.lo);
-        const std::array<std::int64_t, 3> to = cell_coordinates(box.hi);
-        for (std::int64_t z = from[2]; z <= to[2]; ++z) {
-            for (std::int64_t y = from[1]; y <= to[1]; ++y) {
-                for (std::int64_t x = from[0]; x <= to[0]; ++x) call(index({x, y, z}));
-            }
-        }
-    }
-
-    bool small(const Box& box) const {
-        bool small = true;
-        for (int k = 0; k < 3; ++k) small &= double(box.hi[k]) - box.lo[k] <= cell_;
-        return small;
-    }
-
-    std::array<std::int64_t, 3> cell_coordinates(const std::array<float, 3>& p) const {
-        std::array<std::int64_t, 3> c{};
-        for (int k = 0; k < 3; ++k) {
-            const double x = std::floor((double(p[k]) - origin_[k]) / cell_);
-            c[k] = x < 0 ? 0 : x >= double(dims_[k]) ? dims_[k] - 1 : std::int64_t(x);
-        }
-        return c;
-    }
-    std::size_t index(const std::array<std::int64_t, 3>& c) const { return std::size_t(c[0] + dims_[0] * (c[1] + dims_[1] * c[2])); }
-
-    double cell_ = 1;
-    std::array<double, 3> origin_{};
-    std::array<std::int64_t, 3> dims_{1, 1, 1};
-    std::vector<std::uint32_t> start_;  ///< entries of cell c: [start_[c], start_[c + 1])
-    struct Entry {
-        Box box;
-        Payload payload;
-    };
-    std::vector<Entry> entries_;      ///< by cell (a box beside its payload: one line to write when built)
-    std::vector<Summary> summaries_;  ///< each cell's at its first entry
-    std::vector<std::uint32_t> cell_of_;  ///< (build()'s, kept for its memory)
-};
-
-/// Boxes in columns, to find at once which of them meet a box (without a branch per box).
-class BoxColumns {
-public:
-    void assign(const std::vector<Box>& boxes) {
-        for (int k = 0; k < 3; ++k) {
-            lo_[k].resize(boxes.size()), hi_[k].resize(boxes.size());
-            for (std::size_t i = 0; i < boxes.size(); ++i) lo_[k][i] = boxes[i].lo[k], hi_[k][i] = boxes[i].hi[k];
-        }
-    }
-
-    /// Calls call(i) for each box i that meets @a box, in order, until it returns false;
-    /// returns whether it went through.
-    template <class Call>
-    bool for_meeting(const Box& box, Call&& call) const {
-        const std::size_t size = lo_[0].size();
-        for (std::size_t base = 0; base < size; base += 64) {
-            const std::size_t count = std::min<std::size_t>(64, size - base);
-            std::uint64_t meeting = 0;
-            for (std::size_t i = 0; i < count; ++i) {
-                const std::size_t j = base + i;
-                const bool meets = (lo_[0][j] <= box.hi[0]) & (box.lo[0] <= hi_[0][j]) & (lo_[1][j] <= box.hi[1]) &
-                                   (box.lo[1] <= hi_[1][j]) & (lo_[2][j] <= box.hi[2]) & (box.lo[2] <= hi_[2][j]);
-                meeting |= std::uint64_t(meets) << i;
-            }
-            for (; meeting != 0; meeting &= meeting - 1) {
-                if (!call(base + std::size_t(__builtin_ctzll(meeting)))) return false;
-            }
-        }
-        return true;
-    }
-
-private:
-    std::array<std::vector<float>, 3> lo_, hi_;
-};
-
 /// What the triangle grids hold of a triangle besides its box.
 struct GridTriangle {
     std::uint32_t triangle;
     Summary summary;  ///< the directions it faces, its component
 };
-
-/// An edge a round considers, at the corner opposite it where it runs from its lower vertex
-/// (the one kept) to its higher one.
-struct Candidate {
-    double cost;
-    std::uint32_t corner;
-    bool operator<(const Candidate& o) const { return cost != o.cost ? cost < o.cost : corner < o.corner; }
-};
-/// Sorts @a candidates, given in order of their corners, by cost (so in Candidate's order): a
-/// stable least-significant-digit radix sort on the bits of the costs (non-negative doubles,
-/// whose bits order as they do), 11 at a time, each pass over fixed chunks in parallel (the same
-/// for any thread count); a pass is skipped where all share the digit.
-void sort_by_cost(std::vector<Candidate>& candidates, std::vector<Candidate>& buffer) {
-    constexpr int kDigitBits = 11;
-    constexpr std::size_t kBuckets = std::size_t(1) << kDigitBits, kChunks = 16;
-    const std::size_t size = candidates.size(), chunk = (size + kChunks - 1) / kChunks;
-    buffer.resize(size);
-    std::vector<std::array<std::uint32_t, kBuckets>> counts(kChunks);
-    const auto key = [](const Candidate& c) {
-        std::uint64_t bits;
-        std::memcpy(&bits, &c.cost, sizeof bits);
-        return bits;
-    };
-    for (int shift = 0; shift < 64; shift += kDigitBits) {
-        const auto digit = [&](const Candidate& c) { return std::size_t(key(c) >> shift) & (kBuckets - 1); };
-        tbb::parallel_for(std::size_t(0), kChunks, [&](std::size_t k) {
-            counts[k].fill(0);
-            for (std::size_t i = k * chunk; i < std::min(size, (k + 1) * chunk); ++i) ++counts[k][digit(candidates[i])];
-        });
-        std::size_t offset = 0;
-        bool one_digit = false;
-        for (std::size_t b = 0; b < kBuckets; ++b) {
-            std::size_t in_bucket = 0;
-            for (std::size_t k = 0; k < kChunks; ++k) {
-                const std::uint32_t n = counts[k][b];
-                counts[k][b] = std::uint32_t(offset + in_bucket), in_bucket += n;
-            }
-            one_digit |= in_bucket == size;
-            offset += in_bucket;
-        }
-        if (one_digit) continue;
-        tbb::parallel_for(std::size_t(0), kChunks, [&](std::size_t k) {
-            for (std::size_t i = k * chunk; i < std::min(size, (k + 1) * chunk); ++i) buffer[counts[k][digit(candidates[i])]++] = candidates[i];
-        });
-        candidates.swap(buffer);
-    }
-}
-
-constexpr Candidate kAboveAll{std::numeric_limits<double>::infinity(), kNone};  ///< (as a pivot: keeps every candidate)
 
 enum class Verdict : std::uint8_t { unchecked, passed, topology, geometry, intersection };
 
@@ -1189,11 +802,13 @@ private:
     /// The new triangles cross neither each other nor any triangle near them off the old star.
     ///
     /// Most collapses are settled without a test between triangles: the new star crosses
-    /// nothing when some direction d is faced by all its triangles and by all those whose boxes
-    /// meet the box R of the old and the new star, and those all belong to one component:
+    /// nothing when some direction d is faced by all its triangles and by all those that meet a
+    /// convex region R holding the old and the new star, and those all belong to one component
+    /// (R: first the box of both stars, taken a grid cell at a time; then that box cut to the
+    /// slab of slab_around(), which leaves out most of a thin wall's far side):
     /// - Along a line the winding number of a closed embedded surface changes by one at each
     ///   crossing, up or down as the triangle faces; one component's takes two values only. So a
-    ///   segment along d within R (a box: convex) crosses the surface at most once, and the
+    ///   segment along d within R (convex) crosses the surface at most once, and the
     ///   surface in R projects one-to-one onto a plane across d, the old star too; its rim L
     ///   projects to a simple loop and the old star onto the inside of it.
     /// - Each triangle of the new fan (from the new vertex to L) turns the same way seen along d,
@@ -1224,10 +839,15 @@ private:
         Summary in_cells = settled_grid_.summary(region);
         in_cells.add(moved_grid_.summary(region));
         if (apart(in_cells)) return true;
+        const Slab slab = slab_around(p, s);
         // (the triangles met: the visit stops as soon as they cannot clear the collapse)
         Summary met;
         const auto may_clear = [&](Summary near) { return near.add(p.fan), near.clears(); };
-        if (visit_triangles(region, [&](const GridTriangle& t, const Box&) { return met.add(t.summary), may_clear(met); }) && apart(met)) return true;
+        const auto add_met = [&](const GridTriangle& t, const Box&) {
+            if (!slab.misses(points_of(triangles_[t.triangle]))) met.add(t.summary);
+            return may_clear(met);
+        };
+        if (visit_triangles(region, add_met) && apart(met)) return true;
         prepare_star(s);
         if (!star_is_a_graph(a, s)) {
             for (std::size_t i = 0; i < s.star.size(); ++i) {
@@ -1242,10 +862,31 @@ private:
                 return true;  // the old star, replaced
             }
             const Ids& ids = triangles_[t.triangle];
-            const detail::PreparedTriangle other({to_double(positions_[ids[0]]), to_double(positions_[ids[1]]), to_double(positions_[ids[2]])});
+            const FloatTriangle points = points_of(ids);
+            if (slab.misses(points)) return true;  // (the new star lies within the slab)
+            const detail::PreparedTriangle other(to_double(points));
             return s.box_columns.for_meeting(box, [&](std::size_t i) { return !detail::triangles_intersect(s.ids[i], s.prepared[i], ids, other); });
         });
     }
+
+    /// The slab across the new fan's normal (the sum of its triangles' cross products) that
+    /// holds the old and the new star: their points are the new star's corners (the link and the
+    /// new position) and the edge's ends. Convex, so the box of both stars cut to it is too.
+    Slab slab_around(const Plan& p, const Scratch& s) const {
+        Slab slab;
+        for (const detail::Triangle3& t : s.corners) {
+            const Vec3d c = cross(sub(t[1], t[0]), sub(t[2], t[0]));
+            for (int k = 0; k < 3; ++k) slab.axis[k] += c[k];
+        }
+        slab.origin = to_double(position_[p.corner]);
+        for (const detail::Triangle3& t : s.corners) {
+            for (const Vec3d& q : t) slab.add(q);
+        }
+        slab.add(point(vertex(next(p.corner)))), slab.add(point(vertex(prev(p.corner))));
+        return slab;
+    }
+
+    FloatTriangle points_of(const Ids& t) const { return {positions_[t[0]], positions_[t[1]], positions_[t[2]]}; }
 
     /// Each vertex's component (triangles joined by shared vertices) and each component's
     /// enclosed volume (six times, the sum of its triangles' determinants).
