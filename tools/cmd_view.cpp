@@ -91,8 +91,8 @@ std::uint64_t splat_tree_bytes(const ViewCommandOptions& options, const ViewSpla
                          std::to_string(preview.tree->nodes.size()) + " nodes) needs " + mib_text(least) +
                          "; the smallest limit that could work is " + mib_text(ViewMemoryPlan::smallest_limit(opened, least)));
     if (!options.common.quiet)
-        std::cerr << "vdbmesh view: --memory " << options.memory.text << ": the splat tree fitted within " << mib_text(bytes) << " ("
-                  << mib_text(opened) << " held once the grid was opened; finer levels pruned beyond it)\n";
+        std::cerr << "vdbmesh view: --memory " << options.memory.text << ": the splat tree is fitted within " << mib_text(bytes) << " ("
+                  << mib_text(opened) << " held once the grid was opened; its finest levels pruned beyond that)\n";
     return bytes;
 }
 
