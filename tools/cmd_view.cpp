@@ -2,6 +2,8 @@
 // isovalue moves), a mesh file, a label map's labels (--labels) or a splat file's splats
 // alone, until Ctrl-C.
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <future>
 #include <cstdlib>
@@ -40,6 +42,10 @@ struct ViewCommandOptions {
     bool no_open = false;
     LabelFlags label;  ///< --labels: the input is a label map, shown label by label
     MemoryLimit memory;  ///< --memory: grids read by region, close-ups within it
+    /// With --memory: how SIZE is shared, and the process's resident memory before the input
+    /// was opened (what opening it adds is measured against it).
+    std::optional<ViewMemoryPlan> memory_plan;
+    std::uint64_t resident_before_opening = 0;
     ReadFlags read;
     CommonOptions common;
 };
@@ -66,14 +72,43 @@ std::function<std::shared_ptr<const ViewScan>(const BackgroundControl&)> prepare
     };
 }
 
+constexpr double kMiB = 1024.0 * 1024;
+
+std::string mib_text(std::uint64_t bytes) { return std::to_string(std::uint64_t(std::ceil(double(bytes) / kMiB))) + "M"; }
+
+/// With --memory: the splat tree's bound once the grid is opened and its preview made (both
+/// held for good), before the fit. Refused (a usage error) when it cannot hold a splat per
+/// leaf of the preview (the least the fit can prune to), naming the smallest limit that can.
+std::uint64_t splat_tree_bytes(const ViewCommandOptions& options, const ViewSplats& preview) {
+    if (!options.memory_plan) return 0;
+    const std::uint64_t resident = ViewMemoryPlan::resident_now();
+    const std::uint64_t opened = resident > options.resident_before_opening ? resident - options.resident_before_opening : 0;
+    const std::uint64_t bytes = options.memory_plan->splat_tree_bytes(opened);
+    const std::uint64_t least = std::max<std::uint64_t>(preview.tree->nodes.size(), 1) * kSplatBuildBytesPerNode;
+    if (bytes < least)
+        throw UsageError("--memory: " + options.memory.text + " leaves " + mib_text(bytes) + " for the splat tree beside the " +
+                         mib_text(opened) + " the grid holds once opened and the page's and close-ups' shares; a splat per leaf (" +
+                         std::to_string(preview.tree->nodes.size()) + " nodes) needs " + mib_text(least) +
+                         "; the smallest limit that could work is " + mib_text(ViewMemoryPlan::smallest_limit(opened, least)));
+    if (!options.common.quiet)
+        std::cerr << "vdbmesh view: --memory " << options.memory.text << ": the splat tree is fitted within " << mib_text(bytes) << " ("
+                  << mib_text(opened) << " held once the grid was opened; its finest levels pruned beyond that)\n";
+    return bytes;
+}
+
 /// A grid read by region with its isovalue known: the topology preview at once (seconds, no
 /// value read of a .vdb); the fit, then the histogram and coarse grid, in the background.
-ViewSource regions_source(std::string name, std::shared_ptr<const GridRegionSource> regions, double iso, bool quiet) {
+ViewSource regions_source(std::string name, std::shared_ptr<const GridRegionSource> regions, double iso,
+                          const ViewCommandOptions& options) {
+    const bool quiet = options.common.quiet;
     ViewSource source;
     source.name = std::move(name);
     source.splats = topology_preview_splats(*regions, iso);
     source.initial_iso = iso;
-    source.fit_splats = [regions, iso](const BackgroundControl& control) { return fit_view_splats(regions, iso, control); };
+    const std::uint64_t max_bytes = splat_tree_bytes(options, *source.splats);
+    source.fit_splats = [regions, iso, max_bytes](const BackgroundControl& control) {
+        return fit_view_splats(regions, iso, control, max_bytes);
+    };
     source.prepare_scan = prepare_in_background(regions);
     if (!quiet)
         std::cerr << "vdbmesh view: the topology preview: " << source.splats->tree->leaf_count() << " splats in " << source.splats->seconds
@@ -88,7 +123,7 @@ ViewSource scan_by_region(const ViewCommandOptions& options) {
     if (!options.iso) throw UsageError("--iso: required to view a scan with --memory (it is read by region around that surface)");
     GridRegionsInput opened = open_grid_regions(options.inputs, options.iso, options.read, "view", ConvertOptions{});
     return regions_source(std::filesystem::path(options.inputs.front()).filename().string(), std::move(opened.source), opened.iso,
-                          options.common.quiet);
+                          options);
 }
 
 /// Reads the input before anything is served, so that a bad file is reported at once.
@@ -136,7 +171,7 @@ ViewSource load_source(const ViewCommandOptions& options) {
             return source;
         }
         if (const std::optional<double> iso = options.iso ? options.iso : stored_iso)
-            return regions_source(source.name, std::move(regions), *iso, options.common.quiet);
+            return regions_source(source.name, std::move(regions), *iso, options);
         source.scan = std::make_shared<const ViewScan>(prepare_grid_regions(std::move(regions)));
     } else if (options.memory.given()) {
         return scan_by_region(options);
@@ -166,16 +201,22 @@ bool read_while_serving(const ViewCommandOptions& options) {
     return options.splat_file.empty() || std::filesystem::exists(options.splat_file);
 }
 
-/// With --memory: half of what the limit leaves beside the program for one close-up's read by
-/// region (the other half for the splat tree, the coarse grid and the meshes the page holds).
-void bound_close_ups(ViewCommandOptions& options) {
+/// With --memory, before anything is read: SIZE shared as ViewMemoryPlan says (a close-up's
+/// read and a tree at another isovalue each within a quarter of what the program leaves).
+void plan_memory(ViewCommandOptions& options) {
     if (!options.memory.given()) return;
-    refuse_beyond_memory(options.memory, "--memory", "one close-up's read by region (at least 64M)", double(std::uint64_t(64) << 20));
-    options.server.region_read_bytes = std::uint64_t((options.memory.bytes() - double(kProgramBytes)) / 2);
+    refuse_beyond_memory(options.memory, "--memory",
+                         "a close-up's read by region (at least " + mib_text(ViewMemoryPlan::kMinCloseUpBytes) +
+                             "), the page, the grid as opened and the splat tree (as much each)",
+                         double(ViewMemoryPlan::smallest_limit() - kProgramBytes));
+    options.memory_plan = ViewMemoryPlan{std::uint64_t(options.memory.bytes())};
+    options.server.region_read_bytes = options.memory_plan->close_up_bytes();
+    options.server.other_splat_tree_bytes = options.memory_plan->close_up_bytes();
+    options.resident_before_opening = ViewMemoryPlan::resident_now();
 }
 
 void run_view(ViewCommandOptions& options) {
-    bound_close_ups(options);
+    plan_memory(options);
     const ThreadLimit limit(options.common);
     if (!options.common.quiet) std::cerr << "vdbmesh view: reading " << options.inputs.front() << "\n";
     options.server.mesh_figures = check_figures;
@@ -213,8 +254,9 @@ void add_view_command(CLI::App& command, CommandResult& result) {
         ->capture_default_str();
     command.add_flag("--no-open", options->no_open, "Do not open a browser");
     add_memory_option(command, options->memory,
-                      "the program and one close-up's read (a scan is then read by region: surveyed once, never converted "
-                      "whole, --iso needed; a close-up reads at most half of SIZE; not with a mesh file or --labels)");
+                      "the program, the grid as opened, the splat tree, the page and one close-up's read (a scan is then read "
+                      "by region: surveyed once, never converted whole, --iso needed; a close-up reads at most a quarter of "
+                      "SIZE; the splat tree's finer levels pruned to fit; not with a mesh file or --labels)");
     add_label_flags(command, options->label, "Show a label map: all, or a list like 3,5,10-12; each label meshed (as mesh --labels), coloured and switchable");
     add_read_flags(command, options->read);
     add_common_options(command, options->common);

@@ -74,6 +74,9 @@ struct SplatTree {
     Inside inside = Inside::above;
     double tolerance = 0;  ///< SplatOptions::coplanar_tolerance it was built with
     SplatGridId grid;      ///< the .vdb it was fitted to, when the caller set it (kept in its file)
+    /// The finest level the tree keeps: above 0 when the levels below were pruned to fit
+    /// SplatOptions::max_bytes (their nodes dropped, this level's nodes childless).
+    std::uint8_t finest_kept = 0;
 
     /// Nodes without children (what the finest view shows).
     std::size_t leaf_count() const;
@@ -86,7 +89,20 @@ struct SplatOptions {
     /// parent's plane (and the children have no children of their own); only up to leaf level
     /// (8^3 voxels), so a collapsed splat never reaches over neighbouring structure. 0: never.
     double coplanar_tolerance = 0.1;
+    /// build_splat_tree() by region only: the most its nodes may hold while they are built,
+    /// at kSplatBuildBytesPerNode a node (0: no bound). Past it, the finest level kept is
+    /// pruned (its nodes dropped, their parents made childless), down to leaf level
+    /// (kSplatLeafLevel: a splat per 8^3 cell); the tree is then the unbounded tree with the
+    /// levels under SplatTree::finest_kept removed, whatever the thread count.
+    /// @throw Error (from the build) when even the tree down to leaf level exceeds it.
+    std::uint64_t max_bytes = 0;
 };
+
+/// The bytes a node of a splat tree built by region holds at most while it is built: its
+/// node under construction, and, while the tree is laid out, its SplatNode and its place in
+/// the layout (a level's node vector that reallocates as it grows holds twice its nodes for
+/// a moment: at most the same).
+inline constexpr std::uint64_t kSplatBuildBytesPerNode = 116;
 
 /// The splat hierarchy of @a grid's isosurface. Samples outside the grid's scan box are
 /// outside the object (the surface closes there, at the edge's midpoint, as the meshers do).

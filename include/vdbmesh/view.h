@@ -101,10 +101,40 @@ void set_splat_box(ViewSplats& splats);
 /// splat file while its tree is fitted): seconds on a huge grid, no voxel value read.
 std::shared_ptr<const ViewSplats> topology_preview_splats(const GridRegionSource& regions, double iso);
 
-/// The splat tree of @a regions at @a iso (build_splat_tree() by region). Each read heeds
-/// @a control: waits while it pauses, gives up (Error) once it stops.
+/// The splat tree of @a regions at @a iso (build_splat_tree() by region), its build within
+/// @a max_bytes (SplatOptions::max_bytes; 0: no bound). Each read heeds @a control: waits
+/// while it pauses, gives up (Error) once it stops.
 std::shared_ptr<const ViewSplats> fit_view_splats(std::shared_ptr<const GridRegionSource> regions, double iso,
-                                                  const BackgroundControl& control);
+                                                  const BackgroundControl& control, std::uint64_t max_bytes = 0);
+
+/// How `view --memory SIZE` shares SIZE (issue 28). Beside the program (kProgramBytes) the
+/// rest R: a quarter for one close-up's read by region (and a full mesh's bricks), a quarter
+/// for the page (its coarse grid and the meshes it keeps), half for the grid as opened (its
+/// topology, a scan's survey, the topology preview: `opened`, what the process holds beyond the
+/// program once they are made) and the splat tree once fitted. The fit runs before the page's
+/// meshes and close-ups (they wait for the scan's preparation, which follows it), so while it
+/// runs the tree being built may take all of R beside what is opened.
+struct ViewMemoryPlan {
+    std::uint64_t limit = 0;  ///< SIZE, bytes
+
+    /// The least R: a close-up's read of at least kMinCloseUpBytes.
+    static constexpr std::uint64_t kMinCloseUpBytes = std::uint64_t(64) << 20;
+    /// The smallest SIZE before anything is opened.
+    static std::uint64_t smallest_limit();
+    /// The most one close-up may read (ViewServerOptions::region_read_bytes).
+    std::uint64_t close_up_bytes() const;
+    /// The splat tree's fit's bound (SplatOptions::max_bytes) with @a opened bytes held: what
+    /// lets its build take at most R - opened and the tree it leaves (sizeof(SplatNode) a node)
+    /// at most R / 2 - opened. 0 when nothing is left.
+    std::uint64_t splat_tree_bytes(std::uint64_t opened) const;
+    /// The smallest SIZE whose splat_tree_bytes(@a opened) holds @a tree_bytes.
+    static std::uint64_t smallest_limit(std::uint64_t opened, std::uint64_t tree_bytes);
+    /// The process's resident memory now (/proc/self/statm), bytes: what `opened` is measured by.
+    static std::uint64_t resident_now();
+
+private:
+    std::uint64_t rest() const;
+};
 
 /// What the page shows: a scan, a mesh, a label map's meshes, or a lattice's splats.
 struct ViewSource {
@@ -145,6 +175,10 @@ struct ViewServerOptions {
     /// The most one close-up's read by region may hold (GridRegionSource::estimated_bytes()):
     /// a close-up beyond it is not offered, the page keeping its splats there.
     std::uint64_t region_read_bytes = std::uint64_t(1) << 30;
+    /// The bound of a splat tree fitted at another isovalue than the initial one
+    /// (SplatOptions::max_bytes), the one kept before it dropped first; 0: no bound, the last
+    /// two kept (`view --memory`: a close-up's share).
+    std::uint64_t other_splat_tree_bytes = 0;
     /// The figures of a mesh as a JSON object's text (GET /api/figures), e.g. what
     /// `vdbmesh check --json` prints; empty: none.
     std::function<std::string(const Mesh&)> mesh_figures;

@@ -237,10 +237,14 @@ SampleRule sample_rule(const openvdb::FloatGrid& grid, const SplatOptions& optio
 }
 
 SplatTree assemble(Levels& levels, const openvdb::math::Transform& transform, const SplatOptions& options,
-                   bool unsigned_normals) {
+                   bool unsigned_normals, LevelPruning* pruning) {
     for (int level = kSplatLeafLevel + 1; level <= kSplatRootLevel; ++level)
         if (!levels[level - 1].empty()) merge_up(levels, level, unsigned_normals);
     SplatTree tree;
+    if (pruning) {
+        pruning->fit(levels);  // the levels above leaf level counted too, before the layout
+        tree.finest_kept = std::uint8_t(pruning->finest_kept());
+    }
     tree.nodes = breadth_first(levels, kSplatRootLevel, transform);
     tree.iso = options.iso;
     tree.inside = options.inside;
@@ -293,6 +297,7 @@ SplatTree build_splat_tree(const GridRegionSource& source, const SplatOptions& o
     // One node at a time (its cells fitted in parallel), the next node's region read
     // meanwhile (reading waits on the file and the decoding children, fitting on the cores).
     splat::Levels levels(kSplatRootLevel + 1);
+    splat::LevelPruning pruning(options.max_bytes);
     const std::vector<openvdb::Coord> nodes = splat::candidate_nodes(source);
     const auto read_async = [&source](const openvdb::Coord& node) {
         return std::async(std::launch::async, [&source, node] { return source.read(splat::node_region(node)); });
@@ -304,8 +309,9 @@ SplatTree build_splat_tree(const GridRegionSource& source, const SplatOptions& o
         if (i + 1 < nodes.size()) next = read_async(nodes[i + 1]);
         const openvdb::CoordBBox cells_box(nodes[i], nodes[i].offsetBy(kNodeVoxels - 1));
         splat::append_cells(levels, *region, splat::candidate_cells(*region, cells_box, rule), rule, options.coplanar_tolerance);
+        pruning.fit(levels);
     }
-    return splat::assemble(levels, description->transform(), options);
+    return splat::assemble(levels, description->transform(), options, false, &pruning);
 }
 
 }  // namespace vdbmesh

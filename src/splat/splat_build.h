@@ -86,10 +86,33 @@ void append_cell(Levels& levels, CellNodes& cell);
 /// each parent's children are aligned first (align_normals()).
 void merge_up(Levels& levels, int level, bool unsigned_normals = false);
 
+/// Keeps the nodes of levels 0 to 2 within a number of bytes while cells are appended
+/// (SplatOptions::max_bytes): past it, the finest level kept is dropped and the level above
+/// made childless, down to leaf level. Pruning is decided between appends from the nodes'
+/// count alone, and a pruned level stays pruned, so the result is the unbounded tree without
+/// the levels under finest_kept().
+class LevelPruning {
+public:
+    /// @a max_bytes 0: no bound.
+    explicit LevelPruning(std::uint64_t max_bytes) : max_bytes_(max_bytes) {}
+    /// Drops what the levels' last appends put under the finest level kept, then prunes further
+    /// while the levels hold more than the bound. @throw Error when leaf level alone exceeds it.
+    void fit(Levels& levels);
+    int finest_kept() const { return finest_kept_; }
+
+private:
+    /// Drops the levels under finest_kept_ and makes its nodes from @a from on childless.
+    void drop_below(Levels& levels, std::size_t from);
+    std::uint64_t max_bytes_;
+    int finest_kept_ = 0;
+    std::size_t childless_up_to_ = 0;  ///< the finest kept level's nodes made childless so far
+};
+
 /// The tree of levels 0 to 2 (nodes of higher levels made by merge_up()), in the world space of
-/// @a transform, with @a options' isovalue, side and tolerance.
+/// @a transform, with @a options' isovalue, side and tolerance; with @a pruning, pruned once
+/// more to fit its bound with every level made, before the layout.
 SplatTree assemble(Levels& levels, const openvdb::math::Transform& transform, const SplatOptions& options,
-                   bool unsigned_normals = false);
+                   bool unsigned_normals = false, LevelPruning* pruning = nullptr);
 
 /// The nodes breadth-first from levels[top][0] (the only node of that level), each node's
 /// children contiguous, in world space by @a transform; in @a sources (when given) the level

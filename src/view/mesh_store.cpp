@@ -1,5 +1,6 @@
 #include "view/mesh_store.h"
 
+#include <algorithm>
 #include <chrono>
 #include <utility>
 
@@ -9,11 +10,11 @@ namespace vdbmesh::view {
 
 namespace {
 
-/// The full mesh of a grid read by region: by bricks within kWholeMeshMemory where the method
+/// The full mesh of a grid read by region: by bricks within @a memory_bytes where the method
 /// allows (DC at an error > 0), else read whole. The mesh itself is held whole either way.
-MeshResult whole_by_region(const GridRegionSource& regions, const MeshOptions& options) {
+MeshResult whole_by_region(const GridRegionSource& regions, const MeshOptions& options, std::uint64_t memory_bytes) {
     BrickOptions bricks;
-    if (options.method == MeshMethod::dc && options.error > 0) bricks.memory_bytes = kWholeMeshMemory;
+    if (options.method == MeshMethod::dc && options.error > 0) bricks.memory_bytes = memory_bytes;
     return mesh_bricks(regions, options, bricks);
 }
 
@@ -81,7 +82,7 @@ std::shared_ptr<StoredMesh> MeshStore::make(const MeshRequest& request, std::uin
         options.progress = give_up_when_superseded;
     }
     MeshResult result = coarse || scan->grid ? mesher_(coarse ? *scan->coarse : *scan->grid, options)
-                                             : whole_by_region(*scan->regions, options);
+                                             : whole_by_region(*scan->regions, options, std::min(kWholeMeshMemory, region_read_bytes_));
     stored->mesh = std::make_shared<const Mesh>(std::move(result.mesh));
     stored->seconds = result.report.total_seconds();
     return stored;

@@ -55,7 +55,8 @@ public:
     std::size_t estimate;
 };
 
-/// The memory the bricks of a full mesh of a grid read by region may take (the mesh aside).
+/// The memory the bricks of a full mesh of a grid read by region may take (the mesh aside),
+/// or one close-up's read when less (ViewServerOptions::region_read_bytes: `view --memory`).
 inline constexpr std::uint64_t kWholeMeshMemory = std::uint64_t(1) << 30;
 
 class MeshStore {

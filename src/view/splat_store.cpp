@@ -62,8 +62,9 @@ std::string splat_buffers(const std::vector<SplatNode>& nodes) {
     return out;
 }
 
-SplatStore::SplatStore(std::shared_ptr<const ViewScan> scan, std::shared_ptr<const ViewSplats> initial, double initial_iso)
-    : scan_(std::move(scan)), initial_iso_(initial_iso) {
+SplatStore::SplatStore(std::shared_ptr<const ViewScan> scan, std::shared_ptr<const ViewSplats> initial, double initial_iso,
+                       std::uint64_t other_max_bytes)
+    : scan_(std::move(scan)), initial_iso_(initial_iso), other_max_bytes_(other_max_bytes) {
     if (initial) set_initial(std::move(initial));
 }
 
@@ -92,10 +93,12 @@ std::shared_ptr<const StoredSplats> SplatStore::tree(double iso) {
     const std::lock_guard<std::mutex> lock(mutex_);
     for (const auto& [kept_iso, stored] : kept_)
         if (kept_iso == iso) return stored;
+    if (other_max_bytes_ != 0) kept_.clear();  // within a bound: the new tree in place of the kept one
     const auto start = std::chrono::steady_clock::now();
     auto stored = std::make_shared<StoredSplats>();
     SplatOptions options;
     options.iso = iso;
+    options.max_bytes = other_max_bytes_;
     // The same tree either way; a grid read by region is read one node at a time.
     stored->tree = std::make_shared<const SplatTree>(scan->grid ? build_splat_tree(*scan->grid, options)
                                                                 : build_splat_tree(*scan->regions, options));

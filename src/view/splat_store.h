@@ -45,7 +45,9 @@ std::string splat_buffers(const std::vector<SplatNode>& nodes);
 class SplatStore {
 public:
     /// @a initial (when set): the tree at @a initial_iso made before serving, kept for good.
-    SplatStore(std::shared_ptr<const ViewScan> scan, std::shared_ptr<const ViewSplats> initial, double initial_iso);
+    /// Trees at other isovalues within @a other_max_bytes (ViewServerOptions::other_splat_tree_bytes).
+    SplatStore(std::shared_ptr<const ViewScan> scan, std::shared_ptr<const ViewSplats> initial, double initial_iso,
+               std::uint64_t other_max_bytes = 0);
     /// The tree of the scan's full grid at @a iso (read by region when not held), built now unless kept.
     /// @throw UsageError when the source is a mesh file (no grid to fit), ScanPreparing before
     /// set_scan() when the tree is not the initial one.
@@ -65,6 +67,7 @@ private:
     std::shared_ptr<const ViewSplats> initial_splats_;
     std::shared_ptr<const StoredSplats> initial_;
     double initial_iso_ = 0;
+    std::uint64_t other_max_bytes_ = 0;
     std::mutex mutex_;
     std::deque<std::pair<double, std::shared_ptr<const StoredSplats>>> kept_;  ///< newest first
 };

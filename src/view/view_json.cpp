@@ -35,6 +35,7 @@ nlohmann::json info_json(const ViewSource& source, std::size_t triangle_budget) 
         j["splats"] = {{"file", source.splats->file}, {"from_file", source.splats->from_file},
                        {"preview", source.splats->preview},
                        {"nodes", source.splats->tree->nodes.size()}, {"seconds", source.splats->seconds},
+                       {"finest_kept", source.splats->tree->finest_kept},
                        {"iso", source.splats->tree->iso}, {"box_min", source.splats->box_min},
                        {"box_max", source.splats->box_max}};
     if (source.lattice) {

@@ -333,7 +333,7 @@ private:
     struct Loaded {
         Loaded(ViewSource source, const ViewServerOptions& options)
             : store(std::move(source), options.mesher, options.triangle_budget, options.region_read_bytes),
-              splats(store.source().scan, store.source().splats, store.source().initial_iso) {}
+              splats(store.source().scan, store.source().splats, store.source().initial_iso, options.other_splat_tree_bytes) {}
         view::MeshStore store;
         view::SplatStore splats;
     };

@@ -64,10 +64,11 @@ std::shared_ptr<const ViewSplats> topology_preview_splats(const GridRegionSource
 }
 
 std::shared_ptr<const ViewSplats> fit_view_splats(std::shared_ptr<const GridRegionSource> regions, double iso,
-                                                  const BackgroundControl& control) {
+                                                  const BackgroundControl& control, std::uint64_t max_bytes) {
     const auto start = std::chrono::steady_clock::now();
     SplatOptions options;
     options.iso = iso;
+    options.max_bytes = max_bytes;
     const view::ControlledRegions controlled(std::move(regions), control, "the splat tree's fit");
     auto splats = std::make_shared<ViewSplats>();
     splats->tree = std::make_shared<const SplatTree>(build_splat_tree(controlled, options));

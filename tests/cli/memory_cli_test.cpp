@@ -123,7 +123,7 @@ TEST(ViewMemoryTest, WhatTheLimitCannotBoundIsRefusedBeforeServing) {
         {{"view", (dir / "torus.stl").string(), "--memory", "1G", "--no-open"}, "a mesh file is shown whole"},
         {{"view", torus, "--labels", "all", "--memory", "1G", "--no-open"}, "not with --labels"},
         {{"view", torus, "--memory", "1G", "--no-open"}, "--iso: required to view a scan with --memory"},
-        {{"view", torus, "--iso", "0.5", "--memory", "100M", "--no-open"}, "the smallest limit that could work is 128M"},
+        {{"view", torus, "--iso", "0.5", "--memory", "300M", "--no-open"}, "the smallest limit that could work is 320M"},
     };
     for (const auto& [args, why] : refusals) {
         const OutAndErr refused = run_capturing_both(args);

@@ -13,6 +13,7 @@
 #include "splat_test_math.h"
 #include "test_data.h"
 #include "vdbmesh/error.h"
+#include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesher.h"
 #include "vdbmesh/splats.h"
 
@@ -247,6 +248,60 @@ TEST(SplatFile, DamagedFilesAreRejectedNamingTheField) {
     wrong_count[12] = char(wrong_count[12] + 1);  // the root's child count
     expect_error(wrong_count, "");
     EXPECT_THROW(read_splat_file(dir / "missing.splat"), Error);
+}
+
+/// @a unbounded without the levels under @a finest (breadth-first, a level's nodes come after
+/// those above: the tree cut short), the nodes of level @a finest made childless.
+std::vector<SplatNode> pruned(const SplatTree& unbounded, int finest) {
+    std::vector<SplatNode> nodes;
+    for (const SplatNode& node : unbounded.nodes)
+        if (node.level >= finest) nodes.push_back(node);
+    return nodes;
+}
+
+void expect_pruned_at(const SplatTree& bounded, const SplatTree& unbounded, int finest) {
+    EXPECT_EQ(int(bounded.finest_kept), finest);
+    const std::vector<SplatNode> expected = pruned(unbounded, finest);
+    ASSERT_EQ(bounded.nodes.size(), expected.size());
+    for (std::size_t i = 0; i < expected.size(); ++i) {
+        const SplatNode &got = bounded.nodes[i], &want = expected[i];
+        EXPECT_EQ(got.centre, want.centre) << i;
+        EXPECT_EQ(got.normal, want.normal) << i;
+        EXPECT_EQ(got.radius, want.radius) << i;
+        EXPECT_EQ(got.cone, want.cone) << i;
+        EXPECT_EQ(got.weight, want.weight) << i;
+        EXPECT_EQ(got.level, want.level) << i;
+        if (want.level == finest) {
+            EXPECT_EQ(got.child_count, 0u) << i;
+        } else {
+            EXPECT_EQ(got.child_count, want.child_count) << i;
+            EXPECT_EQ(got.first_child, want.first_child) << i;
+        }
+    }
+}
+
+/// SplatOptions::max_bytes (view --memory): the tree built by region within it is the unbounded
+/// tree with its finest levels cut off, the fewest that fit at kSplatBuildBytesPerNode a node;
+/// a bound below a splat per cell is an error. The sphere spans 8 of the 128^3 nodes read one
+/// at a time, so pruning is decided between them, once the first nodes' levels are in.
+TEST(SplatTree, ABoundPrunesTheFinestLevelsOfTheUnboundedTree) {
+    const auto regions = grid_regions_in_memory(sphere_grid());
+    ASSERT_GT(regions->nodes().size(), 1u);
+    const SplatTree unbounded = build_splat_tree(*regions, sphere_options());
+    EXPECT_EQ(unbounded.finest_kept, 0);
+    SplatOptions options = sphere_options();
+    options.max_bytes = unbounded.nodes.size() * kSplatBuildBytesPerNode;
+    expect_pruned_at(build_splat_tree(*regions, options), unbounded, 0);  // fits as it is
+    for (int finest = 1; finest <= kSplatLeafLevel; ++finest) {
+        const std::uint64_t kept = pruned(unbounded, finest).size();
+        ASSERT_LT(kept, pruned(unbounded, finest - 1).size());  // each level holds nodes
+        options.max_bytes = kept * kSplatBuildBytesPerNode;
+        expect_pruned_at(build_splat_tree(*regions, options), unbounded, finest);
+        options.max_bytes = pruned(unbounded, finest - 1).size() * kSplatBuildBytesPerNode - 1;  // a byte short of the level below
+        expect_pruned_at(build_splat_tree(*regions, options), unbounded, finest);
+    }
+    options.max_bytes = pruned(unbounded, kSplatLeafLevel).size() * kSplatBuildBytesPerNode - 1;
+    EXPECT_THROW(build_splat_tree(*regions, options), Error);
 }
 
 TEST(SplatTree, NegativeToleranceIsAUsageError) {
