@@ -19,12 +19,11 @@ import os
 import re
 import signal
 import struct
-import subprocess
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from view_region_peak import camera, get  # noqa: E402
+from view_region_peak import camera, get, start_server  # noqa: E402
 
 
 def hwm_mb(pid):
@@ -47,13 +46,7 @@ def main():
         sys.exit(__doc__)
     command = ["/usr/bin/time", "-f", "peak_kb %M", arguments[0], "view", *arguments[1:], "--no-open", "--quiet"]
     start = time.monotonic()
-    server = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
-    line = server.stdout.readline()
-    match = re.search(r"(http://[^ ]+/)", line)
-    if not match:
-        server.kill()
-        sys.exit("the server did not start: " + line + server.stderr.read())
-    base = match.group(1).rstrip("/")
+    server, base = start_server(command)
     pid = child_pid(server.pid)
     report = {"command": " ".join(command[3:]), "serving_s": round(time.monotonic() - start, 2)}
     info = json.loads(get(base, "/api/info?prepare=1")[0])

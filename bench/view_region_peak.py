@@ -27,6 +27,17 @@ def get(base, path):
         return body, dict(response.headers), time.monotonic() - start
 
 
+def start_server(command):
+    """Starts `vdbmesh view` (@a command, under /usr/bin/time) and returns it and its address."""
+    server = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    line = server.stdout.readline()
+    match = re.search(r"(http://[^ ]+/)", line)
+    if not match:
+        server.kill()
+        sys.exit("the server did not start: " + line + server.stderr.read())
+    return server, match.group(1).rstrip("/")
+
+
 def camera(lo, hi):
     """An orthographic camera on +z looking at the box [lo, hi]: world to clip, column-major."""
     centre = [(a + b) / 2 for a, b in zip(lo, hi)]
@@ -51,13 +62,7 @@ def main():
     if args.iso:
         command += ["--iso", args.iso]
     start = time.monotonic()
-    server = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
-    line = server.stdout.readline()
-    match = re.search(r"(http://[^ ]+/)", line)
-    if not match:
-        server.kill()
-        sys.exit("the server did not start: " + line + server.stderr.read())
-    base = match.group(1).rstrip("/")
+    server, base = start_server(command)
     report = {"grid": args.grid, "serving_s": round(time.monotonic() - start, 2)}
     _, _, seconds = get(base, "/api/info")
     body, headers, seconds = get(base, "/api/mesh?level=coarse")

@@ -265,12 +265,7 @@ void expect_pruned_at(const SplatTree& bounded, const SplatTree& unbounded, int 
     ASSERT_EQ(bounded.nodes.size(), expected.size());
     for (std::size_t i = 0; i < expected.size(); ++i) {
         const SplatNode &got = bounded.nodes[i], &want = expected[i];
-        EXPECT_EQ(got.centre, want.centre) << i;
-        EXPECT_EQ(got.normal, want.normal) << i;
-        EXPECT_EQ(got.radius, want.radius) << i;
-        EXPECT_EQ(got.cone, want.cone) << i;
-        EXPECT_EQ(got.weight, want.weight) << i;
-        EXPECT_EQ(got.level, want.level) << i;
+        test::expect_same_splat(got, want, i);
         if (want.level == finest) {
             EXPECT_EQ(got.child_count, 0u) << i;
         } else {

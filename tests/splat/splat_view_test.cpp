@@ -96,12 +96,7 @@ TEST(SplatRegions, ReadByRegionGivesTheWholeGridsTree) {
     ASSERT_EQ(from_file.nodes.size(), whole.nodes.size());
     for (std::size_t i = 0; i < whole.nodes.size(); ++i) {
         const SplatNode &a = from_file.nodes[i], &b = whole.nodes[i];
-        EXPECT_EQ(a.centre, b.centre) << i;
-        EXPECT_EQ(a.normal, b.normal) << i;
-        EXPECT_EQ(a.radius, b.radius) << i;
-        EXPECT_EQ(a.cone, b.cone) << i;
-        EXPECT_EQ(a.weight, b.weight) << i;
-        EXPECT_EQ(a.level, b.level) << i;
+        test::expect_same_splat(a, b, i);
         EXPECT_EQ(a.first_child, b.first_child) << i;
         EXPECT_EQ(a.child_count, b.child_count) << i;
     }
