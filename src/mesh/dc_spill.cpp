@@ -200,7 +200,7 @@ void IfcSpill::Receiver::take_header() {
     }
 }
 
-void IfcSpill::resolve(const Foreign* foreign, bool with_corners, Used& used, TempFile& resolved) const {
+void IfcSpill::resolve(const Foreign* foreign, bool with_corners, Used& used, const ResolvedRun& take) const {
     using Numbers = std::array<std::uint32_t, 3>;
     using Corners = std::array<std::array<float, 3>, 3>;
     const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
@@ -238,7 +238,7 @@ void IfcSpill::resolve(const Foreign* foreign, bool with_corners, Used& used, Te
         tables.load_around(nodes_.data() + first, end - first);
         batches.resize(end - first);
         tbb::parallel_for(std::size_t{0}, end - first, [&](std::size_t n) { resolve_node(tables, nodes_[first + n], batches[n]); });
-        for (const std::vector<char>& batch : batches) resolved.append(batch.data(), batch.size());
+        take(first, batches);
         first = end;
     }
 }
@@ -259,11 +259,13 @@ void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
     using Corners = std::array<std::array<float, 3>, 3>;
     const bool with_corners = sink.needs_corners();
     const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
+    MeshRangeSink* ranges = sink.ranges();
+    if (ranges && write_ranges_every_vertex_used(*ranges, with_corners, mirrored, vertex_count, triangle_count)) return;
     TempFile resolved("for the bricks' resolved triangles", held_);
     Used used(vertex_count);
-    resolve(nullptr, with_corners, used, resolved);
+    resolve(nullptr, with_corners, used, appended_to(resolved));
     const std::uint64_t used_count = used.count();
-    if (MeshRangeSink* ranges = sink.ranges()) {
+    if (ranges) {
         write_ranges(*ranges, used, resolved, with_corners, mirrored, used_count, triangle_count);
         return;
     }

@@ -70,25 +70,38 @@ private:
     class Used;
     struct ForeignNode;
     using Foreign = std::map<std::tuple<int, int, int>, ForeignNode>;
-    /// Resolves the triangles of nodes_ (sorted, numbered) into @a resolved: each its vertex
-    /// numbers (before unused ones are dropped), then, @a with_corners, its corners; marks the
-    /// vertices used in @a used. @a foreign: other ranks' nodes beside these, if any.
-    void resolve(const Foreign* foreign, bool with_corners, Used& used, TempFile& resolved) const;
+    /// A run of nodes resolved: the index of its first node in nodes_, and each node's
+    /// triangles resolved (records of resolve()); the callee may take the batches' bytes.
+    using ResolvedRun = std::function<void(std::size_t first, std::vector<std::vector<char>>& batches)>;
+    /// Resolves the triangles of nodes_ (sorted, numbered), a run of nodes at a time, into
+    /// @a take: each triangle its vertex numbers (before unused ones are dropped), then, @a
+    /// with_corners, its corners; marks the vertices used in @a used. @a foreign: other ranks'
+    /// nodes beside these, if any.
+    void resolve(const Foreign* foreign, bool with_corners, Used& used, const ResolvedRun& take) const;
+    /// A ResolvedRun that appends the runs to @a resolved, in order.
+    static ResolvedRun appended_to(TempFile& resolved);
     /// The vertex records of the nodes beside other ranks' nodes, to each rank (emit_on_ranks()).
     Foreign swap_borders(const std::map<std::tuple<int, int, int>, std::pair<int, std::uint64_t>>& owners, const RankCollectives& ranks) const;
 
     /// Which records format_records() formats.
     enum class Records { vertices, triangles };
-    /// Formats with @a format, for each node of nodes_ in order, its used vertices or its
-    /// triangles resolved into @a resolved (numbered among the used vertices; wound the other
-    /// way when @a mirrored), and hands @a take each node's index and bytes in that order. Runs
+    /// Formats with @a format, for each node of nodes_ in order, its used vertices (@a used;
+    /// null: all of them) or its triangles resolved into @a resolved (numbered among the used
+    /// vertices; wound the other way when @a mirrored), and hands @a take each node's index and
+    /// bytes in that order. Runs
     /// of nodes are formatted in parallel while the one before is taken (dc_spill_records.cpp).
-    void format_records(Records which, const MeshRangeSink& format, const Used& used, const TempFile& resolved, bool with_corners,
+    void format_records(Records which, const MeshRangeSink& format, const Used* used, const TempFile* resolved, bool with_corners,
                         bool mirrored, const std::function<void(std::size_t, const std::string&)>& take) const;
     /// emit()'s end into @a sink's file (one process): the header, then every node's records
     /// as format_records() gives them, at their places; the file committed when all are written.
     void write_ranges(MeshRangeSink& sink, const Used& used, const TempFile& resolved, bool with_corners, bool mirrored,
                       std::uint64_t used_count, std::uint64_t triangle_count) const;
+    /// write_ranges() in one pass, for when every vertex is used (every scan measured): the
+    /// vertices written first, the triangles formatted and written as they are resolved, without
+    /// the resolved file. Returns false, the file removed, when a vertex turned out unused (the
+    /// weld drops it, so the numbers change): emit() then takes the two passes.
+    bool write_ranges_every_vertex_used(MeshRangeSink& sink, bool with_corners, bool mirrored, std::uint64_t vertex_count,
+                                        std::uint64_t triangle_count) const;
 
     std::string records_bytes() const;
 

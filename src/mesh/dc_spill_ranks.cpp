@@ -124,7 +124,7 @@ void IfcSpill::emit_on_ranks(MeshRangeSink& sink, bool with_corners, bool mirror
     const Foreign foreign = swap_borders(owners, ranks);
     TempFile resolved("for the bricks' resolved triangles", held_);
     Used used(vertex_count);
-    resolve(&foreign, with_corners, used, resolved);
+    resolve(&foreign, with_corners, used, appended_to(resolved));
     ranks.or_words(used.words());
     const std::uint64_t used_count = used.count();
     const std::string header = sink.header(used_count, triangle_count);
@@ -133,11 +133,11 @@ void IfcSpill::emit_on_ranks(MeshRangeSink& sink, bool with_corners, bool mirror
     // This rank's records formatted into two local files.
     TempFile vertex_text("for this rank's vertices", held_), triangle_text("for this rank's triangles", held_);
     std::vector<NodeBytes> my_bytes(nodes_.size());
-    format_records(Records::vertices, sink, used, resolved, with_corners, mirrored, [&](std::size_t n, const std::string& bytes) {
+    format_records(Records::vertices, sink, &used, &resolved, with_corners, mirrored, [&](std::size_t n, const std::string& bytes) {
         vertex_text.append(bytes.data(), bytes.size());
         my_bytes[n].vertex_bytes = bytes.size();
     });
-    format_records(Records::triangles, sink, used, resolved, with_corners, mirrored, [&](std::size_t n, const std::string& bytes) {
+    format_records(Records::triangles, sink, &used, &resolved, with_corners, mirrored, [&](std::size_t n, const std::string& bytes) {
         triangle_text.append(bytes.data(), bytes.size());
         my_bytes[n].triangle_bytes = bytes.size();
     });

@@ -2,8 +2,12 @@
 // Formatting a mesh's records (an ASCII number's shortest form above all) is most of the
 // spill's output once its keys are resolved, and it is serial in the order of the file; so runs
 // of nodes are formatted in parallel in a pipeline whose last stage takes them in order, and
-// the bytes are those of one thread.
+// the bytes are those of one thread. When every vertex is used (no scan measured has one
+// unused), a triangle's numbers are known as soon as it is resolved: one process then formats
+// the triangles as they are resolved, without the resolved file
+// (write_ranges_every_vertex_used()).
 
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
 
@@ -27,13 +31,67 @@ struct FormattedRun {
     std::vector<std::string> bytes;
 };
 
-}  // namespace
-
-void IfcSpill::format_records(Records which, const MeshRangeSink& format, const Used& used, const TempFile& resolved, bool with_corners,
-                              bool mirrored, const std::function<void(std::size_t, const std::string&)>& take) const {
+/// Formats @a count triangles resolved (resolve()'s records at @a records) with @a format
+/// into @a out: their numbers among the used vertices (@a used; null: every vertex is), wound
+/// the other way when @a mirrored.
+template <typename Used>
+void format_resolved(const char* records, std::size_t count, bool with_corners, bool mirrored, const Used* used,
+                     const MeshRangeSink& format, std::string& out) {
     using Numbers = std::array<std::uint32_t, 3>;
     using Corners = std::array<std::array<float, 3>, 3>;
     const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
+    std::vector<std::array<std::uint32_t, 3>> triangles(count);
+    std::vector<Corners> corners(with_corners ? count : 0);
+    for (std::size_t t = 0; t < count; ++t) {
+        Numbers numbers;
+        std::memcpy(&numbers, records + t * record_bytes, sizeof(numbers));
+        for (int k = 0; k < 3; ++k) triangles[t][std::size_t(k)] = used ? std::uint32_t(used->rank(numbers[std::size_t(k)])) : numbers[std::size_t(k)];
+        if (with_corners) std::memcpy(&corners[t], records + t * record_bytes + sizeof(numbers), sizeof(Corners));
+        if (mirrored) {
+            std::swap(triangles[t][1], triangles[t][2]);
+            if (with_corners) std::swap(corners[t][1], corners[t][2]);
+        }
+    }
+    format.triangles(triangles, corners, out);
+}
+
+/// Bytes of resolve()'s record of a triangle.
+std::size_t resolved_record_bytes(bool with_corners) {
+    return 3 * sizeof(std::uint32_t) + (with_corners ? 9 * sizeof(float) : 0);
+}
+
+/// Gathers bytes into writes of a few MB at consecutive offsets of @a sink's file.
+class RangeWriter {
+public:
+    RangeWriter(MeshRangeSink& sink, std::string first) : sink_(sink), pending_(std::move(first)) {}
+    void add(const std::string& bytes) {
+        pending_ += bytes;
+        if (pending_.size() >= kWriteBytes) flush();
+    }
+    void flush() {
+        sink_.write_at(at_, pending_.data(), pending_.size());
+        at_ += pending_.size();
+        pending_.clear();
+    }
+
+private:
+    static constexpr std::size_t kWriteBytes = std::size_t{4} << 20;
+    MeshRangeSink& sink_;
+    std::string pending_;
+    std::uint64_t at_ = 0;
+};
+
+}  // namespace
+
+IfcSpill::ResolvedRun IfcSpill::appended_to(TempFile& resolved) {
+    return [&resolved](std::size_t, std::vector<std::vector<char>>& batches) {
+        for (const std::vector<char>& batch : batches) resolved.append(batch.data(), batch.size());
+    };
+}
+
+void IfcSpill::format_records(Records which, const MeshRangeSink& format, const Used* used, const TempFile* resolved, bool with_corners,
+                              bool mirrored, const std::function<void(std::size_t, const std::string&)>& take) const {
+    const std::size_t record_bytes = resolved_record_bytes(with_corners);
     auto records_of = [&](const NodeRecord& node) { return which == Records::vertices ? node.vertex_count : node.triangle_count; };
 
     auto format_vertices = [&](const NodeRecord& node, std::string& out) {
@@ -41,25 +99,13 @@ void IfcSpill::format_records(Records which, const MeshRangeSink& format, const 
         std::vector<std::array<float, 3>> positions;
         positions.reserve(vertices.size());
         for (std::size_t v = 0; v < vertices.size(); ++v)
-            if (used.used(node.first_vertex + v)) positions.push_back(vertices[v].position);
+            if (!used || used->used(node.first_vertex + v)) positions.push_back(vertices[v].position);
         format.vertices(positions, out);
     };
     auto format_triangles = [&](const NodeRecord& node, std::uint64_t resolved_at, std::string& out) {
         std::vector<char> batch(std::size_t(node.triangle_count * record_bytes));
-        if (!batch.empty()) resolved.read(resolved_at, batch.data(), batch.size());
-        std::vector<std::array<std::uint32_t, 3>> triangles(std::size_t(node.triangle_count));
-        std::vector<Corners> corners(with_corners ? triangles.size() : 0);
-        for (std::size_t t = 0; t < triangles.size(); ++t) {
-            Numbers numbers;
-            std::memcpy(&numbers, batch.data() + t * record_bytes, sizeof(numbers));
-            for (int k = 0; k < 3; ++k) triangles[t][std::size_t(k)] = std::uint32_t(used.rank(numbers[std::size_t(k)]));
-            if (with_corners) std::memcpy(&corners[t], batch.data() + t * record_bytes + sizeof(numbers), sizeof(Corners));
-            if (mirrored) {
-                std::swap(triangles[t][1], triangles[t][2]);
-                if (with_corners) std::swap(corners[t][1], corners[t][2]);
-            }
-        }
-        format.triangles(triangles, corners, out);
+        if (!batch.empty()) resolved->read(resolved_at, batch.data(), batch.size());
+        format_resolved(batch.data(), std::size_t(node.triangle_count), with_corners, mirrored, used, format, out);
     };
 
     std::size_t next = 0;
@@ -110,28 +156,52 @@ void IfcSpill::write_ranges(MeshRangeSink& sink, const Used& used, const TempFil
     const std::string footer = sink.footer();
     sink.open("");
     try {
-        // Nodes' records gathered into writes of a few MB.
-        constexpr std::size_t kWriteBytes = std::size_t{4} << 20;
-        std::string pending = header;
-        std::uint64_t pending_at = 0;
-        auto flush = [&] {
-            sink.write_at(pending_at, pending.data(), pending.size());
-            pending_at += pending.size();
-            pending.clear();
-        };
-        auto write = [&](std::size_t, const std::string& bytes) {
-            pending += bytes;
-            if (pending.size() >= kWriteBytes) flush();
-        };
-        format_records(Records::vertices, sink, used, resolved, with_corners, mirrored, write);
-        format_records(Records::triangles, sink, used, resolved, with_corners, mirrored, write);
-        pending += footer;
-        flush();
+        RangeWriter writer(sink, header);
+        auto write = [&](std::size_t, const std::string& bytes) { writer.add(bytes); };
+        format_records(Records::vertices, sink, &used, &resolved, with_corners, mirrored, write);
+        format_records(Records::triangles, sink, &used, &resolved, with_corners, mirrored, write);
+        writer.add(footer);
+        writer.flush();
     } catch (...) {
         sink.close(false);
         throw;
     }
     sink.close(true);
+}
+
+bool IfcSpill::write_ranges_every_vertex_used(MeshRangeSink& sink, bool with_corners, bool mirrored, std::uint64_t vertex_count,
+                                              std::uint64_t triangle_count) const {
+    const std::string header = sink.header(vertex_count, triangle_count);
+    const std::string footer = sink.footer();
+    sink.open("");
+    Used used(vertex_count);
+    try {
+        RangeWriter writer(sink, header);
+        format_records(Records::vertices, sink, nullptr, nullptr, with_corners, mirrored,
+                       [&](std::size_t, const std::string& bytes) { writer.add(bytes); });
+        std::vector<std::string> formatted;
+        resolve(nullptr, with_corners, used, [&](std::size_t, std::vector<std::vector<char>>& batches) {
+            formatted.resize(batches.size());
+            const std::size_t record_bytes = resolved_record_bytes(with_corners);
+            tbb::parallel_for(std::size_t{0}, batches.size(), [&](std::size_t n) {
+                formatted[n].clear();
+                format_resolved(batches[n].data(), batches[n].size() / record_bytes, with_corners, mirrored,
+                                static_cast<const Used*>(nullptr), sink, formatted[n]);
+            });
+            for (const std::string& bytes : formatted) writer.add(bytes);
+        });
+        writer.add(footer);
+        writer.flush();
+    } catch (...) {
+        sink.close(false);
+        throw;
+    }
+    if (used.count() == vertex_count) {
+        sink.close(true);
+        return true;
+    }
+    sink.close(false);
+    return false;
 }
 
 }  // namespace vdbmesh::detail

@@ -20,6 +20,8 @@
 #include <tuple>
 #include <vector>
 
+#include "mesh/dc_polygons.h"
+#include "mesh/dc_spill.h"
 #include "phantom_grid.h"
 #include "shared_scan.h"
 #include "vdbmesh/grid_region.h"
@@ -216,6 +218,47 @@ TEST_F(BricksRanksTest, RealScanCTheadInEveryFormat) {
     ASSERT_NO_FATAL_FAILURE(test::convert_shared_scan(scan, grid));
     if (!grid) return;
     expect_same_bytes(grid, {2, 2}, {1}, scan.iso);
+}
+
+/// One node's output by hand: a tetrahedron of four crossings, and, with @a unused, a fifth
+/// crossing no triangle names (the weld drops it: the numbers after it change).
+detail::IfcNodeOutput tetrahedron_node(bool unused) {
+    auto vertex = [](int x, int y, int z) {
+        return detail::IfcVertex{detail::ifc_edge_key(openvdb::Coord(x, y, z), 0), {float(x) + 0.5f, float(y), float(z)}};
+    };
+    detail::IfcBlockOutput block;
+    block.vertices = {vertex(1, 1, 1), vertex(4, 1, 1), vertex(1, 4, 1)};
+    if (unused) block.vertices.push_back(vertex(6, 6, 6));
+    block.vertices.push_back(vertex(1, 1, 4));
+    auto key = [&](int x, int y, int z) { return detail::ifc_edge_key(openvdb::Coord(x, y, z), 0); };
+    const std::uint64_t a = key(1, 1, 1), b = key(4, 1, 1), c = key(1, 4, 1), d = key(1, 1, 4);
+    block.triangles = {{a, c, b}, {a, b, d}, {a, d, c}, {b, c, d}};
+    detail::IfcNodeOutput node;
+    node.origin = openvdb::Coord(0, 0, 0);
+    node.blocks.push_back(block);
+    return node;
+}
+
+// One process writing its file's ranges (the command's sink) takes one pass when every vertex
+// is used, and falls back to two when one is not: the weld's bytes either way.
+TEST_F(BricksRanksTest, OneProcessGivesTheWeldsBytesWithAndWithoutAnUnusedVertex) {
+    for (const bool unused : {false, true}) {
+        std::vector<detail::IfcNodeOutput> nodes{tetrahedron_node(unused)};
+        const Mesh welded = detail::weld_ifc_nodes(std::vector<detail::IfcNodeOutput>(nodes));
+        ASSERT_EQ(welded.vertices.size(), 4u) << "the weld drops the unused vertex";
+        for (const auto& [name, ascii] : std::vector<std::pair<std::string, bool>>{{"mesh.ply", false}, {"mesh.obj", false}, {"mesh.stl", true}}) {
+            const std::filesystem::path plain = folder_ / ("plain-" + name), spilled = folder_ / ("spilled-" + name);
+            write_mesh(welded, plain, MeshWriteOptions{ascii, false});
+            detail::IfcSpill spill;
+            spill.append(std::move(nodes.front()));
+            nodes = {tetrahedron_node(unused)};
+            RangesOnlySink sink(spilled, ascii);
+            spill.emit(sink, false);
+            EXPECT_EQ(bytes_of(spilled), bytes_of(plain)) << name << (unused ? ", a vertex unused" : "");
+        }
+    }
+    for (const auto& entry : std::filesystem::directory_iterator(folder_))
+        EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
 }
 
 TEST_F(BricksRanksTest, CylinderThroughFiveNodesSplitByLayers) {
