@@ -9,7 +9,7 @@ reads the server's VmHWM at each step, stops it with SIGINT and prints the times
 JSON. A benchmark, not a test.
 
     bench/view_memory_peak.py [--until-fitted] build/vdbmesh INPUT [VIEW ARGUMENTS ...]
-    e.g. bench/view_memory_peak.py build/vdbmesh /work/big/bunny_k3.vdb --memory 1G
+    e.g. bench/view_memory_peak.py build/vdbmesh bunny_k3.vdb --memory 1G   (bench/make_tiled_scan.py, then convert)
 
 --until-fitted stops the server once the fit is done (the preparation, a pass over the whole
 grid that takes minutes on a huge scan, not waited for).

@@ -202,8 +202,7 @@ void IfcSpill::Receiver::take_header() {
 
 void IfcSpill::resolve(const Foreign* foreign, bool with_corners, Used& used, const ResolvedRun& take) const {
     using Numbers = std::array<std::uint32_t, 3>;
-    using Corners = std::array<std::array<float, 3>, 3>;
-    const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
+    const std::size_t record_bytes = resolved_record_bytes(with_corners);
     auto resolve_node = [&](const Tables& tables, const NodeRecord& node, std::vector<char>& batch) {
         const Tables::Table* last = nullptr;
         const std::vector<KeyedTriangle> triangles = read<KeyedTriangle>(node.triangle_offset, node.triangle_count);
@@ -238,7 +237,7 @@ void IfcSpill::resolve(const Foreign* foreign, bool with_corners, Used& used, co
         tables.load_around(nodes_.data() + first, end - first);
         batches.resize(end - first);
         tbb::parallel_for(std::size_t{0}, end - first, [&](std::size_t n) { resolve_node(tables, nodes_[first + n], batches[n]); });
-        take(first, batches);
+        take(batches);
         first = end;
     }
 }
@@ -255,10 +254,8 @@ void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
     // One pass resolves every triangle's keys (the costly part), marking the vertices used (the
     // weld drops the others) and keeping the triangles resolved in a second file, read back in
     // order once the used vertices are counted and written.
-    using Numbers = std::array<std::uint32_t, 3>;
-    using Corners = std::array<std::array<float, 3>, 3>;
     const bool with_corners = sink.needs_corners();
-    const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
+    const std::size_t record_bytes = resolved_record_bytes(with_corners);
     MeshRangeSink* ranges = sink.ranges();
     if (ranges && write_ranges_every_vertex_used(*ranges, with_corners, mirrored, vertex_count, triangle_count)) return;
     TempFile resolved("for the bricks' resolved triangles", held_);
@@ -278,23 +275,14 @@ void IfcSpill::emit(MeshStreamSink& sink, bool mirrored) {
     }
     constexpr std::uint64_t kBatch = 1 << 16;
     std::vector<char> batch;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<Corners> corners;
     for (std::uint64_t first = 0; first < triangle_count; first += kBatch) {
         const std::uint64_t count = std::min(kBatch, triangle_count - first);
         batch.resize(count * record_bytes);
         resolved.read(first * record_bytes, batch.data(), batch.size());
-        for (std::uint64_t r = 0; r < count; ++r) {
-            Numbers numbers;
-            Corners corners{};
-            std::memcpy(&numbers, batch.data() + r * record_bytes, sizeof(numbers));
-            if (with_corners) std::memcpy(&corners, batch.data() + r * record_bytes + sizeof(numbers), sizeof(corners));
-            std::array<std::uint32_t, 3> triangle;
-            for (int k = 0; k < 3; ++k) triangle[k] = std::uint32_t(used.rank(numbers[k]));
-            if (mirrored) {
-                std::swap(triangle[1], triangle[2]);
-                std::swap(corners[1], corners[2]);
-            }
-            sink.triangle(triangle, corners);
-        }
+        decode_resolved(batch.data(), std::size_t(count), with_corners, mirrored, &used, triangles, corners);
+        for (std::size_t t = 0; t < triangles.size(); ++t) sink.triangle(triangles[t], with_corners ? corners[t] : Corners{});
     }
 }
 

@@ -3,6 +3,7 @@
 // and triangles appended to an unlinked temporary file as soon as its brick is meshed, then
 // read back node by node in z-major order, keys resolved to vertex numbers, into a sink.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -70,9 +71,20 @@ private:
     class Used;
     struct ForeignNode;
     using Foreign = std::map<std::tuple<int, int, int>, ForeignNode>;
-    /// A run of nodes resolved: the index of its first node in nodes_, and each node's
-    /// triangles resolved (records of resolve()); the callee may take the batches' bytes.
-    using ResolvedRun = std::function<void(std::size_t first, std::vector<std::vector<char>>& batches)>;
+    /// A run of nodes resolved, in order: each node's triangles resolved (records of resolve());
+    /// the callee may take the batches' bytes.
+    using ResolvedRun = std::function<void(std::vector<std::vector<char>>& batches)>;
+    using Corners = std::array<std::array<float, 3>, 3>;
+    /// Bytes of resolve()'s record of a triangle: its three vertex numbers, then, @a
+    /// with_corners, their positions.
+    static std::size_t resolved_record_bytes(bool with_corners) {
+        return sizeof(std::array<std::uint32_t, 3>) + (with_corners ? sizeof(Corners) : 0);
+    }
+    /// The @a count records of resolve() at @a records as triangles numbered among the used
+    /// vertices (@a used; null: every vertex is) and, @a with_corners, their corners (else
+    /// @a corners is left empty), wound the other way when @a mirrored.
+    static void decode_resolved(const char* records, std::size_t count, bool with_corners, bool mirrored, const Used* used,
+                                std::vector<std::array<std::uint32_t, 3>>& triangles, std::vector<Corners>& corners);
     /// Resolves the triangles of nodes_ (sorted, numbered), a run of nodes at a time, into
     /// @a take: each triangle its vertex numbers (before unused ones are dropped), then, @a
     /// with_corners, its corners; marks the vertices used in @a used. @a foreign: other ranks'

@@ -31,35 +31,6 @@ struct FormattedRun {
     std::vector<std::string> bytes;
 };
 
-/// Formats @a count triangles resolved (resolve()'s records at @a records) with @a format
-/// into @a out: their numbers among the used vertices (@a used; null: every vertex is), wound
-/// the other way when @a mirrored.
-template <typename Used>
-void format_resolved(const char* records, std::size_t count, bool with_corners, bool mirrored, const Used* used,
-                     const MeshRangeSink& format, std::string& out) {
-    using Numbers = std::array<std::uint32_t, 3>;
-    using Corners = std::array<std::array<float, 3>, 3>;
-    const std::size_t record_bytes = sizeof(Numbers) + (with_corners ? sizeof(Corners) : 0);
-    std::vector<std::array<std::uint32_t, 3>> triangles(count);
-    std::vector<Corners> corners(with_corners ? count : 0);
-    for (std::size_t t = 0; t < count; ++t) {
-        Numbers numbers;
-        std::memcpy(&numbers, records + t * record_bytes, sizeof(numbers));
-        for (int k = 0; k < 3; ++k) triangles[t][std::size_t(k)] = used ? std::uint32_t(used->rank(numbers[std::size_t(k)])) : numbers[std::size_t(k)];
-        if (with_corners) std::memcpy(&corners[t], records + t * record_bytes + sizeof(numbers), sizeof(Corners));
-        if (mirrored) {
-            std::swap(triangles[t][1], triangles[t][2]);
-            if (with_corners) std::swap(corners[t][1], corners[t][2]);
-        }
-    }
-    format.triangles(triangles, corners, out);
-}
-
-/// Bytes of resolve()'s record of a triangle.
-std::size_t resolved_record_bytes(bool with_corners) {
-    return 3 * sizeof(std::uint32_t) + (with_corners ? 9 * sizeof(float) : 0);
-}
-
 /// Gathers bytes into writes of a few MB at consecutive offsets of @a sink's file.
 class RangeWriter {
 public:
@@ -83,8 +54,26 @@ private:
 
 }  // namespace
 
+void IfcSpill::decode_resolved(const char* records, std::size_t count, bool with_corners, bool mirrored, const Used* used,
+                               std::vector<std::array<std::uint32_t, 3>>& triangles, std::vector<Corners>& corners) {
+    using Numbers = std::array<std::uint32_t, 3>;
+    const std::size_t record_bytes = resolved_record_bytes(with_corners);
+    triangles.resize(count);
+    corners.resize(with_corners ? count : 0);
+    for (std::size_t t = 0; t < count; ++t) {
+        Numbers numbers;
+        std::memcpy(&numbers, records + t * record_bytes, sizeof(numbers));
+        for (int k = 0; k < 3; ++k) triangles[t][std::size_t(k)] = used ? std::uint32_t(used->rank(numbers[std::size_t(k)])) : numbers[std::size_t(k)];
+        if (with_corners) std::memcpy(&corners[t], records + t * record_bytes + sizeof(numbers), sizeof(Corners));
+        if (mirrored) {
+            std::swap(triangles[t][1], triangles[t][2]);
+            if (with_corners) std::swap(corners[t][1], corners[t][2]);
+        }
+    }
+}
+
 IfcSpill::ResolvedRun IfcSpill::appended_to(TempFile& resolved) {
-    return [&resolved](std::size_t, std::vector<std::vector<char>>& batches) {
+    return [&resolved](std::vector<std::vector<char>>& batches) {
         for (const std::vector<char>& batch : batches) resolved.append(batch.data(), batch.size());
     };
 }
@@ -105,7 +94,10 @@ void IfcSpill::format_records(Records which, const MeshRangeSink& format, const 
     auto format_triangles = [&](const NodeRecord& node, std::uint64_t resolved_at, std::string& out) {
         std::vector<char> batch(std::size_t(node.triangle_count * record_bytes));
         if (!batch.empty()) resolved->read(resolved_at, batch.data(), batch.size());
-        format_resolved(batch.data(), std::size_t(node.triangle_count), with_corners, mirrored, used, format, out);
+        std::vector<std::array<std::uint32_t, 3>> triangles;
+        std::vector<Corners> corners;
+        decode_resolved(batch.data(), std::size_t(node.triangle_count), with_corners, mirrored, used, triangles, corners);
+        format.triangles(triangles, corners, out);
     };
 
     std::size_t next = 0;
@@ -180,13 +172,15 @@ bool IfcSpill::write_ranges_every_vertex_used(MeshRangeSink& sink, bool with_cor
         format_records(Records::vertices, sink, nullptr, nullptr, with_corners, mirrored,
                        [&](std::size_t, const std::string& bytes) { writer.add(bytes); });
         std::vector<std::string> formatted;
-        resolve(nullptr, with_corners, used, [&](std::size_t, std::vector<std::vector<char>>& batches) {
+        resolve(nullptr, with_corners, used, [&](std::vector<std::vector<char>>& batches) {
             formatted.resize(batches.size());
             const std::size_t record_bytes = resolved_record_bytes(with_corners);
             tbb::parallel_for(std::size_t{0}, batches.size(), [&](std::size_t n) {
+                std::vector<std::array<std::uint32_t, 3>> triangles;
+                std::vector<Corners> corners;
+                decode_resolved(batches[n].data(), batches[n].size() / record_bytes, with_corners, mirrored, nullptr, triangles, corners);
                 formatted[n].clear();
-                format_resolved(batches[n].data(), batches[n].size() / record_bytes, with_corners, mirrored,
-                                static_cast<const Used*>(nullptr), sink, formatted[n]);
+                sink.triangles(triangles, corners, formatted[n]);
             });
             for (const std::string& bytes : formatted) writer.add(bytes);
         });
