@@ -81,7 +81,7 @@ std::string mib_text(std::uint64_t bytes) { return std::to_string(std::uint64_t(
 /// leaf of the preview (the least the fit can prune to), naming the smallest limit that can.
 std::uint64_t splat_tree_bytes(const ViewCommandOptions& options, const ViewSplats& preview) {
     if (!options.memory_plan) return 0;
-    const std::uint64_t resident = ViewMemoryPlan::resident_now();
+    const std::uint64_t resident = process_memory_now().resident;
     const std::uint64_t opened = resident > options.resident_before_opening ? resident - options.resident_before_opening : 0;
     const std::uint64_t bytes = options.memory_plan->splat_tree_bytes(opened);
     const std::uint64_t least = std::max<std::uint64_t>(preview.tree->nodes.size(), 1) * kSplatBuildBytesPerNode;
@@ -212,7 +212,7 @@ void plan_memory(ViewCommandOptions& options) {
     options.memory_plan = ViewMemoryPlan{std::uint64_t(options.memory.bytes())};
     options.server.region_read_bytes = options.memory_plan->close_up_bytes();
     options.server.other_splat_tree_bytes = options.memory_plan->close_up_bytes();
-    options.resident_before_opening = ViewMemoryPlan::resident_now();
+    options.resident_before_opening = process_memory_now().resident;
 }
 
 void run_view(ViewCommandOptions& options) {

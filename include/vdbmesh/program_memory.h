@@ -13,4 +13,11 @@ namespace vdbmesh {
 /// (bench/README.md, "Scale", session 18).
 inline constexpr std::uint64_t kProgramBytes = std::uint64_t(64) << 20;
 
+/// The process's memory now (/proc/self/statm), bytes; zeros where it cannot be read.
+struct ProcessMemory {
+    std::uint64_t address_space = 0;  ///< what a forked child starts with
+    std::uint64_t resident = 0;       ///< what a --memory plan measures as held
+};
+ProcessMemory process_memory_now();
+
 }  // namespace vdbmesh

@@ -129,8 +129,6 @@ struct ViewMemoryPlan {
     std::uint64_t splat_tree_bytes(std::uint64_t opened) const;
     /// The smallest SIZE whose splat_tree_bytes(@a opened) holds @a tree_bytes.
     static std::uint64_t smallest_limit(std::uint64_t opened, std::uint64_t tree_bytes);
-    /// The process's resident memory now (/proc/self/statm), bytes: what `opened` is measured by.
-    static std::uint64_t resident_now();
 
 private:
     std::uint64_t rest() const;

@@ -27,6 +27,7 @@
 
 #include "vdb_probe.h"
 #include "vdbmesh/error.h"
+#include "vdbmesh/program_memory.h"
 
 namespace vdbmesh::detail {
 
@@ -143,7 +144,7 @@ private:
         if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sockets) != 0)
             throw Error(path_.string() + ": cannot create a socket to read the .vdb file");
         // The child starts with this process's address space (the mapped file, the topology).
-        const std::uint64_t address_space = address_space_now() + std::max<std::uint64_t>(std::uint64_t{2} << 30, 8 * kRequestBytes);
+        const std::uint64_t address_space = process_memory_now().address_space + std::max<std::uint64_t>(std::uint64_t{2} << 30, 8 * kRequestBytes);
         pid_ = ::fork();
         if (pid_ == 0) {
             ::close(sockets[0]);

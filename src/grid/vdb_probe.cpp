@@ -15,11 +15,11 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cstdio>
 #include <new>
 #include <string>
 
 #include "vdbmesh/error.h"
+#include "vdbmesh/program_memory.h"
 
 namespace vdbmesh::detail {
 
@@ -164,15 +164,6 @@ void run_in_child(const std::filesystem::path& path, const ChildReading& reading
     if (WEXITSTATUS(status) != 0) throw FormatError(path.string(), outcome.failure.empty() ? "not a readable .vdb file" : outcome.failure);
 }
 
-std::uint64_t address_space_now() {
-    unsigned long pages = 0;
-    if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
-        if (std::fscanf(statm, "%lu", &pages) != 1) pages = 0;
-        std::fclose(statm);
-    }
-    return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
-}
-
 void enter_reading_child(std::uint64_t address_space) {
     restore_default_signals();
     const rlimit limit{static_cast<rlim_t>(address_space), static_cast<rlim_t>(address_space)}, no_core{0, 0};
@@ -213,7 +204,7 @@ void probe_vdb_topology_in_child(const std::filesystem::path& path, const ChildR
     openvdb::initialize();
     const std::uintmax_t bytes = file_bytes(path);
     // The file is mapped whole (delayed loading): its size counts in the address space.
-    const rlim_t limit = address_space_now() + static_cast<rlim_t>(bytes) + memory_limit(bytes / 16);
+    const rlim_t limit = process_memory_now().address_space + static_cast<rlim_t>(bytes) + memory_limit(bytes / 16);
     const unsigned cpu_seconds = reading_cpu_seconds(bytes / 16);
     run_in_child(path, read_topology, {limit, cpu_seconds, blocked_wall_seconds(cpu_seconds)});
 }

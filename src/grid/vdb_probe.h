@@ -55,8 +55,6 @@ std::string blocked_failure(unsigned wall_seconds);
 /// Lets this (child) process use @a seconds more CPU time before SIGXCPU ends it.
 void limit_cpu_from_now(unsigned seconds);
 
-/// The address space this process holds now (a forked child starts with all of it).
-std::uint64_t address_space_now();
 
 /// Prepares a freshly forked reading child: default signal handlers (SIGXCPU's included), no
 /// core file, at most @a address_space bytes of address space, stderr to /dev/null (glibc's and

@@ -1,10 +1,7 @@
 // `view --memory SIZE`: how SIZE is shared between what the grid holds once opened, the splat
 // tree, one close-up's read and the page (view.h, ViewMemoryPlan).
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <cstdio>
 
 #include "vdbmesh/program_memory.h"
 #include "vdbmesh/splats.h"
@@ -30,15 +27,6 @@ std::uint64_t ViewMemoryPlan::smallest_limit(std::uint64_t opened, std::uint64_t
     const std::uint64_t tree_nodes = (tree_bytes + kSplatBuildBytesPerNode - 1) / kSplatBuildBytesPerNode;
     const std::uint64_t r = std::max({4 * kMinCloseUpBytes, opened + tree_bytes, 2 * (opened + tree_nodes * sizeof(SplatNode))});
     return kProgramBytes + r;
-}
-
-std::uint64_t ViewMemoryPlan::resident_now() {
-    unsigned long size = 0, resident = 0;
-    if (std::FILE* statm = std::fopen("/proc/self/statm", "r")) {
-        if (std::fscanf(statm, "%lu %lu", &size, &resident) != 2) resident = 0;
-        std::fclose(statm);
-    }
-    return std::uint64_t(resident) * std::uint64_t(::sysconf(_SC_PAGESIZE));
 }
 
 }  // namespace vdbmesh
