@@ -201,7 +201,7 @@ void print_table(const nlohmann::ordered_json& report, const std::vector<MeshCom
     out << "\n";
     out << std::left << std::setw(9) << "method" << std::setw(12) << "setting" << std::right << std::setw(9) << "seconds"
         << std::setw(11) << "triangles" << std::setw(11) << "vertices" << std::setw(11) << "hausdorff" << std::setw(9)
-        << "mean" << std::setw(9) << "n.mean" << std::setw(8) << "n.p95" << std::setw(8) << "selfX" << std::setw(8)
+        << "mean" << std::setw(9) << "n.mean" << std::setw(8) << "n.p95" << std::setw(8) << "<10deg" << std::setw(8) << "selfX" << std::setw(8)
         << "closed" << std::setw(10) << "manifold" << std::setw(7) << "clean" << "\n";
     out << std::fixed;
     for (const auto& m : meshes) {
@@ -210,13 +210,58 @@ void print_table(const nlohmann::ordered_json& report, const std::vector<MeshCom
             << std::setprecision(3) << std::setw(9) << m.seconds << std::setw(11) << m.analysis.triangles << std::setw(11)
             << m.analysis.vertices << std::setprecision(4) << std::setw(11) << d.hausdorff << std::setw(9) << d.mean
             << std::setprecision(2) << std::setw(9) << m.accuracy.normals.mean_deg << std::setw(8)
-            << m.accuracy.normals.p95_deg << std::setw(8) << m.analysis.self_intersecting_pairs << std::setw(8)
+            << m.accuracy.normals.p95_deg << std::setw(7) << 100 * m.analysis.small_angle_share << "%"
+            << std::setw(8) << m.analysis.self_intersecting_pairs << std::setw(8)
             << (m.analysis.closed ? "yes" : "no") << std::setw(10)
             << (m.analysis.nonmanifold_edges == 0 && m.analysis.nonmanifold_vertices == 0 ? "yes" : "no") << std::setw(7)
             << (m.analysis.is_clean() ? "yes" : "no") << "\n";
     }
     out << std::defaultfloat << "distances in voxels (two-sided, " << g["samples"]
-        << " samples each way); normal deviation in degrees\n";
+        << " samples each way); normal deviation in degrees; <10deg: the share of angles under 10 degrees\n";
+}
+
+/// "dc error 0.25", "openvdb adapt 1", ...: a row as the table names it.
+std::string row_name(const MeshComparison& m) {
+    return std::string(method_name(m.method)) + " " + setting_text(m, {"dec ", "error ", "adapt ", "<= ", "sharp "});
+}
+
+std::string row_names(const std::vector<MeshComparison>& meshes, const std::vector<std::size_t>& rows) {
+    std::string text;
+    for (const std::size_t i : rows) text += (text.empty() ? "" : ", ") + row_name(meshes[i]);
+    return text.empty() ? "none" : text;
+}
+
+/// Under the table: for each volumeToMesh row, the rows of ours that beat it on every count, and
+/// on time too (issue 29, item 5: the plain command shows the dominance).
+void print_dominance(const std::vector<Dominance>& dominance, const std::vector<MeshComparison>& meshes, std::ostream& out) {
+    if (dominance.empty()) return;
+    out << "beaten on every count (no more triangles, no larger Hausdorff, no more angles under 10 degrees, clean)"
+        << " and no slower (at adaptivity 1: " << kAdaptivityOneTimeFactor << "x its time) by:\n";
+    for (const Dominance& d : dominance) {
+        out << "  " << row_name(meshes[d.volume_to_mesh]) << ": " << row_names(meshes, d.with_time);
+        if (d.every_count.size() > d.with_time.size()) out << "; ignoring time: " << row_names(meshes, d.every_count);
+        if (d.closest) {
+            std::string lost;
+            for (const char* count : d.closest_loses) lost += (lost.empty() ? "" : ", ") + std::string(count);
+            out << " (closest: " << row_name(meshes[*d.closest]) << ", loses on " << lost << ")";
+        }
+        out << "\n";
+    }
+}
+
+nlohmann::ordered_json dominance_json(const std::vector<Dominance>& dominance) {
+    nlohmann::ordered_json list = nlohmann::ordered_json::array();
+    for (const Dominance& d : dominance) {
+        nlohmann::ordered_json j;
+        j["volume_to_mesh"] = d.volume_to_mesh;
+        j["every_count"] = d.every_count;
+        j["with_time"] = d.with_time;
+        j["closest"] = d.closest ? nlohmann::ordered_json(*d.closest) : nullptr;
+        j["closest_loses"] = nlohmann::ordered_json::array();
+        for (const char* count : d.closest_loses) j["closest_loses"].push_back(count);
+        list.push_back(j);
+    }
+    return list;
 }
 
 Plot make_plot(const std::string& title, const std::vector<MeshComparison>& meshes) {
@@ -308,9 +353,12 @@ int run_compare(const CompareCommandOptions& o) {
     report["grid"] = grid_json(o, loaded, comparison.reference_triangles);
     report["meshes"] = nlohmann::ordered_json::array();
     for (const auto& m : meshes) report["meshes"].push_back(mesh_json(m));
+    const std::vector<Dominance> dominance = find_dominance(comparison);
+    report["dominance"] = dominance_json(dominance);
     if (!o.json.empty()) write_text_file(o.json, detail::json_text(report, 2) + "\n");
     if (!o.plot.empty()) write_text_file(o.plot, svg_plot(make_plot(report["grid"]["input"].get<std::string>(), meshes)));
     print_table(report, meshes, std::cout);
+    print_dominance(dominance, meshes, std::cout);
     return kSuccess;
 }
 

@@ -149,6 +149,28 @@ struct Comparison {
 /// distinct mesh). Meshes are dropped once measured, but for the error-0 mesh that is decimated.
 Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions& options);
 
+/// At adaptivity 1 a row of ours may take up to this many times volumeToMesh's time and still
+/// dominate it (issue 29: the triangle budget "in at most 1.5x its time"); elsewhere 1.
+inline constexpr double kAdaptivityOneTimeFactor = 1.5;
+
+/// Which rows of a comparison dominate one volumeToMesh row (issue 29's figure): no more
+/// triangles, no larger two-sided Hausdorff distance, no larger share of angles under 10
+/// degrees, no defect (MeshAnalysis::is_clean()), and for with_time also no more time
+/// (kAdaptivityOneTimeFactor times it at adaptivity 1). Indices into Comparison::meshes.
+struct Dominance {
+    std::size_t volume_to_mesh = 0;          ///< the volumeToMesh row
+    std::vector<std::size_t> every_count;    ///< rows of ours beating it on every count but time
+    std::vector<std::size_t> with_time;      ///< of those, the ones no slower
+    /// When none dominates with time: the row of ours losing on the fewest counts (the faster
+    /// first), and those counts ("triangles", "hausdorff", "angles", "defects",
+    /// "time"); empty when there is no row of ours.
+    std::optional<std::size_t> closest;
+    std::vector<const char*> closest_loses;
+};
+
+/// One Dominance per volumeToMesh row of @a comparison, in its order; every other row is ours.
+std::vector<Dominance> find_dominance(const Comparison& comparison);
+
 /// "dc", "mc" or "openvdb".
 const char* method_name(MeshMethod method);
 

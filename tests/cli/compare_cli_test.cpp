@@ -53,6 +53,12 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
         EXPECT_TRUE(budget["clean"].get<bool>());
     }
     EXPECT_NE(table.find("<= "), std::string::npos) << table;
+    // Under the table, and in the JSON, which rows beat each volumeToMesh row (issue 29, item 5).
+    EXPECT_NE(table.find("beaten on every count"), std::string::npos) << table;
+    ASSERT_EQ(report["dominance"].size(), 2u);
+    EXPECT_EQ(report["dominance"][1]["volume_to_mesh"], 4);
+    for (const auto& d : report["dominance"])
+        for (const auto& i : d["with_time"]) EXPECT_NE(report["meshes"][i.get<std::size_t>()]["method"], "openvdb");
     // On a phantom, DC --sharp at each error above 0, last (issue 29, item 5).
     EXPECT_EQ(report["meshes"][7]["error"], 0.25);
     EXPECT_EQ(report["meshes"][7]["sharp"], true);
