@@ -222,7 +222,8 @@ void print_table(const nlohmann::ordered_json& report, const std::vector<MeshCom
 
 /// "dc error 0.25", "openvdb adapt 1", ...: a row as the table names it.
 std::string row_name(const MeshComparison& m) {
-    return std::string(method_name(m.method)) + " " + setting_text(m, {"dec ", "error ", "adapt ", "<= ", "sharp "});
+    const std::string setting = setting_text(m, {"dec ", "error ", "adapt ", "<= ", "sharp "});
+    return std::string(method_name(m.method)) + (setting.empty() ? "" : " " + setting);
 }
 
 std::string row_names(const std::vector<MeshComparison>& meshes, const std::vector<std::size_t>& rows) {

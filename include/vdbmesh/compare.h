@@ -161,9 +161,9 @@ struct Dominance {
     std::size_t volume_to_mesh = 0;          ///< the volumeToMesh row
     std::vector<std::size_t> every_count;    ///< rows of ours beating it on every count but time
     std::vector<std::size_t> with_time;      ///< of those, the ones no slower
-    /// When none dominates with time: the row of ours losing on the fewest counts (the faster
-    /// first), and those counts ("triangles", "hausdorff", "angles", "defects",
-    /// "time"); empty when there is no row of ours.
+    /// When none dominates with time: the row of ours nearest to it (the fewest counts of
+    /// quality lost, then not slower, then the faster), and the counts it loses on
+    /// ("triangles", "hausdorff", "angles", "defects", "time"); empty when there is no row of ours.
     std::optional<std::size_t> closest;
     std::vector<const char*> closest_loses;
 };

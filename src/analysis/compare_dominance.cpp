@@ -1,7 +1,9 @@
 // Which rows of `vdbmesh compare` dominate each volumeToMesh row (issue 29's figure, item 5:
 // the plain command shows the dominance).
 
+#include <algorithm>
 #include <string_view>
+#include <tuple>
 
 #include "vdbmesh/compare.h"
 
@@ -20,6 +22,17 @@ std::vector<const char*> lost_counts(const MeshComparison& ours, const MeshCompa
     return lost;
 }
 
+/// Whether a row losing on @a lost is nearer to dominating than one losing on @a other_lost:
+/// fewer counts of quality lost (all but time), then not losing on time, then the faster.
+bool closer_to_dominating(const std::vector<const char*>& lost, const MeshComparison& mesh,
+                          const std::vector<const char*>& other_lost, const MeshComparison& other) {
+    const auto key = [](const std::vector<const char*>& counts, const MeshComparison& m) {
+        const bool slower = std::any_of(counts.begin(), counts.end(), [](const char* c) { return std::string_view(c) == "time"; });
+        return std::make_tuple(counts.size() - (slower ? 1 : 0), slower, m.seconds);
+    };
+    return key(lost, mesh) < key(other_lost, other);
+}
+
 Dominance dominance_of(const std::vector<MeshComparison>& meshes, std::size_t anchor) {
     Dominance d;
     d.volume_to_mesh = anchor;
@@ -29,9 +42,7 @@ Dominance dominance_of(const std::vector<MeshComparison>& meshes, std::size_t an
         const bool only_time = lost.size() == 1 && std::string_view(lost[0]) == "time";
         if (lost.empty() || only_time) d.every_count.push_back(i);
         if (lost.empty()) d.with_time.push_back(i);
-        const bool closer = !d.closest || lost.size() < d.closest_loses.size() ||
-                            (lost.size() == d.closest_loses.size() &&
-                             meshes[i].seconds < meshes[*d.closest].seconds);
+        const bool closer = !d.closest || closer_to_dominating(lost, meshes[i], d.closest_loses, meshes[*d.closest]);
         if (closer) {
             d.closest = i;
             d.closest_loses = lost;

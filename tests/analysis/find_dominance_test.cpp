@@ -63,7 +63,7 @@ TEST(FindDominanceTest, AtAdaptivityOneHalfAgainTheTimeIsAllowed) {
     EXPECT_EQ(std::string(d[1].closest_loses[0]), "time");
 }
 
-TEST(FindDominanceTest, TheClosestLosesOnTheFewestCountsThenIsTheFaster) {
+TEST(FindDominanceTest, TheClosestLosesTheFewestCountsOfQualityThenNotTimeThenIsTheFaster) {
     Comparison c;
     c.meshes.push_back(volume_to_mesh(0, 1000, 0.5, 0.004, 0.2));
     c.meshes.push_back(row(MeshMethod::dc, 1200, 0.6, 0.01, 0.1));   // triangles, hausdorff, angles
@@ -76,6 +76,14 @@ TEST(FindDominanceTest, TheClosestLosesOnTheFewestCountsThenIsTheFaster) {
     EXPECT_TRUE(d[0].with_time.empty());
     ASSERT_TRUE(d[0].closest);
     EXPECT_EQ(*d[0].closest, 5u);
+
+    // A row losing only on triangles, faster than every other: still behind one losing only on time.
+    c.meshes.push_back(row(MeshMethod::dc, 1001, 0.4, 0.001, 0.01));
+    EXPECT_EQ(*find_dominance(c)[0].closest, 5u);
+    // One losing on nothing of quality and no slower dominates: no closest then.
+    c.meshes.push_back(row(MeshMethod::dc, 1000, 0.5, 0.004, 0.2));
+    EXPECT_EQ(find_dominance(c)[0].with_time, (std::vector<std::size_t>{7}));
+    EXPECT_FALSE(find_dominance(c)[0].closest);
 }
 
 TEST(FindDominanceTest, NoVolumeToMeshRowsNoneToJudge) {
