@@ -11,7 +11,8 @@
 #      error 0's triangles, within 0.5 voxel of the exact sphere: `compare --phantom`),
 #      1-thread / 2-thread scaling (vdbmesh_bench), and the bunny's peak memory at error 0.25
 #      against volumeToMesh's at 0.25 (`/usr/bin/time -f %M`, one process each).
-# Usage: bench/mesher_figures.sh OUTDIR     (build/ must hold vdbmesh and bench/vdbmesh_bench)
+# Usage: [SAMPLES=N] bench/mesher_figures.sh OUTDIR   (build/ must hold vdbmesh and bench/vdbmesh_bench;
+#        the scans are read from $VDBMESH_DATA_DIR, else ../shared/data)
 # Run it on a quiet machine: the times are compared within the run, but not across loads.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,6 +21,7 @@ mkdir -p "$out"
 vdbmesh=build/vdbmesh
 data=${VDBMESH_DATA_DIR:-../shared/data}
 threads=2
+samples=${SAMPLES:-100000}  # compare's default; SAMPLES=1000000 for the steadier maxima (bench/README.md)
 
 convert_scans() {
     local bunny=$data/raw_stanford_ct_bunny/bunny_ct_512x512x361_uint16be
@@ -35,7 +37,7 @@ compare_scans() {
     for scan in bunny cthead engine walnut; do
         /usr/bin/time -f "$scan report: %e s elapsed" -a -o "$out/report_seconds.txt" \
             "$vdbmesh" compare "$out/$scan.vdb" --error 0,0.1,0.25,0.5,1,2 --adaptivity 0,0.1,0.25,1 \
-            --threads $threads -q --json "$out/$scan.json" > "$out/$scan.txt"
+            --threads $threads --samples "$samples" -q --json "$out/$scan.json" > "$out/$scan.txt"
     done
 }
 
