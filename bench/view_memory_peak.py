@@ -17,13 +17,12 @@ grid that takes minutes on a huge scan, not waited for).
 import json
 import os
 import re
-import signal
 import struct
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from view_region_peak import camera, get, start_server  # noqa: E402
+from view_region_peak import ViewServer, camera, get  # noqa: E402
 
 
 def hwm_mb(pid):
@@ -46,48 +45,46 @@ def main():
         sys.exit(__doc__)
     command = ["/usr/bin/time", "-f", "peak_kb %M", arguments[0], "view", *arguments[1:], "--no-open", "--quiet"]
     start = time.monotonic()
-    server, base = start_server(command)
-    pid = child_pid(server.pid)
-    report = {"command": " ".join(command[3:]), "serving_s": round(time.monotonic() - start, 2)}
-    info = json.loads(get(base, "/api/info?prepare=1")[0])
-    report["preview_nodes"] = info.get("splats", {}).get("nodes")
-    report["hwm_mb_loaded"] = hwm_mb(pid)
-    fitted = False
-    while True:
-        info = json.loads(get(base, "/api/info")[0])
-        if "prepare_error" in info:
-            report["prepare_error"] = info["prepare_error"]
-            break
-        splats = info.get("splats", {})
-        if not fitted and not splats.get("preview", False):
-            fitted = True
-            report["fit_s"] = splats.get("seconds")
-            report["fitted_nodes"] = splats.get("nodes")
-            report["fitted_at_s"] = round(time.monotonic() - start, 2)
-            report["hwm_mb_fitted"] = hwm_mb(pid)
-            report["finest_kept"] = splats.get("finest_kept")
-        if fitted and (until_fitted or not info.get("preparing", False)):
-            break
-        time.sleep(0.5)
-    if not until_fitted:
-        report["prepared_at_s"] = round(time.monotonic() - start, 2)
-        report["hwm_mb_prepared"] = hwm_mb(pid)
-    if "prepare_error" not in report and not until_fitted:
-        body, headers, seconds = get(base, "/api/mesh?level=coarse")
-        vertices = int(headers["X-Vertices"])
-        positions = struct.unpack(f"<{3 * vertices}f", body[: 12 * vertices])
-        lo = [min(positions[a::3]) for a in range(3)]
-        hi = [max(positions[a::3]) for a in range(3)]
-        report["coarse_triangles"] = int(headers["X-Triangles"])
-        vp, eye, focal = camera(lo, hi)
-        query = "vp=" + ",".join(f"{v:.9g}" for v in vp) + "&eye=" + ",".join(f"{v:.9g}" for v in eye) + f"&focal={focal:.9g}"
-        _, headers, seconds = get(base, "/api/splats?" + query)
-        report["splats"] = {"shown": int(headers["X-Splats"]), "level": int(headers["X-Level"]),
-                            "tree_nodes": int(headers["X-Tree-Nodes"]), "s": round(seconds, 2)}
-    os.killpg(server.pid, signal.SIGINT)  # to vdbmesh: GNU time ignores it while it waits
-    _, errors = server.communicate(timeout=600)
-    peak = re.search(r"peak_kb (\d+)", errors)
-    report["peak_mb"] = round(int(peak.group(1)) / 1024) if peak else None
+    with ViewServer(command) as server:
+        base = server.base
+        pid = child_pid(server.process.pid)
+        report = {"command": " ".join(command[3:]), "serving_s": round(time.monotonic() - start, 2)}
+        info = json.loads(get(base, "/api/info?prepare=1")[0])
+        report["preview_nodes"] = info.get("splats", {}).get("nodes")
+        report["hwm_mb_loaded"] = hwm_mb(pid)
+        fitted = False
+        while True:
+            info = json.loads(get(base, "/api/info")[0])
+            if "prepare_error" in info:
+                report["prepare_error"] = info["prepare_error"]
+                break
+            splats = info.get("splats", {})
+            if not fitted and not splats.get("preview", False):
+                fitted = True
+                report["fit_s"] = splats.get("seconds")
+                report["fitted_nodes"] = splats.get("nodes")
+                report["fitted_at_s"] = round(time.monotonic() - start, 2)
+                report["hwm_mb_fitted"] = hwm_mb(pid)
+                report["finest_kept"] = splats.get("finest_kept")
+            if fitted and (until_fitted or not info.get("preparing", False)):
+                break
+            time.sleep(0.5)
+        if not until_fitted:
+            report["prepared_at_s"] = round(time.monotonic() - start, 2)
+            report["hwm_mb_prepared"] = hwm_mb(pid)
+        if "prepare_error" not in report and not until_fitted:
+            body, headers, seconds = get(base, "/api/mesh?level=coarse")
+            vertices = int(headers["X-Vertices"])
+            positions = struct.unpack(f"<{3 * vertices}f", body[: 12 * vertices])
+            lo = [min(positions[a::3]) for a in range(3)]
+            hi = [max(positions[a::3]) for a in range(3)]
+            report["coarse_triangles"] = int(headers["X-Triangles"])
+            vp, eye, focal = camera(lo, hi)
+            query = "vp=" + ",".join(f"{v:.9g}" for v in vp) + "&eye=" + ",".join(f"{v:.9g}" for v in eye) + f"&focal={focal:.9g}"
+            _, headers, seconds = get(base, "/api/splats?" + query)
+            report["splats"] = {"shown": int(headers["X-Splats"]), "level": int(headers["X-Level"]),
+                                "tree_nodes": int(headers["X-Tree-Nodes"]), "s": round(seconds, 2)}
+        report["peak_mb"] = server.stop()
     report["total_s"] = round(time.monotonic() - start, 2)
     with open("/proc/loadavg") as load:
         report["load_after"] = load.read().split()[0]

@@ -27,15 +27,36 @@ def get(base, path):
         return body, dict(response.headers), time.monotonic() - start
 
 
-def start_server(command):
-    """Starts `vdbmesh view` (@a command, under /usr/bin/time) and returns it and its address."""
-    server = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
-    line = server.stdout.readline()
-    match = re.search(r"(http://[^ ]+/)", line)
-    if not match:
-        server.kill()
-        sys.exit("the server did not start: " + line + server.stderr.read())
-    return server, match.group(1).rstrip("/")
+class ViewServer:
+    """`vdbmesh view` (@a command, under /usr/bin/time -f "peak_kb %M") for a with-block: started
+    in its own session, and stopped at the block's end even when a request in it fails (a
+    failed request used to leave the server running)."""
+
+    def __init__(self, command):
+        self.process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                        start_new_session=True)
+        self.errors = None
+        line = self.process.stdout.readline()
+        match = re.search(r"(http://[^ ]+/)", line)
+        if not match:
+            self.process.kill()
+            sys.exit("the server did not start: " + line + self.process.stderr.read())
+        self.base = match.group(1).rstrip("/")
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *failure):
+        self.stop()
+        return False
+
+    def stop(self):
+        """Stops the server (once) and returns its peak resident memory in MB, None if not reported."""
+        if self.errors is None:
+            os.killpg(self.process.pid, signal.SIGINT)  # to vdbmesh: GNU time ignores it while it waits
+            _, self.errors = self.process.communicate(timeout=600)
+        peak = re.search(r"peak_kb (\d+)", self.errors)
+        return round(int(peak.group(1)) / 1024) if peak else None
 
 
 def camera(lo, hi):
@@ -62,27 +83,25 @@ def main():
     if args.iso:
         command += ["--iso", args.iso]
     start = time.monotonic()
-    server, base = start_server(command)
-    report = {"grid": args.grid, "serving_s": round(time.monotonic() - start, 2)}
-    _, _, seconds = get(base, "/api/info")
-    body, headers, seconds = get(base, "/api/mesh?level=coarse")
-    vertices = int(headers["X-Vertices"])
-    positions = struct.unpack(f"<{3 * vertices}f", body[: 12 * vertices])
-    lo = [min(positions[a::3]) for a in range(3)]
-    hi = [max(positions[a::3]) for a in range(3)]
-    report["coarse"] = {"triangles": int(headers["X-Triangles"]), "s": round(seconds, 2)}
-    vp, eye, focal = camera(lo, hi)
-    query = "vp=" + ",".join(f"{v:.9g}" for v in vp) + "&eye=" + ",".join(f"{v:.9g}" for v in eye) + f"&focal={focal:.9g}"
-    _, headers, seconds = get(base, "/api/splats?" + query)
-    report["splats"] = {"shown": int(headers["X-Splats"]), "level": int(headers["X-Level"]),
-                        "tree_nodes": int(headers["X-Tree-Nodes"]), "tree_s": float(headers["X-Seconds"]),
-                        "s": round(seconds, 2)}
-    _, headers, seconds = get(base, f"/api/mesh?level=region&method=dc&error=0.25&box={args.box}")
-    report["region"] = {"box": args.box, "triangles": int(headers["X-Triangles"]), "s": round(seconds, 2)}
-    os.killpg(server.pid, signal.SIGINT)  # to vdbmesh: GNU time ignores it while it waits
-    _, errors = server.communicate(timeout=600)
-    peak = re.search(r"peak_kb (\d+)", errors)
-    report["peak_mb"] = round(int(peak.group(1)) / 1024) if peak else None
+    with ViewServer(command) as server:
+        base = server.base
+        report = {"grid": args.grid, "serving_s": round(time.monotonic() - start, 2)}
+        _, _, seconds = get(base, "/api/info")
+        body, headers, seconds = get(base, "/api/mesh?level=coarse")
+        vertices = int(headers["X-Vertices"])
+        positions = struct.unpack(f"<{3 * vertices}f", body[: 12 * vertices])
+        lo = [min(positions[a::3]) for a in range(3)]
+        hi = [max(positions[a::3]) for a in range(3)]
+        report["coarse"] = {"triangles": int(headers["X-Triangles"]), "s": round(seconds, 2)}
+        vp, eye, focal = camera(lo, hi)
+        query = "vp=" + ",".join(f"{v:.9g}" for v in vp) + "&eye=" + ",".join(f"{v:.9g}" for v in eye) + f"&focal={focal:.9g}"
+        _, headers, seconds = get(base, "/api/splats?" + query)
+        report["splats"] = {"shown": int(headers["X-Splats"]), "level": int(headers["X-Level"]),
+                            "tree_nodes": int(headers["X-Tree-Nodes"]), "tree_s": float(headers["X-Seconds"]),
+                            "s": round(seconds, 2)}
+        _, headers, seconds = get(base, f"/api/mesh?level=region&method=dc&error=0.25&box={args.box}")
+        report["region"] = {"box": args.box, "triangles": int(headers["X-Triangles"]), "s": round(seconds, 2)}
+        report["peak_mb"] = server.stop()
     report["total_s"] = round(time.monotonic() - start, 2)
     print(json.dumps(report, indent=1))
 
