@@ -5,10 +5,6 @@
 #include <functional>
 #include <optional>
 
-#include <cstdlib>
-#include <openvdb/openvdb.h>
-#include "process/coarsen_grid.h"
-#include "vdbmesh/grid_filter.h"
 #include "vdbmesh/budget_route.h"
 #include "vdbmesh/error.h"
 #include "vdbmesh/mesh_budget.h"
@@ -49,17 +45,6 @@ MeshResult mesh_to_budget(const openvdb::FloatGrid& grid, const MeshOptions& opt
     if (options.open_boundary) throw UsageError("--triangles: the decimation needs a closed surface, got --open-boundary");
     BudgetReport local;
     MeshResult result;
-    static thread_local bool inner = false;
-    if (const char* pool = std::getenv("VDBMESH_POOL"); pool && !inner) {  // EXPERIMENT
-        inner = true;
-        const auto start = std::chrono::steady_clock::now();
-        auto coarse = detail::coarsen_grid(grid, options.inside);
-        const double coarsen = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        auto r = mesh_to_budget(*coarse, options, max_triangles, report);
-        r.report.phases.insert(r.report.phases.begin(), {"coarsen", coarsen});
-        inner = false;
-        return r;
-    }
     // Keeps the latest mesh that fits, and first the base mesh (which the decimator starts from
     // when it does not fit).
     const auto triangles_at = [&](double error) {
