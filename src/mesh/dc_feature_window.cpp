@@ -160,18 +160,23 @@ std::vector<Face> group_faces(const std::vector<Plane>& planes) {
 
 }  // namespace
 
-std::optional<Point3d> window_feature_point(const FeatureWindowSource& source, double iso, const openvdb::Coord& cell_min,
-                                            int size, const Point3d& estimate) {
+std::vector<WindowFace> window_faces(const FeatureWindowSource& source, double iso, const openvdb::Coord& cell_min, int size) {
     // Edges between samples kFeatureWindowGrowth beyond the cell's, one more sample each side
     // for the gradients.
     const int dim = size + 2 * kFeatureWindowGrowth + 3;
     const WindowSamples samples(source, cell_min.offsetBy(-kFeatureWindowGrowth - 1), dim);
-    const std::vector<Face> faces = group_faces(window_planes(samples, iso, *source.classifier, 1, dim - 2));
+    std::vector<WindowFace> kept;
+    for (const Face& face : group_faces(window_planes(samples, iso, *source.classifier, 1, dim - 2))) {
+        if (face.count >= kFaceMinCrossings && face.spread()) kept.push_back({face.normal(), face.offset()});
+    }
+    return kept;
+}
+
+std::optional<Point3d> feature_point(const std::vector<WindowFace>& faces, const Point3d& estimate) {
     Qef3 feature;
-    for (const Face& face : faces) {
-        if (face.count < kFaceMinCrossings || !face.spread()) continue;
-        const Point3d n = face.normal();
-        const double distance = dot(n, estimate) - face.offset();
+    for (const WindowFace& face : faces) {
+        const Point3d& n = face.normal;
+        const double distance = dot(n, estimate) - face.offset;
         if (std::abs(distance) > kFaceNearEstimate) continue;
         // The estimate's foot on the face: the points' mean stays near the estimate, so along an
         // edge (a direction no face pins down) the feature point stays where the estimate is.
@@ -179,6 +184,11 @@ std::optional<Point3d> window_feature_point(const FeatureWindowSource& source, d
     }
     if (!is_sharp_feature(feature)) return std::nullopt;
     return feature.minimiser();
+}
+
+std::optional<Point3d> window_feature_point(const FeatureWindowSource& source, double iso, const openvdb::Coord& cell_min,
+                                            int size, const Point3d& estimate) {
+    return feature_point(window_faces(source, iso, cell_min, size), estimate);
 }
 
 }  // namespace vdbmesh::detail

@@ -181,7 +181,8 @@ public:
         crossings_ = &cells.crossings;
         next_crossing_ = 0;
         walk_block(
-            s_, [&](int x, int y, int z) { if (cells.level[IfcBlockCells::unit_index(x, y, z)] == 0) marching_cube(x, y, z); },
+            s_, [&](int x, int y, int z) { const int u = IfcBlockCells::unit_index(x, y, z);
+                if (cells.level[u] == 0 && cells.cell[u] == IfcBlockCells::kNoCell) marching_cube(x, y, z); },
             [&](int x, int y, int z, int axis) {
                 crossed_edge(x, y, z, axis);
                 ++next_crossing_;
