@@ -2,7 +2,8 @@
 // Private: the intersection-free octree contouring (dual_contouring.cpp) of one 8^3 block of cells. A
 // cell is the cube between 8 samples, as in Marching Cubes. Unit cells stay Marching Cubes
 // cells; cells of 2, 4 and 8 voxels are merged bottom-up where the surface inside is one
-// disk the cell's single vertex can stand for (dc_octree.cpp), and are contoured dually.
+// disk the cell's single vertex can stand for (dc_octree.cpp), and are contoured dually, as
+// are the unit cells that take a `--sharp` feature point (cells of level 0 with a vertex).
 
 #include <openvdb/openvdb.h>
 
@@ -80,7 +81,8 @@ struct Hermite {
 Hermite edge_hermite(const IfcSamples& samples, double iso, int x, int y, int z, int axis);
 
 /// A merged cell holding surface: its level (size 2^level), minimum corner and vertex (index
-/// space). A cell larger than a block is copied into each block it covers.
+/// space). A cell larger than a block is copied into each block it covers. Level 0: a unit cell
+/// that took a `--sharp` feature point, contoured like a merged cell.
 struct IfcCell {
     std::uint8_t level;
     openvdb::Coord min;
@@ -95,11 +97,11 @@ struct IfcCell {
 struct IfcLeaves {
     using UnitArray = std::array<std::uint8_t, kIfcBlock * kIfcBlock * kIfcBlock>;
     /// Per unit cell (local x * 64 + y * 8 + z): the level of the cell holding it (0: a unit
-    /// Marching Cubes cell).
+    /// cell, Marching Cubes unless it took a `--sharp` feature point).
     UnitArray level{};
-    /// Per unit cell: index into @a cells of its merged cell, or kNoCell (unit, or merged
-    /// without surface).
-    UnitArray cell;  // at most 1 + 8 + 64 merged cells
+    /// Per unit cell: index into @a cells of its merged cell, or kNoCell (a Marching Cubes unit
+    /// cell, or merged without surface).
+    UnitArray cell;  // at most 1 + 8 + 64 merged cells, and unit feature cells up to 255 in all
     std::vector<IfcCell> cells;
 };
 

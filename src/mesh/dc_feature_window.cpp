@@ -4,8 +4,11 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "mesh/dc_qef.h"
@@ -131,47 +134,63 @@ struct Face {
     double offset() const { return offset_sum / count; }
 };
 
+/// Unit normals within kSameFaceCosine of each other differ by less than this in each component
+/// (sqrt(2 - 2 kSameFaceCosine) = 0.03162, and some room for the rounding of their lengths).
+constexpr double kSameFaceComponent = 0.0317;
+
 /// Groups @a planes into faces, each plane into the first face it agrees with, in order.
 std::vector<Face> group_faces(const std::vector<Plane>& planes) {
     std::vector<Face> faces;
+    // The faces by their seed normal's x, so that a plane is compared only with those whose normal
+    // could agree with its own: on a noisy scan nearly every crossing makes a face, and comparing
+    // with every face was 84% of a `--sharp` run on the walnut.
+    std::vector<std::pair<double, std::uint32_t>> by_x;
     for (const Plane& plane : planes) {
-        Face* home = nullptr;
-        for (Face& face : faces) {
-            if (dot(face.seed.normal, plane.normal) > kSameFaceCosine &&
+        const double x = plane.normal[0];
+        auto first = std::lower_bound(by_x.begin(), by_x.end(), std::make_pair(x - kSameFaceComponent, std::uint32_t(0)));
+        std::uint32_t home = std::uint32_t(faces.size());  // the first agreeing face, or a new one
+        for (auto it = first; it != by_x.end() && it->first <= x + kSameFaceComponent; ++it) {
+            const Face& face = faces[it->second];
+            if (it->second < home && dot(face.seed.normal, plane.normal) > kSameFaceCosine &&
                 std::abs(dot(face.seed.normal, plane.point) - dot(face.seed.normal, face.seed.point)) < kSameFaceOffset) {
-                home = &face;
-                break;
+                home = it->second;
             }
         }
-        if (!home) {
+        if (home == faces.size()) {
+            by_x.insert(std::upper_bound(by_x.begin(), by_x.end(), std::make_pair(x, home)), {x, home});
             faces.push_back({plane});
-            home = &faces.back();
         }
-        for (int a = 0; a < 3; ++a) home->normal_sum[a] += plane.normal[a];
-        home->offset_sum += dot(plane.normal, plane.point);
+        Face* const face = &faces[home];
+        for (int a = 0; a < 3; ++a) face->normal_sum[a] += plane.normal[a];
+        face->offset_sum += dot(plane.normal, plane.point);
         const Point3d& p = plane.point;
         const double products[6] = {p[0] * p[0], p[0] * p[1], p[0] * p[2], p[1] * p[1], p[1] * p[2], p[2] * p[2]};
-        for (int i = 0; i < 6; ++i) home->point_products[i] += products[i];
-        for (int a = 0; a < 3; ++a) home->point_sum[a] += p[a];
-        ++home->count;
+        for (int i = 0; i < 6; ++i) face->point_products[i] += products[i];
+        for (int a = 0; a < 3; ++a) face->point_sum[a] += p[a];
+        ++face->count;
     }
     return faces;
 }
 
 }  // namespace
 
-std::optional<Point3d> window_feature_point(const FeatureWindowSource& source, double iso, const openvdb::Coord& cell_min,
-                                            int size, const Point3d& estimate) {
+std::vector<WindowFace> window_faces(const FeatureWindowSource& source, double iso, const openvdb::Coord& cell_min, int size) {
     // Edges between samples kFeatureWindowGrowth beyond the cell's, one more sample each side
     // for the gradients.
     const int dim = size + 2 * kFeatureWindowGrowth + 3;
     const WindowSamples samples(source, cell_min.offsetBy(-kFeatureWindowGrowth - 1), dim);
-    const std::vector<Face> faces = group_faces(window_planes(samples, iso, *source.classifier, 1, dim - 2));
+    std::vector<WindowFace> kept;
+    for (const Face& face : group_faces(window_planes(samples, iso, *source.classifier, 1, dim - 2))) {
+        if (face.count >= kFaceMinCrossings && face.spread()) kept.push_back({face.normal(), face.offset()});
+    }
+    return kept;
+}
+
+std::optional<Point3d> feature_point(const std::vector<WindowFace>& faces, const Point3d& estimate) {
     Qef3 feature;
-    for (const Face& face : faces) {
-        if (face.count < kFaceMinCrossings || !face.spread()) continue;
-        const Point3d n = face.normal();
-        const double distance = dot(n, estimate) - face.offset();
+    for (const WindowFace& face : faces) {
+        const Point3d& n = face.normal;
+        const double distance = dot(n, estimate) - face.offset;
         if (std::abs(distance) > kFaceNearEstimate) continue;
         // The estimate's foot on the face: the points' mean stays near the estimate, so along an
         // edge (a direction no face pins down) the feature point stays where the estimate is.
@@ -179,6 +198,11 @@ std::optional<Point3d> window_feature_point(const FeatureWindowSource& source, d
     }
     if (!is_sharp_feature(feature)) return std::nullopt;
     return feature.minimiser();
+}
+
+std::optional<Point3d> window_feature_point(const FeatureWindowSource& source, double iso, const openvdb::Coord& cell_min,
+                                            int size, const Point3d& estimate) {
+    return feature_point(window_faces(source, iso, cell_min, size), estimate);
 }
 
 }  // namespace vdbmesh::detail

@@ -10,6 +10,7 @@
 #include <openvdb/openvdb.h>
 
 #include <optional>
+#include <vector>
 
 #include "mesh/edge_crossing.h"
 #include "mesh/sample_classifier.h"
@@ -27,10 +28,23 @@ struct FeatureWindowSource {
 /// 1.5 voxels from an edge, so a face needs some exact crossings beyond it within the window.
 inline constexpr int kFeatureWindowGrowth = 3;
 
+/// A face found in a window: a plane (unit normal, offset: normal . x = offset on it).
+struct WindowFace {
+    Point3d normal;
+    double offset;
+};
+
+/// The faces found in the window round the cell at @a cell_min of @a size (index space): its
+/// crossings and normals grouped into planes that agree, each of enough crossings spread over an
+/// area; none on a rounded or noisy surface.
+std::vector<WindowFace> window_faces(const FeatureWindowSource& source, double iso, const openvdb::Coord& cell_min, int size);
+
+/// Where those of @a faces that pass within a voxel of @a estimate meet (nearest @a estimate
+/// along an edge), when they pin down two or three directions; none otherwise.
+std::optional<Point3d> feature_point(const std::vector<WindowFace>& faces, const Point3d& estimate);
+
 /// The feature point of the cell at @a cell_min of @a size (index space) whose own QEF holds an
-/// edge or a corner and puts it at @a estimate: where the faces found in the window that pass
-/// within a voxel of @a estimate meet (nearest @a estimate along an edge), when they pin down two
-/// or three directions; none otherwise (a rounded or noisy surface forms no faces).
+/// edge or a corner and puts it at @a estimate: feature_point() of its window_faces().
 std::optional<Point3d> window_feature_point(const FeatureWindowSource& source, double iso, const openvdb::Coord& cell_min,
                                             int size, const Point3d& estimate);
 

@@ -217,6 +217,7 @@ public:
         init_unit_cells();
         sum_levels();
         refine(kIfcMaxLevel, 0, 0, 0);
+        if (sharp_) place_unit_feature_vertices();
         assign(out);
         keep_parts(out);
     }
@@ -227,6 +228,11 @@ private:
     /// edge_index() of the next edge along each axis, less this one's.
     static constexpr int kEdgeStride[3] = {kEdgeDim * kEdgeDim * 3, kEdgeDim * 3, 3};
     static int cells_per_axis(int level) { return kIfcBlock >> level; }
+    /// A block's cells are named by a byte, kNoCell excluded.
+    static constexpr int kMaxBlockCells = IfcBlockCells::kNoCell;
+    /// `--sharp`: how far (voxels) the window's feature point may lie beyond a unit cell that
+    /// takes it (clamped into the cell).
+    static constexpr double kUnitFeatureReach = 1.0;
     static int cell_index(int level, int i, int j, int k) {
         const int n = cells_per_axis(level);
         return (i * n + j) * n + k;
@@ -434,6 +440,56 @@ private:
         return (from_window && offer(*from_window)) || offer(estimate);
     }
 
+    /// `--sharp`: each unit cell left a leaf (a cell of 2 voxels round it was refused) whose
+    /// surface is one disk without an ambiguous face (simple: the construction contours it like
+    /// any merged cell) takes the feature point of its cell of 2 voxels' window, from its own
+    /// QEF's estimate, when that point lies within kUnitFeatureReach of the cell (clamped into
+    /// it) and passes the accuracy tests kSharpReach beyond the error; the others stay Marching
+    /// Cubes cells. Along a tilted edge the cells of 2 voxels fail the topology tests (an edge
+    /// crossed twice, docs/dmc.md); their unit cells do not.
+    void place_unit_feature_vertices() {
+        unit_feature_.fill(false);
+        int cells = 0;  // merged leaves so far: a block's cells are named by a byte
+        for (int level = 1; level <= kIfcMaxLevel; ++level) {
+            const int n = cells_per_axis(level);
+            for (int index = 0; index < n * n * n; ++index) cells += leaf(level, index) && state_[level][index] == CellState::surface;
+        }
+        const int n = cells_per_axis(1);
+        for (int parent = 0; parent < n * n * n && cells < kMaxBlockCells; ++parent) {
+            if (state_[1][parent] != CellState::inner) continue;
+            std::optional<std::vector<WindowFace>> faces;  // read once for the parent's unit cells
+            const std::array<int, 3> parent_min = {2 * (parent / (n * n)), 2 * (parent / n % n), 2 * (parent % n)};
+            for (int c = 0; c < 8 && cells < kMaxBlockCells; ++c) {
+                const std::array<int, 3> min = {parent_min[0] + (c & 1), parent_min[1] + ((c >> 1) & 1), parent_min[2] + (c >> 2)};
+                const int unit = cell_index(0, min[0], min[1], min[2]);
+                if (state_[0][unit] != CellState::surface || !simple_[0][unit]) continue;
+                if (!faces) faces = window_faces(s_->source, iso_, s_->origin.offsetBy(parent_min[0], parent_min[1], parent_min[2]), 2);
+                if (faces->size() < 2) break;
+                const std::optional<Point3d> point = feature_point(*faces, qef_[0][unit].minimiser());
+                if (!point) continue;
+                std::array<IfcVertexBox, 3> boxes;
+                ifc_vertex_boxes(s_->origin.offsetBy(min[0], min[1], min[2]), 1, s_->scan_box, boxes);
+                const Point3d candidate = boxes.back().clamp(*point);
+                if (squared_distance(candidate, *point) > kUnitFeatureReach * kUnitFeatureReach) continue;
+                if (!accurate(candidate, min, 1, kSharpReach)) continue;
+                unit_feature_[std::size_t(unit)] = true;
+                unit_vertex_[std::size_t(unit)] = candidate;
+                ++cells;
+            }
+        }
+    }
+
+    /// Whether the cell at @a index of @a level is a leaf: no cell above it stayed whole.
+    bool leaf(int level, int index) const {
+        const int n = cells_per_axis(level);
+        int i = index / (n * n), j = index / n % n, k = index % n;
+        for (int up = level + 1; up <= kIfcMaxLevel; ++up) {
+            i /= 2, j /= 2, k /= 2;
+            if (state_[up][cell_index(up, i, j, k)] != CellState::inner) return false;
+        }
+        return state_[level][index] != CellState::inner;
+    }
+
     /// Bit 2 * axis + side for each face of the whole block the surface only clips (ifc_chord_spans_face()).
     std::uint8_t root_clipped_faces() const {
         std::uint8_t clipped = 0;
@@ -602,6 +658,17 @@ private:
                 }
             }
         }
+        if (!sharp_) return;
+        for (int x = 0; x < kIfcBlock; ++x) {
+            for (int y = 0; y < kIfcBlock; ++y) {
+                for (int z = 0; z < kIfcBlock; ++z) {
+                    const int unit = cell_index(0, x, y, z);
+                    if (!unit_feature_[std::size_t(unit)] || out.level[IfcBlockCells::unit_index(x, y, z)] != 0) continue;
+                    out.cell[IfcBlockCells::unit_index(x, y, z)] = std::uint8_t(out.cells.size());
+                    out.cells.push_back({0, s_->origin.offsetBy(x, y, z), unit_vertex_[std::size_t(unit)], true});
+                }
+            }
+        }
     }
 
     /// Where the whole block is one cell whose surface only clips some of its faces: the cells
@@ -612,6 +679,7 @@ private:
         if (!clipped) return;
         state_[kIfcMaxLevel][0] = CellState::inner;
         for (int c = 0; c < 8; ++c) refine(kIfcMaxLevel - 1, c & 1, (c >> 1) & 1, c >> 2);
+        if (sharp_) place_unit_feature_vertices();
         out.parts = std::make_unique<IfcBlockCells::Parts>();
         out.parts->clipped_faces = clipped;
         assign_leaves(*out.parts);
@@ -635,6 +703,9 @@ private:
     std::array<std::array<bool, kIfcBlock * kIfcBlock * kIfcBlock>, kIfcMaxLevel + 1> simple_{};
     std::array<std::array<Point3d, 64>, kIfcMaxLevel + 1> vertex_{};
     std::array<std::array<bool, 64>, kIfcMaxLevel + 1> feature_{};  ///< whether vertex_ is a feature point
+    /// `--sharp`: the unit cells that took a feature point (place_unit_feature_vertices()), and where.
+    std::array<bool, kIfcBlock * kIfcBlock * kIfcBlock> unit_feature_{};
+    std::array<Point3d, kIfcBlock * kIfcBlock * kIfcBlock> unit_vertex_{};
 };
 
 }  // namespace

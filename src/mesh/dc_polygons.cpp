@@ -4,9 +4,10 @@
 // Why no two triangles cross. Every merged cell C is cut into pyramids from its vertex v_C
 // (strictly inside C) over its minimal faces, and each pyramid over a face f shared with
 // another merged cell into tetrahedra (v_C, x_f, e) over the minimal edges e of f, where x_f
-// is a point strictly inside f. Unit cells stay whole. Each triangle lies in one of these
-// pieces, or in the union of the pieces around one edge, and pieces meet only on their
-// boundaries, where the triangles share their edges:
+// is a point strictly inside f (a `--sharp` unit cell with a feature point is a merged cell of
+// size 1: one disk with no ambiguous face, as any merged cell). The other unit cells stay whole.
+// Each triangle lies in one of these pieces, or in the union of the pieces around one edge, and
+// pieces meet only on their boundaries, where the triangles share their edges:
 //  - unit cells: Marching Cubes triangles, inside the cube;
 //  - a merged cell C next to a unit cell across unit face f: the triangle (v_C, p_e, p_q) over
 //    the surface's segment on f, inside the pyramid (v_C, f);
@@ -181,7 +182,11 @@ public:
         crossings_ = &cells.crossings;
         next_crossing_ = 0;
         walk_block(
-            s_, [&](int x, int y, int z) { if (cells.level[IfcBlockCells::unit_index(x, y, z)] == 0) marching_cube(x, y, z); },
+            s_,
+            [&](int x, int y, int z) {
+                const int u = IfcBlockCells::unit_index(x, y, z);
+                if (cells.level[u] == 0 && cells.cell[u] == IfcBlockCells::kNoCell) marching_cube(x, y, z);
+            },
             [&](int x, int y, int z, int axis) {
                 crossed_edge(x, y, z, axis);
                 ++next_crossing_;

@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <string>
@@ -31,6 +32,7 @@
 #include "shared_scan.h"
 #include "test_data.h"
 #include "vdbmesh/analysis.h"
+#include "vdbmesh/geometry.h"
 #include "vdbmesh/grid.h"
 #include "vdbmesh/grid_region.h"
 #include "vdbmesh/mesh_io.h"
@@ -57,6 +59,15 @@ Vec3 placed(const PhantomSpec& spec, const Vec3& local) {
     const openvdb::Mat3d r = about(openvdb::math::Z_AXIS, d[2]) * about(openvdb::math::Y_AXIS, d[1]) * about(openvdb::math::X_AXIS, d[0]);
     const auto c = spec.centre_or_default();
     return r * local + Vec3(c[0], c[1], c[2]);
+}
+
+/// @a world in the cube's own axes about its centre (the inverse rotation: the offset's
+/// components along the images of the axes).
+Vec3 in_cube_axes(const PhantomSpec& spec, const Vec3& world) {
+    const Vec3 centre = placed(spec, Vec3(0, 0, 0));
+    const Vec3 d = world - centre;
+    return {d.dot(placed(spec, Vec3(1, 0, 0)) - centre), d.dot(placed(spec, Vec3(0, 1, 0)) - centre),
+            d.dot(placed(spec, Vec3(0, 0, 1)) - centre)};
 }
 
 /// Points on the six faces of a cube of edge @a side about the origin (shape coordinates), a
@@ -183,20 +194,48 @@ std::array<SharpRun, 3> expect_sharp_no_worse(const char* name) {
     return runs;
 }
 
+/// The share of the points of @a exact on the edges of the cube of @a spec (its corners
+/// excepted) farther than @a limit voxels from @a mesh.
+double edge_points_beyond(const Mesh& mesh, const PhantomSpec& spec, const Points& exact, double limit) {
+    std::vector<std::uint32_t> all(mesh.triangles.size());
+    std::iota(all.begin(), all.end(), 0u);
+    const detail::TriangleBvh bvh(mesh, std::move(all));
+    int on_edges = 0, beyond = 0;
+    for (const auto& p : exact) {
+        const Vec3 local = in_cube_axes(spec, Vec3(p[0], p[1], p[2]));
+        int faces = 0;
+        for (int a = 0; a < 3; ++a) faces += std::abs(std::abs(local[a]) - spec.side / 2) < 1e-6;
+        if (faces != 2) continue;
+        ++on_edges;
+        beyond += bvh.closest_point(p, limit * limit).distance_squared >= limit * limit;
+    }
+    EXPECT_GT(on_edges, 0);
+    return double(beyond) / on_edges;
+}
+
 // Issue 29 asks `--sharp --error 0.1` within 0.2 voxel of the exact cube with 10x fewer
 // triangles than at error 0 (docs/dmc.md, "Sharp features"): met on the axis-aligned cube, NOT
 // on the tilted one. A feature cell's point is where the faces found in a window 3 voxels wider
 // than the cell meet (dc_feature_window.cpp); along the tilted cube's edges many cells of 2
-// voxels fail the topology tests (the edge pokes through the middle sample of a cell edge) and
-// stay Marching Cubes cells on the rounded surface. Measured (this test, 128^3): axis-aligned
-// error 0 76,796 triangles, Hausdorff 0.577; error 0.1 8,348, 0.577; --sharp 3,228, 0.000.
-// Tilted: 72,188, 0.758; 14,428, 0.758; 9,986, 0.739. What is held here: clean, no farther
-// than without --sharp, the axis-aligned cube within the issue's 0.2 voxel and 10x lighter.
+// voxels fail the topology tests (the edge pokes through the middle sample of a cell edge), and
+// their simple unit cells take the feature point instead (session 24). Where the edge only clips
+// a cell whose samples are all outside, or a corner lies in one (0.64-0.71 voxel beyond the
+// trilinear isosurface), no cell round it can hold the feature, and the mesh dips. Measured (this
+// test, 128^3): axis-aligned error 0 76,796 triangles, Hausdorff 0.577; error 0.1 8,348, 0.577;
+// --sharp 3,228, 0.000. Tilted: 72,188, 0.758; 14,428, 0.758; --sharp 11,110, 0.739, with 5.4%
+// of the points on its edges beyond 0.2 voxel (24.6% before unit cells took feature points).
+// What is held here: clean, no farther than without --sharp, the axis-aligned cube within the
+// issue's 0.2 voxel and 10x lighter, the tilted cube's edges within 0.2 voxel but for 6% of
+// their points (the measured 5.4% and some room).
 TEST(DcSharpTest, CubesAreCleanAndCloserToTheExactCubeThanWithoutSharp) {
     const auto aligned = expect_sharp_no_worse("cube");
     EXPECT_LE(aligned[2].distance.hausdorff, 0.2);  // the issue's bar
     EXPECT_LE(10 * aligned[2].mesh.triangles.size(), aligned[0].mesh.triangles.size());
-    expect_sharp_no_worse("rotated-cube");
+    const auto tilted = expect_sharp_no_worse("rotated-cube");
+    const PhantomSpec spec = preset("rotated-cube");
+    const double share = edge_points_beyond(tilted[2].mesh, spec, exact_surface_points(spec), 0.2);
+    std::printf("[ figures  ] rotated-cube --sharp: %.1f%% of the edges' points beyond 0.2 voxel\n", 100 * share);
+    EXPECT_LE(share, 0.06);
 }
 
 // Measured (128^3): cube minus sphere error 0 80,608 triangles, Hausdorff 0.830; error 0.1
@@ -294,14 +333,9 @@ TEST(DcSharpTest, BricksGiveTheWholeGridsMesh) {
 /// The triangles of @a mesh whose corners all lie more than @a away voxels from every edge of
 /// the cube of @a spec, as corner positions (orientation kept, starting at the least corner).
 std::set<std::array<std::array<float, 3>, 3>> triangles_away_from_edges(const Mesh& mesh, const PhantomSpec& spec, double away) {
-    const auto c = spec.centre_or_default();
-    const Vec3 centre(c[0], c[1], c[2]);
     const auto far_from_edges = [&](const std::array<float, 3>& v) {
-        // In the cube's own axes (the inverse rotation, by placing the offset's image back).
-        const Vec3 w(v[0], v[1], v[2]);
-        const Vec3 x = placed(spec, Vec3(1, 0, 0)) - centre, y = placed(spec, Vec3(0, 1, 0)) - centre, z = placed(spec, Vec3(0, 0, 1)) - centre;
-        const Vec3 d = w - centre;
-        std::array<double, 3> gaps = {spec.side / 2 - std::abs(d.dot(x)), spec.side / 2 - std::abs(d.dot(y)), spec.side / 2 - std::abs(d.dot(z))};
+        const Vec3 d = in_cube_axes(spec, Vec3(v[0], v[1], v[2]));
+        std::array<double, 3> gaps = {spec.side / 2 - std::abs(d[0]), spec.side / 2 - std::abs(d[1]), spec.side / 2 - std::abs(d[2])};
         std::sort(gaps.begin(), gaps.end());
         return gaps[1] > away;  // a point near an edge is near two faces
     };
