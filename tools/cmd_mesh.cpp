@@ -43,7 +43,7 @@ namespace {
 // "dmc" stays accepted so that scripts keep working: Dual Marching Cubes was retired, dc runs
 // instead (docs/dmc.md).
 const std::map<std::string, MeshMethod> kMethods = {
-    {"dmc", MeshMethod::dc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}, {"dc", MeshMethod::dc}};
+    {"dmc", MeshMethod::dc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}, {"dc", MeshMethod::dc}, {"dual", MeshMethod::dual}};
 const std::map<std::string, Inside> kSides = {{"above", Inside::above}, {"below", Inside::below}};
 
 /// --triangles: a whole number from 1 to the most a mesh's 32-bit indices allow.

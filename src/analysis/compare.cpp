@@ -274,6 +274,8 @@ const char* method_name(MeshMethod method) {
             return "openvdb";
         case MeshMethod::dc:
             return "dc";
+        case MeshMethod::dual:
+            return "dual";
     }
     return "unknown";
 }

@@ -1,0 +1,226 @@
+// The dual surface's cells (dual_surface_cells.h): per block, the samples its cells read, each
+// cell's configuration, and a vertex per edge group at the mean of the group's crossings
+// (edge_crossing.h, as Marching Cubes places its vertices), then moved onto the cell's
+// trilinear isosurface by Newton steps along the gradient, kept kDualInteriorMargin inside.
+
+#include "mesh/dual_surface_cells.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "mesh/dual_surface_groups.h"
+#include "mesh/edge_crossing.h"
+#include "mesh/mc_table.h"
+#include "vdbmesh/error.h"
+
+namespace vdbmesh::detail {
+
+namespace {
+
+constexpr int kSampleDim = kBlockDim + 1;  // a block's cells read samples 0..kBlockDim on each axis
+constexpr int kNewtonSteps = 3;
+
+struct BlockSamples {
+    std::array<double, kSampleDim * kSampleDim * kSampleDim> value;
+    std::array<bool, kSampleDim * kSampleDim * kSampleDim> inside;
+
+    static int index(int x, int y, int z) { return (x * kSampleDim + y) * kSampleDim + z; }
+};
+
+void load_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier, const openvdb::Coord& origin,
+                  BlockSamples& samples) {
+    for (int x = 0; x < kSampleDim; ++x) {
+        for (int y = 0; y < kSampleDim; ++y) {
+            for (int z = 0; z < kSampleDim; ++z) {
+                const openvdb::Coord ijk = origin.offsetBy(x, y, z);
+                const int i = BlockSamples::index(x, y, z);
+                samples.value[i] = classifier.sample_value(ijk, accessor.getValue(ijk));
+                samples.inside[i] = classifier.inside(samples.value[i]);
+            }
+        }
+    }
+}
+
+/// The trilinear interpolant of a cell's corner values @a f (corner c at (c & 1, c >> 1 & 1,
+/// c >> 2)) at local position @a t, and its gradient.
+double trilinear(const std::array<double, 8>& f, const Point3& t, Point3& gradient) {
+    double value = 0;
+    gradient = {0, 0, 0};
+    for (unsigned c = 0; c < 8; ++c) {
+        std::array<double, 3> w;
+        for (int a = 0; a < 3; ++a) w[a] = (c >> a) & 1 ? t[a] : 1 - t[a];
+        value += f[c] * w[0] * w[1] * w[2];
+        for (int a = 0; a < 3; ++a) {
+            const double sign = (c >> a) & 1 ? 1.0 : -1.0;
+            gradient[a] += sign * f[c] * w[(a + 1) % 3] * w[(a + 2) % 3];
+        }
+    }
+    return value;
+}
+
+Point3 clamped_into_cell(Point3 t) {
+    for (double& x : t) x = std::clamp(x, kDualInteriorMargin, 1 - kDualInteriorMargin);
+    return t;
+}
+
+/// The local position @a start moved onto the isosurface of the cell's interpolant by Newton
+/// steps along the gradient, kept inside the cell; @a start where that does not get closer to
+/// the isovalue (or a corner value is infinite: beyond the scan box).
+Point3 projected_onto_isosurface(const std::array<double, 8>& f, double iso, const Point3& start) {
+    for (double value : f)
+        if (!std::isfinite(value)) return start;
+    Point3 gradient;
+    const double start_residual = std::abs(trilinear(f, start, gradient) - iso);
+    Point3 t = start;
+    double residual = start_residual;
+    for (int step = 0; step < kNewtonSteps; ++step) {
+        const double r = trilinear(f, t, gradient) - iso;
+        const double norm2 = gradient[0] * gradient[0] + gradient[1] * gradient[1] + gradient[2] * gradient[2];
+        if (!(norm2 > 0)) break;
+        for (int a = 0; a < 3; ++a) t[a] -= r * gradient[a] / norm2;
+        t = clamped_into_cell(t);
+        residual = std::abs(trilinear(f, t, gradient) - iso);
+    }
+    return residual < start_residual ? t : start;
+}
+
+/// The vertices of the cell at (x, y, z) of the block at @a origin: per edge group, the mean
+/// of its crossings and that mean on the isosurface.
+void add_cell_vertices(const BlockSamples& samples, const openvdb::Coord& origin, int x, int y, int z, double iso, DualBlock& block) {
+    const int cell = DualBlock::cell_index(x, y, z);
+    const CellGroups& groups = cell_groups(block.config[cell]);
+    std::array<double, 8> f;
+    for (unsigned c = 0; c < 8; ++c) f[c] = samples.value[BlockSamples::index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))];
+    std::array<Point3, 4> sum{};
+    std::array<int, 4> count{};
+    for (int e = 0; e < 12; ++e) {
+        const int g = groups.of_edge[e];
+        if (g < 0) continue;
+        const unsigned c0 = kEdgeCorners[e][0], c1 = kEdgeCorners[e][1];
+        const Point3 p0 = {double(c0 & 1), double((c0 >> 1) & 1), double(c0 >> 2)};
+        const Point3 p1 = {double(c1 & 1), double((c1 >> 1) & 1), double(c1 >> 2)};
+        const Point3 p = edge_crossing(p0, f[c0], p1, f[c1], iso);
+        for (int a = 0; a < 3; ++a) sum[g][a] += p[a];
+        ++count[g];
+    }
+    const Point3 corner = {double(origin.x() + x), double(origin.y() + y), double(origin.z() + z)};
+    for (int g = 0; g < groups.count; ++g) {
+        Point3 mean;
+        for (int a = 0; a < 3; ++a) mean[a] = sum[g][a] / count[g];
+        mean = clamped_into_cell(mean);
+        const Point3 on_surface = projected_onto_isosurface(f, iso, mean);
+        Point3 mean_at, projected_at;
+        for (int a = 0; a < 3; ++a) {
+            mean_at[a] = corner[a] + mean[a];
+            projected_at[a] = corner[a] + on_surface[a];
+        }
+        block.mean.push_back(mean_at);
+        block.projected.push_back(projected_at);
+        block.vertex_cell.push_back(std::uint16_t(cell));
+    }
+}
+
+void make_block(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier, BlockSamples& samples, DualBlock& block) {
+    load_samples(accessor, classifier, block.origin, samples);
+    for (int x = 0; x < kBlockDim; ++x) {
+        for (int y = 0; y < kBlockDim; ++y) {
+            for (int z = 0; z < kBlockDim; ++z) {
+                const int cell = DualBlock::cell_index(x, y, z);
+                unsigned config = 0;
+                for (unsigned c = 0; c < 8; ++c)
+                    config |= unsigned(samples.inside[BlockSamples::index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))]) << c;
+                block.config[cell] = std::uint8_t(config);
+                block.first_vertex[cell] = std::uint16_t(block.projected.size());
+                if (config != 0 && config != 255) add_cell_vertices(samples, block.origin, x, y, z, classifier.iso(), block);
+                const bool inside = samples.inside[BlockSamples::index(x, y, z)];
+                for (int axis = 0; axis < 3; ++axis) {
+                    const int next = BlockSamples::index(x + (axis == 0), y + (axis == 1), z + (axis == 2));
+                    if (samples.inside[next] != inside) block.crossed_edges.push_back(std::uint16_t(cell * 3 + axis));
+                }
+            }
+        }
+    }
+}
+
+openvdb::Coord block_origin(const openvdb::Coord& cell) {
+    constexpr int mask = ~(kBlockDim - 1);
+    return openvdb::Coord(cell.x() & mask, cell.y() & mask, cell.z() & mask);
+}
+
+}  // namespace
+
+DualCells::DualCells(const openvdb::FloatGrid& grid, const SampleClassifier& classifier) {
+    std::vector<openvdb::Coord> origins = surface_blocks(grid, classifier);
+    std::sort(origins.begin(), origins.end());
+    blocks_.resize(origins.size());
+    for (std::size_t b = 0; b < origins.size(); ++b) blocks_[b].origin = origins[b];
+    make_vertices(grid, classifier);
+}
+
+void DualCells::make_vertices(const openvdb::FloatGrid& grid, const SampleClassifier& classifier) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size()), [&](const auto& range) {
+        auto accessor = grid.getConstAccessor();
+        BlockSamples samples;
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+            if (!block_may_hold_surface(accessor, classifier, blocks_[b].origin)) continue;
+            make_block(accessor, classifier, samples, blocks_[b]);
+        }
+    });
+    for (DualBlock& block : blocks_) {
+        block.first = vertex_count_;
+        vertex_count_ += block.projected.size();
+    }
+    if (vertex_count_ > 0xffffffffu) throw Error("dual surface: more than 2^32 vertices");
+}
+
+const DualBlock* DualCells::block_of(const openvdb::Coord& cell) const {
+    const openvdb::Coord origin = block_origin(cell);
+    const auto it = std::lower_bound(blocks_.begin(), blocks_.end(), origin, [](const DualBlock& b, const openvdb::Coord& o) { return b.origin < o; });
+    return it != blocks_.end() && it->origin == origin ? &*it : nullptr;
+}
+
+unsigned DualCells::config(const openvdb::Coord& cell) const {
+    const DualBlock* block = block_of(cell);
+    if (!block) return 0;
+    const openvdb::Coord local = cell - block->origin;
+    return block->config[DualBlock::cell_index(local.x(), local.y(), local.z())];
+}
+
+std::uint32_t DualCells::vertex(const openvdb::Coord& cell, int edge) const {
+    const DualBlock* block = block_of(cell);
+    if (!block) throw Error("dual surface: a crossed edge's cell has no block");
+    const openvdb::Coord local = cell - block->origin;
+    const int i = DualBlock::cell_index(local.x(), local.y(), local.z());
+    const int group = cell_groups(block->config[i]).of_edge[edge];
+    if (group < 0) throw Error("dual surface: a crossed edge is not crossed in a cell round it");
+    return std::uint32_t(block->first + block->first_vertex[i] + std::size_t(group));
+}
+
+DualQuad DualCells::quad(const openvdb::Coord& voxel, int axis) const {
+    // Counter-clockwise round +axis (u x w = axis): the cells in quadrants (+,+), (-,+), (-,-), (+,-).
+    const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+    DualQuad quad;
+    for (int q = 0; q < 4; ++q) {
+        const int du = q == 1 || q == 2, dw = q == 2 || q == 3;
+        openvdb::Coord cell = voxel;
+        cell[u] -= du;
+        cell[w] -= dw;
+        const unsigned corner = (unsigned(du) << u) | (unsigned(dw) << w);  // the voxel's corner in that cell
+        quad.vertex[q] = vertex(cell, cell_edge(corner, axis));
+    }
+    // Seen from outside means round the direction from the inside end to the outside end.
+    if (!(config(voxel) & 1u)) std::swap(quad.vertex[1], quad.vertex[3]);
+    return quad;
+}
+
+openvdb::Coord DualCells::cell_of_vertex(std::uint32_t v) const {
+    const auto it = std::upper_bound(blocks_.begin(), blocks_.end(), std::size_t(v), [](std::size_t i, const DualBlock& b) { return i < b.first; });
+    const DualBlock& block = *(it - 1);
+    const int cell = block.vertex_cell[v - block.first];
+    return block.origin.offsetBy(cell / (kBlockDim * kBlockDim), (cell / kBlockDim) % kBlockDim, cell % kBlockDim);
+}
+
+}  // namespace vdbmesh::detail

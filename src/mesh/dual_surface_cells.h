@@ -1,0 +1,81 @@
+#pragma once
+// Private: the cells of the dual surface (dual_surface.cpp): per 8^3 block of cells, each
+// cell's corner configuration and its vertices (one per edge group, dual_surface_groups.h),
+// with the lookups the quads and the proof need.
+
+#include <openvdb/openvdb.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "mesh/sample_classifier.h"
+#include "mesh/surface_blocks.h"
+#include "vdbmesh/geometry.h"
+
+namespace vdbmesh::detail {
+
+inline constexpr int kDualBlockCells = kBlockDim * kBlockDim * kBlockDim;
+
+/// A vertex is kept this far (in voxels) inside its cell's faces: the triangles round a grid
+/// edge then lie strictly inside the 2x2x1 block of cells round it, far above the float
+/// rounding of the written coordinates (the proof's locality, dual_surface_proof.h).
+inline constexpr double kDualInteriorMargin = 1e-3;
+
+/// The cells of one block whose minimum corners lie in it.
+struct DualBlock {
+    openvdb::Coord origin;
+    std::array<std::uint8_t, kDualBlockCells> config{};  ///< bit c: corner c inside (0, 255: no surface)
+    std::array<std::uint16_t, kDualBlockCells> first_vertex{};  ///< the cell's first vertex, in the block
+    /// The crossed grid edges the block owns (minimum voxel in it): cell index * 3 + axis.
+    std::vector<std::uint16_t> crossed_edges;
+    std::vector<Point3> projected;  ///< per vertex (index space): on the trilinear isosurface
+    std::vector<Point3> mean;       ///< per vertex (index space): its crossings' mean
+    std::vector<std::uint16_t> vertex_cell;  ///< per vertex: its cell's index in the block
+    std::size_t first = 0;          ///< the global index of its first vertex
+
+    static int cell_index(int x, int y, int z) { return (x * kBlockDim + y) * kBlockDim + z; }
+};
+
+/// A quad round a crossed grid edge: its four vertices counter-clockwise seen from outside,
+/// and the diagonal that splits it.
+struct DualQuad {
+    std::array<std::uint32_t, 4> vertex;
+    bool split_13 = false;  ///< (0, 1, 3), (1, 2, 3); else (0, 1, 2), (0, 2, 3)
+
+    std::array<std::array<std::uint32_t, 3>, 2> triangles() const {
+        if (split_13) return {{{vertex[0], vertex[1], vertex[3]}, {vertex[1], vertex[2], vertex[3]}}};
+        return {{{vertex[0], vertex[1], vertex[2]}, {vertex[0], vertex[2], vertex[3]}}};
+    }
+};
+
+/// Every block holding a cell the surface crosses, with its cells' vertices.
+class DualCells {
+public:
+    /// The blocks of @a grid (surface_blocks()) with their cells' configurations and vertices,
+    /// made in parallel.
+    DualCells(const openvdb::FloatGrid& grid, const SampleClassifier& classifier);
+
+    const std::vector<DualBlock>& blocks() const { return blocks_; }
+    std::size_t vertex_count() const { return vertex_count_; }
+
+    /// The block holding the cell whose minimum corner is @a cell, or null when none is stored.
+    const DualBlock* block_of(const openvdb::Coord& cell) const;
+    /// The configuration of the cell whose minimum corner is @a cell (0 where no block is stored).
+    unsigned config(const openvdb::Coord& cell) const;
+    /// The global index of the vertex of cell @a cell's group holding cell edge @a edge (crossed).
+    std::uint32_t vertex(const openvdb::Coord& cell, int edge) const;
+    /// The four vertices round the crossed grid edge from @a voxel along @a axis,
+    /// counter-clockwise seen from outside (the diagonal not chosen yet).
+    DualQuad quad(const openvdb::Coord& voxel, int axis) const;
+    /// The minimum corner of the cell holding global vertex @a v.
+    openvdb::Coord cell_of_vertex(std::uint32_t v) const;
+
+private:
+    void make_vertices(const openvdb::FloatGrid& grid, const SampleClassifier& classifier);
+
+    std::vector<DualBlock> blocks_;  ///< sorted by origin
+    std::size_t vertex_count_ = 0;
+};
+
+}  // namespace vdbmesh::detail
