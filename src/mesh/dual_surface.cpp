@@ -42,24 +42,20 @@ DualPositions written_positions(const DualCells& cells, const openvdb::math::Tra
 }
 
 Mesh assemble(const DualCells& cells, const DualPositions& positions) {
-    const auto& blocks = cells.blocks();
-    std::vector<std::size_t> first_triangle(blocks.size() + 1, 0);
-    for (std::size_t b = 0; b < blocks.size(); ++b) first_triangle[b + 1] = first_triangle[b] + 2 * blocks[b].crossed_edges.size();
     Mesh mesh;
     mesh.vertices.resize(positions.at.size());
-    for (std::size_t v = 0; v < positions.at.size(); ++v) {
-        const Point3& p = positions.at[v];
-        mesh.vertices[v] = {float(p[0]), float(p[1]), float(p[2])};
-    }
-    mesh.triangles.resize(first_triangle.back());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size()), [&](const auto& range) {
-        for (std::size_t b = range.begin(); b != range.end(); ++b) {
-            std::size_t t = first_triangle[b];
-            for (std::uint16_t code : blocks[b].crossed_edges) {
-                const int cell = code / 3;
-                const openvdb::Coord voxel = blocks[b].origin.offsetBy(cell / (kBlockDim * kBlockDim), (cell / kBlockDim) % kBlockDim, cell % kBlockDim);
-                for (const auto& triangle : split_quad(cells, positions, voxel, code % 3).triangles()) mesh.triangles[t++] = triangle;
-            }
+    mesh.triangles.resize(2 * cells.quads().size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, positions.at.size(), 4096), [&](const auto& range) {
+        for (std::size_t v = range.begin(); v != range.end(); ++v) {
+            const Point3& p = positions.at[v];
+            mesh.vertices[v] = {float(p[0]), float(p[1]), float(p[2])};
+        }
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cells.quads().size(), 4096), [&](const auto& range) {
+        for (std::size_t q = range.begin(); q != range.end(); ++q) {
+            const auto triangles = cells.quads()[q].triangles(positions.split_13[q]);
+            mesh.triangles[2 * q] = triangles[0];
+            mesh.triangles[2 * q + 1] = triangles[1];
         }
     });
     return mesh;
@@ -72,6 +68,7 @@ Mesh dual_surface(const openvdb::FloatGrid& grid, const MeshOptions& options, Me
     const SampleClassifier classifier(grid, options);
     const DualCells cells(grid, classifier);
     DualPositions positions = written_positions(cells, grid.transform());
+    choose_splits(cells, positions);
     clock.lap(report, "vertices");
     if (options.progress) options.progress(0.3);
     const DualProofFigures proof = prove_no_crossings(cells, positions, report);

@@ -158,6 +158,7 @@ DualCells::DualCells(const openvdb::FloatGrid& grid, const SampleClassifier& cla
     blocks_.resize(origins.size());
     for (std::size_t b = 0; b < origins.size(); ++b) blocks_[b].origin = origins[b];
     make_vertices(grid, classifier);
+    make_quads();
 }
 
 void DualCells::make_vertices(const openvdb::FloatGrid& grid, const SampleClassifier& classifier) {
@@ -169,11 +170,63 @@ void DualCells::make_vertices(const openvdb::FloatGrid& grid, const SampleClassi
             make_block(accessor, classifier, samples, blocks_[b]);
         }
     });
+    // Each vertex's star holds a quad per crossed edge of its group.
     for (DualBlock& block : blocks_) {
-        block.first = vertex_count_;
-        vertex_count_ += block.projected.size();
+        block.first = star_first_.size() - 1;
+        for (std::size_t v = 0; v < block.projected.size(); ++v) {
+            const int cell = block.vertex_cell[v];
+            const int group = int(v) - block.first_vertex[cell];
+            star_first_.push_back(star_first_.back() + cell_groups(block.config[cell]).size[group]);
+        }
     }
-    if (vertex_count_ > 0xffffffffu) throw Error("dual surface: more than 2^32 vertices");
+    if (vertex_count() > 0xffffffffu) throw Error("dual surface: more than 2^32 vertices");
+}
+
+void DualCells::make_quads() {
+    std::size_t count = 0;
+    for (DualBlock& block : blocks_) {
+        block.first_quad = count;
+        count += block.crossed_edges.size();
+    }
+    if (count > 0xffffffffu) throw Error("dual surface: more than 2^32 quads");
+    quads_.resize(count);
+    star_.resize(star_first_.back());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size()), [&](const auto& range) {
+        for (std::size_t b = range.begin(); b != range.end(); ++b) {
+            const DualBlock& block = blocks_[b];
+            std::array<const DualBlock*, 8> below;  // the blocks one step below along the axes of each bit
+            for (unsigned d = 0; d < 8; ++d) below[d] = block_of(block.origin.offsetBy(-kBlockDim * int(d & 1), -kBlockDim * int((d >> 1) & 1), -kBlockDim * int(d >> 2)));
+            for (std::size_t k = 0; k < block.crossed_edges.size(); ++k) {
+                const int cell = block.crossed_edges[k] / 3;
+                const openvdb::Coord voxel = block.origin.offsetBy(cell / (kBlockDim * kBlockDim), (cell / kBlockDim) % kBlockDim, cell % kBlockDim);
+                std::array<std::uint8_t, 4> ranks;
+                const std::size_t q = block.first_quad + k;
+                quads_[q] = quad(voxel, block.crossed_edges[k] % 3, below, ranks);
+                for (int c = 0; c < 4; ++c) star_[star_first_[quads_[q].vertex[c]] + ranks[c]] = std::uint32_t(q);
+            }
+        }
+    });
+}
+
+DualCellVertices DualCells::cell_vertices(const openvdb::Coord& cell) const {
+    const DualBlock* block = block_of(cell);
+    if (!block) return {};
+    const openvdb::Coord local = cell - block->origin;
+    const int i = DualBlock::cell_index(local.x(), local.y(), local.z());
+    return {std::uint32_t(block->first + block->first_vertex[i]), cell_groups(block->config[i]).count};
+}
+
+std::vector<DualCellVertices> DualCells::every_cell() const {
+    std::vector<DualCellVertices> cells;
+    for (const DualBlock& block : blocks_) {
+        for (std::size_t v = 0; v < block.projected.size();) {
+            const int cell = block.vertex_cell[v];
+            const std::uint32_t count = cell_groups(block.config[cell]).count;
+            cells.push_back({std::uint32_t(block.first + v), count});
+            v += count;
+        }
+    }
+    return cells;
 }
 
 const DualBlock* DualCells::block_of(const openvdb::Coord& cell) const {
@@ -182,24 +235,19 @@ const DualBlock* DualCells::block_of(const openvdb::Coord& cell) const {
     return it != blocks_.end() && it->origin == origin ? &*it : nullptr;
 }
 
-unsigned DualCells::config(const openvdb::Coord& cell) const {
-    const DualBlock* block = block_of(cell);
-    if (!block) return 0;
-    const openvdb::Coord local = cell - block->origin;
-    return block->config[DualBlock::cell_index(local.x(), local.y(), local.z())];
-}
-
-std::uint32_t DualCells::vertex(const openvdb::Coord& cell, int edge) const {
-    const DualBlock* block = block_of(cell);
+std::uint32_t DualCells::vertex(const DualBlock* block, const openvdb::Coord& cell, int edge, std::uint8_t& rank) const {
     if (!block) throw Error("dual surface: a crossed edge's cell has no block");
     const openvdb::Coord local = cell - block->origin;
     const int i = DualBlock::cell_index(local.x(), local.y(), local.z());
-    const int group = cell_groups(block->config[i]).of_edge[edge];
+    const CellGroups& groups = cell_groups(block->config[i]);
+    const int group = groups.of_edge[edge];
     if (group < 0) throw Error("dual surface: a crossed edge is not crossed in a cell round it");
+    rank = groups.rank[edge];
     return std::uint32_t(block->first + block->first_vertex[i] + std::size_t(group));
 }
 
-DualQuad DualCells::quad(const openvdb::Coord& voxel, int axis) const {
+DualQuad DualCells::quad(const openvdb::Coord& voxel, int axis, const std::array<const DualBlock*, 8>& below,
+                         std::array<std::uint8_t, 4>& ranks) const {
     // Counter-clockwise round +axis (u x w = axis): the cells in quadrants (+,+), (-,+), (-,-), (+,-).
     const int u = (axis + 1) % 3, w = (axis + 2) % 3;
     DualQuad quad;
@@ -209,10 +257,16 @@ DualQuad DualCells::quad(const openvdb::Coord& voxel, int axis) const {
         cell[u] -= du;
         cell[w] -= dw;
         const unsigned corner = (unsigned(du) << u) | (unsigned(dw) << w);  // the voxel's corner in that cell
-        quad.vertex[q] = vertex(cell, cell_edge(corner, axis));
+        // The cell's block: this one, or one below along u or w where the voxel is on its face.
+        const unsigned step = (du && (voxel[u] & (kBlockDim - 1)) == 0 ? 1u << u : 0u) | (dw && (voxel[w] & (kBlockDim - 1)) == 0 ? 1u << w : 0u);
+        quad.vertex[q] = vertex(below[step], cell, cell_edge(corner, axis), ranks[q]);
     }
     // Seen from outside means round the direction from the inside end to the outside end.
-    if (!(config(voxel) & 1u)) std::swap(quad.vertex[1], quad.vertex[3]);
+    const openvdb::Coord local = voxel - below[0]->origin;
+    if (!(below[0]->config[DualBlock::cell_index(local.x(), local.y(), local.z())] & 1u)) {
+        std::swap(quad.vertex[1], quad.vertex[3]);
+        std::swap(ranks[1], ranks[3]);
+    }
     return quad;
 }
 

@@ -34,6 +34,7 @@ CellGroups groups_of(unsigned config) {
         int& group = group_of_root[root(e)];
         if (group < 0) group = groups.count++;
         groups.of_edge[e] = std::int8_t(group);
+        groups.rank[e] = groups.size[group]++;
     }
     return groups;
 }

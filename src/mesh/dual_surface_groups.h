@@ -13,6 +13,10 @@ struct CellGroups {
     std::uint8_t count = 0;
     /// The group (0 .. count - 1) of each cell edge (kEdgeCorners), -1 where the edge is not crossed.
     std::array<std::int8_t, 12> of_edge{};
+    /// Each crossed edge's place among its group's edges (in edge order): its quad's slot in
+    /// the star of the group's vertex.
+    std::array<std::uint8_t, 12> rank{};
+    std::array<std::uint8_t, 4> size{};  ///< each group's crossed edges
 };
 
 /// The groups for configuration @a config (0..255): the edges of mc_case(config)'s triangles,

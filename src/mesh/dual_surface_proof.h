@@ -17,11 +17,13 @@ struct DualPositions {
     std::vector<Point3> at;
     std::vector<Point3> mean;
     std::vector<bool> at_mean;  ///< the vertex was moved to its mean by the proof
+    /// Per quad: split along its diagonal 1-3 (else 0-2), the one whose two triangles have the
+    /// larger smallest angle.
+    std::vector<std::uint8_t> split_13;
 };
 
-/// The quad round the crossed grid edge from @a voxel along @a axis, split along the diagonal
-/// whose two triangles have the larger smallest angle (at @a positions).
-DualQuad split_quad(const DualCells& cells, const DualPositions& positions, const openvdb::Coord& voxel, int axis);
+/// Chooses every quad's diagonal (DualPositions::split_13) at the vertices' positions.
+void choose_splits(const DualCells& cells, DualPositions& positions);
 
 /// What the proof did.
 struct DualProofFigures {
