@@ -18,7 +18,7 @@
 //    arithmetic on the float inputs, so a positive answer is exact; the turns are counted as
 //    the rim edges crossing a ray from v (each positive rim edge sweeps under a half-turn).
 //  - Otherwise (several groups, or the certificate refused) every pair of its triangles gets
-//    the exact tests of triangle_intersection.h.
+//    the exact tests of triangles_intersect() (geometry.h).
 // A pair found meeting sends the vertices of both triangles to their crossings' means, and
 // the cells round them are proved again.
 
@@ -32,7 +32,6 @@
 #include <cmath>
 #include <mutex>
 
-#include "geometry/triangle_intersection.h"
 #include "mesh/mesh_phases.h"
 
 namespace vdbmesh::detail {
@@ -128,30 +127,6 @@ bool certified_star(const DualCells& cells, const DualPositions& positions, cons
 
 Triangle3 corners(const std::array<std::uint32_t, 3>& t, const std::vector<Point3>& at) { return {at[t[0]], at[t[1]], at[t[2]]}; }
 
-/// Whether two distinct triangles meet beyond the vertices they share (by index).
-bool meet(const std::array<std::uint32_t, 3>& t, const std::array<std::uint32_t, 3>& u, const std::vector<Point3>& at) {
-    std::array<int, 3> in_u;  // the corner of u each corner of t is, -1 when none
-    int shared = 0;
-    for (int i = 0; i < 3; ++i) {
-        in_u[i] = int(std::find(u.begin(), u.end(), t[i]) - u.begin());
-        if (in_u[i] == 3) in_u[i] = -1;
-        shared += in_u[i] >= 0;
-    }
-    if (shared == 0) return triangles_meet(corners(t, at), corners(u, at));
-    if (shared == 3) return true;  // the same triangle twice
-    const int i = int(std::find_if(in_u.begin(), in_u.end(), [](int k) { return k >= 0; }) - in_u.begin());
-    if (shared == 1) {
-        const Triangle3 a = {at[t[i]], at[t[(i + 1) % 3]], at[t[(i + 2) % 3]]};
-        const int j = in_u[i];
-        const Triangle3 b = {at[u[j]], at[u[(j + 1) % 3]], at[u[(j + 2) % 3]]};
-        return triangles_meet_beyond_corner(a, b);
-    }
-    const int lone_t = int(std::find(in_u.begin(), in_u.end(), -1) - in_u.begin());
-    int lone_u = 0;
-    while (std::find(t.begin(), t.end(), u[lone_u]) != t.end()) ++lone_u;
-    return triangles_meet_beyond_edge(at[t[(lone_t + 1) % 3]], at[t[(lone_t + 2) % 3]], at[t[lone_t]], at[u[lone_u]]);
-}
-
 using FailedPair = std::array<std::uint32_t, 6>;
 
 /// Every pair of the star's triangles that meets (a degenerate triangle: with itself).
@@ -167,7 +142,7 @@ void exact_tests(const DualCells& cells, const DualPositions& positions, const C
         if (collinear(at[t[0]], at[t[1]], at[t[2]])) failed.push_back({t[0], t[1], t[2], t[0], t[1], t[2]});
         for (int j = i + 1; j < count; ++j) {
             ++tested;
-            if (meet(t, triangles[j], at)) failed.push_back({t[0], t[1], t[2], triangles[j][0], triangles[j][1], triangles[j][2]});
+            if (triangles_intersect(t, corners(t, at), triangles[j], corners(triangles[j], at))) failed.push_back({t[0], t[1], t[2], triangles[j][0], triangles[j][1], triangles[j][2]});
         }
     }
 }
