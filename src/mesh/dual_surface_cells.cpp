@@ -20,21 +20,21 @@ namespace vdbmesh::detail {
 
 namespace {
 
-constexpr int kSampleDim = kBlockDim + 1;  // a block's cells read samples 0..kBlockDim on each axis
+constexpr int kSampleDim = kBlockDim + 3;  // samples -1..kBlockDim + 1: the block's cells and their face neighbours
 constexpr int kNewtonSteps = 3;
 
 struct BlockSamples {
     std::array<double, kSampleDim * kSampleDim * kSampleDim> value;
     std::array<bool, kSampleDim * kSampleDim * kSampleDim> inside;
 
-    static int index(int x, int y, int z) { return (x * kSampleDim + y) * kSampleDim + z; }
+    static int index(int x, int y, int z) { return ((x + 1) * kSampleDim + y + 1) * kSampleDim + z + 1; }
 };
 
 void load_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier, const openvdb::Coord& origin,
                   BlockSamples& samples) {
-    for (int x = 0; x < kSampleDim; ++x) {
-        for (int y = 0; y < kSampleDim; ++y) {
-            for (int z = 0; z < kSampleDim; ++z) {
+    for (int x = -1; x <= kBlockDim + 1; ++x) {
+        for (int y = -1; y <= kBlockDim + 1; ++y) {
+            for (int z = -1; z <= kBlockDim + 1; ++z) {
                 const openvdb::Coord ijk = origin.offsetBy(x, y, z);
                 const int i = BlockSamples::index(x, y, z);
                 samples.value[i] = classifier.sample_value(ijk, accessor.getValue(ijk));
@@ -91,7 +91,7 @@ Point3 projected_onto_isosurface(const std::array<double, 8>& f, double iso, con
 /// of its crossings and that mean on the isosurface.
 void add_cell_vertices(const BlockSamples& samples, const openvdb::Coord& origin, int x, int y, int z, double iso, DualBlock& block) {
     const int cell = DualBlock::cell_index(x, y, z);
-    const CellGroups& groups = cell_groups(block.config[cell]);
+    const CellGroups& groups = cell_groups(block.grouping[cell]);
     std::array<double, 8> f;
     for (unsigned c = 0; c < 8; ++c) f[c] = samples.value[BlockSamples::index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))];
     std::array<Point3, 4> sum{};
@@ -123,16 +123,70 @@ void add_cell_vertices(const BlockSamples& samples, const openvdb::Coord& origin
     }
 }
 
+unsigned cell_config(const BlockSamples& samples, int x, int y, int z) {
+    unsigned config = 0;
+    for (unsigned c = 0; c < 8; ++c) config |= unsigned(samples.inside[BlockSamples::index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))]) << c;
+    return config;
+}
+
+/// Whether the face between a cell of configuration @a upper and the one below it along @a n
+/// (configuration @a lower) is ambiguous (four crossings) with each cell's groups joining all
+/// four into one polygon: the dual edge between their vertices would then be in four triangles.
+bool joined_on_both_sides(unsigned lower, unsigned upper, int n) {
+    const int u = (n + 1) % 3, w = (n + 2) % 3;
+    const auto joined = [&](unsigned config, unsigned base) {
+        const CellGroups& groups = cell_groups(config);
+        const std::array<int, 4> edges = {cell_edge(base, u), cell_edge(base | (1u << w), u), cell_edge(base, w), cell_edge(base | (1u << u), w)};
+        for (int e : edges)
+            if (groups.of_edge[e] < 0 || groups.of_edge[e] != groups.of_edge[edges[0]]) return false;
+        return true;
+    };
+    return joined(upper, 0) && joined(lower, 1u << n);
+}
+
+/// The ambiguous faces (inside corners on one diagonal) of a configuration: bit 2n + s for the
+/// face at side s (0 below, 1 above) along axis n.
+unsigned ambiguous_faces(unsigned config) {
+    unsigned faces = 0;
+    for (int n = 0; n < 3; ++n) {
+        const int u = (n + 1) % 3, w = (n + 2) % 3;
+        for (unsigned s = 0; s < 2; ++s) {
+            const unsigned base = s << n;
+            const bool c00 = (config >> base) & 1, c11 = (config >> (base | (1u << u) | (1u << w))) & 1;
+            const bool c10 = (config >> (base | (1u << u))) & 1, c01 = (config >> (base | (1u << w))) & 1;
+            if (c00 == c11 && c10 == c01 && c00 != c10) faces |= 1u << (2 * n + s);
+        }
+    }
+    return faces;
+}
+
+/// The configuration whose groups the cell takes: its own, or its complement's (the same
+/// crossed edges, every ambiguous face paired the other way) when its only ambiguous face is
+/// joined on both sides and is the only ambiguous face of the cell across it too: both cells
+/// then take their complements, so they still pair that face alike, and each splits its four
+/// crossings in two (the complement's inside corners there, the face's outside ones, cannot
+/// both reach the cell's interior when the face's inside corners do). Cells with more
+/// ambiguous faces keep their own (the figures count what remains, docs/dmc.md).
+unsigned grouping(const BlockSamples& samples, int x, int y, int z, unsigned config) {
+    const unsigned faces = ambiguous_faces(config);
+    if (faces == 0 || (faces & (faces - 1)) != 0) return config;
+    const int bit = __builtin_ctz(faces), n = bit / 2, s = bit % 2;
+    const int step = s == 0 ? -1 : 1;
+    const unsigned other = cell_config(samples, x + step * (n == 0), y + step * (n == 1), z + step * (n == 2));
+    if (ambiguous_faces(other) != 1u << (2 * n + 1 - s)) return config;
+    const bool joined = s == 0 ? joined_on_both_sides(other, config, n) : joined_on_both_sides(config, other, n);
+    return joined ? 255 - config : config;
+}
+
 void make_block(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier, BlockSamples& samples, DualBlock& block) {
     load_samples(accessor, classifier, block.origin, samples);
     for (int x = 0; x < kBlockDim; ++x) {
         for (int y = 0; y < kBlockDim; ++y) {
             for (int z = 0; z < kBlockDim; ++z) {
                 const int cell = DualBlock::cell_index(x, y, z);
-                unsigned config = 0;
-                for (unsigned c = 0; c < 8; ++c)
-                    config |= unsigned(samples.inside[BlockSamples::index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))]) << c;
+                const unsigned config = cell_config(samples, x, y, z);
                 block.config[cell] = std::uint8_t(config);
+                block.grouping[cell] = std::uint8_t(config == 0 || config == 255 ? config : grouping(samples, x, y, z, config));
                 block.first_vertex[cell] = std::uint16_t(block.projected.size());
                 if (config != 0 && config != 255) add_cell_vertices(samples, block.origin, x, y, z, classifier.iso(), block);
                 const bool inside = samples.inside[BlockSamples::index(x, y, z)];
@@ -176,7 +230,7 @@ void DualCells::make_vertices(const openvdb::FloatGrid& grid, const SampleClassi
         for (std::size_t v = 0; v < block.projected.size(); ++v) {
             const int cell = block.vertex_cell[v];
             const int group = int(v) - block.first_vertex[cell];
-            star_first_.push_back(star_first_.back() + cell_groups(block.config[cell]).size[group]);
+            star_first_.push_back(star_first_.back() + cell_groups(block.grouping[cell]).size[group]);
         }
     }
     if (vertex_count() > 0xffffffffu) throw Error("dual surface: more than 2^32 vertices");
@@ -213,7 +267,7 @@ DualCellVertices DualCells::cell_vertices(const openvdb::Coord& cell) const {
     if (!block) return {};
     const openvdb::Coord local = cell - block->origin;
     const int i = DualBlock::cell_index(local.x(), local.y(), local.z());
-    return {std::uint32_t(block->first + block->first_vertex[i]), cell_groups(block->config[i]).count};
+    return {std::uint32_t(block->first + block->first_vertex[i]), cell_groups(block->grouping[i]).count};
 }
 
 std::vector<DualCellVertices> DualCells::every_cell() const {
@@ -221,7 +275,7 @@ std::vector<DualCellVertices> DualCells::every_cell() const {
     for (const DualBlock& block : blocks_) {
         for (std::size_t v = 0; v < block.projected.size();) {
             const int cell = block.vertex_cell[v];
-            const std::uint32_t count = cell_groups(block.config[cell]).count;
+            const std::uint32_t count = cell_groups(block.grouping[cell]).count;
             cells.push_back({std::uint32_t(block.first + v), count});
             v += count;
         }
@@ -239,7 +293,7 @@ std::uint32_t DualCells::vertex(const DualBlock* block, const openvdb::Coord& ce
     if (!block) throw Error("dual surface: a crossed edge's cell has no block");
     const openvdb::Coord local = cell - block->origin;
     const int i = DualBlock::cell_index(local.x(), local.y(), local.z());
-    const CellGroups& groups = cell_groups(block->config[i]);
+    const CellGroups& groups = cell_groups(block->grouping[i]);
     const int group = groups.of_edge[edge];
     if (group < 0) throw Error("dual surface: a crossed edge is not crossed in a cell round it");
     rank = groups.rank[edge];

@@ -26,6 +26,9 @@ inline constexpr double kDualInteriorMargin = 1e-3;
 struct DualBlock {
     openvdb::Coord origin;
     std::array<std::uint8_t, kDualBlockCells> config{};  ///< bit c: corner c inside (0, 255: no surface)
+    /// The configuration whose edge groups the cell takes: config, or its complement where its
+    /// only ambiguous face is joined on both sides (dual_surface_cells.cpp, grouping()).
+    std::array<std::uint8_t, kDualBlockCells> grouping{};
     std::array<std::uint16_t, kDualBlockCells> first_vertex{};  ///< the cell's first vertex, in the block
     /// The crossed grid edges the block owns (minimum voxel in it): cell index * 3 + axis.
     std::vector<std::uint16_t> crossed_edges;
