@@ -53,6 +53,7 @@ struct CompareCommandOptions {
     std::string errors = "0,0.1,0.25,0.5", adaptivities = "0,0.1,0.25,1";
     std::string decimate;
     bool no_budget = false;
+    bool dual = false;
     bool sharp = false;  ///< --sharp: DC --sharp rows at each positive --error (always on a phantom)
     std::optional<std::string> dmc_errors;  ///< refused: DMC was retired (docs/dmc.md)
     Inside inside = Inside::above;
@@ -327,10 +328,11 @@ int run_compare(const CompareCommandOptions& o) {
     }
     options.accuracy.samples = o.samples;
     options.budget_rows = !o.no_budget;
+    options.dual = o.dual;
     if (o.sharp || !o.phantom.empty())
         std::copy_if(options.errors.begin(), options.errors.end(), std::back_inserter(options.sharp_errors), [](double e) { return e > 0; });
     const std::size_t mesh_count = options.errors.size() + options.sharp_errors.size() + options.adaptivities.size() * (o.no_budget ? 1 : 2) +
-                               options.decimate_fractions.size() + 1;  // and Marching Cubes
+                               options.decimate_fractions.size() + 1 + o.dual;  // and Marching Cubes
     refuse_beyond_memory("--samples", "the surface samples (24 bytes each)", 24.0 * double(o.samples));
     refuse_beyond_work(o.work_limit, "--samples", 2.0 * double(o.samples) * double(mesh_count),
                        "distance queries (samples both ways on " + std::to_string(mesh_count) + " meshes)", 1e-6);
@@ -388,6 +390,7 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
         ->capture_default_str();
     command.add_flag("--no-budget", o.no_budget,
                      "No triangle-budget rows (by default, one per --adaptivity: the budget at that volumeToMesh mesh's triangles)");
+    command.add_flag("--dual", o.dual, "Also the experimental dual surface (mesh --method dual), one mesh");
     command.add_flag("--sharp", o.sharp,
                      "Also DC --sharp (mesh --sharp) at each --error above 0, one mesh each; always on a --phantom");
     command.add_option("--decimate", o.decimate,

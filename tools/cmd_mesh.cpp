@@ -43,7 +43,7 @@ namespace {
 // "dmc" stays accepted so that scripts keep working: Dual Marching Cubes was retired, dc runs
 // instead (docs/dmc.md).
 const std::map<std::string, MeshMethod> kMethods = {
-    {"dmc", MeshMethod::dc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}, {"dc", MeshMethod::dc}};
+    {"dmc", MeshMethod::dc}, {"mc", MeshMethod::mc}, {"openvdb", MeshMethod::openvdb}, {"dc", MeshMethod::dc}, {"dual", MeshMethod::dual}};
 const std::map<std::string, Inside> kSides = {{"above", Inside::above}, {"below", Inside::below}};
 
 /// --triangles: a whole number from 1 to the most a mesh's 32-bit indices allow.
@@ -328,7 +328,7 @@ void add_mesh_command(CLI::App& command, CommandResult& result) {
     output_file(command.add_option("-o,--output", options->output, "Mesh file: .stl, .ply or .obj (with --labels: DIR/, .ply or .glb/.gltf)"))->required();
     auto* iso = command.add_option("--iso", options->iso, "Isovalue (default for a .vdb: the one stored by convert)");
     auto* method = command.add_option("--method", options->method,
-                       "Mesher: dc (intersection-free Dual Contouring, the default), mc, openvdb (volumeToMesh); dmc was retired: it runs dc")
+                       "Mesher: dc (intersection-free Dual Contouring, the default), mc, openvdb (volumeToMesh), dual (experimental: docs/dmc.md, \"Error 0: the dual mesh\"); dmc was retired: it runs dc")
         ->check(CLI::IsMember(kMethods, CLI::ignore_case))
         ->capture_default_str();
     auto* error = command.add_option("--error", options->mesh.error, "dc: tolerated error in voxels (0: no simplification, Marching Cubes)")

@@ -25,6 +25,9 @@ enum class MeshMethod {
     openvdb,  ///< openvdb::tools::volumeToMesh, quads split along the shorter diagonal
     dc,       ///< intersection-free Dual Contouring on the leaf octrees (Ju and Udeshi 2006), Marching
               ///< Cubes in unit cells, adaptive by --error
+    dual,     ///< experimental: a vertex per Marching Cubes polygon of each cell on the trilinear
+              ///< isosurface, a quad per crossed grid edge, proved free of crossings (docs/dmc.md,
+              ///< "Error 0: the dual mesh"); whole grids only
 };
 
 /// Which side of the isovalue is the object.

@@ -274,6 +274,8 @@ const char* method_name(MeshMethod method) {
             return "openvdb";
         case MeshMethod::dc:
             return "dc";
+        case MeshMethod::dual:
+            return "dual";
     }
     return "unknown";
 }
@@ -360,6 +362,7 @@ Comparison compare_meshers(const openvdb::FloatGrid& grid, const CompareOptions&
     };
     for (double error : options.errors) add_run(MeshMethod::dc, error, std::nullopt);
     if (options.marching_cubes) add_run(MeshMethod::mc, std::nullopt, std::nullopt);
+    if (options.dual) add_run(MeshMethod::dual, std::nullopt, std::nullopt);
     for (double adaptivity : options.adaptivities) add_run(MeshMethod::openvdb, std::nullopt, adaptivity);
     // (a budget run's count is its volumeToMesh mesh's, known once that one is made)
     std::vector<std::optional<std::size_t>> budget_of(runs.size());

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "mesh/dual_contouring.h"
+#include "mesh/dual_surface.h"
 #include "mesh/marching_cubes.h"
 #include "mesh/mesh_phases.h"
 #include "mesh/openvdb_mesher.h"
@@ -28,6 +29,9 @@ void check_options(const MeshOptions& options) {
     if (options.open_boundary && options.method == MeshMethod::openvdb) {
         throw UsageError("open boundary: not available with the openvdb method (volumeToMesh meshes the grid's values as they are)");
     }
+    if (options.open_boundary && options.method == MeshMethod::dual) {
+        throw UsageError("open boundary: not available with the dual method (its cells close the surface)");
+    }
     if (options.open_boundary && options.method == MeshMethod::dc) {
         throw UsageError("open boundary: not available with the dc method (its cells close the surface)");
     }
@@ -41,6 +45,8 @@ Mesh run_mesher(const openvdb::FloatGrid& grid, const MeshOptions& options, Mesh
             return detail::openvdb_volume_to_mesh(grid, options);
         case MeshMethod::dc:
             return detail::intersection_free_contouring(grid, options, report);
+        case MeshMethod::dual:
+            return detail::dual_surface(grid, options, report);
     }
     throw UsageError("mesh method: unknown value " + std::to_string(int(options.method)));
 }
@@ -107,6 +113,7 @@ BrickOptions planned_bricks(const GridRegionSource& source, const MeshOptions& o
     if (options.method == MeshMethod::openvdb) {
         throw UsageError("bricks: the openvdb method meshes the whole grid at once (volumeToMesh); dc and mc mesh by bricks");
     }
+    if (options.method == MeshMethod::dual) throw UsageError("bricks: the dual method (experimental) meshes the whole grid at once; dc and mc mesh by bricks");
     BrickOptions planned = bricks;
     if (!planned.shape.given()) planned.shape = detail::plan_brick_shape(source, bricks.memory_bytes);
     return planned;

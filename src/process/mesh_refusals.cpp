@@ -19,6 +19,7 @@ const char* method_text(MeshMethod method) {
         case MeshMethod::dc: return "dc";
         case MeshMethod::mc: return "mc";
         case MeshMethod::openvdb: return "openvdb";
+        case MeshMethod::dual: return "dual";
     }
     return "unknown";
 }
