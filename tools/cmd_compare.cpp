@@ -53,7 +53,7 @@ struct CompareCommandOptions {
     std::string errors = "0,0.1,0.25,0.5", adaptivities = "0,0.1,0.25,1";
     std::string decimate;
     bool no_budget = false;
-    bool dual = false;
+    bool no_dual = false;  ///< --no-dual: no dual-surface row at adaptivity 0
     bool sharp = false;  ///< --sharp: DC --sharp rows at each positive --error (always on a phantom)
     std::optional<std::string> dmc_errors;  ///< refused: DMC was retired (docs/dmc.md)
     Inside inside = Inside::above;
@@ -271,10 +271,13 @@ Plot make_plot(const std::string& title, const std::vector<MeshComparison>& mesh
     plot.title = title;
     plot.x_label = "triangles (log scale)";
     plot.y_label = "two-sided Hausdorff distance (voxels)";
-    for (MeshMethod method : {MeshMethod::dc, MeshMethod::mc, MeshMethod::openvdb}) {
+    for (MeshMethod method : {MeshMethod::dc, MeshMethod::mc, MeshMethod::dual, MeshMethod::openvdb}) {
         for (const char* kind : {"", " + decimate", " budget", " sharp"}) {
             PlotSeries series;
-            series.name = method == MeshMethod::openvdb ? "volumeToMesh" : method == MeshMethod::dc ? "DC" : "MC";
+            series.name = method == MeshMethod::openvdb ? "volumeToMesh"
+                          : method == MeshMethod::dc   ? "DC"
+                          : method == MeshMethod::dual ? "dual surface"
+                                                       : "MC";
             series.name += kind;
             for (const auto& m : meshes) {
                 const char* of = m.budget ? " budget" : m.decimate ? " + decimate" : m.sharp ? " sharp" : "";
@@ -328,11 +331,12 @@ int run_compare(const CompareCommandOptions& o) {
     }
     options.accuracy.samples = o.samples;
     options.budget_rows = !o.no_budget;
-    options.dual = o.dual;
+    // The row meant to meet volumeToMesh at 0 (issue 29, item 5), as the budget rows meet the others.
+    options.dual = !o.no_dual && std::count(options.adaptivities.begin(), options.adaptivities.end(), 0.0) > 0;
     if (o.sharp || !o.phantom.empty())
         std::copy_if(options.errors.begin(), options.errors.end(), std::back_inserter(options.sharp_errors), [](double e) { return e > 0; });
     const std::size_t mesh_count = options.errors.size() + options.sharp_errors.size() + options.adaptivities.size() * (o.no_budget ? 1 : 2) +
-                               options.decimate_fractions.size() + 1 + o.dual;  // and Marching Cubes
+                               options.decimate_fractions.size() + 1 + options.dual;  // and Marching Cubes
     refuse_beyond_memory("--samples", "the surface samples (24 bytes each)", 24.0 * double(o.samples));
     refuse_beyond_work(o.work_limit, "--samples", 2.0 * double(o.samples) * double(mesh_count),
                        "distance queries (samples both ways on " + std::to_string(mesh_count) + " meshes)", 1e-6);
@@ -390,7 +394,8 @@ void add_compare_command(CLI::App& command, CommandResult& result) {
         ->capture_default_str();
     command.add_flag("--no-budget", o.no_budget,
                      "No triangle-budget rows (by default, one per --adaptivity: the budget at that volumeToMesh mesh's triangles)");
-    command.add_flag("--dual", o.dual, "Also the experimental dual surface (mesh --method dual), one mesh");
+    command.add_flag("--no-dual", o.no_dual,
+                     "No dual-surface row (by default, with --adaptivity 0: mesh --method dual, the mesh of ours meant to meet volumeToMesh there)");
     command.add_flag("--sharp", o.sharp,
                      "Also DC --sharp (mesh --sharp) at each --error above 0, one mesh each; always on a --phantom");
     command.add_option("--decimate", o.decimate,

@@ -108,7 +108,9 @@ struct CompareOptions {
     /// decimate_mesh() (as `vdbmesh mesh --decimate`), one mesh each.
     std::vector<double> decimate_fractions;
     bool marching_cubes = true;                            ///< one MC mesh
-    bool dual = false;  ///< one mesh of the experimental dual surface (MeshMethod::dual), after MC
+    /// One mesh of the dual surface (MeshMethod::dual), after MC: `compare` makes it by default
+    /// when an adaptivity is 0, the mesh of ours meant to meet volumeToMesh's there.
+    bool dual = false;
     /// Per volumeToMesh mesh, mesh_to_budget() (mesh_budget.h) at its triangle count: the mesh
     /// of ours meant to beat it on every count. A budget whose route (budget_route.h) only makes
     /// and keeps meshes of the DC rows is not meshed again: its time is the sum of those rows'

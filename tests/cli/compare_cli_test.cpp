@@ -25,7 +25,8 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
     const nlohmann::json report = nlohmann::json::parse(in);
     EXPECT_EQ(report["grid"]["truth"], "exact phantom surface");
     EXPECT_GT(report["grid"]["active_voxels"].get<long>(), 0);
-    ASSERT_EQ(report["meshes"].size(), 8u);  // 2 DC, MC, 2 volumeToMesh, 2 budgets at their counts, DC --sharp at 0.25
+    // 2 DC, MC, the dual surface (adaptivity 0 is asked), 2 volumeToMesh, 2 budgets at their counts, DC --sharp at 0.25
+    ASSERT_EQ(report["meshes"].size(), 9u);
     for (const char* key : {"method", "error", "adaptivity", "triangle_budget", "seconds", "triangles", "vertices", "hausdorff_voxels",
                             "mean_distance_voxels", "self_intersecting_pairs", "closed", "manifold", "normal_mean_deg",
                             "normal_p95_deg", "boundary_edges", "genus", "area", "volume", "min_angle_deg", "phases",
@@ -36,14 +37,16 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
     EXPECT_EQ(report["meshes"][0]["error"], 0.0);
     EXPECT_TRUE(report["meshes"][0]["adaptivity"].is_null());
     EXPECT_EQ(report["meshes"][2]["method"], "mc");
-    EXPECT_EQ(report["meshes"][4]["adaptivity"], 1.0);
+    EXPECT_EQ(report["meshes"][3]["method"], "dual");
+    EXPECT_TRUE(report["meshes"][3]["clean"].get<bool>());
+    EXPECT_EQ(report["meshes"][5]["adaptivity"], 1.0);
     // DC at error 0 is MC: the MC row names it; DC at 0.25 reports its five phases.
     EXPECT_EQ(report["meshes"][2]["same_mesh_as"], 0);
     EXPECT_TRUE(report["meshes"][1]["same_mesh_as"].is_null());
     ASSERT_EQ(report["meshes"][1]["phases"].size(), 5u);
     EXPECT_EQ(report["meshes"][1]["phases"][0]["name"], "octree");
     // The budget rows (`mesh --triangles`), one per volumeToMesh mesh, at most its triangles and clean.
-    for (const std::size_t i : {5u, 6u}) {
+    for (const std::size_t i : {6u, 7u}) {
         const auto& budget = report["meshes"][i];
         const auto& openvdb = report["meshes"][i - 2];
         EXPECT_EQ(budget["method"], "dc");
@@ -56,14 +59,14 @@ TEST(CompareCliTest, JsonHasEveryKeyAndPlotIsWritten) {
     // Under the table, and in the JSON, which rows beat each volumeToMesh row (issue 29, item 5).
     EXPECT_NE(table.find("beaten on every count"), std::string::npos) << table;
     ASSERT_EQ(report["dominance"].size(), 2u);
-    EXPECT_EQ(report["dominance"][1]["volume_to_mesh"], 4);
+    EXPECT_EQ(report["dominance"][1]["volume_to_mesh"], 5);
     for (const auto& d : report["dominance"])
         for (const auto& i : d["with_time"]) EXPECT_NE(report["meshes"][i.get<std::size_t>()]["method"], "openvdb");
     // On a phantom, DC --sharp at each error above 0, last (issue 29, item 5).
-    EXPECT_EQ(report["meshes"][7]["error"], 0.25);
-    EXPECT_EQ(report["meshes"][7]["sharp"], true);
+    EXPECT_EQ(report["meshes"][8]["error"], 0.25);
+    EXPECT_EQ(report["meshes"][8]["sharp"], true);
     EXPECT_FALSE(report["meshes"][1]["sharp"].get<bool>());
-    EXPECT_TRUE(report["meshes"][7]["clean"].get<bool>());
+    EXPECT_TRUE(report["meshes"][8]["clean"].get<bool>());
     EXPECT_NE(table.find("sharp 0.25"), std::string::npos) << table;
 
     std::ifstream plot(svg);
