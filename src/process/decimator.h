@@ -3,8 +3,8 @@
 // table and flat arrays, and what a round hands its checks. Its members are defined by job:
 // decimate_corner_table.cpp (the table: linked, collapsed, read back), decimate_costs.cpp (the
 // quadrics, the edges' costs, the cheapest edges), decimate_checks.cpp (one collapse's checks) and
-// decimate_rounds.cpp (the rounds: the choice, the grids, the crossings, the apply). The overview
-// is at the top of decimate_mesh.cpp.
+// decimate_rounds.cpp (the rounds: the choice, the grids, the crossings, the apply); each
+// member's comment is at its definition. The overview is at the top of decimate_mesh.cpp.
 
 #include <tbb/enumerable_thread_specific.h>
 
