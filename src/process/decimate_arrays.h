@@ -1,5 +1,5 @@
 #pragma once
-// Private to the decimator (decimate_mesh.cpp): arrays made without zeroing, first written by
+// Private to the decimator (decimate_*.cpp): arrays made without zeroing, first written by
 // all threads.
 
 #include <tbb/blocked_range.h>

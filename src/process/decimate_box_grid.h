@@ -1,5 +1,5 @@
 #pragma once
-// Private to the decimator (decimate_mesh.cpp): the grids that find the boxes meeting a box
+// Private to the decimator (decimate_*.cpp): the grids that find the boxes meeting a box
 // (or what all those near a box have in common), and boxes in columns for the exact tests.
 
 #include <tbb/blocked_range.h>

@@ -1,5 +1,5 @@
 #pragma once
-// Private to the decimator (decimate_mesh.cpp): a round's candidate edges and their sort by cost.
+// Private to the decimator (decimate_*.cpp): a round's candidate edges and their sort by cost.
 
 #include <tbb/parallel_for.h>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Private to the decimator (decimate_mesh.cpp): the 32 directions its intersection proof tries,
+// Private to the decimator (decimate_*.cpp): the 32 directions its intersection proof tries,
 // which of them a triangle certainly faces (a table over its normal), and what a set of
 // triangles has in common.
 

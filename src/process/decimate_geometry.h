@@ -1,5 +1,5 @@
 #pragma once
-// Private to the decimator (decimate_mesh.cpp): the vector and box helpers its parts share,
+// Private to the decimator (decimate_*.cpp): the vector and box helpers its parts share,
 // and the slab of its intersection proof.
 
 #include <algorithm>
