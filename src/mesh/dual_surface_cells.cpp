@@ -1,7 +1,8 @@
-// The dual surface's cells (dual_surface_cells.h): per block, the samples its cells read, each
-// cell's configuration, and a vertex per edge group at the mean of the group's crossings
-// (edge_crossing.h, as Marching Cubes places its vertices), then moved onto the cell's
-// trilinear isosurface by Newton steps along the gradient, kept kDualInteriorMargin inside.
+// The dual surface's cells (dual_surface_cells.h): per block, the samples its cells read (the
+// window DC's octree reads, load_ifc_samples()), each cell's configuration, and a vertex per
+// edge group at the mean of the group's crossings (edge_crossing.h, as Marching Cubes places
+// its vertices), then moved onto the cell's trilinear isosurface by Newton steps along the
+// gradient, kept kDualInteriorMargin inside.
 
 #include "mesh/dual_surface_cells.h"
 
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mesh/dc_block.h"
 #include "mesh/dual_surface_groups.h"
 #include "mesh/edge_crossing.h"
 #include "mesh/mc_table.h"
@@ -20,29 +22,7 @@ namespace vdbmesh::detail {
 
 namespace {
 
-constexpr int kSampleDim = kBlockDim + 3;  // samples -1..kBlockDim + 1: the block's cells and their face neighbours
 constexpr int kNewtonSteps = 3;
-
-struct BlockSamples {
-    std::array<double, kSampleDim * kSampleDim * kSampleDim> value;
-    std::array<bool, kSampleDim * kSampleDim * kSampleDim> inside;
-
-    static int index(int x, int y, int z) { return ((x + 1) * kSampleDim + y + 1) * kSampleDim + z + 1; }
-};
-
-void load_samples(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier, const openvdb::Coord& origin,
-                  BlockSamples& samples) {
-    for (int x = -1; x <= kBlockDim + 1; ++x) {
-        for (int y = -1; y <= kBlockDim + 1; ++y) {
-            for (int z = -1; z <= kBlockDim + 1; ++z) {
-                const openvdb::Coord ijk = origin.offsetBy(x, y, z);
-                const int i = BlockSamples::index(x, y, z);
-                samples.value[i] = classifier.sample_value(ijk, accessor.getValue(ijk));
-                samples.inside[i] = classifier.inside(samples.value[i]);
-            }
-        }
-    }
-}
 
 /// The trilinear interpolant of a cell's corner values @a f (corner c at (c & 1, c >> 1 & 1,
 /// c >> 2)) at local position @a t, and its gradient.
@@ -89,11 +69,11 @@ Point3 projected_onto_isosurface(const std::array<double, 8>& f, double iso, con
 
 /// The vertices of the cell at (x, y, z) of the block at @a origin: per edge group, the mean
 /// of its crossings and that mean on the isosurface.
-void add_cell_vertices(const BlockSamples& samples, const openvdb::Coord& origin, int x, int y, int z, double iso, DualBlock& block) {
+void add_cell_vertices(const IfcSamples& samples, const openvdb::Coord& origin, int x, int y, int z, double iso, DualBlock& block) {
     const int cell = DualBlock::cell_index(x, y, z);
     const CellGroups& groups = cell_groups(block.grouping[cell]);
     std::array<double, 8> f;
-    for (unsigned c = 0; c < 8; ++c) f[c] = samples.value[BlockSamples::index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))];
+    for (unsigned c = 0; c < 8; ++c) f[c] = samples.at(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2));
     std::array<Point3, 4> sum{};
     std::array<int, 4> count{};
     for (int e = 0; e < 12; ++e) {
@@ -121,12 +101,6 @@ void add_cell_vertices(const BlockSamples& samples, const openvdb::Coord& origin
         block.projected.push_back(projected_at);
         block.vertex_cell.push_back(std::uint16_t(cell));
     }
-}
-
-unsigned cell_config(const BlockSamples& samples, int x, int y, int z) {
-    unsigned config = 0;
-    for (unsigned c = 0; c < 8; ++c) config |= unsigned(samples.inside[BlockSamples::index(x + (c & 1), y + ((c >> 1) & 1), z + (c >> 2))]) << c;
-    return config;
 }
 
 /// Whether the face between a cell of configuration @a upper and the one below it along @a n
@@ -167,33 +141,31 @@ unsigned ambiguous_faces(unsigned config) {
 /// crossings in two (the complement's inside corners there, the face's outside ones, cannot
 /// both reach the cell's interior when the face's inside corners do). Cells with more
 /// ambiguous faces keep their own (the figures count what remains, docs/dmc.md).
-unsigned grouping(const BlockSamples& samples, int x, int y, int z, unsigned config) {
+unsigned grouping(const IfcSamples& samples, int x, int y, int z, unsigned config) {
     const unsigned faces = ambiguous_faces(config);
     if (faces == 0 || (faces & (faces - 1)) != 0) return config;
     const int bit = __builtin_ctz(faces), n = bit / 2, s = bit % 2;
     const int step = s == 0 ? -1 : 1;
-    const unsigned other = cell_config(samples, x + step * (n == 0), y + step * (n == 1), z + step * (n == 2));
+    const unsigned other = samples.config(x + step * (n == 0), y + step * (n == 1), z + step * (n == 2));
     if (ambiguous_faces(other) != 1u << (2 * n + 1 - s)) return config;
     const bool joined = s == 0 ? joined_on_both_sides(other, config, n) : joined_on_both_sides(config, other, n);
     return joined ? 255 - config : config;
 }
 
-void make_block(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier, BlockSamples& samples, DualBlock& block) {
-    load_samples(accessor, classifier, block.origin, samples);
+void make_block(openvdb::FloatGrid::ConstAccessor& accessor, const SampleClassifier& classifier, IfcSamples& samples, DualBlock& block) {
+    samples.origin = block.origin;
+    load_ifc_samples(accessor, classifier, samples);
     for (int x = 0; x < kBlockDim; ++x) {
         for (int y = 0; y < kBlockDim; ++y) {
             for (int z = 0; z < kBlockDim; ++z) {
                 const int cell = DualBlock::cell_index(x, y, z);
-                const unsigned config = cell_config(samples, x, y, z);
+                const unsigned config = samples.config(x, y, z);
                 block.config[cell] = std::uint8_t(config);
                 block.grouping[cell] = std::uint8_t(config == 0 || config == 255 ? config : grouping(samples, x, y, z, config));
                 block.first_vertex[cell] = std::uint16_t(block.projected.size());
                 if (config != 0 && config != 255) add_cell_vertices(samples, block.origin, x, y, z, classifier.iso(), block);
-                const bool inside = samples.inside[BlockSamples::index(x, y, z)];
-                for (int axis = 0; axis < 3; ++axis) {
-                    const int next = BlockSamples::index(x + (axis == 0), y + (axis == 1), z + (axis == 2));
-                    if (samples.inside[next] != inside) block.crossed_edges.push_back(std::uint16_t(cell * 3 + axis));
-                }
+                for (int axis = 0; axis < 3; ++axis)
+                    if (samples.crossed(x, y, z, axis)) block.crossed_edges.push_back(std::uint16_t(cell * 3 + axis));
             }
         }
     }
@@ -218,7 +190,7 @@ DualCells::DualCells(const openvdb::FloatGrid& grid, const SampleClassifier& cla
 void DualCells::make_vertices(const openvdb::FloatGrid& grid, const SampleClassifier& classifier) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks_.size()), [&](const auto& range) {
         auto accessor = grid.getConstAccessor();
-        BlockSamples samples;
+        IfcSamples samples;  // the octree's window of samples, read as it reads them (dc_samples.cpp)
         for (std::size_t b = range.begin(); b != range.end(); ++b) {
             if (!block_may_hold_surface(accessor, classifier, blocks_[b].origin)) continue;
             make_block(accessor, classifier, samples, blocks_[b]);
